@@ -1,0 +1,1 @@
+"""wake: real-time pathological tremor extraction (WAKE)."""

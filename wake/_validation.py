@@ -1,0 +1,95 @@
+"""Input checks shared by the public functions.
+
+Every check raises :class:`ValueError` (or :class:`TypeError` for a wrong
+type) with a message that names what was wrong and what would be valid.
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+import pywt
+
+MAX_LEVEL = 8
+_DISCRETE = tuple(pywt.wavelist(kind="discrete"))
+_MODES = tuple(pywt.Modes.modes)
+
+
+def check_wavelet(name) -> pywt.Wavelet:
+    """Return the PyWavelets wavelet for ``name`` or say which names exist."""
+    if isinstance(name, pywt.Wavelet):
+        return name
+    if not isinstance(name, str) or name not in _DISCRETE:
+        families = ", ".join(pywt.families(short=True)[:7])
+        raise ValueError(
+            f"unknown wavelet {name!r}; use a discrete PyWavelets name such as "
+            f"'sym3', 'db3', 'haar' (families: {families}; full list: pywt.wavelist(kind='discrete'))"
+        )
+    return pywt.Wavelet(name)
+
+
+def check_mode(mode) -> str:
+    if mode not in _MODES:
+        raise ValueError(f"unknown extension mode {mode!r}; valid modes: {', '.join(_MODES)}")
+    return mode
+
+
+def check_level(level, max_level: int = MAX_LEVEL) -> int:
+    if isinstance(level, bool) or not isinstance(level, numbers.Integral):
+        raise ValueError(f"level must be an integer from 1 to {max_level}, got {level!r}")
+    level = int(level)
+    if not 1 <= level <= max_level:
+        raise ValueError(f"level must be from 1 to {max_level}, got {level}")
+    return level
+
+
+def check_positive(name: str, value, *, integer: bool = False, allow_zero: bool = False):
+    """A finite positive number (or integer)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise ValueError(f"{name} must be a {'positive integer' if integer else 'positive number'}, got {value!r}")
+    if integer and not float(value).is_integer():
+        raise ValueError(f"{name} must be an integer, got {value!r}")
+    value = int(value) if integer else float(value)
+    if not np.isfinite(value) or value < 0 or (value == 0 and not allow_zero):
+        bound = ">= 0" if allow_zero else "> 0"
+        raise ValueError(f"{name} must be finite and {bound}, got {value!r}")
+    return value
+
+
+def as_signal(x, *, name: str = "x", allow_nan: bool = False) -> tuple[np.ndarray, bool]:
+    """Normalise a recording to a float64 array of shape ``(n, channels)``.
+
+    Returns the 2-D array and whether the input was 1-D.  Integer and float32
+    input are accepted and converted; booleans, complex numbers, objects and
+    arrays of more than two dimensions are refused.
+    """
+    arr = np.asarray(x)
+    if arr.dtype == bool or arr.dtype.kind not in "iuf":
+        raise ValueError(
+            f"{name} must hold real numbers (integer or float), got dtype {arr.dtype}; "
+            f"convert it with np.asarray({name}, dtype=float)"
+        )
+    if arr.ndim == 0:
+        raise ValueError(f"{name} must be an array of shape (n,) or (n, channels), got a scalar")
+    if arr.ndim > 2:
+        raise ValueError(
+            f"{name} must have shape (n,) or (n, channels), got {arr.ndim} dimensions {arr.shape}; "
+            "reshape it to (n, channels)"
+        )
+    one_d = arr.ndim == 1
+    arr = arr.astype(np.float64, copy=True).reshape(arr.shape[0], -1)
+    if arr.shape[0] == 0 or arr.shape[1] == 0:
+        raise ValueError(f"{name} is empty (shape {np.shape(x)}); give at least one sample per channel")
+    if not allow_nan:
+        bad = ~np.isfinite(arr)
+        if bad.any():
+            i, c = np.argwhere(bad)[0]
+            raise ValueError(
+                f"{name} holds {int(bad.sum())} non-finite value(s) (first at sample {i}, channel {c}: "
+                f"{arr[i, c]!r}); remove or interpolate them, or stream with update() which "
+                "treats NaN as a missing sample"
+            )
+    elif np.isinf(arr).any():
+        raise ValueError(f"{name} holds inf; only NaN is accepted as a missing-sample marker")
+    return arr, one_d
