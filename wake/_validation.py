@@ -78,9 +78,9 @@ def as_signal(x, *, name: str = "x", allow_nan: bool = False) -> tuple[np.ndarra
             "reshape it to (n, channels)"
         )
     one_d = arr.ndim == 1
-    arr = arr.astype(np.float64, copy=True).reshape(arr.shape[0], -1)
-    if arr.shape[0] == 0 or arr.shape[1] == 0:
+    if arr.size == 0:
         raise ValueError(f"{name} is empty (shape {np.shape(x)}); give at least one sample per channel")
+    arr = arr.astype(np.float64, copy=True).reshape(arr.shape[0], -1)
     if not allow_nan:
         bad = ~np.isfinite(arr)
         if bad.any():

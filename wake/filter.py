@@ -109,7 +109,7 @@ class _Channel:
         o = self.owner
         L = o.window_samples
         n = x.shape[0]
-        out = np.zeros(n)
+        out = np.zeros(n + 1)  # out[n] predicts a sample that never comes; dropped below
         start = 0
         # After sample index i is received (count = i + 1), an HPA runs when
         # the count is a multiple of L, before that sample's RTP step.
@@ -122,7 +122,7 @@ class _Channel:
             start = stop
         self.count = n
         self.history = x[-L:].copy() if n >= L else np.concatenate((np.zeros(L - n), x))
-        return out
+        return out[:n]
 
     def update(self, sample):
         self.history = np.roll(self.history, -1)

@@ -1,0 +1,138 @@
+import numpy as np
+import pytest
+
+from wake import WakeFilter, nrmse
+from wake.synthetic import PAPER_WAKE
+
+REF = dict(backend="reference")
+
+
+def test_run_equals_streaming_updates(signal10):
+    x = signal10.measurement[:1600]
+    f = WakeFilter(**REF)
+    res = f.run(x)
+    stream = [0.0] + [f.update(v) for v in x[:-1]]
+    np.testing.assert_allclose(res.voluntary, stream, rtol=0, atol=1e-12)
+    assert len(f.hpa_history[0]) == len(res.hpa[0]) - (1 if len(x) % 500 == 0 else 0)
+    np.testing.assert_allclose(res.tremor, x - res.voluntary)
+
+
+@pytest.mark.parametrize("k", [0, 1, 31, 250, 499, 500, 501, 1234])
+def test_causality_perturbing_the_future_leaves_the_past_bit_identical(k, signal10, rng):
+    x = signal10.measurement[:1500].copy()
+    base = WakeFilter(**REF).run(x).voluntary
+    y = x.copy()
+    y[k:] += rng.normal(size=y.size - k) * 5
+    pert = WakeFilter(**REF).run(y).voluntary
+    assert np.array_equal(base[: k + 1], pert[: k + 1])
+    assert not np.array_equal(base[k + 1 :], pert[k + 1 :])
+
+
+def test_warmup_is_defined_and_finite(signal10):
+    res = WakeFilter(**REF).run(signal10.measurement[:600])
+    assert res.warmup == 500
+    assert res.voluntary[0] == 0.0  # nothing seen yet
+    assert np.all(np.isfinite(res.voluntary))
+    # before the first HPA the deepest approximation alone predicts: a low-pass
+    assert np.std(np.diff(res.voluntary[40:500])) < np.std(np.diff(signal10.measurement[40:500]))
+
+
+def test_hpa_history(signal10):
+    res = WakeFilter(**REF).run(signal10.measurement)
+    upd = res.hpa[0]
+    assert [u.index for u in upd] == list(range(500, 5001, 500))
+    assert all(0.5 <= u.cutoff <= 6.0 for u in upd)
+    assert res.mean_cutoff[0] == pytest.approx(np.mean([u.cutoff for u in upd]))
+
+
+def test_channels_are_independent(signal10, rng):
+    a = signal10.measurement[:1200]
+    b = rng.normal(size=1200)
+    both = WakeFilter(**REF).run(np.column_stack([a, b]))
+    assert both.voluntary.shape == (1200, 2)
+    np.testing.assert_array_equal(both.voluntary[:, 0], WakeFilter(**REF).run(a).voluntary)
+    np.testing.assert_array_equal(both.voluntary[:, 1], WakeFilter(**REF).run(b).voluntary)
+
+
+def test_integer_and_float32_input(signal10):
+    x = signal10.measurement[:1000]
+    ints = np.round(x * 1000).astype(np.int32)
+    res_i = WakeFilter(**REF).run(ints)
+    res_f = WakeFilter(**REF).run(ints.astype(float))
+    np.testing.assert_array_equal(res_i.voluntary, res_f.voluntary)
+    res32 = WakeFilter(**REF).run(x.astype(np.float32))
+    assert res32.voluntary.dtype == np.float64 and np.all(np.isfinite(res32.voluntary))
+
+
+def test_accuracy_on_the_paper_synthetic_set(paper_signals):
+    """The README's claim: at or below the paper's WAKE NRMSE on every signal,
+    and at least 25 % below it on average (warm-up excluded)."""
+    ours = np.array([nrmse(s.voluntary, WakeFilter(**REF).run(s.measurement).voluntary, 500)
+                     for s in paper_signals])
+    paper = np.array(PAPER_WAKE["nrmse"])
+    assert np.all(ours <= paper)
+    assert ours.mean() <= 0.75 * paper.mean()
+
+
+def test_reset_restarts_the_stream(signal10):
+    f = WakeFilter(**REF)
+    first = [f.update(v) for v in signal10.measurement[:700]]
+    f.reset()
+    again = [f.update(v) for v in signal10.measurement[:700]]
+    assert first == again
+
+
+def test_streaming_several_channels():
+    f = WakeFilter(**REF)
+    out = f.update([1.0, 2.0])
+    assert out.shape == (2,)
+    with pytest.raises(ValueError, match="streams 2 channel"):
+        f.update([1.0, 2.0, 3.0])
+
+
+@pytest.mark.parametrize("x, match", [
+    (np.r_[np.ones(600), np.nan], "non-finite"),
+    (np.r_[np.ones(600), np.inf], "non-finite"),
+    (np.ones(499), "at least one HPA window of 500 samples"),
+    (np.ones((600, 2, 2)), "shape \\(n,\\) or \\(n, channels\\)"),
+    (np.array([], dtype=float), "empty"),
+    (np.array(["a"] * 600), "real numbers"),
+    (np.ones(600, dtype=complex), "real numbers"),
+    (3.0, "scalar"),
+])
+def test_bad_recordings(x, match):
+    with pytest.raises(ValueError, match=match):
+        WakeFilter(**REF).run(x)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(fs=0), "fs must be finite and > 0"),
+    (dict(fs=-100.0), "fs must be finite and > 0"),
+    (dict(fs=float("nan")), "fs must be finite"),
+    (dict(wavelet="morl"), "unknown wavelet 'morl'"),
+    (dict(level=9), "level must be from 1 to 8"),
+    (dict(level=7, backend="c"), "level must be from 1 to 6"),
+    (dict(level=8, window_s=2.0), "need at least 512"),
+    (dict(window_s=0.3), "lengthen window_s"),
+    (dict(backend="gpu"), "valid choices: c, reference"),
+    (dict(fit="bfgs"), "valid choices: causal, paper"),
+    (dict(process_noise=-1), "process_noise must be finite and >= 0"),
+    (dict(tremor_band=(8, 4)), "tremor_band"),
+    (dict(cutoff_range=(1.0,)), "cutoff_range must be a pair"),
+    (dict(default_cutoff=9.0), "default_cutoff must lie in cutoff_range"),
+    (dict(headroom=0.5), "headroom must be >= 1"),
+    (dict(ar_order=0), "ar_order"),
+])
+def test_bad_configuration(kwargs, match):
+    kw = dict(REF)
+    kw.update(kwargs)
+    with pytest.raises(ValueError, match=match):
+        WakeFilter(**kw)
+
+
+def test_update_refuses_inf_and_empty():
+    f = WakeFilter(**REF)
+    with pytest.raises(ValueError, match="pass NaN for a missing sample"):
+        f.update(np.inf)
+    with pytest.raises(ValueError, match="empty"):
+        f.update([])
