@@ -15,6 +15,7 @@ from .wavelets import DEFAULT_MODE, filter_bank_taps
 __all__ = ["WakeFilter", "WakeResult", "BACKENDS"]
 
 BACKENDS = ("c", "reference")
+HPA_MODES = ("inline", "thread")
 #: Highest level the fixed-point C core is built for (WAKE_RTP_MAX_LEVEL).
 C_MAX_LEVEL = 6
 
@@ -65,21 +66,30 @@ class _Channel:
         self.updates: list[HPAUpdate] = []
         self.history = np.zeros(o.window_samples)
         self.count = 0
+        self.pending = None  # thread mode: (future, window) of an HPA still off the sample path
         if o.backend == "c" and o.full_scale is not None:
             self._switch_to_c(o.full_scale)
 
     # -- HPA ---------------------------------------------------------------
-    def hpa(self, window):
+    def compute_hpa(self, window, index, previous_weights):
+        # Everything it reads is passed in: in thread mode this runs on the
+        # worker while the sample path keeps changing the channel.
         o = self.owner
-        upd = run_hpa(window, o.fs, taps=o.taps, wavelet=o.wavelet, level=o.level, mode=o.mode,
-                      ar_order=o.ar_order, fit=o.fit, ridge=o.ridge, tremor_band=o.tremor_band,
-                      cutoff_range=o.cutoff_range, default_cutoff=o.default_cutoff,
-                      previous_weights=self.weights, index=self.count)
-        self.apply(upd, window)
+        return run_hpa(window, o.fs, taps=o.taps, wavelet=o.wavelet, level=o.level, mode=o.mode,
+                       ar_order=o.ar_order, fit=o.fit, ridge=o.ridge, tremor_band=o.tremor_band,
+                       cutoff_range=o.cutoff_range, default_cutoff=o.default_cutoff,
+                       previous_weights=previous_weights, index=index)
+
+    def hpa(self, window):
+        upd = self.compute_hpa(window, self.count, self.weights)
+        self.apply(upd, window, first_sample=self.count)
         return upd
 
-    def apply(self, upd, window):
+    def apply(self, upd, window, first_sample):
+        """Install an HPA result; ``first_sample`` is the 1-based number of the
+        first sample whose RTP step uses it (recorded as ``applied_at``)."""
         o = self.owner
+        upd.applied_at = first_sample
         self.updates.append(upd)
         self.weights = upd.weights
         self.measurement_noise = upd.measurement_noise
@@ -124,16 +134,33 @@ class _Channel:
         self.history = x[-L:].copy() if n >= L else np.concatenate((np.zeros(L - n), x))
         return out[:n]
 
+    def swap_if_ready(self, wait=False, first_sample=None):
+        """Thread mode: install a finished HPA between two samples."""
+        if self.pending is None:
+            return
+        future, window = self.pending
+        if wait or future.done():
+            self.pending = None
+            self.apply(future.result(), window, self.count + 1 if first_sample is None else first_sample)
+
     def update(self, sample):
+        o = self.owner
+        self.swap_if_ready()
         self.history = np.roll(self.history, -1)
         self.history[-1] = sample
         self.count += 1
-        L = self.owner.window_samples
-        if self.count % L == 0:
-            window = self.history
+        if self.count % o.window_samples == 0:
+            window = self.history.copy()
             if np.isnan(window).any():
                 window = _fill_gaps(window)
-            self.hpa(window)
+            if o.hpa_mode == "inline":
+                self.hpa(window)
+            else:
+                # One HPA in flight at a time: a new window waits for the last
+                # one (it had L samples' time to finish).
+                self.swap_if_ready(wait=True, first_sample=self.count)
+                job = o._executor().submit(self.compute_hpa, window, self.count, self.weights.copy())
+                self.pending = (job, window)
         if sample != sample:
             return self.rtp.step_missing()
         return self.rtp.step(sample)
@@ -188,6 +215,13 @@ class WakeFilter:
         channel (the float reference runs the warm-up until then).
     headroom : float
         Factor of the automatic full scale (>= 1).
+    hpa_mode : {"inline", "thread"}
+        Streaming only (:meth:`update`).  ``"inline"`` runs the HPA inside
+        the ``update()`` call that completes a window; ``"thread"`` runs it
+        on a worker thread and swaps the new weights in between two later
+        samples, so ``update()`` never waits for an HPA.  Each
+        :class:`~wake.hpa.HPAUpdate` records the sample count at which its
+        weights took effect (``applied_at``).  :meth:`run` is always inline.
 
     Examples
     --------
@@ -203,7 +237,8 @@ class WakeFilter:
     def __init__(self, fs=100.0, wavelet="sym3", level=5, window_s=5.0, ar_order=17, *,
                  backend="c", mode=DEFAULT_MODE, fit="causal", process_noise=0.0,
                  initial_covariance=0.0, ridge=1e-6, tremor_band=(2.5, 15.0),
-                 cutoff_range=(0.5, 6.0), default_cutoff=2.0, full_scale=None, headroom=4.0):
+                 cutoff_range=(0.5, 6.0), default_cutoff=2.0, full_scale=None, headroom=4.0,
+                 hpa_mode="inline"):
         self.fs = check_positive("fs", fs)
         check_wavelet(wavelet)
         self.wavelet = wavelet
@@ -244,6 +279,10 @@ class WakeFilter:
         self.headroom = check_positive("headroom", headroom)
         if self.headroom < 1:
             raise ValueError(f"headroom must be >= 1 (it multiplies the window's peak), got {headroom}")
+        if hpa_mode not in HPA_MODES:
+            raise ValueError(f"unknown hpa_mode {hpa_mode!r}; valid choices: {', '.join(HPA_MODES)}")
+        self.hpa_mode = hpa_mode
+        self._pool = None
         self.taps = filter_bank_taps(wavelet, self.level, mode)
         self._channels: list[_Channel] | None = None
         self._n_channels = None
@@ -318,8 +357,34 @@ class WakeFilter:
 
     def reset(self):
         """Forget the stream (weights, history and RTP state)."""
+        for ch in self._channels or []:
+            if ch.pending is not None:
+                ch.pending[0].cancel()
         self._channels = None
         self._n_channels = None
+
+    def flush(self):
+        """Thread mode: wait for an HPA in flight and install its weights now."""
+        for ch in self._channels or []:
+            ch.swap_if_ready(wait=True)
+
+    def _executor(self):
+        if self._pool is None:
+            from concurrent.futures import ThreadPoolExecutor
+
+            self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="wake-hpa")
+        return self._pool
+
+    def close(self):
+        """Stop the HPA worker thread (thread mode); the filter stays usable."""
+        if self._pool is not None:
+            self._pool.shutdown(wait=True)
+            self._pool = None
+
+    def __del__(self):
+        pool = getattr(self, "_pool", None)
+        if pool is not None:
+            pool.shutdown(wait=False)
 
     @property
     def hpa_history(self):

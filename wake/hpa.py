@@ -56,6 +56,7 @@ class HPAUpdate:
     fit_error: float  #: the paper's e_L (RMS fit error over the window)
     ridge: float  #: the ridge factor finally used (raised when the fit was ill-conditioned)
     flags: tuple = field(default_factory=tuple)  #: extra notes: "regularised", "weights_kept"
+    applied_at: int = -1  #: sample count at which the RTP took these weights (set by WakeFilter)
 
 
 def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),

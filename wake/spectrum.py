@@ -108,7 +108,16 @@ def ar_psd(x, fs, order=17, n_freqs=512):
     if x.shape[0] <= order:
         raise ValueError(f"the window has {x.shape[0]} samples; an AR({order}) fit needs more than {order}")
     a, sigma2 = yule_walker(x, order)
-    freqs = np.linspace(0.0, fs / 2, n_freqs)
-    phasors = np.exp(-2j * np.pi * np.outer(freqs / fs, np.arange(order + 1)))
-    denom = np.abs(phasors @ a) ** 2
+    n_freqs = check_positive("n_freqs", n_freqs, integer=True)
+    if n_freqs < 2:
+        raise ValueError(f"n_freqs must be >= 2, got {n_freqs}")
+    # A(e^{j 2 pi f / fs}) on n_freqs points of [0, fs/2]: one real FFT of the
+    # zero-padded coefficients (nfft = 2 (n_freqs - 1) puts the last bin at fs/2).
+    nfft = max(2 * (n_freqs - 1), order + 1)
+    nfft += nfft % 2
+    denom = np.abs(np.fft.rfft(a, nfft)) ** 2
+    freqs = np.fft.rfftfreq(nfft, 1.0 / fs)
+    if freqs.size != n_freqs:  # n_freqs below the AR order: sample the fine grid
+        pick = np.linspace(0, freqs.size - 1, n_freqs).round().astype(int)
+        freqs, denom = freqs[pick], denom[pick]
     return freqs, sigma2 / np.maximum(denom, np.finfo(float).tiny)
