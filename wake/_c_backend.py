@@ -95,13 +95,14 @@ def quantize_variance(value, full_scale, name, *, positive):
     """A variance in physical units -> int32 Q(P_FRAC) of full_scale**2."""
     v = float(value)
     lsb = full_scale**2 / 2.0**P_FRAC
-    hi = _INT32_MAX * lsb
+    hi = 2.0 ** (31 - P_FRAC) * full_scale**2
     if not np.isfinite(v) or v < 0 or (positive and v <= 0):
         raise ValueError(f"{name} must be finite and {'> 0' if positive else '>= 0'}, got {value!r}")
     q = round(v / lsb)
     if q > _INT32_MAX:
         raise ValueError(
-            f"{name} must lie within [0, {hi:.6g}] (Q{P_FRAC} of full_scale**2 = {full_scale:g}**2); got {v:.6g}"
+            f"{name} must lie within [0, {hi:.6g}), i.e. below 2**{31 - P_FRAC} full_scale**2 "
+                f"(int32 Q{P_FRAC} of full_scale**2, full_scale = {full_scale:g}); got {v:.6g}"
         )
     if v > 0 and q == 0:
         raise ValueError(
