@@ -643,11 +643,18 @@ def profile_configuration(emu: Emulator, wavelet="sym3", level=5, *, kalman=True
     return StepProfile(emu.image.target, int(level), wavelet, bool(kalman), counts, sw, stack, update_at)
 
 
-def hotspots(emu: Emulator, wavelet="sym3", level=5, *, kalman=True, n=None):
-    """Instructions per source function (inlined functions resolved with addr2line).
+PHASES = ("check_instance", "push", "measurement_update", "time_update", "psd_guard", "predict")
 
-    Returns a list of ``(function, instructions, share)`` for the worst step
-    of the configuration, sorted by cost, and the worst step's total.
+
+def hotspots(emu: Emulator, wavelet="sym3", level=5, *, kalman=True, n=None):
+    """Where the worst step of a configuration spends its instructions.
+
+    Each executed block is attributed with ``addr2line -i`` (inlined frames
+    resolved; the image carries debug information) to its phase (the
+    outermost of :data:`PHASES` in its inline chain), its innermost function
+    and its source line.  Returns a dict with ``total``, the worst step's
+    ``input`` and ``index``, and ``phase``, ``function``, ``line`` lists of
+    ``(name, instructions, share)`` sorted by cost.
     """
     prof = profile_configuration(emu, wavelet, level, kalman=kalman, n=n)
     kind, idx, total = prof.worst()
@@ -662,25 +669,31 @@ def hotspots(emu: Emulator, wavelet="sym3", level=5, *, kalman=True, n=None):
         emu.step(int(sample))
     hits = dict(emu.counter.hits)
     emu.counter.keep_hits = False
-    names = _inline_names(emu.image, [a for a, _ in hits])
-    funcs = {}
+    chains = _inline_chains(emu.image, [a for a, _ in hits])
+    tallies = {"phase": {}, "function": {}, "line": {}}
     for (addr, size), h in hits.items():
-        name = names.get(addr, "?")
-        funcs[name] = funcs.get(name, 0) + h * emu.counter.instructions_in(addr, size)
-    rows = sorted(funcs.items(), key=lambda kv: -kv[1])
-    tot = sum(funcs.values())
-    return [(name, cnt, cnt / tot) for name, cnt in rows], tot
+        cnt = h * emu.counter.instructions_in(addr, size)
+        chain = chains.get(addr) or [("?", "?")]
+        phase = next((f for f, _ in reversed(chain) if f in PHASES), chain[-1][0])
+        func, line = chain[0]
+        for key, name in (("phase", phase), ("function", func), ("line", f"{func} (line {line})")):
+            tallies[key][name] = tallies[key].get(name, 0) + cnt
+    tot = sum(tallies["phase"].values())
+    out = {"total": tot, "input": kind, "index": idx}
+    for key, tab in tallies.items():
+        out[key] = [(name, c, c / tot) for name, c in sorted(tab.items(), key=lambda kv: -kv[1])]
+    return out
 
 
-def _inline_names(image: Image, addrs):
-    """Innermost (inlined) function of each address, via addr2line -i; falls back to the symbol table."""
-    tool = toolchain().get("addr2line")
+def _inline_chains(image: Image, addrs):
+    """Per address, the inline chain ``[(function, line), ...]``, innermost first (addr2line -i)."""
     funcs = image.functions()
     starts = [f[0] for f in funcs]
     out = {}
     for a in addrs:
         k = bisect.bisect_right(starts, a) - 1
-        out[a] = funcs[k][2] if k >= 0 and a < funcs[k][1] else "?"
+        out[a] = [(funcs[k][2] if k >= 0 and a < funcs[k][1] else "?", "?")]
+    tool = toolchain().get("addr2line")
     if tool is None:
         return out
     addrs = sorted(set(addrs))
@@ -689,20 +702,18 @@ def _inline_names(image: Image, addrs):
                           input="\n".join(f"{a:#x}" for a in addrs) + "\n", capture_output=True, text=True)
     if proc.returncode != 0:
         return out
-    current = None
     lines = proc.stdout.splitlines()
-    i = 0
+    current, i = None, 0
     while i < len(lines):
-        line = lines[i]
-        if line.startswith("0x"):
-            current = int(line, 16)
-            first = True
+        if lines[i].startswith("0x"):
+            current = int(lines[i], 16)
+            out[current] = []
             i += 1
             continue
-        if current is not None and first:
-            out[current] = line.strip()
-            first = False
-        i += 2  # function line, then file:line
+        where = lines[i + 1] if i + 1 < len(lines) else "?:?"
+        line = where.rsplit(":", 1)[-1].split()[0] if ":" in where else "?"
+        out[current].append((lines[i].strip(), line))
+        i += 2
     return out
 
 
@@ -1029,10 +1040,12 @@ def cli(argv: list[str] | None = None) -> int:
     text = ["## Instructions per sample", "", cost, "", "## Memory (bytes)", "", mem, ""]
     text += ["Notes:", ""] + [f"- {n}" for n in notes] + [""]
     if hot:
-        rows, tot = hot
         text += [f"## Hotspots of the worst step (Cortex-M4 -O2, J={DEFAULT_LEVEL}, {DEFAULT_WAVELET}, "
-                 f"Kalman active): {tot:,} instructions", "", "| function | instructions | share |", "|---|---:|---:|"]
-        text += [f"| {name} | {cnt:,} | {100 * share:.1f} % |" for name, cnt, share in rows] + [""]
+                 f"Kalman active, input {hot['input']}, sample {hot['index']}): {hot['total']:,} instructions", ""]
+        for key, title in (("phase", "phase"), ("function", "innermost function"), ("line", "source line")):
+            rows = hot[key][:12]
+            text += [f"| {title} | instructions | share |", "|---|---:|---:|"]
+            text += [f"| {name} | {cnt:,} | {100 * share:.1f} % |" for name, cnt, share in rows] + [""]
     if qemu:
         text += [f"QEMU cross-check ({qemu['n']} steps, J={qemu['level']}, {qemu['wavelet']}, input "
                  f"{qemu['input']}): unicorn total {sum(qemu['unicorn']):,}, QEMU total {sum(qemu['qemu']):,}, "
@@ -1052,7 +1065,7 @@ def cli(argv: list[str] | None = None) -> int:
             "footprint": {t: {**f, "stack_static": f["stack_static"][0] if f["stack_static"] else None,
                               "stack_path": f["stack_static"][1] if f["stack_static"] else None}
                           for t, f in footprints.items()},
-            "hotspots": hot[0] if hot else None,
+            "hotspots": hot,
             "qemu": qemu,
             "cpi_range": CPI_RANGE, "clocks_mhz": CLOCKS_MHZ, "targets": TARGET_LIMITS, "failed": fails,
         }, indent=2))
