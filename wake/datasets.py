@@ -196,7 +196,12 @@ def load_csv(path, column=None, fs=None, name=None) -> Recording:
     data = _to_float(rows, path, 2 if header else 1)
     names = tuple(header) if header else tuple(f"col{i}" for i in range(data.shape[1]))
     if column is not None:
-        wanted = [column] if isinstance(column, (int, np.integer, str)) else list(column)
+        if isinstance(column, (int, np.integer, str)):
+            wanted = [column]
+        elif isinstance(column, (list, tuple)):
+            wanted = list(column)
+        else:
+            raise ValueError(f"column must be an index, a header name or a list of them, got {column!r}")
         idx = []
         for c in wanted:
             if isinstance(c, str):
