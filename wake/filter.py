@@ -96,19 +96,32 @@ class _Channel:
         if o.backend == "c" and not self.on_c:
             peak = float(np.max(np.abs(window)))
             self._switch_to_c(o.headroom * peak if peak > 0 else 1.0)
-        self.rtp.set_weights(self.weights, self.measurement_noise, o._process_noise(self.measurement_noise))
+        q = o._process_noise(self.measurement_noise)
+        if self.on_c:
+            self.measurement_noise, q, clamped = _representable_noise(self.measurement_noise, q, self.full_scale)
+            if clamped:
+                upd.flags = upd.flags + ("noise_clamped",)
+        self.rtp.set_weights(self.weights, self.measurement_noise, q)
 
     def _switch_to_c(self, full_scale):
         from ._c_backend import FixedPointRTP
 
         o = self.owner
-        c = FixedPointRTP(o.taps, self.weights, self.measurement_noise,
-                          o._process_noise(self.measurement_noise), o.initial_covariance,
-                          full_scale=full_scale)
+        r, q, _ = _representable_noise(self.measurement_noise, o._process_noise(self.measurement_noise),
+                                       full_scale)
+        p0 = _representable_noise(1.0, o.initial_covariance, full_scale)[1]
+        c = FixedPointRTP(o.taps, self.weights, r, q, p0, full_scale=full_scale)
         ref = self.rtp
         if ref.primed:
             window = np.concatenate((ref.buffer[ref.head:], ref.buffer[: ref.head]))
-            c.load_state(window, ref.correction, ref.covariance, ref.last_output)
+            # The float warm-up state, clipped into the C formats (a huge
+            # initial_covariance or a runaway correction cannot be held).
+            from ._c_backend import P_FRAC, STATE_FRAC
+
+            top_p = (2.0**31 - 1) * full_scale**2 / 2.0**P_FRAC
+            top_x = (2.0**31 - 1) * full_scale / 2.0**STATE_FRAC
+            c.load_state(window, np.clip(ref.correction, -top_x, top_x), np.clip(ref.covariance, -top_p, top_p),
+                         float(np.clip(ref.last_output, -top_x, top_x)))
         self.rtp = c
         self.on_c = True
         self.full_scale = full_scale
@@ -164,6 +177,22 @@ class _Channel:
         if sample != sample:
             return self.rtp.step_missing()
         return self.rtp.step(sample)
+
+
+def _representable_noise(r, q, full_scale):
+    """Clamp R and q into what the C core holds (Q(P_FRAC) of full_scale**2).
+
+    R below one LSB (a window with no tremor, a large full scale) is raised to
+    one LSB; R or q above the Q format's range (a full scale set below the
+    signal) are lowered to its top.  Returns ``(r, q, clamped)``.
+    """
+    from ._c_backend import P_FRAC
+
+    lsb = full_scale**2 / 2.0**P_FRAC
+    top = (2.0**31 - 1) * lsb
+    r2 = min(max(r, lsb), top)
+    q2 = 0.0 if q == 0 else min(max(q, lsb), top)
+    return r2, q2, (r2 != r or q2 != q)
 
 
 def _fill_gaps(window):
