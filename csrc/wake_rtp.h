@@ -64,10 +64,10 @@ extern "C" {
  * stored as round(v / FS^2 * 2^WAKE_RTP_P_FRAC) in int32_t.
  *
  * The default 32 gives a range of +-0.5 FS^2 with a resolution of
- * 2^-32 = 2.3e-10 FS^2: R = 1e-6 FS^2 is held to 5e-5 relative, q = 1e-9 FS^2
- * to +-5 % (it is 4.3 LSB).  Raise it (e.g. -DWAKE_RTP_P_FRAC=34, range
- * +-0.125 FS^2, q = 1e-9 FS^2 to +-1.2 %) when the covariance stays small,
- * lower it when p0 or R approach 0.5 FS^2.
+ * 2^-32 = 2.3e-10 FS^2: R = 1e-6 FS^2 is held to 5e-5 relative; q = 1e-9 FS^2
+ * is 4.3 LSB and becomes 4 (-7 %).  Raise it (e.g. -DWAKE_RTP_P_FRAC=34, range
+ * +-0.125 FS^2, q = 1e-9 FS^2 -> 17 LSB, -1 %) when the covariance stays
+ * small, lower it when p0 or R approach 0.5 FS^2.
  */
 #ifndef WAKE_RTP_P_FRAC
 #define WAKE_RTP_P_FRAC 32
