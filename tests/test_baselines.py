@@ -120,7 +120,7 @@ def test_lms_bound_is_the_stability_limit(rng):
 @pytest.mark.parametrize(
     "make, match",
     [
-        (lambda: BMFLC(mu=0.05), r"0 < mu < 0\.02195"),  # 41 pairs, mu_bias 0.1
+        (lambda: BMFLC(df=0.2, mu=0.05, mu_bias=0.1), r"0 < mu < 0\.02195"),  # 41 pairs
         (lambda: BMFLC(mu=0.0), "mu must be"),
         (lambda: BMFLC(mu_bias=1.0), "mu_bias itself"),
         (lambda: BMFLC(band=(14.0, 6.0)), "band"),
@@ -131,9 +131,9 @@ def test_lms_bound_is_the_stability_limit(rng):
         (lambda: EBMFLC(f_max=50.0), "f_max"),
         (lambda: EBMFLC(memory_s=0.001), "memory_s"),
         (lambda: EBMFLC(ridge=-1.0), "ridge"),
-        (lambda: WFLC(mu=0.95), "stability range"),
+        (lambda: WFLC(mu=0.95, mu_bias=0.1), "stability range"),
         (lambda: WFLC(f0=20.0), "f0"),
-        (lambda: WFLC(n_harmonics=4), "harmonic"),
+        (lambda: WFLC(n_harmonics=4, mu=0.01), "harmonic"),
         (lambda: WFLC(beta=2.0), "beta"),
         (lambda: WFLC(fs="100"), "fs"),
     ],

@@ -1,5 +1,8 @@
 """Baseline tremor extractors the paper compares WAKE with: BMFLC, E-BMFLC, WFLC.
 
+The defaults are the parameters tuned once on synthetic signal 1 and used
+for every signal (grid and result: docs/baselines.md).
+
 Every class has the :class:`wake.WakeFilter` contract: ``run(x)`` takes
 ``x`` of shape ``(n,)`` or ``(n, channels)`` (channels are independent) and
 returns a :class:`BaselineResult` whose ``voluntary[k]`` is a one-step-ahead
@@ -119,17 +122,17 @@ class BMFLC:
         Tremor band of the bank, Hz.  Default 6-14 Hz, the band of Veluvolu
         et al. (2010) that the paper's synthetic tremor also uses.
     df : float
-        Frequency spacing, Hz (default 0.2, tuned; docs/baselines.md).
+        Frequency spacing, Hz (default 0.1).
     mu : float
-        LMS step of the bank weights.
+        LMS step of the bank weights (default 0.005).
     mu_bias : float
-        LMS step of the bias weight.  ``M*mu + mu_bias < 1`` is required
+        LMS step of the bias weight (default 0.1).  ``M*mu + mu_bias < 1`` is required
         (module docstring), ``M`` the number of bank frequencies.
     """
 
     name = "BMFLC"
 
-    def __init__(self, fs=100.0, band=(6.0, 14.0), df=0.2, mu=0.01, mu_bias=0.1):
+    def __init__(self, fs=100.0, band=(6.0, 14.0), df=0.1, mu=0.005, mu_bias=0.1):
         self.fs = check_positive("fs", fs)
         self.band = _check_band("band", band, self.fs)
         self.df = check_positive("df", df)
@@ -310,11 +313,11 @@ class WFLC:
     n_harmonics : int
         ``M`` (default 1).
     mu : float
-        Amplitude-weight step; ``M*mu + mu_bias < 1`` required.
+        Amplitude-weight step (default 0.3); ``M*mu + mu_bias < 1`` required.
     mu0 : float
-        Frequency step (normalised, see above).
+        Frequency step (normalised, see above; default 1e-4).
     mu_bias : float
-        Bias step.
+        Bias step (default 0.1).
     f0 : float
         Initial frequency, Hz.
     f_range : (float, float)
@@ -325,7 +328,7 @@ class WFLC:
 
     name = "WFLC"
 
-    def __init__(self, fs=100.0, n_harmonics=1, mu=0.01, mu0=5e-4, mu_bias=0.1, f0=8.0,
+    def __init__(self, fs=100.0, n_harmonics=1, mu=0.3, mu0=1e-4, mu_bias=0.1, f0=8.0,
                  f_range=(3.0, 15.0), beta=0.01):
         self.fs = check_positive("fs", fs)
         self.n_harmonics = check_positive("n_harmonics", n_harmonics, integer=True)
