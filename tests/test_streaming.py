@@ -111,3 +111,21 @@ def test_filters_side_by_side_do_not_interact(stream):
         ya.append(a.update(u))
         b.update(v)
     assert ya == solo
+
+
+@pytest.mark.parametrize("backend", ["reference", "c"])
+def test_update_block_equals_update(backend, stream):
+    if backend == "c":
+        from conftest import has_c_backend
+
+        if not has_c_backend():
+            pytest.skip("the compiled C core wake._rtp is not built")
+    x = stream.measurement[:2345].copy()
+    x[700:720] = np.nan
+    a, b = WakeFilter(backend=backend), WakeFilter(backend=backend)
+    one = np.array([a.update(v) for v in x])
+    blocks = np.concatenate([b.update_block(x[:333]), b.update_block(x[333:1500]), b.update_block(x[1500:])])
+    np.testing.assert_allclose(one, blocks, rtol=0, atol=1e-12)
+    assert [u.index for u in a.hpa_history[0]] == [u.index for u in b.hpa_history[0]] == [500, 1000, 1500, 2000]
+    with pytest.raises(ValueError, match="streams 1 channel"):
+        b.update_block(np.ones((10, 2)))

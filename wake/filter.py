@@ -33,6 +33,7 @@ class WakeResult:
     hpa: list  #: per channel, the list of :class:`~wake.hpa.HPAUpdate`
     warmup: int  #: samples before the first HPA (left out of the paper's scores)
     backend: str
+    rtp: list = field(default=None, repr=False)  #: per channel, the RTP state after the last sample
     full_scale: np.ndarray = field(default=None)  #: per channel (C backend), else None
     clipped: np.ndarray = field(default=None)  #: input samples clipped to full scale, per channel
     saturations: np.ndarray = field(default=None)  #: saturating narrowings inside the C core, per channel
@@ -127,25 +128,34 @@ class _Channel:
         self.full_scale = full_scale
 
     # -- samples -------------------------------------------------------------
-    def run(self, x):
-        """Whole recording of this channel: outputs aligned so out[k] predicts x[k]."""
+    def process(self, x):
+        """A block of samples continuing the stream: ``y[i]`` is what
+        ``update(x[i])`` would return (the prediction for the next sample)."""
         o = self.owner
         L = o.window_samples
         n = x.shape[0]
-        out = np.zeros(n + 1)  # out[n] predicts a sample that never comes; dropped below
+        y = np.empty(n)
+        if o.hpa_mode == "thread":
+            self.swap_if_ready(wait=True, first_sample=self.count + 1)
+        seen = np.concatenate((self.history, x))  # the last L samples before x, then x
+        base = self.count
         start = 0
-        # After sample index i is received (count = i + 1), an HPA runs when
-        # the count is a multiple of L, before that sample's RTP step.
-        for stop in list(range(L - 1, n, L)) + [n]:
+        # After sample number c arrives, an HPA runs when c is a multiple of L,
+        # before that sample's RTP step.
+        first_hpa = (-(base + 1)) % L  # index in x of the first sample completing a window
+        for stop in list(range(first_hpa, n, L)) + [n]:
             if start < stop:
-                out[start + 1 : stop + 1] = self.rtp.run(x[start:stop])
+                y[start:stop] = self.rtp.run(x[start:stop])
             if stop < n:
-                self.count = stop + 1
-                self.hpa(x[stop + 1 - L : stop + 1])
+                self.count = base + stop + 1
+                window = seen[stop + 1 : stop + 1 + L]
+                if np.isnan(window).any():
+                    window = _fill_gaps(window)
+                self.hpa(window)
             start = stop
-        self.count = n
-        self.history = x[-L:].copy() if n >= L else np.concatenate((np.zeros(L - n), x))
-        return out[:n]
+        self.count = base + n
+        self.history = seen[-L:].copy()
+        return y
 
     def swap_if_ready(self, wait=False, first_sample=None):
         """Thread mode: install a finished HPA between two samples."""
@@ -348,13 +358,15 @@ class WakeFilter:
                 f"{self.window_samples} samples (window_s * fs = {self.window_s:g} s * {self.fs:g} Hz)"
             )
         channels = [_Channel(self) for _ in range(arr.shape[1])]
-        out = np.column_stack([ch.run(arr[:, c]) for c, ch in enumerate(channels)])
+        out = np.zeros_like(arr)
+        for c, ch in enumerate(channels):
+            out[1:, c] = ch.process(arr[:, c])[:-1]  # voluntary[k] comes from x[:k]
         return self._result(arr, out, channels, one_d)
 
     def _result(self, arr, out, channels, one_d):
         shape = (lambda a: a[:, 0]) if one_d else (lambda a: a)
         res = WakeResult(shape(out), shape(arr - out), [ch.updates for ch in channels],
-                         self.window_samples, self.backend)
+                         self.window_samples, self.backend, rtp=[ch.rtp for ch in channels])
         if self.backend == "c":
             res.full_scale = np.array([ch.full_scale if ch.full_scale is not None else np.nan for ch in channels])
             res.clipped = np.array([getattr(ch.rtp, "clipped", 0) for ch in channels])
@@ -383,6 +395,37 @@ class WakeFilter:
             )
         out = np.array([ch.update(v) for ch, v in zip(self._channels, values)])
         return float(out[0]) if np.ndim(sample) == 0 else out
+
+    def update_block(self, x):
+        """Feed a block of samples to the stream; same outputs as ``update()`` per sample.
+
+        Parameters
+        ----------
+        x : array_like, shape (n,) or (n, channels)
+            NaN marks a missing sample; inf is refused.
+
+        Returns
+        -------
+        numpy.ndarray, same shape as ``x``
+            ``out[i]`` is the prediction of the voluntary motion at the sample
+            after ``x[i]``.
+        """
+        arr, one_d = as_signal(x, allow_nan=True)
+        if self._channels is None:
+            self._channels = [_Channel(self) for _ in range(arr.shape[1])]
+            self._n_channels = arr.shape[1]
+        elif arr.shape[1] != self._n_channels:
+            raise ValueError(
+                f"this filter streams {self._n_channels} channel(s); got a block with {arr.shape[1]}. "
+                "Call reset() to start a stream with another channel count"
+            )
+        out = np.column_stack([ch.process(arr[:, c]) for c, ch in enumerate(self._channels)])
+        return out[:, 0] if one_d else out
+
+    @property
+    def rtp_states(self):
+        """Per channel, the RTP object of the current stream (covariance, saturations, ...)."""
+        return [ch.rtp for ch in (self._channels or [])]
 
     def reset(self):
         """Forget the stream (weights, history and RTP state)."""
