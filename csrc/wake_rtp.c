@@ -205,7 +205,7 @@ wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const int16_t *taps,
     }
     n = 1u << (unsigned)level;
     for (j = 0; j < (unsigned)level; ++j) {
-        /* sum of |taps| <= 2.0 (Q14 32768) keeps the filter-bank sum below 2^30 */
+        /* sum of |taps| <= 65535 (Q15) keeps the filter-bank sum below 2^31 */
         int32_t row_abs = 0;
         for (i = 0; i < n; ++i) {
             int32_t t = taps[j * n + i];
@@ -408,7 +408,7 @@ static int16_t predict(wake_rtp_t *s)
     for (j = 0; j < J; ++j) {
         const int16_t *b = s->taps + (size_t)j * N;
         const int16_t *b2 = b + (N - head);
-        /* |acc| <= (sum_i |B_ji|) 2^15 <= 2^15 * 2^15 = 2^30: exact in int32 */
+        /* |acc| <= (sum_i |B_ji|) 2^15 <= 65535 * 2^15 < 2^31: exact in int32 */
         int32_t acc = 0;
         int32_t a, x;
         for (i = head; i < N; ++i) {             /* window[0 .. N-head-1] = ring[head .. N-1] */
@@ -417,7 +417,7 @@ static int16_t predict(wake_rtp_t *s)
         for (i = 0; i < head; ++i) {             /* window[N-head .. N-1] = ring[0 .. head-1] */
             acc += (int32_t)b2[i] * (int32_t)ring[i];
         }
-        /* a_j: Q29 -> Q23 */
+        /* a_j: Q30 -> Q23 */
         a = (int32_t)rshift_round64(acc, (WAKE_RTP_TAP_FRAC + WAKE_RTP_SAMPLE_FRAC) - WAKE_RTP_STATE_FRAC);
         /* x_j = a_j + d_j                       Q23 */
         x = add_sat32(a, s->correction[j], &s->saturations);

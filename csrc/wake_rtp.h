@@ -30,8 +30,8 @@
  * | quantity                    | C type          | format              | range              |
  * |-----------------------------|-----------------|---------------------|--------------------|
  * | sample m, prediction y (I/O)| int16_t         | Q15 of FS           | [-1, 1) FS         |
- * | taps B                      | int16_t         | Q14                 | [-2, 2), row sum of abs <= 2 |
- * | filter-bank accumulator     | int32_t         | Q29 of FS           | provably < 2^30    |
+ * | taps B                      | int16_t         | Q15                 | [-1, 1), row sum of abs < 2  |
+ * | filter-bank accumulator     | int32_t         | Q30 of FS           | provably < 2^31    |
  * | a_j, d_j, a_j + d_j, y(n-1) | int32_t         | Q23 of FS           | [-256, 256) FS     |
  * | weights w                   | int32_t         | Q24                 | [-64, 64]          |
  * | P, R, q, p0, u = P w, S     | int32_t / int64 | Q(WAKE_RTP_P_FRAC) of FS^2 | default Q32: [-0.5, 0.5) FS^2 |
@@ -79,16 +79,16 @@ extern "C" {
 
 /** Fraction bits of the I/O samples (Q15 of FS). */
 #define WAKE_RTP_SAMPLE_FRAC 15
-/** Fraction bits of the filter-bank taps (Q14). */
-#define WAKE_RTP_TAP_FRAC 14
+/** Fraction bits of the filter-bank taps (Q15). */
+#define WAKE_RTP_TAP_FRAC 15
 /** Fraction bits of a_j, d_j and the stored last output (Q23 of FS). */
 #define WAKE_RTP_STATE_FRAC 23
 /** Fraction bits of the HPA weights (Q24). */
 #define WAKE_RTP_WEIGHT_FRAC 24
 /** Largest accepted |weight| in Q24 (64.0). */
 #define WAKE_RTP_WEIGHT_MAX (INT32_C(64) << WAKE_RTP_WEIGHT_FRAC)
-/** Largest accepted sum of |taps| of one row in Q14 (2.0). */
-#define WAKE_RTP_TAP_ROW_ABS_MAX (INT32_C(2) << WAKE_RTP_TAP_FRAC)
+/** Largest accepted sum of |taps| of one row in Q15 (2.0 - 2^-15). */
+#define WAKE_RTP_TAP_ROW_ABS_MAX ((INT32_C(2) << WAKE_RTP_TAP_FRAC) - 1)
 
 /** Value of wake_rtp_t::magic once initialised ("WAKE"). */
 #define WAKE_RTP_MAGIC UINT32_C(0x57414B45)
@@ -98,7 +98,7 @@ typedef enum {
     WAKE_RTP_OK = 0,              /**< success */
     WAKE_RTP_E_NULL = -1,         /**< a required pointer is NULL */
     WAKE_RTP_E_LEVEL = -2,        /**< level outside 1..WAKE_RTP_MAX_LEVEL */
-    WAKE_RTP_E_TAPS = -3,         /**< a tap row's sum of |taps| exceeds 2.0 (Q14 32768) */
+    WAKE_RTP_E_TAPS = -3,         /**< a tap row's sum of |taps| is 2.0 or more (Q15 65536) */
     WAKE_RTP_E_WEIGHTS = -4,      /**< a weight outside [-64, 64] (Q24) */
     WAKE_RTP_E_NOISE = -5,        /**< R <= 0, q < 0 or p0 < 0 */
     WAKE_RTP_E_UNINIT = -6,       /**< the struct was never initialised (bad magic) */
@@ -122,7 +122,7 @@ typedef struct {
     uint16_t n_taps;           /**< N = 2^J */
     uint16_t head;             /**< ring index of the oldest sample, 0..N-1 */
     uint16_t primed;           /**< 0 until the first sample, then 1 */
-    const int16_t *taps;       /**< J x N taps, row-major, oldest sample first, Q14 (caller-owned) */
+    const int16_t *taps;       /**< J x N taps, row-major, oldest sample first, Q15 (caller-owned) */
     int32_t weights[WAKE_RTP_MAX_LEVEL];     /**< HPA weights w, Q24, |w| <= 64 */
     int32_t r;                 /**< measurement noise R, Q(P_FRAC) of FS^2, > 0 */
     int32_t q;                 /**< process noise q (Q = q I), Q(P_FRAC) of FS^2, >= 0 */
@@ -137,7 +137,7 @@ typedef struct {
  * @brief Initialise one channel.
  * @param[out] s        instance (any content; fully overwritten)
  * @param[in]  level    J, 1..WAKE_RTP_MAX_LEVEL
- * @param[in]  taps     J x 2^J taps, row-major, oldest sample first, Q14;
+ * @param[in]  taps     J x 2^J taps, row-major, oldest sample first, Q15;
  *                      kept by pointer (not copied): must outlive @p s
  * @param[in]  weights  J weights, Q24 (copied)
  * @param[in]  r        R, Q(P_FRAC) of FS^2, > 0
@@ -147,10 +147,10 @@ typedef struct {
  *         (then @p s is left uninitialised: its magic is cleared).
  *
  * @par Scaling and overflow
- * A tap row whose sum of |taps| exceeds 2.0 (32768 in Q14) is rejected.  With
- * that bound and |sample| <= 2^15, the filter-bank sum
- * sum_i B[j][i] m_i is at most 2^15 * 2^15 = 2^30 in magnitude, so its int32
- * accumulator provably never overflows, whatever the input.  Wavelet taps
+ * A tap row whose sum of |taps| exceeds 65535 (2.0 - 2^-15 in Q15) is
+ * rejected.  With that bound and |sample| <= 2^15, the filter-bank sum
+ * sum_i B[j][i] m_i is at most 65535 * 2^15 = 2^31 - 2^15 in magnitude, so
+ * its int32 accumulator provably never overflows, whatever the input.  Wavelet taps
  * have unit DC gain and a sum of |taps| below 1.7 for db/sym/haar wavelets
  * at levels 3..6.  Weights are limited to |w| <= 64 so that every
  * w_j x_j product (Q24 x Q23) fits in 2^61 and J <= 8 of them sum without

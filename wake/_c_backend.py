@@ -9,7 +9,7 @@ units and are quantised with ``full_scale`` (FS):
 quantity               C format                    valid range
 =====================  ==========================  =====================
 samples, prediction    int16 Q15 of FS             [-1, 1) FS (clipped)
-taps                   int16 Q14                   |tap| < 2, row sum of |taps| <= 2
+taps                   int16 Q15                   |tap| < 1, row sum of |taps| < 2
 weights                int32 Q24                   [-64, 64]
 correction d           int32 Q23 of FS             [-256, 256) FS
 P, R, q, p0            int32 Q(P_FRAC) of FS**2    see :data:`P_FRAC`
@@ -59,7 +59,7 @@ def _check(status, what):
 
 
 def quantize_taps(taps):
-    """Taps (J, 2**J) -> int16 Q14, checking the C core's overflow bound."""
+    """Taps (J, 2**J) -> int16 Q15, checking the C core's overflow bound."""
     taps = np.array(taps, dtype=float)
     if taps.ndim != 2 or taps.shape[1] != 2 ** taps.shape[0]:
         raise ValueError(f"taps must have shape (J, 2**J), got {taps.shape}")
@@ -69,11 +69,11 @@ def quantize_taps(taps):
         raise ValueError("taps must be finite")
     q = np.round(taps * 2.0**TAP_FRAC)
     if np.abs(q).max() > 2**15 - 1:
-        raise ValueError(f"taps must lie within ±2 (int16 Q{TAP_FRAC}), got max |tap| {np.abs(taps).max():.6g}")
+        raise ValueError(f"taps must lie within ±1 (int16 Q{TAP_FRAC}), got max |tap| {np.abs(taps).max():.6g}")
     row_abs = np.abs(q).sum(axis=1)
     if row_abs.max() > TAP_ROW_ABS_MAX:
         raise ValueError(
-            f"each tap row's sum of |taps| must be at most 2.0 (Q{TAP_FRAC} {TAP_ROW_ABS_MAX}) so the "
+            f"each tap row's sum of |taps| must be below 2.0 (at most {TAP_ROW_ABS_MAX} in Q{TAP_FRAC}) so the "
             f"C filter-bank accumulator cannot overflow; got {row_abs.max() / 2.0**TAP_FRAC:.6g}"
         )
     return np.ascontiguousarray(q, dtype=np.int16)
@@ -160,7 +160,7 @@ class FixedPointRTP:
     # -- quantised parameters in physical units (what the C core really uses)
     @property
     def taps(self):
-        """Taps as the C core holds them (Q14, dequantised)."""
+        """Taps as the C core holds them (Q15, dequantised)."""
         return self._taps_q / 2.0**TAP_FRAC
 
     @property

@@ -18,11 +18,11 @@
 #define LEVEL 3
 #define N_TAPS (1 << LEVEL)
 
-/* Q14 taps, row j = level-(j+1) approximation at the newest sample, oldest first. */
+/* Q15 taps, row j = level-(j+1) approximation at the newest sample, oldest first. */
 static const int16_t taps_flash[LEVEL * N_TAPS] = {
-    0, 0, 0, 0, 0, 0, 8192, 8192,
-    0, 0, 0, 0, 4096, 4096, 4096, 4096,
-    2048, 2048, 2048, 2048, 2048, 2048, 2048, 2048,
+    0, 0, 0, 0, 0, 0, 16384, 16384,
+    0, 0, 0, 0, 8192, 8192, 8192, 8192,
+    4096, 4096, 4096, 4096, 4096, 4096, 4096, 4096,
 };
 
 /* Shared with the ISRs. */

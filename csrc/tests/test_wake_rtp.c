@@ -34,7 +34,6 @@ static int n_failed = 0;
 #define MAXN WAKE_RTP_MAX_TAPS
 
 static const double Q15 = 32768.0;
-static const double Q14 = 16384.0;
 static const double PI = 3.14159265358979323846;
 static const double Q24 = 16777216.0;
 
@@ -72,7 +71,7 @@ static void ref_init(ref_t *f, int J, const int16_t *taps, const int32_t *w, int
     memset(f, 0, sizeof(*f));
     f->J = J;
     f->N = 1 << J;
-    for (i = 0; i < J * f->N; ++i) f->taps[i] = taps[i] / Q14;
+    for (i = 0; i < J * f->N; ++i) f->taps[i] = taps[i] / Q15;
     for (i = 0; i < J; ++i) f->w[i] = w[i] / Q24;
     f->r = r / p_scale();
     f->q = q / p_scale();
@@ -160,11 +159,11 @@ static void make_taps(int J, int16_t *taps, int signed_rows)
         int len = 1 << (j + 1);
         if (len > N) len = N;
         for (i = 0; i < N; ++i) taps[j * N + i] = 0;
-        for (i = N - len; i < N; ++i) taps[j * N + i] = (int16_t)(16384 / len);
+        for (i = N - len; i < N; ++i) taps[j * N + i] = (int16_t)(32768 / len - (len == 1));
         if (signed_rows && len >= 4) {
             /* add +0.175 at the newest, -0.175 at the oldest of the run: sum stays 1 */
-            taps[j * N + N - 1] = (int16_t)(taps[j * N + N - 1] + 2867);
-            taps[j * N + N - len] = (int16_t)(taps[j * N + N - len] - 2867);
+            taps[j * N + N - 1] = (int16_t)(taps[j * N + N - 1] + 5734);
+            taps[j * N + N - len] = (int16_t)(taps[j * N + N - len] - 5734);
         }
     }
 }
@@ -226,13 +225,13 @@ static void test_status_codes(void)
     w[0] = WAKE_RTP_WEIGHT_MAX;
     CHECK(wake_rtp_init(&s, 3, taps, w, 1000, 0, 0) == WAKE_RTP_OK, "weight = 64 accepted");
     w[0] = 0;
-    /* taps: a row with sum |taps| = 2.0 + 1 LSB is rejected, exactly 2.0 accepted */
+    /* taps: a row with sum |taps| = 65535 (2 - 2^-15) is accepted, 65536 rejected */
     memset(taps, 0, sizeof(taps));
-    taps[8 + 0] = 16384;
-    taps[8 + 1] = -16384;
-    CHECK(wake_rtp_init(&s, 3, taps, w, 1000, 0, 0) == WAKE_RTP_OK, "row sum |taps| = 2.0 accepted");
+    taps[8 + 0] = 32767;
+    taps[8 + 1] = -32768;
+    CHECK(wake_rtp_init(&s, 3, taps, w, 1000, 0, 0) == WAKE_RTP_OK, "row sum |taps| = 65535 accepted");
     taps[8 + 2] = 1;
-    CHECK(wake_rtp_init(&s, 3, taps, w, 1000, 0, 0) == WAKE_RTP_E_TAPS, "row sum |taps| > 2.0");
+    CHECK(wake_rtp_init(&s, 3, taps, w, 1000, 0, 0) == WAKE_RTP_E_TAPS, "row sum |taps| = 65536 rejected");
     CHECK(s.magic != WAKE_RTP_MAGIC, "failed init leaves the struct uninitialised");
     CHECK(wake_rtp_step(&s, 0, &y) == WAKE_RTP_E_UNINIT, "step after failed init");
 
