@@ -304,7 +304,7 @@ def test_bad_inputs():
     with pytest.raises(ValueError, match="sum of \\|taps\\| must be below 2.0"):
         FixedPointRTP(np.where(np.arange(8) < 3, 0.9, 0.0) * np.ones((3, 1)), [0, 0, 1], 1e-3, full_scale=1.0)
     with pytest.raises(ValueError, match="within ±1"):
-        FixedPointRTP(taps * 1.05, [0, 0, 1], 1e-3, full_scale=1.0)
+        FixedPointRTP(np.where(np.arange(8) == 7, 1.0, 0.0) * np.ones((3, 1)), [0, 0, 1], 1e-3, full_scale=1.0)
     with pytest.raises(ValueError, match="levels 1..6"):
         FixedPointRTP(filter_bank_taps("haar", 7), np.ones(7) / 7, 1e-3, full_scale=1.0)
     with pytest.raises(ValueError, match="shape"):
