@@ -118,14 +118,16 @@ def test_footprint_and_static_stack(m4_emulator):
 def test_prediction_matches_the_host_core(m4_emulator):
     """The image computes what the host build computes (same C, other compiler)."""
     cb = pytest.importorskip("wake._c_backend", reason="the C extension is not built")
-    params = profile.fitted_parameters("sym3", 3, kalman=True, p_frac=m4_emulator.p_frac)
+    emu = m4_emulator
+    params = profile.fitted_parameters("sym3", 3, kalman=True, formats=emu.formats)
     x = profile.adversarial_inputs(3, 24, measurement=params["measurement"])["random"]
     m4_emulator.write_config(params)
     m4_emulator.init()
     ours = [m4_emulator.step(int(s))[0] for s in x]
     fs = params["full_scale"]
     lsb = fs**2 / 2.0**m4_emulator.p_frac
-    host = cb.FixedPointRTP(params["taps"] / 2.0**14, params["weights"] / 2.0**24, params["r"] * lsb,
-                            params["q"] * lsb, params["p0"] * lsb, full_scale=fs)
-    theirs = np.round(host.run(x / 2.0**15 * fs) / fs * 2**15).astype(int)
+    host = cb.FixedPointRTP(params["taps"] / 2.0**emu.tap_frac, params["weights"] / 2.0**emu.weight_frac,
+                            params["r"] * lsb, params["q"] * lsb, params["p0"] * lsb, full_scale=fs)
+    one = 2.0**emu.sample_frac
+    theirs = np.round(host.run(x / one * fs) / fs * one).astype(int)
     assert ours == list(theirs)

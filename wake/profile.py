@@ -150,6 +150,7 @@ class Image:
     core_object: Path
     target: str
     callgraph: Path | None = None
+    source: Path | None = None  #: the core's C source it was built from
     sections: list = field(default_factory=list)  #: (name, addr, size, flags, offset)
     segments: list = field(default_factory=list)  #: (vaddr, data, memsz)
     symbols: dict = field(default_factory=dict)  #: name -> (addr, size, type)
@@ -243,7 +244,9 @@ def build_image(target="m4-O2", *, board="generic", build_dir=None, csrc=None, d
          "-L", str(prof), "-Wl,-Map=profile.map",
          "startup.o", "harness.o", str(core_o), "-lgcc", "-o", str(elf)])
     ci = out / "wake_rtp.ci"
-    return Image.read(elf, core_o, target, ci if ci.is_file() else None)
+    img = Image.read(elf, core_o, target, ci if ci.is_file() else None)
+    img.source = src / "wake_rtp.c"
+    return img
 
 
 # ---------------------------------------------------------------------------
@@ -324,11 +327,18 @@ class Emulator:
         self.stack_top = image.addr("_estack")
         self.stop = image.addr("profile_stop")
         self.counter = BlockCounter(self.uc, keep_hits=keep_hits)
-        info = self.read_words(image.addr("g_profile_info"), 10)
+        info = self.read_words(image.addr("g_profile_info"), 14)
         if info[0] != INFO_MAGIC:
             raise RuntimeError("g_profile_info not found in the image")
         (self.sizeof_state, self.sizeof_config, self.off_weights, self.off_weights2, self.off_taps,
-         self.off_input, self.max_samples, self.max_level, self.p_frac) = info[1:]
+         self.off_input, self.max_samples, self.max_level, self.p_frac, self.sample_frac, self.tap_frac,
+         self.weight_frac, self.tap_row_abs_max) = info[1:]
+
+    @property
+    def formats(self):
+        """Number formats of the build: fraction bits and the tap-row bound."""
+        return {"p_frac": self.p_frac, "sample_frac": self.sample_frac, "tap_frac": self.tap_frac,
+                "weight_frac": self.weight_frac, "tap_row_abs_max": self.tap_row_abs_max}
 
     def _regions(self):
         align = 0x10000
@@ -439,27 +449,28 @@ def arithmetic_floor(level):
     return J * 2**J + J * J + J + J + J * (J + 1) // 2 + J
 
 
-def _quantizers(p_frac):
-    """The C wrapper's quantisers when importable for this P_FRAC, else identical local ones."""
+def _quantizers(fmt):
+    """The C wrapper's quantisers when importable for these formats, else equivalent local ones."""
+    p_frac = fmt["p_frac"]
     try:
         from . import _c_backend as cb
 
-        if cb.P_FRAC == p_frac:
+        if (cb.P_FRAC, cb.TAP_FRAC, cb.WEIGHT_FRAC) == (p_frac, fmt["tap_frac"], fmt["weight_frac"]):
             return cb.quantize_taps, cb.quantize_weights, cb.quantize_variance
     except ImportError:
         pass
 
     def q_taps(taps):
-        q = np.round(np.asarray(taps, dtype=float) * 2.0**14)
-        if np.abs(q).sum(axis=1).max() > 2 * 2**14:
-            raise ValueError("a tap row's sum of |taps| exceeds 2.0")
+        q = np.round(np.asarray(taps, dtype=float) * 2.0 ** fmt["tap_frac"])
+        if np.abs(q).max() > 2**15 - 1 or np.abs(q).sum(axis=1).max() > fmt["tap_row_abs_max"]:
+            raise ValueError("taps outside the int16 range or a row's sum of |taps| above the core's bound")
         return q.astype(np.int16)
 
     def q_weights(w, level):
         w = np.asarray(w, dtype=float).reshape(level)
         if np.abs(w).max(initial=0.0) > 64:
             raise ValueError("weights must lie within ±64")
-        return np.round(w * 2.0**24).astype(np.int32)
+        return np.round(w * 2.0 ** fmt["weight_frac"]).astype(np.int32)
 
     def q_var(v, fs, name, *, positive):
         q = round(float(v) / (fs**2 / 2.0**p_frac))
@@ -485,7 +496,7 @@ def _hpa_fits(wavelet, level):
     return filt.taps, fitted, full_scale, sig.measurement
 
 
-def fitted_parameters(wavelet="sym3", level=5, *, kalman=True, p_frac=32):
+def fitted_parameters(wavelet="sym3", level=5, *, kalman=True, formats=None):
     """Quantised taps, two realistic weight sets, R, q and p0 for the image.
 
     The weights are HPA fits of ``WakeFilter(backend="reference")`` on
@@ -493,10 +504,13 @@ def fitted_parameters(wavelet="sym3", level=5, *, kalman=True, p_frac=32):
     and the next fit as the update.  ``full_scale`` is chosen as the C
     backend does (4 x the peak of the first HPA window).  ``kalman=True``:
     ``p0 = R`` and ``q = 1e-3 R``; ``kalman=False``: ``q = 0``, ``p0 = 0``
-    (the covariance stays zero).
+    (the covariance stays zero).  ``formats`` is :attr:`Emulator.formats`
+    (default: the header's defaults, Q32 covariance, Q15 taps, Q24 weights).
     """
     taps, fits, fs, measurement = _hpa_fits(wavelet, level)
-    q_taps, q_weights, q_var = _quantizers(p_frac)
+    fmt = formats or {"p_frac": 32, "sample_frac": 15, "tap_frac": 15, "weight_frac": 24,
+                      "tap_row_abs_max": 2**16 - 1}
+    q_taps, q_weights, q_var = _quantizers(fmt)
     k = max(range(len(fits)), key=lambda i: float(np.max(np.abs(fits[i].weights))))
     a, b = fits[k], fits[(k + 1) % len(fits)]
     # R must fit the Q(P_FRAC) range; realistic R are far below 0.5 FS^2.
@@ -515,7 +529,7 @@ def fitted_parameters(wavelet="sym3", level=5, *, kalman=True, p_frac=32):
         "q": q_var(1e-3 * r1, fs, "q", positive=False) if kalman else 0,
         "q2": q_var(1e-3 * r2, fs, "q", positive=False) if kalman else 0,
         "p0": q_var(r1, fs, "p0", positive=False) if kalman else 0,
-        "measurement": np.clip(np.round(measurement / fs * 2**15), -32768, 32767).astype(np.int16),
+        "measurement": np.clip(np.round(measurement / fs * 2.0 ** fmt["sample_frac"]), -32768, 32767).astype(np.int16),
     }
     return params
 
@@ -619,7 +633,7 @@ def profile_configuration(emu: Emulator, wavelet="sym3", level=5, *, kalman=True
     Each kind starts from a fresh ``wake_rtp_init``; the weights are updated
     (``wake_rtp_set_weights``) before sample ``n // 2``.
     """
-    params = fitted_parameters(wavelet, level, kalman=kalman, p_frac=emu.p_frac)
+    params = fitted_parameters(wavelet, level, kalman=kalman, formats=emu.formats)
     n = int(n or max(128, 4 * 2**level))
     update_at = n // 2
     inputs = adversarial_inputs(level, n, seed=seed, measurement=params["measurement"])
@@ -658,7 +672,7 @@ def hotspots(emu: Emulator, wavelet="sym3", level=5, *, kalman=True, n=None):
     """
     prof = profile_configuration(emu, wavelet, level, kalman=kalman, n=n)
     kind, idx, total = prof.worst()
-    params = fitted_parameters(wavelet, level, kalman=kalman, p_frac=emu.p_frac)
+    params = fitted_parameters(wavelet, level, kalman=kalman, formats=emu.formats)
     x = adversarial_inputs(level, len(prof.counts[kind]), measurement=params["measurement"])[kind]
     emu.write_config(params)
     emu.init()
@@ -670,13 +684,20 @@ def hotspots(emu: Emulator, wavelet="sym3", level=5, *, kalman=True, n=None):
     hits = dict(emu.counter.hits)
     emu.counter.keep_hits = False
     chains = _inline_chains(emu.image, [a for a, _ in hits])
+    src_lines = emu.image.source.read_text().splitlines() if emu.image.source else []
+
+    def line_label(func, line):
+        text = src_lines[int(line) - 1].strip() if line.isdigit() and int(line) <= len(src_lines) else ""
+        text = text if len(text) <= 70 else text[:67] + "..."
+        return f"{func}:{line} `{text}`" if text else f"{func}:{line}"
+
     tallies = {"phase": {}, "function": {}, "line": {}}
     for (addr, size), h in hits.items():
         cnt = h * emu.counter.instructions_in(addr, size)
         chain = chains.get(addr) or [("?", "?")]
         phase = next((f for f, _ in reversed(chain) if f in PHASES), chain[-1][0])
         func, line = chain[0]
-        for key, name in (("phase", phase), ("function", func), ("line", f"{func} (line {line})")):
+        for key, name in (("phase", phase), ("function", func), ("line", line_label(func, line))):
             tallies[key][name] = tallies[key].get(name, 0) + cnt
     tot = sum(tallies["phase"].values())
     out = {"total": tot, "input": kind, "index": idx}
@@ -804,7 +825,7 @@ def qemu_crosscheck(level=5, wavelet="sym3", *, n=48, kind="random", build_dir=N
         raise ProfileUnavailable(f"{qemu} not found (Debian/Ubuntu: apt-get install qemu-system-arm)")
     image = build_image("m4-O2", board="mps2-an386", build_dir=build_dir, csrc=csrc)
     emu = Emulator(image)
-    params = fitted_parameters(wavelet, level, kalman=True, p_frac=emu.p_frac)
+    params = fitted_parameters(wavelet, level, kalman=True, formats=emu.formats)
     x = adversarial_inputs(level, n, measurement=params["measurement"])[kind]
     update_at = n // 2
     blob = emu.write_config(params, x, update_at)

@@ -52,7 +52,7 @@ int16_t g_output[PROFILE_MAX_SAMPLES];
 /**
  * Layout facts the profiler reads from the image (in .rodata of the harness,
  * not of the core): sizeof(wake_rtp_t) on the target, and the offsets of the
- * configuration block.
+ * configuration block, and the number formats of the build.
  */
 __attribute__((used)) const uint32_t g_profile_info[] = {
     UINT32_C(0x494E464F),                            /* "INFO" */
@@ -65,6 +65,10 @@ __attribute__((used)) const uint32_t g_profile_info[] = {
     (uint32_t)PROFILE_MAX_SAMPLES,
     (uint32_t)WAKE_RTP_MAX_LEVEL,
     (uint32_t)WAKE_RTP_P_FRAC,
+    (uint32_t)WAKE_RTP_SAMPLE_FRAC,
+    (uint32_t)WAKE_RTP_TAP_FRAC,
+    (uint32_t)WAKE_RTP_WEIGHT_FRAC,
+    (uint32_t)WAKE_RTP_TAP_ROW_ABS_MAX,
 };
 
 /** wake_rtp_init from the configuration block; returns the status. */
