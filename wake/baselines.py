@@ -199,22 +199,22 @@ class EBMFLC:
     ----------
     fs : float
     f_max : float
-        Top of the bank, Hz (default 20).
+        Top of the bank, Hz (default 14).
     df : float
-        Bin spacing, Hz.
+        Bin spacing, Hz (default 0.5).
     f_cut : float
-        Voluntary/tremor split, Hz (default 2; bins ``<= f_cut`` are voluntary).
+        Voluntary/tremor split, Hz (default 1.5; bins ``<= f_cut`` are voluntary).
     memory_s : float
-        ``Tp``: memory window in seconds (``Delta = memory_s * fs`` samples).
+        ``Tp``: memory window in seconds (``Delta = memory_s * fs`` samples; default 2).
     alpha : float
-        Weight of a sample ``Delta`` old, ``0 < alpha < 1``.
+        Weight of a sample ``Delta`` old, ``0 < alpha < 1`` (default 0.01).
     ridge : float
-        Relative ridge (>= 0; 0 only if the bins are well resolved within the memory).
+        Relative ridge (>= 0; default 1e-3).
     """
 
     name = "E-BMFLC"
 
-    def __init__(self, fs=100.0, f_max=20.0, df=0.5, f_cut=2.0, memory_s=2.0, alpha=0.05, ridge=1e-3):
+    def __init__(self, fs=100.0, f_max=14.0, df=0.5, f_cut=1.5, memory_s=2.0, alpha=0.01, ridge=1e-3):
         self.fs = check_positive("fs", fs)
         self.f_max = check_positive("f_max", f_max)
         if self.f_max >= self.fs / 2:
