@@ -253,7 +253,9 @@ class WakeFilter:
         ``None`` picks ``headroom * max|x|`` over the first HPA window, per
         channel (the float reference runs the warm-up until then).
     headroom : float
-        Factor of the automatic full scale (>= 1).
+        Factor of the automatic full scale (>= 1).  16 (24 dB) because real
+        recordings often start quiet: on the PADS recordings 4x clipped, 16x
+        did not (docs/fixed_point.md); it costs 4 of the 16 bits.
     hpa_mode : {"inline", "thread"}
         Streaming only (:meth:`update`).  ``"inline"`` runs the HPA inside
         the ``update()`` call that completes a window; ``"thread"`` runs it
@@ -276,7 +278,7 @@ class WakeFilter:
     def __init__(self, fs=100.0, wavelet="sym3", level=5, window_s=5.0, ar_order=17, *,
                  backend="c", mode=DEFAULT_MODE, fit="causal", process_noise=0.0,
                  initial_covariance=0.0, ridge=1e-6, tremor_band=(2.5, 15.0),
-                 cutoff_range=(0.5, 6.0), default_cutoff=2.0, full_scale=None, headroom=4.0,
+                 cutoff_range=(0.5, 6.0), default_cutoff=2.0, full_scale=None, headroom=16.0,
                  hpa_mode="inline"):
         self.fs = check_positive("fs", fs)
         check_wavelet(wavelet)
