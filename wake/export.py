@@ -133,3 +133,60 @@ static const int32_t {name}_weights[{J}] = {{
     else:
         raise TypeError("path_or_file must be a path or a writable text file")
     return text
+
+
+def cli(argv=None) -> int:
+    """``wake export-header OUT.h ...``: the header for a configuration, optionally
+    with weights fitted on a recording (the last HPA run over it)."""
+    import argparse
+    import sys
+
+    p = argparse.ArgumentParser(prog="wake export-header",
+                                description="Write a C header with the quantised taps and weights for firmware.")
+    p.add_argument("out", help="header file to write ('-' for standard output)")
+    p.add_argument("--wavelet", default="sym3")
+    p.add_argument("--level", type=int, default=5)
+    p.add_argument("--full-scale", type=float, default=None,
+                   help="physical value of int16 full scale (default: 16x the recording's first-window peak, "
+                        "or 1.0 without --fit)")
+    p.add_argument("--weights", default=None, help="comma-separated weights (default: [0,...,0,1] or fitted)")
+    p.add_argument("--measurement-noise", type=float, default=None, help="R (default: fitted, or 1e-3 FS^2)")
+    p.add_argument("--process-noise", type=float, default=0.0, help="q in physical units squared")
+    p.add_argument("--initial-covariance", type=float, default=0.0, help="p0 in physical units squared")
+    p.add_argument("--fit", metavar="CSV", help="fit weights and R on this recording (last HPA run)")
+    p.add_argument("--fs", type=float, default=100.0, help="sampling rate of --fit (Hz)")
+    p.add_argument("--column", type=int, default=None, help="column of --fit (default: the first)")
+    p.add_argument("--window", type=float, default=5.0, help="HPA window of --fit in s")
+    p.add_argument("--name", default="wake_config", help="C identifier prefix")
+    args = p.parse_args(argv)
+    weights = None
+    r = args.measurement_noise
+    fs_value = args.full_scale
+    if args.fit:
+        from .datasets import load_csv
+        from .filter import WakeFilter
+
+        rec = load_csv(args.fit, column=args.column, fs=args.fs)
+        x = np.asarray(rec.samples, dtype=float).reshape(len(rec.samples), -1)[:, 0]
+        filt = WakeFilter(fs=args.fs, wavelet=args.wavelet, level=args.level, window_s=args.window,
+                          backend="reference")
+        res = filt.run(x)
+        last = res.hpa[0][-1]
+        weights = last.weights
+        r = last.measurement_noise if r is None else r
+        if fs_value is None:
+            fs_value = filt.headroom * float(np.max(np.abs(x[: filt.window_samples])))
+    if args.weights:
+        try:
+            weights = [float(v) for v in args.weights.split(",")]
+        except ValueError:
+            raise ValueError(f"--weights must be comma-separated numbers, got {args.weights!r}") from None
+    fs_value = 1.0 if fs_value is None else fs_value
+    r = 1e-3 * fs_value**2 if r is None else r
+    dest = sys.stdout if args.out == "-" else args.out
+    export_header(dest, wavelet=args.wavelet, level=args.level, weights=weights, measurement_noise=r,
+                  process_noise=args.process_noise, initial_covariance=args.initial_covariance,
+                  full_scale=fs_value, name=args.name)
+    if dest is not sys.stdout:
+        print(f"wrote {args.out} ({args.wavelet}, J={args.level}, full scale {fs_value:g})")
+    return 0

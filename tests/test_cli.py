@@ -1,0 +1,70 @@
+import numpy as np
+import pytest
+
+from wake.cli import main
+from wake.synthetic import make_signal
+
+
+@pytest.fixture
+def recording(tmp_path):
+    s = make_signal(5.0, seed=1, duration=12.0)
+    path = tmp_path / "rec.csv"
+    np.savetxt(path, np.column_stack([s.measurement, -s.measurement]), delimiter=",", header="a,b", comments="")
+    return path, s
+
+
+def test_demo_prints_the_table(capsys):
+    assert main(["demo", "--backend", "reference"]) == 0
+    out = capsys.readouterr().out
+    assert "NRMSE relative to the paper" in out
+    rows = [line for line in out.splitlines() if line.strip()[:2].strip().isdigit()]
+    assert len(rows) == 10
+
+
+def test_run_writes_csv(recording, tmp_path, capsys):
+    path, s = recording
+    out = tmp_path / "out.csv"
+    assert main(["run", str(path), "--fs", "100", "--column", "0", "--out", str(out)]) == 0
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    assert data.shape == (1200, 3)
+    np.testing.assert_allclose(data[:, 0], s.measurement, rtol=1e-8)
+    np.testing.assert_allclose(data[:, 2], data[:, 0] - data[:, 1], atol=1e-7)
+    assert "2 HPA runs per channel" in capsys.readouterr().out
+
+
+def test_run_all_columns(recording, tmp_path):
+    path, _ = recording
+    out = tmp_path / "out.csv"
+    assert main(["run", str(path), "--fs", "100", "--out", str(out)]) == 0
+    assert np.loadtxt(out, delimiter=",", skiprows=1).shape == (1200, 6)
+
+
+@pytest.mark.parametrize("args, message", [
+    (["run", "missing.csv", "--fs", "100"], "missing.csv"),
+    (["run", "{rec}", "--fs", "-5"], "--fs must be > 0"),
+    (["run", "{rec}", "--fs", "100", "--level", "12"], "level must be from 1 to"),
+    (["run", "{rec}", "--fs", "100", "--wavelet", "nope"], "unknown wavelet"),
+])
+def test_errors_are_one_clear_line(args, message, recording, capsys):
+    path, _ = recording
+    args = [a.replace("{rec}", str(path)) for a in args]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert message in err and "Traceback" not in err
+
+
+def test_export_header_fits_weights(recording, tmp_path, capsys):
+    pytest.importorskip("wake._rtp", reason="the compiled C core wake._rtp is not built")
+    path, _ = recording
+    out = tmp_path / "cfg.h"
+    assert main(["export-header", str(out), "--fit", str(path), "--column", "0"]) == 0
+    text = out.read_text()
+    assert "wake_config_taps" in text and "wake_config_weights" in text
+    assert "#define WAKE_CONFIG_LEVEL 5" in text
+    assert main(["export-header", str(out), "--weights", "1,2"]) == 2  # wrong count for level 5
+    assert "weights" in capsys.readouterr().err
+
+
+def test_no_command_prints_help(capsys):
+    assert main([]) == 2
+    assert "demo" in capsys.readouterr().out
