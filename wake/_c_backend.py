@@ -39,6 +39,7 @@ WEIGHT_MAX = int(lib.WAKE_RTP_WEIGHT_MAX) / 2.0**WEIGHT_FRAC
 TAP_ROW_ABS_MAX = int(lib.WAKE_RTP_TAP_ROW_ABS_MAX)
 
 _INT32_MIN, _INT32_MAX = -(2**31), 2**31 - 1
+_SAMPLE_SCALE = 2.0**SAMPLE_FRAC
 
 _STATUS_TEXT = {
     int(lib.WAKE_RTP_E_NULL): "null pointer",
@@ -147,6 +148,7 @@ class FixedPointRTP:
         self.level, self.n_taps = self._taps_q.shape
         self._p0_q = quantize_variance(initial_covariance, fs, "initial_covariance", positive=False)
         self._state = ffi.new("wake_rtp_t *")
+        self._out = ffi.new("int16_t *")  # reused by step(): one allocation per instance, not per sample
         self._taps_c = ffi.from_buffer("int16_t[]", self._taps_q)   # kept alive with self
         w_q = quantize_weights(weights, self.level)
         r_q = quantize_variance(measurement_noise, fs, "measurement_noise R", positive=True)
@@ -297,12 +299,18 @@ class FixedPointRTP:
     def step(self, sample):
         """Take sample ``m(n)``; return the predicted voluntary motion at ``n + 1``."""
         x = float(sample)
-        if np.isnan(x):
+        if x != x:
             return self.step_missing()
-        m = int(self._quantize_samples(x))
-        out = ffi.new("int16_t *")
-        _check(lib.wake_rtp_step(self._state, m, out), "wake_rtp_step")
-        return float(self._to_physical(out[0]))
+        # Scalar twin of _quantize_samples (same half-to-even rounding), without numpy's per-call cost.
+        m = round(x / self.full_scale * _SAMPLE_SCALE)
+        if not -32768 <= m <= 32767:
+            self.clipped += 1
+            m = -32768 if m < 0 else 32767
+        out = self._out
+        status = lib.wake_rtp_step(self._state, m, out)
+        if status:
+            _check(status, "wake_rtp_step")
+        return out[0] / _SAMPLE_SCALE * self.full_scale
 
     def step_missing(self):
         """No measurement at ``n``: the last prediction stands in (see ReferenceRTP)."""

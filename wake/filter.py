@@ -15,6 +15,7 @@ from .wavelets import DEFAULT_MODE, filter_bank_taps
 __all__ = ["WakeFilter", "WakeResult", "BACKENDS"]
 
 BACKENDS = ("c", "reference")
+_INF = float("inf")
 HPA_MODES = ("inline", "thread")
 #: Highest level the fixed-point C core is built for (WAKE_RTP_MAX_LEVEL).
 C_MAX_LEVEL = 6
@@ -66,20 +67,25 @@ class _Channel:
         self.full_scale = o.full_scale
         self.updates: list[HPAUpdate] = []
         self.history = np.zeros(o.window_samples)
+        self.pos = 0
         self.count = 0
         self.pending = None  # thread mode: (future, window) of an HPA still off the sample path
         if o.backend == "c" and o.full_scale is not None:
             self._switch_to_c(o.full_scale)
 
     # -- HPA ---------------------------------------------------------------
-    def compute_hpa(self, window, index, previous_weights):
-        # Everything it reads is passed in: in thread mode this runs on the
-        # worker while the sample path keeps changing the channel.
+    def hpa_arguments(self, window, index, previous_weights):
+        # Everything the HPA reads is passed in (and picklable): off the sample
+        # path it runs while the channel keeps changing.
         o = self.owner
-        return run_hpa(window, o.fs, taps=o.taps, wavelet=o.wavelet, level=o.level, mode=o.mode,
-                       ar_order=o.ar_order, fit=o.fit, ridge=o.ridge, tremor_band=o.tremor_band,
-                       cutoff_range=o.cutoff_range, default_cutoff=o.default_cutoff,
-                       previous_weights=previous_weights, index=index)
+        return (window, o.fs), dict(taps=o.taps, wavelet=o.wavelet, level=o.level, mode=o.mode,
+                                    ar_order=o.ar_order, fit=o.fit, ridge=o.ridge, tremor_band=o.tremor_band,
+                                    cutoff_range=o.cutoff_range, default_cutoff=o.default_cutoff,
+                                    previous_weights=previous_weights, index=index)
+
+    def compute_hpa(self, window, index, previous_weights):
+        args, kwargs = self.hpa_arguments(window, index, previous_weights)
+        return run_hpa(*args, **kwargs)
 
     def hpa(self, window):
         upd = self.compute_hpa(window, self.count, self.weights)
@@ -137,7 +143,7 @@ class _Channel:
         y = np.empty(n)
         if o.hpa_mode == "thread":
             self.swap_if_ready(wait=True, first_sample=self.count + 1)
-        seen = np.concatenate((self.history, x))  # the last L samples before x, then x
+        seen = np.concatenate((self.ordered_history(), x))  # the last L samples before x, then x
         base = self.count
         start = 0
         # After sample number c arrives, an HPA runs when c is a multiple of L,
@@ -155,6 +161,7 @@ class _Channel:
             start = stop
         self.count = base + n
         self.history = seen[-L:].copy()
+        self.pos = 0
         return y
 
     def swap_if_ready(self, wait=False, first_sample=None):
@@ -168,12 +175,14 @@ class _Channel:
 
     def update(self, sample):
         o = self.owner
-        self.swap_if_ready()
-        self.history = np.roll(self.history, -1)
-        self.history[-1] = sample
+        if self.pending is not None:
+            self.swap_if_ready()
+        # history is a ring: self.pos is the oldest sample
+        self.history[self.pos] = sample
+        self.pos = (self.pos + 1) % o.window_samples
         self.count += 1
         if self.count % o.window_samples == 0:
-            window = self.history.copy()
+            window = self.ordered_history()
             if np.isnan(window).any():
                 window = _fill_gaps(window)
             if o.hpa_mode == "inline":
@@ -182,11 +191,16 @@ class _Channel:
                 # One HPA in flight at a time: a new window waits for the last
                 # one (it had L samples' time to finish).
                 self.swap_if_ready(wait=True, first_sample=self.count)
-                job = o._executor().submit(self.compute_hpa, window, self.count, self.weights.copy())
+                args, kwargs = self.hpa_arguments(window, self.count, self.weights.copy())
+                job = o._executor().submit(run_hpa, *args, **kwargs)
                 self.pending = (job, window)
         if sample != sample:
             return self.rtp.step_missing()
         return self.rtp.step(sample)
+
+    def ordered_history(self):
+        """The last L samples, oldest first (a copy)."""
+        return np.concatenate((self.history[self.pos :], self.history[: self.pos]))
 
 
 def _representable_noise(r, q, full_scale):
@@ -262,7 +276,9 @@ class WakeFilter:
         on a worker thread and swaps the new weights in between two later
         samples, so ``update()`` never waits for an HPA.  Each
         :class:`~wake.hpa.HPAUpdate` records the sample count at which its
-        weights took effect (``applied_at``).  :meth:`run` is always inline.
+        weights took effect (``applied_at``).  The worker still shares the
+        interpreter lock with ``update()``; docs/design.md ("Non-blocking
+        HPA") has the measured latencies.  :meth:`run` is always inline.
 
     Examples
     --------
@@ -382,6 +398,10 @@ class WakeFilter:
         NaN marks a missing sample: the RTP predicts through it without a
         measurement update (docs/design.md, "Missing samples").
         """
+        if type(sample) is float and self._n_channels == 1:  # the hot path: one channel, a float
+            if sample in (_INF, -_INF):
+                raise ValueError(f"sample holds inf ({sample!r}); pass NaN for a missing sample")
+            return float(self._channels[0].update(sample))
         values = np.asarray(sample, dtype=float).reshape(-1)
         if values.size == 0:
             raise ValueError("update() needs one value per channel, got an empty sample")
