@@ -6,6 +6,7 @@ issues, and that a profile of the real core is well formed.
 
 import math
 import shutil
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,6 +15,8 @@ from wake import profile
 
 unicorn = pytest.importorskip("unicorn", reason="unicorn is not installed (pip install 'wake-tremor[profile]')")
 pytest.importorskip("capstone", reason="capstone is not installed (pip install 'wake-tremor[profile]')")
+
+CSRC = Path(__file__).resolve().parents[1] / "csrc"
 
 needs_gcc = pytest.mark.skipif(shutil.which("arm-none-eabi-gcc") is None,
                                reason="arm-none-eabi-gcc is not installed (the Arm GNU toolchain)")
@@ -89,7 +92,8 @@ def test_adversarial_inputs_are_int16_and_full_scale():
 @pytest.fixture(scope="module")
 def m4_emulator(tmp_path_factory):
     try:
-        image = profile.build_image("m4-O2", build_dir=tmp_path_factory.mktemp("profile"))
+        # the sources of this checkout, also when the package under test is an installed copy
+        image = profile.build_image("m4-O2", build_dir=tmp_path_factory.mktemp("profile"), csrc=CSRC)
     except profile.ProfileUnavailable as exc:  # pragma: no cover - environment dependent
         pytest.skip(str(exc))
     return profile.Emulator(image)

@@ -111,7 +111,12 @@ class ProfileUnavailable(RuntimeError):
 
 def csrc_dir(path=None) -> Path:
     """The ``csrc/`` directory of the source checkout (or ``path``)."""
-    cand = Path(path) if path else Path(__file__).resolve().parents[1] / "csrc"
+    if path:
+        cand = Path(path)
+    else:  # the package's own checkout, else a checkout in the working directory (installed package)
+        cand = Path(__file__).resolve().parents[1] / "csrc"
+        if not (cand / "wake_rtp.c").is_file() and (Path.cwd() / "csrc" / "wake_rtp.c").is_file():
+            cand = Path.cwd() / "csrc"
     if not (cand / "wake_rtp.c").is_file() or not (cand / "profile" / "harness.c").is_file():
         raise ProfileUnavailable(
             f"the C sources were not found in {cand}: run from a source checkout or pass --csrc DIR")
