@@ -327,6 +327,22 @@ def _verdict(syn, real, backends):
     return "\n".join(lines)
 
 
+def _bar_chart(plt, path, names, labels, values, ylabel, title, figsize, fontsize=None):
+    """Grouped bars: one group per label, one bar per method."""
+    fig, ax = plt.subplots(figsize=figsize)
+    idx = np.arange(len(labels))
+    width = 0.8 / len(names)
+    for j, n in enumerate(names):
+        ax.bar(idx + j * width, values[n], width, label=n)
+    ax.set_xticks(idx + 0.4 - width / 2, labels, fontsize=fontsize)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
 def _figures(out_dir, syn, real, traces, fs):
     try:
         import matplotlib
@@ -337,36 +353,20 @@ def _figures(out_dir, syn, real, traces, fs):
         return [], "matplotlib is not installed (pip install 'wake-tremor[plot]'): no figures written."
     made = []
     names = _method_order(syn["rows"][0]["methods"])
-    # NRMSE per synthetic signal
-    fig, ax = plt.subplots(figsize=(9, 3.5))
-    idx = np.arange(len(syn["rows"]))
-    width = 0.8 / len(names)
-    for j, n in enumerate(names):
-        ax.bar(idx + j * width, [r["methods"][n]["nrmse"] for r in syn["rows"]], width, label=n)
-    ax.set_xticks(idx + 0.4 - width / 2, [f"{r['signal']}\n{r['snr_in']:.1f} dB" for r in syn["rows"]])
-    ax.set_ylabel("voluntary NRMSE")
-    ax.set_title("Synthetic set: NRMSE per signal")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(out_dir / "fig_nrmse_synthetic.png", dpi=120)
-    plt.close(fig)
+    # NRMSE per synthetic signal, then per recording
+    _bar_chart(plt, out_dir / "fig_nrmse_synthetic.png", names,
+               [f"{r['signal']}\n{r['snr_in']:.1f} dB" for r in syn["rows"]],
+               {n: [r["methods"][n]["nrmse"] for r in syn["rows"]] for n in names},
+               "voluntary NRMSE", "Synthetic set: NRMSE per signal", (9, 3.5))
     made.append("fig_nrmse_synthetic.png")
     if real:
         recs = sorted({r["recording"] for r in real["rows"]})
-        fig, ax = plt.subplots(figsize=(10, 3.8))
-        idx = np.arange(len(recs))
-        for j, n in enumerate(names):
-            vals = [np.mean([r["methods"][n] for r in real["rows"] if r["recording"] == rec]) for rec in recs]
-            ax.bar(idx + j * width, vals, width, label=n)
-        ax.set_xticks(idx + 0.4 - width / 2, [r.split("_")[0] + "\n" + r.split("_")[1] for r in recs], fontsize=8)
-        ax.set_ylabel("tremor NRMSE (mean of 6 axes)")
-        ax.set_title("PADS recordings: NRMSE per recording")
-        ax.legend(fontsize=8)
-        fig.tight_layout()
-        fig.savefig(out_dir / "fig_nrmse_real.png", dpi=120)
-        plt.close(fig)
+        _bar_chart(plt, out_dir / "fig_nrmse_real.png", names,
+                   [r.split("_")[0] + "\n" + r.split("_")[1] for r in recs],
+                   {n: [np.mean([r["methods"][n] for r in real["rows"] if r["recording"] == rec]) for rec in recs]
+                    for n in names},
+                   "tremor NRMSE (mean of 6 axes)", "PADS recordings: NRMSE per recording", (10, 3.8), fontsize=8)
         made.append("fig_nrmse_real.png")
-        # One recording/axis: the one with the most tremor power relative to its range.
         # One recording and axis: 040 (the clearest tremor of the subset) when present, its
         # axis with the most ground-truth tremor power.
         cand = [k for k in traces if k[0].startswith("040")] or list(traces)
