@@ -160,7 +160,8 @@ static wake_rtp_status_t check_instance(const wake_rtp_t *s)
     }
     if (s->level < 1u || s->level > (unsigned)WAKE_RTP_MAX_LEVEL
         || s->n_taps != (uint16_t)(1u << s->level) || s->head >= s->n_taps
-        || s->primed > 1u || s->taps == NULL || s->r <= 0 || s->q < 0 || s->p0 < 0) {
+        || s->primed > 1u || s->taps == NULL || s->r <= 0 || s->q < 0 || s->p0 < 0
+        || s->inert > 1u || (s->inert != 0u && s->q != 0)) {
         return WAKE_RTP_E_CORRUPT;
     }
     return WAKE_RTP_OK;
@@ -187,6 +188,24 @@ static wake_rtp_status_t check_weights(const int32_t *weights, unsigned level,
 /* ---------------------------------------------------------------------- */
 /* Configuration                                                           */
 /* ---------------------------------------------------------------------- */
+
+/**
+ * inert = 1 iff q == 0 and P == 0.  Then u = P w = 0, K = 0: the measurement
+ * update leaves d and P unchanged, P + q I = P and the PSD guard has nothing
+ * to clamp, so wake_rtp_step skips both updates (bit-identical output).
+ * Called wherever q or P is set from outside the recursion.
+ */
+static void refresh_inert(wake_rtp_t *s)
+{
+    unsigned k, JJ = (unsigned)s->level * s->level;
+    uint16_t inert = (s->q == 0) ? 1u : 0u;
+    for (k = 0; k < JJ; ++k) {
+        if (s->covariance[k] != 0) {
+            inert = 0u;
+        }
+    }
+    s->inert = inert;
+}
 
 wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const int16_t *taps,
                                 const int32_t *weights, int32_t r, int32_t q, int32_t p0)
@@ -247,6 +266,7 @@ wake_rtp_status_t wake_rtp_set_weights(wake_rtp_t *s, const int32_t *weights, in
     memcpy(s->weights, weights, (size_t)s->level * sizeof(int32_t));
     s->r = r;
     s->q = q;
+    refresh_inert(s);
     return WAKE_RTP_OK;
 }
 
@@ -269,6 +289,7 @@ wake_rtp_status_t wake_rtp_reset(wake_rtp_t *s)
     s->last_output = 0;
     s->saturations = 0u;
     s->guard_events = 0u;
+    refresh_inert(s);
     return WAKE_RTP_OK;
 }
 
@@ -316,8 +337,15 @@ static void psd_guard(wake_rtp_t *s)
     }
 }
 
-/** Kalman measurement update for innovation source `sample`. */
-static void measurement_update(wake_rtp_t *s, int16_t sample)
+/** e = m(n) - y(n-1), Q23, saturated and counted. */
+static int32_t innovation(wake_rtp_t *s, int16_t sample)
+{
+    return sat32((int64_t)sample * (INT64_C(1) << (WAKE_RTP_STATE_FRAC - WAKE_RTP_SAMPLE_FRAC))
+                 - s->last_output, &s->saturations);
+}
+
+/** Kalman measurement update for the innovation e (Q23). */
+static void measurement_update(wake_rtp_t *s, int32_t e)
 {
     unsigned i, j, J = s->level;
     const int32_t *w = s->weights;
@@ -325,14 +353,9 @@ static void measurement_update(wake_rtp_t *s, int16_t sample)
     int32_t u[WAKE_RTP_MAX_LEVEL];
     int64_t t[WAKE_RTP_MAX_LEVEL];
     int64_t acc, S;
-    int32_t e;
     unsigned nbits, shift;
     int k;
     uint32_t mant, recip;
-
-    /* e = m(n) - y(n-1)                         Q23 */
-    e = sat32((int64_t)sample * (INT64_C(1) << (WAKE_RTP_STATE_FRAC - WAKE_RTP_SAMPLE_FRAC))
-              - s->last_output, &s->saturations);
 
     /* u = P w                                   Q(P+24) products / 8, rounded to Q(P) */
     for (i = 0; i < J; ++i) {
@@ -433,9 +456,13 @@ static int16_t predict(wake_rtp_t *s)
 
 static int16_t step_checked(wake_rtp_t *s, int16_t sample)
 {
+    int32_t e;
     push(s, sample);
-    measurement_update(s, sample);
-    time_update(s);
+    e = innovation(s, sample);        /* always: its saturation is counted even when inert */
+    if (!s->inert) {
+        measurement_update(s, e);
+        time_update(s);
+    }
     return predict(s);
 }
 
@@ -469,7 +496,9 @@ wake_rtp_status_t wake_rtp_step_missing(wake_rtp_t *s, int16_t *prediction)
     push(s, sat16((int32_t)rshift_round64(s->last_output,
                                           WAKE_RTP_STATE_FRAC - WAKE_RTP_SAMPLE_FRAC),
                   &s->saturations));
-    time_update(s);
+    if (!s->inert) {
+        time_update(s);
+    }
     *prediction = predict(s);
     return WAKE_RTP_OK;
 }
@@ -521,6 +550,7 @@ wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const int16_t *window,
         }
     }
     psd_guard(s);
+    refresh_inert(s);
     s->last_output = last_output;
     s->primed = 1u;
     return WAKE_RTP_OK;

@@ -122,6 +122,9 @@ typedef struct {
     uint16_t n_taps;           /**< N = 2^J */
     uint16_t head;             /**< ring index of the oldest sample, 0..N-1 */
     uint16_t primed;           /**< 0 until the first sample, then 1 */
+    uint16_t inert;            /**< 1 only while q == 0 and P == 0 (the Kalman update is then the
+                                    identity and is skipped); 0 is always safe.  Kept by init,
+                                    reset, set_weights and load_state */
     const int16_t *taps;       /**< J x N taps, row-major, oldest sample first, Q15 (caller-owned) */
     int32_t weights[WAKE_RTP_MAX_LEVEL];     /**< HPA weights w, Q24, |w| <= 64 */
     int32_t r;                 /**< measurement noise R, Q(P_FRAC) of FS^2, > 0 */

@@ -545,6 +545,59 @@ static void test_instances_independent(void)
     CHECK(memcmp(&a, &a2, sizeof(a)) == 0, "identical state");
 }
 
+/* The inert shortcut (q = 0, P = 0: Kalman update skipped) is bit-identical
+ * to running the full update, and the flag follows q and P. */
+static void test_inert_shortcut(void)
+{
+    static int16_t taps[MAXJ * MAXN];
+    wake_rtp_t a, b;
+    int32_t w[MAXJ], d[MAXJ] = {0}, P[MAXJ * MAXJ] = {0};
+    int16_t win[MAXN] = {0};
+    int k, same = 1, J = 5;
+    int16_t ya, yb;
+    make_taps(J, taps, 1);
+    make_weights(J, w, 20.0);
+    CHECK(wake_rtp_init(&a, J, taps, w, 3000, 0, 0) == WAKE_RTP_OK, "inert: init");
+    CHECK(a.inert == 1u, "q = 0, p0 = 0: inert");
+    CHECK(wake_rtp_init(&b, J, taps, w, 3000, 0, 0) == WAKE_RTP_OK, "inert: init b");
+    b.inert = 0u;                                  /* b runs the full (identity) update */
+    for (k = 0; k < 4000; ++k) {
+        int16_t m = (int16_t)((k % 97 < 40) ? 32767 : -32768);
+        if (k % 3 == 0) {
+            m = (int16_t)(rng_u32() & 0xFFFFu);
+        }
+        if (k == 2000) {                           /* a saturated y(n-1): e saturates too */
+            a.last_output = INT32_MIN;
+            b.last_output = INT32_MIN;
+        }
+        if (k % 50 == 7) {
+            wake_rtp_step_missing(&a, &ya);
+            wake_rtp_step_missing(&b, &yb);
+        } else {
+            wake_rtp_step(&a, m, &ya);
+            wake_rtp_step(&b, m, &yb);
+        }
+        if (ya != yb) same = 0;
+    }
+    CHECK(same, "inert shortcut: same predictions as the full update");
+    b.inert = 1u;
+    CHECK(memcmp(&a, &b, sizeof(a)) == 0, "inert shortcut: same state and counters");
+    CHECK(a.saturations > 0u, "inert shortcut: saturations still counted");
+    /* the flag follows q (set_weights) and P (load_state, reset) */
+    CHECK(wake_rtp_set_weights(&a, w, 3000, 5) == WAKE_RTP_OK && a.inert == 0u, "q > 0: not inert");
+    CHECK(wake_rtp_set_weights(&a, w, 3000, 0) == WAKE_RTP_OK && a.inert == 1u, "q = 0 again, P = 0: inert");
+    P[1 * J + 1] = 7;
+    CHECK(wake_rtp_load_state(&a, win, d, P, 0) == WAKE_RTP_OK && a.inert == 0u, "loaded P != 0: not inert");
+    CHECK(wake_rtp_reset(&a) == WAKE_RTP_OK && a.inert == 1u, "reset to p0 = 0: inert");
+    CHECK(wake_rtp_init(&a, J, taps, w, 3000, 0, 10) == WAKE_RTP_OK && a.inert == 0u, "p0 > 0: not inert");
+    /* a corrupted flag is refused */
+    a.inert = 2u;
+    CHECK(wake_rtp_step(&a, 1, &ya) == WAKE_RTP_E_CORRUPT, "corrupt inert flag");
+    CHECK(wake_rtp_init(&a, J, taps, w, 3000, 5, 0) == WAKE_RTP_OK, "init q > 0");
+    a.inert = 1u;                                  /* inert claimed while q > 0 */
+    CHECK(wake_rtp_step(&a, 1, &ya) == WAKE_RTP_E_CORRUPT, "inert flag with q > 0");
+}
+
 int main(void)
 {
     printf("sizeof(wake_rtp_t) = %u bytes (WAKE_RTP_MAX_LEVEL = %d, P_FRAC = %d)\n", (unsigned)sizeof(wake_rtp_t),
@@ -556,6 +609,7 @@ int main(void)
     test_saturation_and_psd();
     test_missing_and_reset();
     test_instances_independent();
+    test_inert_shortcut();
     printf("%d passed, %d failed\n", n_passed, n_failed);
     return n_failed ? 1 : 0;
 }
