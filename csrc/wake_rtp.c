@@ -12,6 +12,17 @@
 
 #include <string.h>
 
+#if defined(__ARM_FEATURE_DSP) && __ARM_FEATURE_DSP && defined(__ARM_FEATURE_SIMD32)
+#include <arm_acle.h>
+/* Filter bank with SMLAD (two 16 x 16 multiplies added to a 32-bit accumulator). */
+#define WAKE_RTP_USE_SMLAD 1
+#else
+#define WAKE_RTP_USE_SMLAD 0
+#endif
+
+/* The ring is 4-byte aligned inside the struct (it follows int32 fields). */
+typedef char wake_rtp_ring_is_aligned[(offsetof(wake_rtp_t, ring) % 4u == 0u) ? 1 : -1];
+
 #define P_FRAC WAKE_RTP_P_FRAC
 
 /* ---------------------------------------------------------------------- */
@@ -302,13 +313,14 @@ static void push(wake_rtp_t *s, int16_t sample)
 {
     if (!s->primed) {
         unsigned i;
-        for (i = 0; i < s->n_taps; ++i) {
+        for (i = 0; i < 2u * s->n_taps; ++i) {
             s->ring[i] = sample;
         }
         s->last_output = (int32_t)sample * (INT32_C(1) << (WAKE_RTP_STATE_FRAC - WAKE_RTP_SAMPLE_FRAC));
         s->primed = 1u;
     }
-    s->ring[s->head] = sample;
+    s->ring[s->head] = sample;                   /* both copies */
+    s->ring[s->head + s->n_taps] = sample;
     s->head = (uint16_t)((s->head + 1u) & (s->n_taps - 1u));
 }
 
@@ -421,25 +433,64 @@ static void time_update(wake_rtp_t *s)
     psd_guard(s);
 }
 
+#if WAKE_RTP_USE_SMLAD
+/**
+ * Two adjacent int16 as one 32-bit word, any alignment.  __builtin_memcpy
+ * (gcc, clang, armclang: the compilers that provide arm_acle.h) stays a
+ * builtin under -ffreestanding and becomes one LDR on ARMv7E-M; with
+ * -mno-unaligned-access (a firmware that sets CCR.UNALIGN_TRP) it becomes
+ * byte loads: slower, still correct.
+ */
+static inline int32_t load_pair(const int16_t *p)
+{
+    int32_t v;
+    __builtin_memcpy(&v, p, sizeof(v));
+    return v;
+}
+#endif
+
+/**
+ * sum_i b[i] x[i] for n = 2^J >= 2 int16 pairs.  With sum_i |b[i]| <= 65535
+ * and |x[i]| <= 2^15 every partial sum is below 2^31 in magnitude, so the
+ * int32 accumulation (also SMLAD's) is exact whatever the order.
+ */
+static inline int32_t fir(const int16_t *b, const int16_t *x, unsigned n)
+{
+    int32_t acc = 0;
+    unsigned i = 0;
+#if WAKE_RTP_USE_SMLAD
+    for (; i + 16u <= n; i += 16u) {
+        acc = __smlad(load_pair(b + i), load_pair(x + i), acc);
+        acc = __smlad(load_pair(b + i + 2u), load_pair(x + i + 2u), acc);
+        acc = __smlad(load_pair(b + i + 4u), load_pair(x + i + 4u), acc);
+        acc = __smlad(load_pair(b + i + 6u), load_pair(x + i + 6u), acc);
+        acc = __smlad(load_pair(b + i + 8u), load_pair(x + i + 8u), acc);
+        acc = __smlad(load_pair(b + i + 10u), load_pair(x + i + 10u), acc);
+        acc = __smlad(load_pair(b + i + 12u), load_pair(x + i + 12u), acc);
+        acc = __smlad(load_pair(b + i + 14u), load_pair(x + i + 14u), acc);
+    }
+    for (; i < n; i += 2u) {
+        acc = __smlad(load_pair(b + i), load_pair(x + i), acc);
+    }
+#else
+    for (; i < n; ++i) {
+        acc += (int32_t)b[i] * (int32_t)x[i];
+    }
+#endif
+    return acc;
+}
+
 /** a_j = sum_i B[j][i] window[i] (oldest first); y = w' (a + d). */
 static int16_t predict(wake_rtp_t *s)
 {
-    unsigned i, j, J = s->level, N = s->n_taps, head = s->head;
-    const int16_t *ring = s->ring;
+    unsigned j, J = s->level, N = s->n_taps;
+    const int16_t *window = s->ring + s->head;     /* contiguous: each sample is stored twice */
     int64_t yacc = 0;
     int32_t y;
     for (j = 0; j < J; ++j) {
-        const int16_t *b = s->taps + (size_t)j * N;
-        const int16_t *b2 = b + (N - head);
         /* |acc| <= (sum_i |B_ji|) 2^15 <= 65535 * 2^15 < 2^31: exact in int32 */
-        int32_t acc = 0;
+        int32_t acc = fir(s->taps + (size_t)j * N, window, N);
         int32_t a, x;
-        for (i = head; i < N; ++i) {             /* window[0 .. N-head-1] = ring[head .. N-1] */
-            acc += (int32_t)b[i - head] * (int32_t)ring[i];
-        }
-        for (i = 0; i < head; ++i) {             /* window[N-head .. N-1] = ring[0 .. head-1] */
-            acc += (int32_t)b2[i] * (int32_t)ring[i];
-        }
         /* a_j: Q30 -> Q23 */
         a = (int32_t)rshift_round64(acc, (WAKE_RTP_TAP_FRAC + WAKE_RTP_SAMPLE_FRAC) - WAKE_RTP_STATE_FRAC);
         /* x_j = a_j + d_j                       Q23 */
@@ -541,6 +592,7 @@ wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const int16_t *window,
         }
     }
     memcpy(s->ring, window, (size_t)s->n_taps * sizeof(int16_t));
+    memcpy(s->ring + s->n_taps, window, (size_t)s->n_taps * sizeof(int16_t));
     s->head = 0u;
     memcpy(s->correction, correction, (size_t)J * sizeof(int32_t));
     for (i = 0; i < J; ++i) {

@@ -133,7 +133,9 @@ typedef struct {
     int32_t last_output;       /**< y(n-1), Q23 of FS (saturated to int32) */
     int32_t correction[WAKE_RTP_MAX_LEVEL];  /**< Kalman correction d, Q23 of FS */
     int32_t covariance[WAKE_RTP_MAX_LEVEL * WAKE_RTP_MAX_LEVEL]; /**< P, J x J row-major (stride J), Q(P_FRAC) of FS^2, symmetric */
-    int16_t ring[WAKE_RTP_MAX_TAPS];         /**< the newest N samples, Q15 of FS; oldest at ring[head] */
+    int16_t ring[2 * WAKE_RTP_MAX_TAPS];     /**< the newest N samples, Q15 of FS, each stored twice (at k
+                                                  and k + N) so that the window, oldest first, is the
+                                                  contiguous ring[head .. head + N - 1]; 4-byte aligned */
 } wake_rtp_t;
 
 /**

@@ -218,9 +218,9 @@ class FixedPointRTP:
     @property
     def window(self):
         """The newest 2**J samples, oldest first (physical units)."""
-        head = int(self._state.head)
-        ring = np.array([self._state.ring[k] for k in range(self.n_taps)], dtype=float)
-        return np.concatenate((ring[head:], ring[:head])) / 2.0**SAMPLE_FRAC * self.full_scale
+        head = int(self._state.head)  # each sample is stored twice: ring[head:head + N] is the window
+        ring = np.array([self._state.ring[head + k] for k in range(self.n_taps)], dtype=float)
+        return ring / 2.0**SAMPLE_FRAC * self.full_scale
 
     # -- configuration ------------------------------------------------------
     def set_weights(self, weights, measurement_noise, process_noise=None):
