@@ -47,6 +47,15 @@ static inline int64_t asr64(int64_t v, unsigned sh)
     return -1 - ((-1 - v) >> sh);
 }
 
+/** floor(v / 2^sh) for int32, 0 <= sh <= 31 (as asr64). */
+static inline int32_t asr32(int32_t v, unsigned sh)
+{
+    if (v >= 0) {
+        return v >> sh;
+    }
+    return -1 - ((-1 - v) >> sh);
+}
+
 /** round(v / 2^sh), halves rounded up, for 0 <= sh <= 62; cannot overflow. */
 static inline int64_t rshift_round64(int64_t v, unsigned sh)
 {
@@ -73,6 +82,20 @@ static inline int32_t sat32(int64_t v, uint32_t *sat)
     return (int32_t)v;
 }
 
+/** Narrow int64 to [-(2^31 - 1), 2^31 - 1] (symmetric), saturating and counting. */
+static inline int32_t sat32s(int64_t v, uint32_t *sat)
+{
+    if (v > INT32_MAX) {
+        count_event(sat);
+        return INT32_MAX;
+    }
+    if (v < -INT32_MAX) {
+        count_event(sat);
+        return -INT32_MAX;
+    }
+    return (int32_t)v;
+}
+
 /** Narrow int32 to int16, saturating and counting. */
 static inline int16_t sat16(int32_t v, uint32_t *sat)
 {
@@ -93,23 +116,12 @@ static inline int32_t add_sat32(int32_t a, int32_t b, uint32_t *sat)
     return sat32((int64_t)a + (int64_t)b, sat);
 }
 
-/** a + b for int64 operands, saturated and counted, overflow detected before it happens. */
-static inline int64_t add_sat64(int64_t a, int64_t b, uint32_t *sat)
-{
-    if (b > 0 && a > INT64_MAX - b) {
-        count_event(sat);
-        return INT64_MAX;
-    }
-    if (b < 0 && a < INT64_MIN - b) {
-        count_event(sat);
-        return INT64_MIN;
-    }
-    return a + b;
-}
-
 /** Number of significant bits of v (0 for v = 0). */
 static inline unsigned bit_length64(uint64_t v)
 {
+#if defined(__GNUC__)
+    return v ? 64u - (unsigned)__builtin_clzll(v) : 0u;   /* CLZ on ARMv7-M */
+#else
     unsigned n = 0;
     if (v >> 32) { v >>= 32; n += 32; }
     if (v >> 16) { v >>= 16; n += 16; }
@@ -118,6 +130,7 @@ static inline unsigned bit_length64(uint64_t v)
     if (v >> 2) { v >>= 2; n += 2; }
     if (v >> 1) { v >>= 1; n += 1; }
     return n + (unsigned)v;
+#endif
 }
 
 /** floor(sqrt(v)), bit by bit (only on the rare PSD-guard path). */
@@ -338,7 +351,15 @@ static void psd_guard(wake_rtp_t *s)
     for (i = 0; i < J; ++i) {
         for (j = i + 1u; j < J; ++j) {
             int64_t pij = P[i * J + j];
-            int64_t bound2 = (int64_t)P[i * J + i] * P[j * J + j];   /* < 2^62 */
+            int32_t pii = P[i * J + i], pjj = P[j * J + j];
+            int64_t apij = (pij < 0) ? -pij : pij;
+            int64_t bound2;
+            if (apij <= ((pii < pjj) ? pii : pjj)) {
+                /* |P_ij| <= min(P_ii, P_jj) implies P_ij^2 <= P_ii P_jj: nothing to clamp */
+                P[j * J + i] = (int32_t)pij;
+                continue;
+            }
+            bound2 = (int64_t)pii * pjj;                               /* < 2^62 */
             if (pij * pij > bound2) {                                  /* <= 2^62 */
                 int32_t b = (int32_t)isqrt64((uint64_t)bound2);       /* < 2^31 */
                 P[i * J + j] = (pij < 0) ? -b : b;
@@ -356,6 +377,35 @@ static int32_t innovation(wake_rtp_t *s, int16_t sample)
                  - s->last_output, &s->saturations);
 }
 
+/**
+ * round(sum_j w_j x_j / 2^24) for n <= 8 terms, |w_j| <= 2^30 (64 in Q24)
+ * and |x_j| <= 2^31 - 1.  Each product is below 2^61 in magnitude; the even
+ * and the odd j go to two int64 accumulators (plain multiply-accumulate,
+ * SMLAL on Cortex-M4) of at most 4 terms each, so each stays below 2^63.
+ * Both are halved (floor) before they are added, then the sum is rounded
+ * once: exact up to 2^-25 of the result's LSB per accumulator.  |result| < 2^39.
+ */
+static inline int64_t dot_w(const int32_t *w, const int32_t *x, unsigned n)
+{
+    int64_t acc0 = 0, acc1 = 0;
+    unsigned j = 0;
+    for (; j + 2u <= n; j += 2u) {
+        acc0 += (int64_t)w[j] * x[j];
+        acc1 += (int64_t)w[j + 1u] * x[j + 1u];
+    }
+    if (j < n) {
+        acc0 += (int64_t)w[j] * x[j];
+    }
+    return rshift_round64(asr64(acc0, 1u) + asr64(acc1, 1u), WAKE_RTP_WEIGHT_FRAC - 1u);
+}
+
+/** round(v / 2^sh), halves up, for 0 <= sh <= 62 and |v| <= 2^62 (no overflow check needed). */
+static inline int64_t round_shift62(int64_t v, unsigned sh)
+{
+    int64_t half = (INT64_C(1) << sh) >> 1;          /* 2^(sh-1), 0 for sh = 0 */
+    return asr64(v + half, sh);
+}
+
 /** Kalman measurement update for the innovation e (Q23). */
 static void measurement_update(wake_rtp_t *s, int32_t e)
 {
@@ -363,27 +413,19 @@ static void measurement_update(wake_rtp_t *s, int32_t e)
     const int32_t *w = s->weights;
     int32_t *P = s->covariance;
     int32_t u[WAKE_RTP_MAX_LEVEL];
-    int64_t t[WAKE_RTP_MAX_LEVEL];
-    int64_t acc, S;
+    int32_t t[WAKE_RTP_MAX_LEVEL];
+    int64_t S;
     unsigned nbits, shift;
     int k;
     uint32_t mant, recip;
 
-    /* u = P w                                   Q(P+24) products / 8, rounded to Q(P) */
+    /* u = P w                                   Q(P); |P_ij| <= 2^31 - 1 here (PSD guard) */
     for (i = 0; i < J; ++i) {
-        acc = 0;
-        for (j = 0; j < J; ++j) {
-            acc += asr64((int64_t)P[i * J + j] * w[j], 3u);   /* |.| < 2^58, J <= 8 terms */
-        }
-        u[i] = sat32(rshift_round64(acc, WAKE_RTP_WEIGHT_FRAC - 3), &s->saturations);
+        u[i] = sat32s(dot_w(w, P + i * J, J), &s->saturations);
     }
 
-    /* S = w' u + R                              Q(P), int64 */
-    acc = 0;
-    for (j = 0; j < J; ++j) {
-        acc += asr64((int64_t)w[j] * u[j], 3u);
-    }
-    S = rshift_round64(acc, WAKE_RTP_WEIGHT_FRAC - 3) + s->r;   /* |S| < 2^41 */
+    /* S = w' u + R                              Q(P), int64, |w'u| < 2^39 */
+    S = dot_w(w, u, J) + s->r;
     if (S < 1) {
         /* only reachable if rounding left P slightly indefinite along w */
         S = 1;
@@ -391,34 +433,35 @@ static void measurement_update(wake_rtp_t *s, int32_t e)
     }
 
     /* 1/S: S = mant 2^k with mant in [2^30, 2^31); 1/S = recip 2^-(61+k) */
-    nbits = bit_length64((uint64_t)S);           /* 1..41 */
-    k = (int)nbits - 31;                         /* -30..10 */
+    nbits = bit_length64((uint64_t)S);           /* 1..40 */
+    k = (int)nbits - 31;                         /* -30..9 */
     if (k >= 0) {
         mant = (uint32_t)((uint64_t)S >> (unsigned)k);
     } else {
         mant = (uint32_t)((uint64_t)S << (unsigned)(-k));
     }
     recip = wake_rtp_reciprocal(mant);
-    shift = (unsigned)(30 + k);                  /* 0..40 */
+    shift = (unsigned)(30 + k);                  /* 0..39 */
 
-    /* K = u / S = t 2^-(30+k), t = u recip / 2^31, |t| <= 2^31 */
+    /* K = u / S = t 2^-(30+k), t = u recip / 2^31: |u recip| < 2^62, |t| <= 2^31 - 1 */
     for (i = 0; i < J; ++i) {
-        t[i] = rshift_round64((int64_t)u[i] * (int64_t)recip, 31u);
+        t[i] = (int32_t)round_shift62((int64_t)u[i] * (int64_t)recip, 31u);
     }
 
     /* d = d + K e                               (reference: d += u (e / S)); Q23 */
     for (i = 0; i < J; ++i) {
-        int64_t delta = rshift_round64(t[i] * e, shift);              /* |t e| <= 2^62 */
-        s->correction[i] = sat32(add_sat64(s->correction[i], delta, &s->saturations),
-                                 &s->saturations);
+        int64_t delta = round_shift62((int64_t)t[i] * e, shift);      /* |t e| < 2^62 */
+        s->correction[i] = sat32((int64_t)s->correction[i] + delta, &s->saturations);
     }
 
     /* P = P - u u' / S = P - K u'               upper triangle, mirrored: symmetric */
     for (i = 0; i < J; ++i) {
+        int32_t *Pi = P + i * J;
         for (j = i; j < J; ++j) {
-            int64_t delta = rshift_round64(t[i] * u[j], shift);
-            P[i * J + j] = sat32((int64_t)P[i * J + j] - delta, &s->saturations);
-            P[j * J + i] = P[i * J + j];
+            int64_t delta = round_shift62((int64_t)t[i] * u[j], shift); /* |t u| < 2^62 */
+            int32_t p = sat32((int64_t)Pi[j] - delta, &s->saturations);
+            Pi[j] = p;
+            P[j * J + i] = p;
         }
     }
 }
@@ -485,21 +528,18 @@ static int16_t predict(wake_rtp_t *s)
 {
     unsigned j, J = s->level, N = s->n_taps;
     const int16_t *window = s->ring + s->head;     /* contiguous: each sample is stored twice */
-    int64_t yacc = 0;
+    int32_t x[WAKE_RTP_MAX_LEVEL];
     int32_t y;
     for (j = 0; j < J; ++j) {
         /* |acc| <= (sum_i |B_ji|) 2^15 <= 65535 * 2^15 < 2^31: exact in int32 */
         int32_t acc = fir(s->taps + (size_t)j * N, window, N);
-        int32_t a, x;
-        /* a_j: Q30 -> Q23 */
-        a = (int32_t)rshift_round64(acc, (WAKE_RTP_TAP_FRAC + WAKE_RTP_SAMPLE_FRAC) - WAKE_RTP_STATE_FRAC);
-        /* x_j = a_j + d_j                       Q23 */
-        x = add_sat32(a, s->correction[j], &s->saturations);
-        /* y += w_j x_j                          Q47 / 8 = Q44, |.| < 2^58 */
-        yacc += asr64((int64_t)s->weights[j] * x, 3u);
+        /* a_j: Q30 -> Q23, rounded; acc + 2^6 < 2^31 */
+        int32_t a = asr32(acc + (INT32_C(1) << 6), (WAKE_RTP_TAP_FRAC + WAKE_RTP_SAMPLE_FRAC) - WAKE_RTP_STATE_FRAC);
+        /* x_j = a_j + d_j                       Q23, |x_j| <= 2^31 - 1 */
+        x[j] = sat32s((int64_t)a + s->correction[j], &s->saturations);
     }
-    /* y(n): Q44 -> Q23 (stored), -> Q15 (returned) */
-    y = sat32(rshift_round64(yacc, WAKE_RTP_WEIGHT_FRAC - 3), &s->saturations);
+    /* y(n) = w' x: Q47 -> Q23 (stored), -> Q15 (returned) */
+    y = sat32(dot_w(s->weights, x, J), &s->saturations);
     s->last_output = y;
     return sat16((int32_t)rshift_round64(y, WAKE_RTP_STATE_FRAC - WAKE_RTP_SAMPLE_FRAC),
                  &s->saturations);
