@@ -284,17 +284,29 @@ class FixedPointRTP:
         )
 
     # -- per sample ---------------------------------------------------------
-    def _quantize_samples(self, x):
-        q = np.round(np.asarray(x, dtype=float) / self.full_scale * 2.0**SAMPLE_FRAC)
-        over = (q > 32767) | (q < -32768)
-        n_over = int(np.count_nonzero(over))
-        if n_over:
-            self.clipped += n_over
-            q = np.clip(q, -32768, 32767)
-        return q.astype(np.int16)
+    def _quantize_samples(self, x, nan_positions=False):
+        """Samples -> int16 Q15 of full_scale: round half to even, clip (counted in :attr:`clipped`).
+
+        One division, one ``np.rint`` in place, one ``clip`` in place (only
+        when the extremes of the rounded values are out of range: clipping is
+        then counted) and one cast.  With ``nan_positions`` NaN samples become
+        0 and their indices are returned too.
+        """
+        # x / (FS / 2^15) is exactly x / FS * 2^15 (scaling by a power of two), as in step()
+        q = np.divide(np.asarray(x, dtype=float), self.full_scale / _SAMPLE_SCALE)
+        np.rint(q, out=q)
+        nan_idx = np.flatnonzero(np.isnan(q)) if nan_positions else None
+        if nan_idx is not None and nan_idx.size:
+            q[nan_idx] = 0.0
+        if q.size and (np.fmax.reduce(q) > 32767.0 or np.fmin.reduce(q) < -32768.0):
+            self.clipped += int(np.count_nonzero(q > 32767.0) + np.count_nonzero(q < -32768.0))
+            np.clip(q, -32768.0, 32767.0, out=q)
+        q_int = q.astype(np.int16)
+        return (q_int, nan_idx) if nan_positions else q_int
 
     def _to_physical(self, y_q):
-        return np.asarray(y_q, dtype=float) / 2.0**SAMPLE_FRAC * self.full_scale
+        # one multiply: y / 2^15 * FS == y * (FS / 2^15) exactly (power-of-two scaling)
+        return np.multiply(y_q, self.full_scale / _SAMPLE_SCALE, dtype=float)
 
     def step(self, sample):
         """Take sample ``m(n)``; return the predicted voluntary motion at ``n + 1``."""
@@ -326,18 +338,15 @@ class FixedPointRTP:
         """
         x = np.asarray(samples, dtype=float).reshape(-1)
         n = x.shape[0]
-        out_q = np.zeros(n, dtype=np.int16)
+        out_q = np.empty(n, dtype=np.int16)              # every entry is written below
         if n == 0:
             return out_q.astype(float)
-        nan = np.isnan(x)
-        x_q = self._quantize_samples(np.where(nan, 0.0, x))
-        x_q = np.ascontiguousarray(x_q)
+        x_q, nan_idx = self._quantize_samples(x, nan_positions=True)   # NaN -> 0: each is a step_missing
         in_c = ffi.from_buffer("int16_t[]", x_q)
         out_c = ffi.from_buffer("int16_t[]", out_q)
         one = ffi.new("int16_t *")
         # boundaries of runs: NaN at k starts/ends a run
         k = 0
-        nan_idx = np.flatnonzero(nan)
         for stop in list(nan_idx) + [n]:
             stop = int(stop)
             if stop > k:
