@@ -34,6 +34,7 @@
  * | filter-bank accumulator     | int32_t         | Q30 of FS           | provably < 2^31    |
  * | a_j, d_j, a_j + d_j, y(n-1) | int32_t         | Q23 of FS           | [-256, 256) FS     |
  * | weights w                   | int32_t         | Q24                 | [-64, 64]          |
+ * | x_j = a_j + d_j, u = P w    | int32_t         | Q23 / Q(P_FRAC)     | saturate to +-(2^31 - 1) |
  * | P, R, q, p0, u = P w, S     | int32_t / int64 | Q(WAKE_RTP_P_FRAC) of FS^2 | default Q32: [-0.5, 0.5) FS^2 |
  * | 1/S mantissa                | uint32_t        | Q30 of 1/[0.5,1)    | (1, 2]             |
  */
@@ -157,9 +158,12 @@ typedef struct {
  * sum_i B[j][i] m_i is at most 65535 * 2^15 = 2^31 - 2^15 in magnitude, so
  * its int32 accumulator provably never overflows, whatever the input.  Wavelet taps
  * have unit DC gain and a sum of |taps| below 1.7 for db/sym/haar wavelets
- * at levels 3..6.  Weights are limited to |w| <= 64 so that every
- * w_j x_j product (Q24 x Q23) fits in 2^61 and J <= 8 of them sum without
- * overflow in int64.
+ * at levels 3..6; the sum is done with SMLAD on DSP targets (every
+ * partial sum obeys the same bound, so it is exact there too).  Weights are
+ * limited to |w| <= 64 so that every product of a weight with an int32
+ * factor of magnitude <= 2^31 - 1 (P, u and a_j + d_j, see wake_rtp_step) is
+ * below 2^61; even and odd j go to two int64 accumulators of at most 4 terms
+ * (J <= 8), each below 2^63.
  */
 wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const int16_t *taps,
                                 const int32_t *weights, int32_t r, int32_t q, int32_t p0);
@@ -201,18 +205,22 @@ wake_rtp_status_t wake_rtp_reset(wake_rtp_t *s);
  * @par Scaling and overflow
  * Filter bank: int32 accumulator, exact and overflow-free (see
  * wake_rtp_init), rounded once to Q23.  Innovation e in Q23, saturated to
- * int32.  u = P w and w' u: int64 sums of Q(P_FRAC+24) products each
- * pre-shifted right by 3 (each product < 2^61, so J <= 8 terms cannot
- * overflow), rounded once to Q(P_FRAC).  S = w'u + R is kept in int64 and
- * clamped to >= 1 LSB.  1/S: S is normalised to a 31-bit mantissa and its
+ * int32.  u = P w and w' u: exact int64 multiply-accumulates of Q(P_FRAC+24)
+ * products (each < 2^61: |P_ij| <= 2^31 - 1 after the PSD guard, u
+ * saturates symmetrically to +-(2^31 - 1)) into two accumulators (even /
+ * odd j, <= 4 terms each, < 2^63), each halved, added and rounded once to
+ * Q(P_FRAC).  S = w'u + R is kept in int64 and clamped to >= 1 LSB.  1/S: S is normalised to a 31-bit mantissa and its
  * reciprocal is computed by four Newton-Raphson iterations with 32 x 32 ->
  * 64-bit multiplies only (no division; relative error <= 2^-29).  The gain
  * K = u / S is kept as a 32-bit value with the exponent of S; d += K e and
  * P -= K u' are 32 x 32 -> 64-bit products rounded once and saturated to
  * int32.  The upper triangle of P is computed and mirrored, then P += q I and
  * the PSD guard (diagonal clamped to >= 0, |P_ij| <= sqrt(P_ii P_jj)) run.
- * The prediction w'(a + d) is an int64 sum of products pre-shifted by 3,
- * rounded to Q23 (stored as y(n)) and to Q15 (returned), both saturated.
+ * The prediction w'x, x = a + d saturated symmetrically to +-(2^31 - 1), is
+ * accumulated the same way, rounded to Q23 (stored as y(n)) and to Q15
+ * (returned), both saturated.  While wake_rtp_t::inert is set (q = 0,
+ * P = 0) the measurement and time updates are skipped: they would change
+ * nothing (bit-identical).
  */
 wake_rtp_status_t wake_rtp_step(wake_rtp_t *s, int16_t sample, int16_t *prediction);
 
