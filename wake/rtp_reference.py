@@ -31,6 +31,27 @@ import numpy as np
 __all__ = ["ReferenceRTP"]
 
 
+# The two sums below run in a fixed order (one tap, one level at a time), the
+# same for one sample and for a block, so that run() and a loop of step()
+# agree to the bit; a BLAS product would sum in an order that depends on the
+# shapes.
+
+def _filter_bank(windows, taps):
+    """a_j = sum_i B[j, i] m(n - N + 1 + i), oldest sample first; one row per window."""
+    acc = np.zeros((windows.shape[0], taps.shape[0]))
+    for i in range(taps.shape[1]):
+        acc += windows[:, i : i + 1] * taps[:, i]
+    return acc
+
+
+def _weighted_sum(w, values):
+    """sum_j w_j values_j, along the first axis of ``values``."""
+    acc = w[0] * values[0]
+    for j in range(1, w.shape[0]):
+        acc = acc + w[j] * values[j]
+    return acc
+
+
 class ReferenceRTP:
     """One channel of the RTP in float64.
 
@@ -126,13 +147,12 @@ class ReferenceRTP:
         self.covariance[:: self.level + 1] += self.process_noise
 
     def _filter_bank(self):
-        # a_j = sum_i B[j, i] m(n - N + 1 + i), oldest sample first
         window = np.concatenate((self.buffer[self.head :], self.buffer[: self.head]))
-        return self.taps @ window
+        return _filter_bank(window[None, :], self.taps)[0]
 
     def _predict(self):
         # y = w' (a + d)
-        y = float(self.weights @ (self._filter_bank() + self.correction))
+        y = float(_weighted_sum(self.weights, self._filter_bank() + self.correction))
         self.last_output = y
         return y
 
@@ -184,11 +204,11 @@ class ReferenceRTP:
             return out
         N = self.n_taps
         history = np.concatenate((self.buffer[self.head :], self.buffer[: self.head], x))
-        approx = np.lib.stride_tricks.sliding_window_view(history[1:], N) @ self.taps.T
+        approx = _filter_bank(np.lib.stride_tricks.sliding_window_view(history[1:], N), self.taps)
         w = self.weights
         inert = self.process_noise == 0.0 and not self.covariance.any()
         if inert:
-            out[:] = (approx + self.correction) @ w
+            out[:] = _weighted_sum(w, (approx + self.correction).T)
         else:
             P = self.covariance.reshape(self.level, self.level)
             d = self.correction
@@ -201,7 +221,7 @@ class ReferenceRTP:
                 d += u * ((x[k] - y_prev) / s)
                 P -= np.outer(u, u) / s
                 P[diag, diag] += q
-                y_prev = float(w @ (approx[k] + d))
+                y_prev = float(_weighted_sum(w, approx[k] + d))
                 out[k] = y_prev
         tail = history[-N:]
         self.buffer[:] = tail
