@@ -15,11 +15,9 @@ def pads_dir():
 
 
 def has_c_backend():
-    try:
-        import wake._rtp  # noqa: F401
-    except ImportError:
-        return False
-    return True
+    from wake.filter import c_backend_available
+
+    return c_backend_available()
 
 
 @pytest.fixture(scope="session")

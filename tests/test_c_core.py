@@ -8,7 +8,6 @@ measures the core's arithmetic error, which docs/fixed_point.md bounds.
 import os
 import shutil
 import subprocess
-import sys
 
 import numpy as np
 import pytest

@@ -74,3 +74,12 @@ def test_c_matches_reference_on_real_recordings():
             nc = nrmse(truth, fix.tremor, 500)
             assert abs(nc - nr) <= 0.01 * nr, (rec.name, c, nc, nr)
             assert fix.clipped[0] == 0 and fix.saturations[0] == 0
+
+
+def test_gap_in_the_first_window_still_sets_a_finite_full_scale(signal10):
+    x = signal10.measurement[:1200].copy()
+    x[100:130] = np.nan
+    f = WakeFilter(backend="c")
+    y = f.update_block(x)
+    assert np.all(np.isfinite(y))
+    assert f.rtp_states[0].full_scale == pytest.approx(16 * np.nanmax(np.abs(x[:500])))

@@ -31,11 +31,9 @@ def _make_filter(args, fs):
 
 def default_backend():
     """``"c"`` when the compiled core imports, else ``"reference"``."""
-    try:
-        from . import _rtp  # noqa: F401
-    except ImportError:
-        return "reference"
-    return "c"
+    from .filter import c_backend_available
+
+    return "c" if c_backend_available() else "reference"
 
 
 def _cmd_demo(args) -> int:
@@ -84,8 +82,6 @@ def _read_csv(path, column, fs):
 
 
 def _cmd_run(args) -> int:
-    from .filter import WakeFilter  # noqa: F401  (import errors surface before reading)
-
     if not args.fs > 0:
         raise ValueError(f"--fs must be > 0 Hz, got {args.fs}")
     rec = _read_csv(args.file, args.column, args.fs)

@@ -34,7 +34,7 @@ import numpy as np
 
 from .baselines import BMFLC, EBMFLC, WFLC
 from .datasets import default_pads_dir, load_pads_folder
-from .filter import WakeFilter
+from .filter import WakeFilter, c_backend_available
 from .literal_rtp import hpa_schedule, literal_rtp_predict, literal_rtp_run, operation_counts
 from .metrics import best_lag, nrmse, offline_ground_truth, prf, snr_out
 from .synthetic import PAPER_BMFLC, PAPER_EBMFLC, PAPER_SNR_DB, PAPER_WAKE, paper_dataset
@@ -48,15 +48,6 @@ PAPER_COLUMNS = {"BMFLC": PAPER_BMFLC, "E-BMFLC": PAPER_EBMFLC, "WAKE": PAPER_WA
 METRICS = ("nrmse", "prf", "snr_out")
 METRIC_TITLES = {"nrmse": "NRMSE (lower is better)", "prf": "PRF % (lower is better)",
                  "snr_out": "SNR_out dB (higher is better)"}
-
-
-def c_backend_available() -> bool:
-    """Whether the compiled RTP core imports."""
-    try:
-        import wake._rtp  # noqa: F401
-    except Exception:  # ImportError, or a broken build
-        return False
-    return True
 
 
 def baseline_methods(fs):

@@ -17,6 +17,15 @@ __all__ = ["WakeFilter", "WakeResult", "BACKENDS"]
 BACKENDS = ("c", "reference")
 _INF = float("inf")
 HPA_MODES = ("inline", "thread")
+
+
+def c_backend_available() -> bool:
+    """Whether the compiled RTP core (``wake._rtp``) imports."""
+    try:
+        from . import _rtp  # noqa: F401
+    except Exception:  # ImportError, or a broken build
+        return False
+    return True
 #: Highest level the fixed-point C core is built for (WAKE_RTP_MAX_LEVEL).
 C_MAX_LEVEL = 6
 
@@ -75,9 +84,12 @@ class _Channel:
 
     # -- HPA ---------------------------------------------------------------
     def hpa_arguments(self, window, index, previous_weights):
-        # Everything the HPA reads is passed in (and picklable): off the sample
-        # path it runs while the channel keeps changing.
+        # Everything the HPA reads is passed in: off the sample path it runs
+        # while the channel keeps changing.  Gaps (NaN) are interpolated for
+        # the spectrum here, the one door every window goes through.
         o = self.owner
+        if np.isnan(window).any():
+            window = _fill_gaps(window)
         return (window, o.fs), dict(taps=o.taps, wavelet=o.wavelet, level=o.level, mode=o.mode,
                                     ar_order=o.ar_order, fit=o.fit, ridge=o.ridge, tremor_band=o.tremor_band,
                                     cutoff_range=o.cutoff_range, default_cutoff=o.default_cutoff,
@@ -101,7 +113,8 @@ class _Channel:
         self.weights = upd.weights
         self.measurement_noise = upd.measurement_noise
         if o.backend == "c" and not self.on_c:
-            peak = float(np.max(np.abs(window)))
+            observed = window[~np.isnan(window)]  # the window may hold gaps
+            peak = float(np.max(np.abs(observed))) if observed.size else 0.0
             self._switch_to_c(o.headroom * peak if peak > 0 else 1.0)
         q = o._process_noise(self.measurement_noise)
         if self.on_c:
@@ -154,10 +167,7 @@ class _Channel:
                 y[start:stop] = self.rtp.run(x[start:stop])
             if stop < n:
                 self.count = base + stop + 1
-                window = seen[stop + 1 : stop + 1 + L]
-                if np.isnan(window).any():
-                    window = _fill_gaps(window)
-                self.hpa(window)
+                self.hpa(seen[stop + 1 : stop + 1 + L])
             start = stop
         self.count = base + n
         self.history = seen[-L:].copy()
@@ -183,8 +193,6 @@ class _Channel:
         self.count += 1
         if self.count % o.window_samples == 0:
             window = self.ordered_history()
-            if np.isnan(window).any():
-                window = _fill_gaps(window)
             if o.hpa_mode == "inline":
                 self.hpa(window)
             else:

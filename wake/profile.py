@@ -44,8 +44,6 @@ import argparse
 import bisect
 import functools
 import json
-import math
-import os
 import re
 import shutil
 import struct
