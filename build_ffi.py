@@ -1,81 +1,86 @@
-"""cffi (API mode) build script for ``wake._rtp``, the fixed-point C core.
+"""cffi (API mode) build script for ``wake._rtp``, the compiled C core.
 
 Used by ``setup.py`` (``cffi_modules``); for development it can also be run
 directly (``python build_ffi.py``) to compile the extension in place.
+
+The cffi declarations are generated from the public headers (``csrc/wake_*.h``)
+rather than written out a second time: :func:`cdef_from_header` keeps the
+``#define WAKE_...`` constants (as ``#define NAME ...``, cffi reads the
+values from the compiled code), enum and struct typedefs (array sizes become
+``[...]``) and function prototypes, and drops comments, other preprocessor
+lines, conditional blocks and ``static inline`` helpers.  A public header
+therefore holds only those four kinds of declaration.
 """
 
+import glob
 import os
+import re
 
 from cffi import FFI
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+CSRC = "csrc"
+
+
+def _strip_conditionals(lines):
+    """Drop #if/#ifdef blocks (C++ guards, configuration checks); keep #ifndef ones (guard, defaults)."""
+    out, stack = [], []  # stack of "keep"/"drop" per open conditional
+    for line in lines:
+        s = line.strip()
+        m = re.match(r"#\s*(if|ifdef|ifndef|elif|else|endif)\b(.*)", s)
+        if m:
+            kind, rest = m.group(1), m.group(2).strip()
+            if kind in ("if", "ifdef", "ifndef"):
+                # keep the include guard and `#ifndef NAME / #define NAME default` blocks
+                stack.append("keep" if kind == "ifndef" else "drop")
+            elif kind == "endif":
+                stack.pop()
+            continue
+        if "drop" in stack:
+            continue
+        out.append(line)
+    return out
+
+
+def cdef_from_header(text: str) -> str:
+    """cffi declarations for one public header (see the module docstring)."""
+    text = re.sub(r"/\*.*?\*/", "", text, flags=re.S)
+    text = re.sub(r"//[^\n]*", "", text)
+    lines = _strip_conditionals(text.splitlines())
+    out = []
+    for line in lines:
+        s = line.strip()
+        m = re.match(r"#\s*define\s+(WAKE_\w+)\s+\S", s)
+        if m and not m.group(1).endswith("_H"):
+            out.append(f"#define {m.group(1)} ...")
+            continue
+        if s.startswith("#"):
+            continue
+        out.append(line)
+    body = "\n".join(out)
+    body = re.sub(r"static\s+inline[^{;]*\{.*?\n\}", "", body, flags=re.S)  # inline helpers
+    body = re.sub(r"\[[^\]]*WAKE_\w+[^\]]*\]", "[...]", body)             # sizes from macros
+    return body
+
+
+def public_headers():
+    return sorted(glob.glob(os.path.join(HERE, CSRC, "wake_*.h")))
+
+
+def sources():
+    return sorted(os.path.relpath(p, HERE) for p in glob.glob(os.path.join(HERE, CSRC, "wake_*.c")))
+
 
 ffibuilder = FFI()
-
-ffibuilder.cdef(
-    """
-    #define WAKE_RTP_MAX_LEVEL ...
-    #define WAKE_RTP_MAX_TAPS ...
-    #define WAKE_RTP_P_FRAC ...
-    #define WAKE_RTP_SAMPLE_FRAC ...
-    #define WAKE_RTP_TAP_FRAC ...
-    #define WAKE_RTP_STATE_FRAC ...
-    #define WAKE_RTP_WEIGHT_FRAC ...
-    #define WAKE_RTP_WEIGHT_MAX ...
-    #define WAKE_RTP_TAP_ROW_ABS_MAX ...
-
-    typedef enum {
-        WAKE_RTP_OK,
-        WAKE_RTP_E_NULL,
-        WAKE_RTP_E_LEVEL,
-        WAKE_RTP_E_TAPS,
-        WAKE_RTP_E_WEIGHTS,
-        WAKE_RTP_E_NOISE,
-        WAKE_RTP_E_UNINIT,
-        WAKE_RTP_E_CORRUPT,
-        WAKE_RTP_E_STATE,
-        ...
-    } wake_rtp_status_t;
-
-    typedef struct {
-        uint32_t magic;
-        uint32_t saturations;
-        uint32_t guard_events;
-        uint16_t level;
-        uint16_t n_taps;
-        uint16_t head;
-        uint16_t primed;
-        int32_t weights[...];
-        int32_t r;
-        int32_t q;
-        int32_t p0;
-        int32_t last_output;
-        int32_t correction[...];
-        int32_t covariance[...];
-        int16_t ring[...];
-        ...;
-    } wake_rtp_t;
-
-    wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const int16_t *taps,
-                                    const int32_t *weights, int32_t r, int32_t q, int32_t p0);
-    wake_rtp_status_t wake_rtp_set_weights(wake_rtp_t *s, const int32_t *weights,
-                                           int32_t r, int32_t q);
-    wake_rtp_status_t wake_rtp_reset(wake_rtp_t *s);
-    wake_rtp_status_t wake_rtp_step(wake_rtp_t *s, int16_t sample, int16_t *prediction);
-    wake_rtp_status_t wake_rtp_step_missing(wake_rtp_t *s, int16_t *prediction);
-    wake_rtp_status_t wake_rtp_run(wake_rtp_t *s, const int16_t *in, int16_t *out, size_t n);
-    wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const int16_t *window,
-                                          const int32_t *correction, const int32_t *covariance,
-                                          int32_t last_output);
-    uint32_t wake_rtp_reciprocal(uint32_t x);
-    """
-)
+for header in public_headers():
+    with open(header, encoding="utf-8") as fh:
+        ffibuilder.cdef(cdef_from_header(fh.read()), override=True)
 
 ffibuilder.set_source(
     "wake._rtp",
-    '#include "wake_rtp.h"',
-    sources=["csrc/wake_rtp.c"],
-    include_dirs=["csrc"],
+    "\n".join(f'#include "{os.path.basename(h)}"' for h in public_headers()),
+    sources=[s.replace(os.sep, "/") for s in sources()],
+    include_dirs=[CSRC],
 )
 
 if __name__ == "__main__":

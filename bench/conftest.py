@@ -25,7 +25,7 @@ TARGETS = {
 @pytest.fixture(scope="session")
 def recording():
     """A 50 s, 100 Hz synthetic recording (the paper's setting)."""
-    from wake.synthetic import make_signal
+    from wake.eval.synthetic import make_signal
 
     return make_signal(10.0, seed=3)
 

@@ -13,8 +13,9 @@ from pathlib import Path
 
 import numpy as np
 
-from wake import WakeFilter, nrmse, offline_ground_truth
-from wake.synthetic import PAPER_WAKE, paper_dataset
+from wake import WakeFilter
+from wake.eval.metrics import nrmse, offline_ground_truth
+from wake.eval.synthetic import PAPER_WAKE, paper_dataset
 
 VARIANTS = [
     ("default (causal fit, constant mode, q = 0)", {}),
@@ -22,10 +23,10 @@ VARIANTS = [
     ("mode='symmetric'", dict(mode="symmetric")),
     ("mode='periodization'", dict(mode="periodization")),
     ("mode='smooth'", dict(mode="smooth")),
-    ("process_noise=1e-6", dict(process_noise=1e-6)),
-    ("process_noise=1e-5", dict(process_noise=1e-5)),
-    ("process_noise=1e-4", dict(process_noise=1e-4)),
-    ("process_noise=1e-3", dict(process_noise=1e-3)),
+    ("process_noise_ratio=1e-6", dict(process_noise_ratio=1e-6)),
+    ("process_noise_ratio=1e-5", dict(process_noise_ratio=1e-5)),
+    ("process_noise_ratio=1e-4", dict(process_noise_ratio=1e-4)),
+    ("process_noise_ratio=1e-3", dict(process_noise_ratio=1e-3)),
     ("initial_covariance=0.05", dict(initial_covariance=0.05)),
     ("level=4", dict(level=4)),
     ("level=6", dict(level=6)),

@@ -18,7 +18,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from wake.profile import cli  # noqa: E402
+from wake.firmware.profile import cli  # noqa: E402
 
 if __name__ == "__main__":
     sys.exit(cli())

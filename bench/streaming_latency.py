@@ -18,7 +18,7 @@ import numpy as np
 
 from wake import WakeFilter
 from wake.cli import default_backend
-from wake.synthetic import make_signal
+from wake.eval.synthetic import make_signal
 
 
 def latencies(x, **kwargs):

@@ -32,9 +32,9 @@ import pytest
 
 from wake import WakeFilter
 from wake.hpa import run_hpa
-from wake.rtp_reference import ReferenceRTP
+from wake.rtp.reference import ReferenceRTP
 
-cb = pytest.importorskip("wake._c_backend", reason="the C extension wake._rtp is not built (pip install -e .)")
+cb = pytest.importorskip("wake.rtp.fixed", reason="the C extension wake._rtp is not built (pip install -e .)")
 
 N_BLOCK = 1_000_000
 N_STEP = 2_000

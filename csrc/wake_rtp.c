@@ -1,6 +1,6 @@
 /**
  * @file wake_rtp.c
- * @brief Fixed-point WAKE real-time prediction; mirrors wake/rtp_reference.py.
+ * @brief Fixed-point WAKE real-time prediction; mirrors wake/rtp/reference.py.
  *
  * Conventions: no signed overflow, no left shift of a negative value, no
  * float.  Right shifts of negative values go through asr64(), which is

@@ -5,7 +5,7 @@
  * One ::wake_rtp_t is one channel of the WAKE real-time predictor: a ring of
  * the newest 2^J samples, a J-level wavelet filter bank and a J-state Kalman
  * correction observed through the HPA weights.  The recursion mirrors the
- * float64 oracle `wake/rtp_reference.py` line for line:
+ * float64 oracle `wake/rtp/reference.py` line for line:
  *
  * @code
  *   buffer <- newest sample            ring of N = 2^J samples

@@ -1,23 +1,9 @@
-import os
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-from wake.synthetic import make_signal, paper_dataset
+from support import has_c_backend, pads_dir  # noqa: F401  (re-exported for old imports)
 
-
-def pads_dir():
-    """The PADS subset next to the checkout (or $WAKE_PADS_DIR), if present."""
-    env = os.environ.get("WAKE_PADS_DIR")
-    path = Path(env) if env else Path(__file__).resolve().parents[1].parent / "shared" / "data" / "pads"
-    return path if path.is_dir() and any(path.glob("*.txt")) else None
-
-
-def has_c_backend():
-    from wake.filter import c_backend_available
-
-    return c_backend_available()
+from wake.eval.synthetic import make_signal, paper_dataset
 
 
 @pytest.fixture(scope="session")

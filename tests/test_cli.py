@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 
 from wake.cli import main
-from wake.synthetic import make_signal
+from wake.eval.synthetic import make_signal
 
 
 @pytest.fixture

@@ -7,7 +7,8 @@ default still wins, so a change that flips the decision fails here.
 import numpy as np
 import pytest
 
-from wake import WakeFilter, nrmse
+from wake import WakeFilter
+from wake.eval.metrics import nrmse
 
 
 def mean_nrmse(signals, **kwargs):
@@ -24,7 +25,7 @@ def default_score(paper_signals):
     dict(fit="paper"),            # the paper's full-window fit
     dict(mode="symmetric"),       # PyWavelets' default boundary
     dict(mode="periodization"),
-    dict(process_noise=1e-5),     # a live Kalman correction
+    dict(process_noise_ratio=1e-5),     # a live Kalman correction
     dict(initial_covariance=0.05),
 ])
 def test_default_beats_alternative(alternative, paper_signals, default_score):

@@ -3,8 +3,9 @@
 import numpy as np
 import pytest
 
-from conftest import has_c_backend, pads_dir
-from wake import WakeFilter, nrmse, offline_ground_truth
+from support import has_c_backend, pads_dir
+from wake import WakeFilter
+from wake.eval.metrics import nrmse, offline_ground_truth
 
 pytestmark = pytest.mark.skipif(not has_c_backend(), reason="the compiled C core wake._rtp is not built")
 
@@ -52,7 +53,7 @@ def test_explicit_full_scale_runs_c_from_the_first_sample(signal10):
 
 
 def test_live_kalman_on_c_matches_reference(signal10):
-    kw = dict(process_noise=1e-4, initial_covariance=0.01)
+    kw = dict(process_noise_ratio=1e-4, initial_covariance=0.01)
     c = WakeFilter(backend="c", **kw).run(signal10.measurement)
     r = WakeFilter(backend="reference", **kw).run(signal10.measurement)
     nc = nrmse(signal10.voluntary, c.voluntary, 500)
@@ -62,7 +63,7 @@ def test_live_kalman_on_c_matches_reference(signal10):
 
 @pytest.mark.skipif(pads_dir() is None, reason="PADS recordings not found next to the checkout (../shared/data/pads)")
 def test_c_matches_reference_on_real_recordings():
-    from wake.datasets import load_pads_folder
+    from wake.eval.datasets import load_pads_folder
 
     for rec in load_pads_folder(pads_dir()):
         for c in range(rec.samples.shape[1]):

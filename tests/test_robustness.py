@@ -5,9 +5,9 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from conftest import has_c_backend
+from support import has_c_backend
 from wake import WakeFilter
-from wake._long_stream import drifting_tremor_stream
+from wake.eval.long_stream import drifting_tremor_stream
 from wake.wavelets import filter_bank_taps
 
 pytestmark = pytest.mark.skipif(not has_c_backend(), reason="the compiled C core wake._rtp is not built")
@@ -56,7 +56,7 @@ def check_state(rtp):
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(configurations(), samples, samples, st.data())
 def test_fuzz_c_core(config, first, second, data):
-    from wake._c_backend import FixedPointRTP
+    from wake.rtp.fixed import FixedPointRTP
 
     taps, weights, r, q, p0 = config
     rtp = FixedPointRTP(taps, weights, r, q, p0, full_scale=1.0)
@@ -134,7 +134,7 @@ def test_24_hours_at_100_hz_on_the_c_core():
     """8.64 million samples, HPA every 5 s, a live Kalman (q > 0): the
     covariance stays symmetric, positive and bounded, nothing saturates, and
     the last hour's error equals a fresh filter's on the same hour within 5 %."""
-    f = WakeFilter(backend="c", full_scale=4.0, process_noise=1e-6, initial_covariance=1e-3)
+    f = WakeFilter(backend="c", full_scale=4.0, process_noise_ratio=1e-6, initial_covariance=1e-3)
     hours = list(drifting_tremor_stream(hours=24.0, seed=3))
     assert sum(len(x) for _, x in hours) == 8_640_000
     peaks = []
@@ -149,7 +149,7 @@ def test_24_hours_at_100_hz_on_the_c_core():
     assert rtp.saturations == 0 and rtp.clipped == 0
     assert max(peaks) < 1.0  # bounded: P never leaves a small fraction of full scale squared
     assert peaks[-1] <= 1.5 * np.median(peaks)  # and does not creep up over the day
-    fresh = WakeFilter(backend="c", full_scale=4.0, process_noise=1e-6, initial_covariance=1e-3)
+    fresh = WakeFilter(backend="c", full_scale=4.0, process_noise_ratio=1e-6, initial_covariance=1e-3)
     fresh.update_block(hours[-2][1])
     y_fresh = fresh.update_block(hours[-1][1])
     err_fresh = np.sqrt(np.mean((y_fresh[:-1] - vol[1:]) ** 2))

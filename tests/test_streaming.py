@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 
 from wake import WakeFilter
-from wake.hpa import _default_weights
-from wake.rtp_reference import ReferenceRTP
-from wake.synthetic import make_signal
+from wake.hpa import default_weights
+from wake.rtp.reference import ReferenceRTP
+from wake.eval.synthetic import make_signal
 
 
 @pytest.fixture(scope="module")
@@ -16,7 +16,7 @@ def stream():
 
 def replay(x, updates, taps, level):
     """Re-run the RTP alone, installing each HPA result at its recorded swap point."""
-    rtp = ReferenceRTP(taps, _default_weights(level), 1.0)
+    rtp = ReferenceRTP(taps, default_weights(level), 1.0)
     by_count = {u.applied_at: u for u in updates}
     out = []
     for count, v in enumerate(x, start=1):
@@ -95,7 +95,7 @@ def test_stuck_and_clipped_sensors_stay_bounded(kind, stream):
         x[1000:2000] = x[1000]
     else:
         x = np.clip(x, -0.6, 0.6)
-    f = WakeFilter(backend="reference", process_noise=1e-5, initial_covariance=0.01)
+    f = WakeFilter(backend="reference", process_noise_ratio=1e-5, initial_covariance=0.01)
     y = np.array([f.update(v) for v in x])
     assert np.all(np.isfinite(y))
     assert np.max(np.abs(y)) < 3 * np.max(np.abs(x))
@@ -116,7 +116,7 @@ def test_filters_side_by_side_do_not_interact(stream):
 @pytest.mark.parametrize("backend", ["reference", "c"])
 def test_update_block_equals_update(backend, stream):
     if backend == "c":
-        from conftest import has_c_backend
+        from support import has_c_backend
 
         if not has_c_backend():
             pytest.skip("the compiled C core wake._rtp is not built")
@@ -129,3 +129,48 @@ def test_update_block_equals_update(backend, stream):
     assert [u.index for u in a.hpa_history[0]] == [u.index for u in b.hpa_history[0]] == [500, 1000, 1500, 2000]
     with pytest.raises(ValueError, match="streams 1 channel"):
         b.update_block(np.ones((10, 2)))
+
+
+@pytest.mark.parametrize("backend", ["reference", "c"])
+def test_one_output_contract_for_run_update_block_and_update(backend, stream):
+    """run(x).prediction == update_block(x) == a loop of update(), bit for bit, gaps included;
+    voluntary is prediction shifted by one sample."""
+    if backend == "c":
+        from support import has_c_backend
+
+        if not has_c_backend():
+            pytest.skip("the compiled C core wake._rtp is not built")
+    x = stream.measurement[:1800].copy()
+    x[900:905] = np.nan
+    res = WakeFilter(backend=backend).run(x)
+    f = WakeFilter(backend=backend)
+    loop = np.array([f.update(float(v)) for v in x])
+    block = WakeFilter(backend=backend).update_block(x)
+    np.testing.assert_array_equal(res.prediction, block)
+    np.testing.assert_array_equal(res.prediction, loop)
+    np.testing.assert_array_equal(res.voluntary[1:], res.prediction[:-1])
+    assert res.voluntary[0] == 0.0
+
+
+@pytest.mark.parametrize("backend", ["reference", "c"])
+def test_state_round_trip_and_pickle(backend, stream):
+    """get_state / set_state and pickle continue a stream bit for bit (the scipy zi/zf habit)."""
+    import pickle
+
+    if backend == "c":
+        from support import has_c_backend
+
+        if not has_c_backend():
+            pytest.skip("the compiled C core wake._rtp is not built")
+    x = stream.measurement[:1600]
+    f = WakeFilter(backend=backend)
+    f.update_block(x[:777])
+    state = f.get_state()
+    clone = pickle.loads(pickle.dumps(f))
+    rest = f.update_block(x[777:])
+    g = WakeFilter(config=state.config)
+    g.set_state(state)
+    np.testing.assert_array_equal(g.update_block(x[777:]), rest)
+    np.testing.assert_array_equal(clone.update_block(x[777:]), rest)
+    with pytest.raises(ValueError, match="another configuration"):
+        WakeFilter(backend=backend, level=4).set_state(state)

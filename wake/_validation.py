@@ -11,7 +11,6 @@ import numbers
 import numpy as np
 import pywt
 
-MAX_LEVEL = 8
 _DISCRETE = tuple(pywt.wavelist(kind="discrete"))
 _MODES = tuple(pywt.Modes.modes)
 
@@ -35,7 +34,7 @@ def check_mode(mode) -> str:
     return mode
 
 
-def check_level(level, max_level: int = MAX_LEVEL) -> int:
+def check_level(level, max_level: int) -> int:
     if isinstance(level, bool) or not isinstance(level, numbers.Integral):
         raise ValueError(f"level must be an integer from 1 to {max_level}, got {level!r}")
     level = int(level)

@@ -22,7 +22,7 @@ def _filter_arguments(p: argparse.ArgumentParser):
 
 
 def _make_filter(args, fs):
-    from .filter import WakeFilter
+    from wake.filter import WakeFilter
 
     backend = args.backend or default_backend()
     return WakeFilter(fs=fs, wavelet=args.wavelet, level=args.level, window_s=args.window_s,
@@ -31,14 +31,14 @@ def _make_filter(args, fs):
 
 def default_backend():
     """``"c"`` when the compiled core imports, else ``"reference"``."""
-    from .filter import c_backend_available
+    from wake.rtp import c_backend_available
 
     return "c" if c_backend_available() else "reference"
 
 
 def _cmd_demo(args) -> int:
-    from .metrics import nrmse, prf, snr_out
-    from .synthetic import PAPER_WAKE, paper_dataset
+    from wake.eval.metrics import nrmse, prf, snr_out
+    from wake.eval.synthetic import PAPER_WAKE, paper_dataset
 
     data = paper_dataset()
     filt = _make_filter(args, data[0].fs)
@@ -65,7 +65,7 @@ def _cmd_demo(args) -> int:
     print(f"NRMSE relative to the paper: mean {ours[:, 2].mean() / paper.mean():.3f}, "
           f"worst signal {np.max(ours[:, 2] / paper):.3f}")
     if args.plot:
-        from .plotting import plot_result
+        from wake.eval.plotting import plot_result
 
         s = data[0]
         res = filt.run(s.measurement)
@@ -76,7 +76,7 @@ def _cmd_demo(args) -> int:
 
 
 def _read_csv(path, column, fs):
-    from .datasets import load_csv
+    from wake.eval.datasets import load_csv
 
     return load_csv(path, column=column, fs=fs)
 
@@ -102,7 +102,7 @@ def _cmd_run(args) -> int:
     if res.clipped is not None and np.any(res.clipped):
         print(f"warning: {int(np.sum(res.clipped))} input samples were clipped at full scale", file=sys.stderr)
     if args.plot:
-        from .plotting import plot_result
+        from wake.eval.plotting import plot_result
 
         plot_result(args.plot, np.reshape(x, (len(x), -1))[:, 0], res, args.fs, ar_order=filt.ar_order,
                     title=Path(args.file).name)
@@ -113,7 +113,7 @@ def _cmd_run(args) -> int:
 def _delegate(module: str, argv) -> int:
     import importlib
 
-    mod = importlib.import_module(f"wake.{module}")
+    mod = importlib.import_module(module)
     return int(mod.cli(argv) or 0)
 
 
@@ -143,7 +143,8 @@ def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
     if argv and argv[0] in ("evaluate", "profile", "export-header"):
-        module = {"evaluate": "evaluate", "profile": "profile", "export-header": "export"}[argv[0]]
+        module = {"evaluate": "wake.eval.evaluate", "profile": "wake.firmware.profile.cli",
+                  "export-header": "wake.firmware.export"}[argv[0]]
         try:
             return _delegate(module, argv[1:])
         except (ValueError, OSError) as exc:

@@ -1,45 +1,52 @@
-"""The WAKE filter: HPA every ``L`` samples, RTP every sample."""
+"""The WAKE filter: the HPA every ``L`` samples, the RTP every sample.
+
+This module schedules; it holds no number format and no backend internals.
+Each channel owns an RTP object (:mod:`wake.rtp`) and the samples the next
+HPA (:mod:`wake.hpa`) needs.
+
+Output contract (batch and streaming alike): every call answers a sample
+with the prediction of the voluntary motion at the *next* sample, so that
+
+``run(x).prediction == update_block(x) == [update(v) for v in x]``
+
+bit for bit, NaN marking a missing sample everywhere.
+:attr:`WakeResult.voluntary` is the same array shifted by one to line up
+with ``x`` (``voluntary[k]`` predicts ``x[k]`` from ``x[:k]``).
+"""
 
 from __future__ import annotations
 
-import numbers
-from dataclasses import dataclass, field
+import copy
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-from ._validation import as_signal, check_level, check_mode, check_positive, check_wavelet
-from .hpa import FITS, HPAUpdate, _default_weights, run_hpa
-from .rtp_reference import ReferenceRTP
-from .wavelets import DEFAULT_MODE, filter_bank_taps
+from wake._validation import as_signal
+from wake.config import BACKENDS, WakeConfig
+from wake.channel import Channel
+from wake.rtp import load_fixed_point
+from wake.wavelets import filter_bank_taps
 
-__all__ = ["WakeFilter", "WakeResult", "BACKENDS"]
+__all__ = ["WakeFilter", "WakeResult", "WakeState", "BACKENDS"]
 
-BACKENDS = ("c", "reference")
 _INF = float("inf")
-HPA_MODES = ("inline", "thread")
-
-
-def c_backend_available() -> bool:
-    """Whether the compiled RTP core (``wake._rtp``) imports."""
-    try:
-        from . import _rtp  # noqa: F401
-    except Exception:  # ImportError, or a broken build
-        return False
-    return True
-#: Highest level the fixed-point C core is built for (WAKE_RTP_MAX_LEVEL).
-C_MAX_LEVEL = 6
 
 
 @dataclass
 class WakeResult:
     """What :meth:`WakeFilter.run` returns.
 
-    ``voluntary[k]`` is the prediction of the voluntary motion at sample
-    ``k`` made from ``x[:k]`` alone; ``tremor = x - voluntary``.
+    ``prediction[k]`` is the prediction of the voluntary motion at sample
+    ``k + 1`` made from ``x[:k + 1]`` (what ``update(x[k])`` returns);
+    ``voluntary[k]`` is the prediction of sample ``k`` from ``x[:k]``
+    (``voluntary[0] = 0``: nothing is known yet) and
+    ``tremor = x - voluntary``.  Arrays are float32 when the input was
+    float32, float64 otherwise.
     """
 
     voluntary: np.ndarray
     tremor: np.ndarray
+    prediction: np.ndarray
     hpa: list  #: per channel, the list of :class:`~wake.hpa.HPAUpdate`
     warmup: int  #: samples before the first HPA (left out of the paper's scores)
     backend: str
@@ -49,191 +56,31 @@ class WakeResult:
     saturations: np.ndarray = field(default=None)  #: saturating narrowings inside the C core, per channel
 
     @property
-    def cutoffs(self):
+    def cutoffs(self) -> list:
         """Per channel, the array of f_d over the HPA runs."""
         return [np.array([u.cutoff for u in ch]) for ch in self.hpa]
 
     @property
-    def mean_cutoff(self):
+    def mean_cutoff(self) -> np.ndarray:
         """Per channel, the mean f_d over all HPA runs (the paper's offline cut-off)."""
         return np.array([c.mean() if c.size else np.nan for c in self.cutoffs])
 
 
-class _Channel:
-    """HPA bookkeeping and RTP state of one channel."""
+@dataclass
+class WakeState:
+    """A snapshot of a stream, taken by :meth:`WakeFilter.get_state`.
 
-    def __init__(self, owner: "WakeFilter"):
-        self.owner = owner
-        self.reset()
-
-    def reset(self):
-        o = self.owner
-        self.weights = _default_weights(o.level)
-        self.measurement_noise = 1.0
-        self.rtp = ReferenceRTP(o.taps, self.weights, self.measurement_noise,
-                                o._process_noise(self.measurement_noise), o.initial_covariance)
-        self.on_c = False
-        self.full_scale = o.full_scale
-        self.updates: list[HPAUpdate] = []
-        self.history = np.zeros(o.window_samples)
-        self.pos = 0
-        self.count = 0
-        self.pending = None  # thread mode: (future, window) of an HPA still off the sample path
-        if o.backend == "c" and o.full_scale is not None:
-            self._switch_to_c(o.full_scale)
-
-    # -- HPA ---------------------------------------------------------------
-    def hpa_arguments(self, window, index, previous_weights):
-        # Everything the HPA reads is passed in: off the sample path it runs
-        # while the channel keeps changing.  Gaps (NaN) are interpolated for
-        # the spectrum here, the one door every window goes through.
-        o = self.owner
-        if np.isnan(window).any():
-            window = _fill_gaps(window)
-        return (window, o.fs), dict(taps=o.taps, wavelet=o.wavelet, level=o.level, mode=o.mode,
-                                    ar_order=o.ar_order, fit=o.fit, ridge=o.ridge, tremor_band=o.tremor_band,
-                                    cutoff_range=o.cutoff_range, default_cutoff=o.default_cutoff,
-                                    previous_weights=previous_weights, index=index)
-
-    def compute_hpa(self, window, index, previous_weights):
-        args, kwargs = self.hpa_arguments(window, index, previous_weights)
-        return run_hpa(*args, **kwargs)
-
-    def hpa(self, window):
-        upd = self.compute_hpa(window, self.count, self.weights)
-        self.apply(upd, window, first_sample=self.count)
-        return upd
-
-    def apply(self, upd, window, first_sample):
-        """Install an HPA result; ``first_sample`` is the 1-based number of the
-        first sample whose RTP step uses it (recorded as ``applied_at``)."""
-        o = self.owner
-        upd.applied_at = first_sample
-        self.updates.append(upd)
-        self.weights = upd.weights
-        self.measurement_noise = upd.measurement_noise
-        if o.backend == "c" and not self.on_c:
-            observed = window[~np.isnan(window)]  # the window may hold gaps
-            peak = float(np.max(np.abs(observed))) if observed.size else 0.0
-            self._switch_to_c(o.headroom * peak if peak > 0 else 1.0)
-        q = o._process_noise(self.measurement_noise)
-        if self.on_c:
-            self.measurement_noise, q, clamped = _representable_noise(self.measurement_noise, q, self.full_scale)
-            if clamped:
-                upd.flags = upd.flags + ("noise_clamped",)
-        self.rtp.set_weights(self.weights, self.measurement_noise, q)
-
-    def _switch_to_c(self, full_scale):
-        from ._c_backend import FixedPointRTP
-
-        o = self.owner
-        r, q, _ = _representable_noise(self.measurement_noise, o._process_noise(self.measurement_noise),
-                                       full_scale)
-        p0 = _representable_noise(1.0, o.initial_covariance, full_scale)[1]
-        c = FixedPointRTP(o.taps, self.weights, r, q, p0, full_scale=full_scale)
-        ref = self.rtp
-        if ref.primed:
-            window = np.concatenate((ref.buffer[ref.head:], ref.buffer[: ref.head]))
-            # The float warm-up state, clipped into the C formats (a huge
-            # initial_covariance or a runaway correction cannot be held).
-            from ._c_backend import P_FRAC, STATE_FRAC
-
-            top_p = (2.0**31 - 1) * full_scale**2 / 2.0**P_FRAC
-            top_x = (2.0**31 - 1) * full_scale / 2.0**STATE_FRAC
-            c.load_state(window, np.clip(ref.correction, -top_x, top_x), np.clip(ref.covariance, -top_p, top_p),
-                         float(np.clip(ref.last_output, -top_x, top_x)))
-        self.rtp = c
-        self.on_c = True
-        self.full_scale = full_scale
-
-    # -- samples -------------------------------------------------------------
-    def process(self, x):
-        """A block of samples continuing the stream: ``y[i]`` is what
-        ``update(x[i])`` would return (the prediction for the next sample)."""
-        o = self.owner
-        L = o.window_samples
-        n = x.shape[0]
-        y = np.empty(n)
-        if o.hpa_mode == "thread":
-            self.swap_if_ready(wait=True, first_sample=self.count + 1)
-        seen = np.concatenate((self.ordered_history(), x))  # the last L samples before x, then x
-        base = self.count
-        start = 0
-        # After sample number c arrives, an HPA runs when c is a multiple of L,
-        # before that sample's RTP step.
-        first_hpa = (-(base + 1)) % L  # index in x of the first sample completing a window
-        for stop in list(range(first_hpa, n, L)) + [n]:
-            if start < stop:
-                y[start:stop] = self.rtp.run(x[start:stop])
-            if stop < n:
-                self.count = base + stop + 1
-                self.hpa(seen[stop + 1 : stop + 1 + L])
-            start = stop
-        self.count = base + n
-        self.history = seen[-L:].copy()
-        self.pos = 0
-        return y
-
-    def swap_if_ready(self, wait=False, first_sample=None):
-        """Thread mode: install a finished HPA between two samples."""
-        if self.pending is None:
-            return
-        future, window = self.pending
-        if wait or future.done():
-            self.pending = None
-            self.apply(future.result(), window, self.count + 1 if first_sample is None else first_sample)
-
-    def update(self, sample):
-        o = self.owner
-        if self.pending is not None:
-            self.swap_if_ready()
-        # history is a ring: self.pos is the oldest sample
-        self.history[self.pos] = sample
-        self.pos = (self.pos + 1) % o.window_samples
-        self.count += 1
-        if self.count % o.window_samples == 0:
-            window = self.ordered_history()
-            if o.hpa_mode == "inline":
-                self.hpa(window)
-            else:
-                # One HPA in flight at a time: a new window waits for the last
-                # one (it had L samples' time to finish).
-                self.swap_if_ready(wait=True, first_sample=self.count)
-                args, kwargs = self.hpa_arguments(window, self.count, self.weights.copy())
-                job = o._executor().submit(run_hpa, *args, **kwargs)
-                self.pending = (job, window)
-        if sample != sample:
-            return self.rtp.step_missing()
-        return self.rtp.step(sample)
-
-    def ordered_history(self):
-        """The last L samples, oldest first (a copy)."""
-        return np.concatenate((self.history[self.pos :], self.history[: self.pos]))
-
-
-def _representable_noise(r, q, full_scale):
-    """Clamp R and q into what the C core holds (Q(P_FRAC) of full_scale**2).
-
-    R below one LSB (a window with no tremor, a large full scale) is raised to
-    one LSB; R or q above the Q format's range (a full scale set below the
-    signal) are lowered to its top.  Returns ``(r, q, clamped)``.
+    Plain data (picklable): the configuration and, per channel, the HPA
+    bookkeeping and the RTP object.  :meth:`WakeFilter.set_state` continues
+    the stream from it, bit for bit, like scipy's ``zi`` / ``zf``.
     """
-    from ._c_backend import P_FRAC
 
-    lsb = full_scale**2 / 2.0**P_FRAC
-    top = (2.0**31 - 1) * lsb
-    r2 = min(max(r, lsb), top)
-    q2 = 0.0 if q == 0 else min(max(q, lsb), top)
-    return r2, q2, (r2 != r or q2 != q)
+    config: WakeConfig
+    channels: list
 
 
-def _fill_gaps(window):
-    """Linear interpolation over NaN for the HPA's spectrum (edges held)."""
-    good = ~np.isnan(window)
-    if not good.any():
-        return np.zeros_like(window)
-    idx = np.arange(window.shape[0])
-    return np.interp(idx, idx[good], window[good])
+def _out_dtype(x) -> type:
+    return np.float32 if np.asarray(x).dtype == np.float32 else np.float64
 
 
 class WakeFilter:
@@ -246,8 +93,7 @@ class WakeFilter:
     wavelet : str
         Mother wavelet (a discrete PyWavelets name; the paper: ``"sym3"``).
     level : int
-        Decomposition level ``J``; the RTP window is ``2**J`` samples.
-        1..8 on the reference backend, 1..6 on the C backend.
+        Decomposition level ``J`` (1..6); the RTP window is ``2**J`` samples.
     window_s : float
         HPA window ``L`` in seconds; HPA runs every ``L`` samples.
         ``L`` must hold at least ``2 * 2**J`` samples and more than
@@ -255,15 +101,20 @@ class WakeFilter:
     ar_order : int
         Yule-Walker AR order ``p``.
     backend : {"c", "reference"}
-        ``"c"`` runs the RTP in the fixed-point C core; ``"reference"`` in
-        the float64 reference it is tested against.
+        ``"c"`` runs the RTP in the fixed-point C core (the code firmware
+        runs); ``"reference"`` in the float64 reference it is tested
+        against.  ``"c"`` needs the compiled core: the constructor raises
+        :class:`~wake.rtp.CoreUnavailable`, saying how to build it, when it
+        is missing.
     mode : str
         Wavelet boundary mode of the filter bank (see docs/design.md).
     fit : {"causal", "paper"}
-        What the HPA fits ``w`` on (see :mod:`wake.hpa`).
-    process_noise : float
-        ``Q = q R I``: process noise per sample, relative to ``R``.
-        0 (the default, see docs/design.md) keeps the pure filter bank.
+        What the HPA fits ``w`` on (see :mod:`wake.hpa.run`).
+    process_noise_ratio : float
+        ``Q = q I`` with ``q = process_noise_ratio * R``: process noise per
+        sample relative to the measurement noise ``R`` of the current HPA
+        window.  0 (the default, see docs/design.md) keeps the pure filter
+        bank.
     initial_covariance : float
         ``P(0) = p0 I`` in squared signal units.
     ridge : float
@@ -284,146 +135,140 @@ class WakeFilter:
         on a worker thread and swaps the new weights in between two later
         samples, so ``update()`` never waits for an HPA.  Each
         :class:`~wake.hpa.HPAUpdate` records the sample count at which its
-        weights took effect (``applied_at``).  The worker still shares the
-        interpreter lock with ``update()``; docs/design.md ("Non-blocking
-        HPA") has the measured latencies.  :meth:`run` is always inline.
+        weights took effect (``applied_at``).  :meth:`run` is always inline.
+    config : WakeConfig, optional
+        Every setting at once (then no other argument may be given).
+
+    Notes
+    -----
+    Output contract: :meth:`update`, :meth:`update_block` and
+    :attr:`WakeResult.prediction` of :meth:`run` all return, for each sample,
+    the prediction of the voluntary motion at the next sample; the three
+    agree bit for bit (``tests/test_streaming.py``).  NaN marks a missing
+    sample in all three.
 
     Examples
     --------
     >>> import numpy as np
     >>> from wake import WakeFilter
-    >>> from wake.synthetic import make_signal
+    >>> from wake.eval.synthetic import make_signal
     >>> s = make_signal(10.0, seed=3)
     >>> res = WakeFilter(fs=100.0, backend="reference").run(s.measurement)
     >>> res.voluntary.shape, len(res.hpa[0])
     ((5000,), 9)
     """
 
-    def __init__(self, fs=100.0, wavelet="sym3", level=5, window_s=5.0, ar_order=17, *,
-                 backend="c", mode=DEFAULT_MODE, fit="causal", process_noise=0.0,
-                 initial_covariance=0.0, ridge=1e-6, tremor_band=(2.5, 15.0),
-                 cutoff_range=(0.5, 6.0), default_cutoff=2.0, full_scale=None, headroom=16.0,
-                 hpa_mode="inline"):
-        self.fs = check_positive("fs", fs)
-        check_wavelet(wavelet)
-        self.wavelet = wavelet
-        if backend not in BACKENDS:
-            raise ValueError(f"unknown backend {backend!r}; valid choices: {', '.join(BACKENDS)}")
-        self.backend = backend
-        self.level = check_level(level, C_MAX_LEVEL if backend == "c" else 8)
-        self.mode = check_mode(mode)
-        self.window_s = check_positive("window_s", window_s)
-        self.ar_order = check_positive("ar_order", ar_order, integer=True)
-        self.window_samples = int(round(self.window_s * self.fs))
-        need = max(2 * 2**self.level, 2 * self.ar_order + 1)
-        if self.window_samples < need:
-            raise ValueError(
-                f"the HPA window holds {self.window_samples} samples (window_s * fs); level {self.level} "
-                f"and ar_order {self.ar_order} need at least {need}: lengthen window_s to "
-                f">= {need / self.fs:g} s or lower the level"
-            )
-        if fit not in FITS:
-            raise ValueError(f"unknown fit {fit!r}; valid choices: {', '.join(FITS)}")
-        self.fit = fit
-        self.process_noise_ratio = check_positive("process_noise", process_noise, allow_zero=True)
-        self.initial_covariance = check_positive("initial_covariance", initial_covariance, allow_zero=True)
-        self.ridge = check_positive("ridge", ridge, allow_zero=True)
-        nyquist = self.fs / 2
-        lo, hi = _pair("tremor_band", tremor_band)
-        if not 0 < lo < hi <= nyquist:
-            raise ValueError(f"tremor_band must satisfy 0 < low < high <= fs/2 = {nyquist}, got {tremor_band!r}")
-        clo, chi = _pair("cutoff_range", cutoff_range)
-        if not 0 < clo < chi < nyquist:
-            raise ValueError(f"cutoff_range must satisfy 0 < low < high < fs/2 = {nyquist}, got {cutoff_range!r}")
-        self.tremor_band = (lo, hi)
-        self.cutoff_range = (clo, chi)
-        self.default_cutoff = check_positive("default_cutoff", default_cutoff)
-        if not clo <= self.default_cutoff <= chi:
-            raise ValueError(f"default_cutoff must lie in cutoff_range {self.cutoff_range}, got {default_cutoff}")
-        self.full_scale = None if full_scale is None else check_positive("full_scale", full_scale)
-        self.headroom = check_positive("headroom", headroom)
-        if self.headroom < 1:
-            raise ValueError(f"headroom must be >= 1 (it multiplies the window's peak), got {headroom}")
-        if hpa_mode not in HPA_MODES:
-            raise ValueError(f"unknown hpa_mode {hpa_mode!r}; valid choices: {', '.join(HPA_MODES)}")
-        self.hpa_mode = hpa_mode
+    def __init__(self, fs: float = 100.0, wavelet: str = "sym3", level: int = 5, window_s: float = 5.0,
+                 ar_order: int = 17, *, config: WakeConfig | None = None, **settings):
+        if config is not None:
+            if settings or (fs, wavelet, level, window_s, ar_order) != (100.0, "sym3", 5, 5.0, 17):
+                raise TypeError("give either config= or individual settings, not both")
+            if not isinstance(config, WakeConfig):
+                raise TypeError(f"config must be a WakeConfig, got {type(config).__name__}")
+        else:
+            valid = {f.name for f in fields(WakeConfig)}
+            unknown = sorted(set(settings) - valid)
+            if unknown:
+                raise TypeError(f"unknown setting(s) {unknown}; valid settings: {', '.join(sorted(valid))}")
+            config = WakeConfig(fs=fs, wavelet=wavelet, level=level, window_s=window_s, ar_order=ar_order,
+                                **settings)
+        if config.backend == "c":
+            load_fixed_point()  # fail here, with how to build the core, not at the first HPA
+        self.config = config
+        self.taps = filter_bank_taps(config.wavelet, config.level, config.mode)
         self._pool = None
-        self.taps = filter_bank_taps(wavelet, self.level, mode)
-        self._channels: list[_Channel] | None = None
+        self._channels: list[Channel] | None = None
         self._n_channels = None
 
-    def _process_noise(self, measurement_noise):
-        """Absolute ``q`` pushed to the RTP: ``process_noise * R`` of the current window."""
-        return self.process_noise_ratio * measurement_noise
+    def __getattr__(self, name):
+        # Settings read as attributes (filt.fs, filt.level, ...): one source, the config.
+        config = self.__dict__.get("config")
+        if config is not None and (name in WakeConfig.__dataclass_fields__ or name == "window_samples"):
+            return getattr(config, name)
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+    def _new_channels(self, n: int) -> list:
+        return [Channel(self.config, self.taps) for _ in range(n)]
 
     # -- whole recordings --------------------------------------------------
-    def run(self, x):
-        """Process a whole recording.
+    def run(self, x) -> WakeResult:
+        """Process a whole recording from a fresh state.
 
         Parameters
         ----------
         x : array_like, shape (n,) or (n, channels)
-            At least one HPA window (``window_s * fs`` samples) long; every
-            sample finite.  Each channel is filtered independently.
+            At least one HPA window (``window_s * fs`` samples) long.  NaN
+            marks a missing sample (as in :meth:`update`); inf is refused.
+            Each channel is filtered independently.
 
         Returns
         -------
         WakeResult
-
-        Notes
-        -----
-        ``run`` starts from a fresh state and leaves the filter's streaming
-        state untouched; ``run(x)`` equals ``reset()`` and ``update()`` on
-        every sample of ``x``.
+            ``prediction`` equals ``reset()`` followed by
+            ``update_block(x)``; the filter's own streaming state is left
+            untouched.
         """
-        arr, one_d = as_signal(x)
+        arr, one_d = as_signal(x, allow_nan=True)
         n = arr.shape[0]
-        if n < self.window_samples:
+        if n < self.config.window_samples:
             raise ValueError(
                 f"the recording has {n} samples; WAKE needs at least one HPA window of "
-                f"{self.window_samples} samples (window_s * fs = {self.window_s:g} s * {self.fs:g} Hz)"
-            )
-        channels = [_Channel(self) for _ in range(arr.shape[1])]
-        out = np.zeros_like(arr)
-        for c, ch in enumerate(channels):
-            out[1:, c] = ch.process(arr[:, c])[:-1]  # voluntary[k] comes from x[:k]
-        return self._result(arr, out, channels, one_d)
+                f"{self.config.window_samples} samples (window_s * fs = {self.config.window_s:g} s * "
+                f"{self.config.fs:g} Hz)")
+        channels = self._new_channels(arr.shape[1])
+        pred = np.column_stack([ch.process(arr[:, c]) for c, ch in enumerate(channels)])
+        return self._result(arr, pred, channels, one_d, _out_dtype(x))
 
-    def _result(self, arr, out, channels, one_d):
+    def _result(self, arr, pred, channels, one_d, dtype):
         shape = (lambda a: a[:, 0]) if one_d else (lambda a: a)
-        res = WakeResult(shape(out), shape(arr - out), [ch.updates for ch in channels],
-                         self.window_samples, self.backend, rtp=[ch.rtp for ch in channels])
-        if self.backend == "c":
+        vol = np.zeros_like(pred)
+        vol[1:] = pred[:-1]  # voluntary[k] comes from x[:k]
+        cast = lambda a: shape(a).astype(dtype, copy=False)  # noqa: E731
+        res = WakeResult(cast(vol), cast(arr - vol), cast(pred), [ch.updates for ch in channels],
+                         self.config.window_samples, self.config.backend, rtp=[ch.rtp for ch in channels])
+        if self.config.backend == "c":
             res.full_scale = np.array([ch.full_scale if ch.full_scale is not None else np.nan for ch in channels])
             res.clipped = np.array([getattr(ch.rtp, "clipped", 0) for ch in channels])
             res.saturations = np.array([getattr(ch.rtp, "saturations", 0) for ch in channels])
         return res
 
     # -- streaming ---------------------------------------------------------
+    def _ensure_channels(self, n: int, what: str):
+        if self._channels is None:
+            self._channels = self._new_channels(n)
+            self._n_channels = n
+        elif n != self._n_channels:
+            raise ValueError(
+                f"this filter streams {self._n_channels} channel(s); got {what} with {n}. "
+                "Call reset() to start a stream with another channel count")
+
     def update(self, sample):
         """Feed one sample (a scalar, or one value per channel); get the next prediction.
 
-        NaN marks a missing sample: the RTP predicts through it without a
-        measurement update (docs/design.md, "Missing samples").
+        Parameters
+        ----------
+        sample : float or array_like, shape (channels,)
+            NaN marks a missing sample: the RTP predicts through it without
+            a measurement update (docs/design.md, "Missing samples").
+
+        Returns
+        -------
+        float or numpy.ndarray
+            The prediction of the voluntary motion at the next sample: a
+            float for a scalar sample, an array of shape ``(channels,)``
+            for an array.
         """
         if type(sample) is float and self._n_channels == 1:  # the hot path: one channel, a float
             if sample in (_INF, -_INF):
                 raise ValueError(f"sample holds inf ({sample!r}); pass NaN for a missing sample")
-            return float(self._channels[0].update(sample))
+            return float(self._channels[0].update(sample, self._executor))
         values = np.asarray(sample, dtype=float).reshape(-1)
         if values.size == 0:
             raise ValueError("update() needs one value per channel, got an empty sample")
         if np.isinf(values).any():
             raise ValueError(f"sample holds inf ({sample!r}); pass NaN for a missing sample")
-        if self._channels is None:
-            self._channels = [_Channel(self) for _ in range(values.size)]
-            self._n_channels = values.size
-        elif values.size != self._n_channels:
-            raise ValueError(
-                f"this filter streams {self._n_channels} channel(s); got {values.size} value(s). "
-                "Call reset() to start a stream with another channel count"
-            )
-        out = np.array([ch.update(v) for ch, v in zip(self._channels, values)])
+        self._ensure_channels(values.size, "a sample")
+        out = np.array([ch.update(v, self._executor) for ch, v in zip(self._channels, values)])
         return float(out[0]) if np.ndim(sample) == 0 else out
 
     def update_block(self, x):
@@ -438,26 +283,24 @@ class WakeFilter:
         -------
         numpy.ndarray, same shape as ``x``
             ``out[i]`` is the prediction of the voluntary motion at the sample
-            after ``x[i]``.
+            after ``x[i]`` (float32 for float32 input, else float64).
         """
         arr, one_d = as_signal(x, allow_nan=True)
-        if self._channels is None:
-            self._channels = [_Channel(self) for _ in range(arr.shape[1])]
-            self._n_channels = arr.shape[1]
-        elif arr.shape[1] != self._n_channels:
-            raise ValueError(
-                f"this filter streams {self._n_channels} channel(s); got a block with {arr.shape[1]}. "
-                "Call reset() to start a stream with another channel count"
-            )
+        self._ensure_channels(arr.shape[1], "a block")
         out = np.column_stack([ch.process(arr[:, c]) for c, ch in enumerate(self._channels)])
-        return out[:, 0] if one_d else out
+        return (out[:, 0] if one_d else out).astype(_out_dtype(x), copy=False)
 
     @property
-    def rtp_states(self):
+    def rtp_states(self) -> list:
         """Per channel, the RTP object of the current stream (covariance, saturations, ...)."""
         return [ch.rtp for ch in (self._channels or [])]
 
-    def reset(self):
+    @property
+    def hpa_history(self) -> list:
+        """Per channel, the HPA updates of the current stream."""
+        return [ch.updates for ch in (self._channels or [])]
+
+    def reset(self) -> None:
         """Forget the stream (weights, history and RTP state)."""
         for ch in self._channels or []:
             if ch.pending is not None:
@@ -465,11 +308,54 @@ class WakeFilter:
         self._channels = None
         self._n_channels = None
 
-    def flush(self):
+    def flush(self) -> None:
         """Thread mode: wait for an HPA in flight and install its weights now."""
         for ch in self._channels or []:
             ch.swap_if_ready(wait=True)
 
+    # -- explicit state ------------------------------------------------------
+    def get_state(self) -> WakeState:
+        """A copy of the stream's state (after installing any HPA in flight).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from wake import WakeFilter
+        >>> x = np.sin(np.arange(1200) / 20.0)
+        >>> f = WakeFilter(backend="reference"); _ = f.update_block(x[:700])
+        >>> state = f.get_state()
+        >>> a = f.update_block(x[700:])
+        >>> g = WakeFilter(backend="reference"); g.set_state(state)
+        >>> bool(np.array_equal(a, g.update_block(x[700:])))
+        True
+        """
+        self.flush()
+        return WakeState(self.config, [ch.snapshot() for ch in (self._channels or [])])
+
+    def set_state(self, state: WakeState) -> None:
+        """Continue the stream from :meth:`get_state` (the configurations must match)."""
+        if not isinstance(state, WakeState):
+            raise TypeError(f"state must be a WakeState from get_state(), got {type(state).__name__}")
+        if state.config != self.config:
+            raise ValueError("the state was taken from a filter with another configuration; "
+                             "build the filter with WakeFilter(config=state.config)")
+        self.reset()
+        if state.channels:
+            channels = self._new_channels(len(state.channels))
+            for ch, snap in zip(channels, state.channels):
+                ch.__dict__.update(copy.deepcopy(snap))
+            self._channels = channels
+            self._n_channels = len(channels)
+
+    def __getstate__(self):
+        return {"state": self.get_state()}
+
+    def __setstate__(self, st):
+        state = st["state"]
+        self.__init__(config=state.config)
+        self.set_state(state)
+
+    # -- worker thread -------------------------------------------------------
     def _executor(self):
         if self._pool is None:
             from concurrent.futures import ThreadPoolExecutor
@@ -477,29 +363,13 @@ class WakeFilter:
             self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="wake-hpa")
         return self._pool
 
-    def close(self):
+    def close(self) -> None:
         """Stop the HPA worker thread (thread mode); the filter stays usable."""
         if self._pool is not None:
             self._pool.shutdown(wait=True)
             self._pool = None
 
     def __del__(self):
-        pool = getattr(self, "_pool", None)
+        pool = self.__dict__.get("_pool")
         if pool is not None:
             pool.shutdown(wait=False)
-
-    @property
-    def hpa_history(self):
-        """Per channel, the HPA updates of the current stream."""
-        return [ch.updates for ch in (self._channels or [])]
-
-
-def _pair(name, value):
-    try:
-        lo, hi = value
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a pair (low, high) in Hz, got {value!r}") from None
-    for v in (lo, hi):
-        if isinstance(v, bool) or not isinstance(v, numbers.Real) or not np.isfinite(v):
-            raise ValueError(f"{name} must hold two finite numbers, got {value!r}")
-    return float(lo), float(hi)

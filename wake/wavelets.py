@@ -20,7 +20,8 @@ import warnings
 import numpy as np
 import pywt
 
-from ._validation import check_level, check_mode, check_wavelet
+from wake._validation import check_level, check_mode, check_wavelet
+from wake.config import MAX_LEVEL
 
 __all__ = [
     "wavelet_approximations",
@@ -77,7 +78,7 @@ def wavelet_approximations(x, wavelet="sym3", level=5, mode=DEFAULT_MODE):
     True
     """
     wav = check_wavelet(wavelet)
-    level = check_level(level)
+    level = check_level(level, MAX_LEVEL)
     mode = check_mode(mode)
     x = np.asarray(x, dtype=float)
     if x.ndim != 1:
@@ -116,7 +117,7 @@ def filter_bank_taps(wavelet="sym3", level=5, mode=DEFAULT_MODE):
     True
     """
     wav = check_wavelet(wavelet)
-    level = check_level(level)
+    level = check_level(level, MAX_LEVEL)
     mode = check_mode(mode)
     n = 2**level
     taps = np.empty((level, n))

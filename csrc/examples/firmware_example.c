@@ -8,7 +8,7 @@
  * wake_rtp_set_weights(): the filter keeps its window, d and P.
  *
  * The taps live in flash (const).  In a real project they come from the
- * header written by wake.export.export_header(); here a level-3 Haar-like
+ * header written by wake.firmware.export.export_header(); here a level-3 Haar-like
  * bank stands in so the file builds on its own.
  */
 #include <stdint.h>

@@ -7,7 +7,7 @@
  *
  *  - by an emulator that writes ::g_profile_config (RAM, not touched by the
  *    startup code) and then calls profile_init(), profile_set_weights() and
- *    wake_rtp_step() directly, one call per sample (wake/profile.py);
+ *    wake_rtp_step() directly, one call per sample (wake/firmware/profile/);
  *  - stand-alone: main() runs the whole configured input through
  *    wake_rtp_step() and exits through semihosting, so that an independent
  *    emulator (QEMU) can trace it.

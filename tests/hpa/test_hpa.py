@@ -1,0 +1,104 @@
+import numpy as np
+import pytest
+
+from wake.hpa import CUTOFF_FLAGS, find_cutoff, fit_weights, run_hpa
+from wake.hpa.sharp import sharp_highpass
+from wake.eval.synthetic import make_signal
+from wake.wavelets import filter_bank_taps
+
+FS = 100.0
+TAPS = filter_bank_taps("sym3", 5)
+
+
+def window_of(kind, rng, n=500):
+    t = np.arange(n) / FS
+    return {
+        "silence": np.zeros(n),
+        "constant": np.full(n, 3.0),
+        "pure_tremor": 0.5 * np.sin(2 * np.pi * 7 * t),
+        "pure_voluntary": np.sin(2 * np.pi * 0.5 * t),
+        "white_noise": rng.normal(size=n),
+        "step": np.where(t < 2.5, 0.0, 1.0),
+        "tiny": 1e-9 * np.sin(2 * np.pi * 0.5 * t) + 1e-10 * np.sin(2 * np.pi * 8 * t),
+        "huge": 1e6 * (np.sin(2 * np.pi * 0.5 * t) + 0.2 * np.sin(2 * np.pi * 8 * t)),
+    }[kind]
+
+
+def test_valley_found_between_bands():
+    f = np.linspace(0, 50, 513)
+    psd = np.exp(-f / 0.4) + 0.1 * np.exp(-((f - 9) ** 2) / 2)
+    fd, flag = find_cutoff(f, psd)
+    assert flag == "valley"
+    assert 2.0 < fd < 6.0
+
+
+def test_no_tremor_peak_falls_back():
+    f = np.linspace(0, 50, 513)
+    fd, flag = find_cutoff(f, np.exp(-f), default_cutoff=2.5)
+    assert (fd, flag) == (2.5, "no_tremor_peak")
+
+
+def test_shallow_dip_is_not_a_valley():
+    f = np.linspace(0, 50, 513)
+    psd = 1.0 + 0.1 * np.exp(-((f - 8) ** 2))  # a 0.4 dB bump on a flat floor
+    fd, flag = find_cutoff(f, psd)
+    assert flag in ("no_valley", "no_tremor_peak") and fd == 2.0
+
+
+def test_cutoff_argument_checks():
+    f = np.linspace(0, 50, 10)
+    with pytest.raises(ValueError, match="default_cutoff"):
+        find_cutoff(f, np.ones(10), default_cutoff=9.0)
+    with pytest.raises(ValueError, match="tremor_band"):
+        find_cutoff(f, np.ones(10), tremor_band=(9.0, 3.0))
+
+
+def test_fit_weights_is_least_squares(rng):
+    A = rng.normal(size=(200, 4))
+    y = rng.normal(size=200)
+    w, err, used = fit_weights(A, y, ridge=0.0)
+    np.testing.assert_allclose(w, np.linalg.lstsq(A, y, rcond=None)[0], atol=1e-10)
+    assert err == pytest.approx(np.sqrt(np.mean((A @ w - y) ** 2)))
+    # the minimum: any perturbation raises e_L
+    for _ in range(5):
+        w2 = w + 0.01 * rng.normal(size=4)
+        assert np.sqrt(np.mean((A @ w2 - y) ** 2)) > err
+
+
+def test_ill_conditioned_fit_is_regularised(rng):
+    a = rng.normal(size=300)
+    A = np.column_stack([a, a + 1e-12 * rng.normal(size=300), rng.normal(size=300)])
+    w, err, used = fit_weights(A, a + 0.1 * rng.normal(size=300), ridge=0.0, weight_limit=5.0)
+    assert np.all(np.isfinite(w)) and np.max(np.abs(w)) <= 5.0
+    assert used > 0
+
+
+def test_hpa_on_synthetic_window():
+    s = make_signal(7.5, seed=1)
+    upd = run_hpa(s.measurement[:500], FS, taps=TAPS)
+    assert upd.cutoff_flag == "valley"
+    assert 1.0 < upd.cutoff < 6.0
+    tremor_gt = sharp_highpass(s.measurement[:500], FS, upd.cutoff)
+    assert upd.measurement_noise == pytest.approx(np.var(tremor_gt))
+    assert upd.weights.shape == (5,) and np.all(np.isfinite(upd.weights))
+    # the causal fit predicts the voluntary ground truth better than no weights at all
+    assert upd.fit_error < 0.5 * np.std(s.voluntary[:500])
+
+
+@pytest.mark.parametrize("kind", ["silence", "constant", "pure_tremor", "pure_voluntary", "white_noise",
+                                  "step", "tiny", "huge"])
+def test_degenerate_windows_give_finite_output_and_a_flag(kind, rng):
+    x = window_of(kind, rng)
+    upd = run_hpa(x, FS, taps=TAPS, previous_weights=np.full(5, 0.2))
+    assert upd.cutoff_flag in CUTOFF_FLAGS
+    assert 0.5 <= upd.cutoff <= 6.0
+    assert np.all(np.isfinite(upd.weights)) and np.max(np.abs(upd.weights)) <= 32
+    assert np.isfinite(upd.measurement_noise) and upd.measurement_noise > 0
+    if kind in ("silence", "constant"):
+        assert upd.cutoff_flag == "silent" and "weights_kept" in upd.flags
+        np.testing.assert_array_equal(upd.weights, np.full(5, 0.2))
+
+
+def test_unknown_fit_is_refused():
+    with pytest.raises(ValueError, match="valid choices: causal, paper"):
+        run_hpa(np.arange(500.0), FS, taps=TAPS, fit="quasi-newton")

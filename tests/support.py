@@ -1,0 +1,25 @@
+"""Helpers shared by the test modules (importable: pytest puts tests/ on sys.path)."""
+
+import os
+from pathlib import Path
+
+#: The C sources of this checkout: tests build them rather than a possibly
+#: older copy installed with the package.
+CSRC = Path(__file__).resolve().parents[1] / "csrc"
+
+
+def pads_dir():
+    """The PADS subset next to the checkout (or $WAKE_PADS_DIR), if present."""
+    env = os.environ.get("WAKE_PADS_DIR")
+    path = Path(env) if env else Path(__file__).resolve().parents[1].parent / "shared" / "data" / "pads"
+    return path if path.is_dir() and any(path.glob("*.txt")) else None
+
+
+def has_c_backend():
+    from wake.rtp import c_backend_available
+
+    return c_backend_available()
+
+
+NO_PADS = "PADS recordings not found next to the checkout (../shared/data/pads) or in $WAKE_PADS_DIR"
+NO_CORE = "the compiled C core wake._rtp is not built"

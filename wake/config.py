@@ -1,0 +1,205 @@
+"""WakeConfig: every setting of a WAKE filter, validated once.
+
+This module is the one place where the limits of the package live: the
+highest decomposition level, the weight bound the HPA keeps, the valid
+choices of every option and the numeric ranges the constructor accepts.
+The C core's own limits (``WAKE_RTP_MAX_LEVEL``, the Q formats) are checked
+against these by the test suite.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import dataclass, fields
+
+from wake._validation import check_level, check_mode, check_wavelet
+
+__all__ = ["WakeConfig", "MAX_LEVEL", "WEIGHT_LIMIT", "BACKENDS", "HPA_MODES", "FITS", "LIMITS"]
+
+#: Highest decomposition level J, for the float reference and the C core alike
+#: (the C struct is sized by ``WAKE_RTP_MAX_LEVEL``, which must equal it).
+MAX_LEVEL = 6
+#: Largest |weight| the HPA hands over.  The C core holds weights in Q24 and
+#: accepts |w| <= 64; keeping the HPA at half of that leaves room for the
+#: rounding of any later rescaling.
+WEIGHT_LIMIT = 32.0
+#: Where the RTP runs: the fixed-point C core or the float64 reference.
+BACKENDS = ("c", "reference")
+#: Streaming HPA: inside ``update()`` or on a worker thread.
+HPA_MODES = ("inline", "thread")
+#: What the HPA fits ``w`` on (see :mod:`wake.hpa.run`).
+FITS = ("causal", "paper")
+
+#: Accepted range of each number, inclusive unless noted: wide enough for
+#: every sensor we know of, narrow enough that nothing overflows a float64 on
+#: the way (variances are squared once more inside the Kalman update).
+LIMITS = {
+    "fs": (0.0, 1e5),                 # Hz, exclusive low
+    "window_s": (0.0, 3600.0),        # s, exclusive low
+    "ar_order": (1, 512),
+    "process_noise_ratio": (0.0, 1e6),
+    "initial_covariance": (0.0, 1e100),
+    "ridge": (0.0, 1e6),
+    "full_scale": (0.0, 1e100),       # exclusive low
+    "headroom": (1.0, 1e4),
+}
+
+
+def _number(name: str, value, *, integer: bool = False, low_open: bool = False):
+    lo, hi = LIMITS[name]
+    kind = "an integer" if integer else "a number"
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise ValueError(f"{name} must be {kind} in {'(' if low_open else '['}{lo:g}, {hi:g}], got {value!r}")
+    if integer:
+        if not float(value).is_integer():
+            raise ValueError(f"{name} must be an integer in [{lo}, {hi}], got {value!r}")
+        value = int(value)
+    else:
+        value = float(value)
+    ok = math.isfinite(value) and (value > lo if low_open else value >= lo) and value <= hi
+    if not ok:
+        raise ValueError(f"{name} must lie in {'(' if low_open else '['}{lo:g}, {hi:g}], got {value!r}")
+    return value
+
+
+def _pair(name: str, value) -> tuple[float, float]:
+    try:
+        lo, hi = value
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a pair (low, high) in Hz, got {value!r}") from None
+    for v in (lo, hi):
+        if isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v):
+            raise ValueError(f"{name} must hold two finite numbers, got {value!r}")
+    return float(lo), float(hi)
+
+
+@dataclass(frozen=True)
+class WakeConfig:
+    """Every setting of a :class:`~wake.WakeFilter`, validated on construction.
+
+    Parameters
+    ----------
+    fs : float
+        Sampling rate in Hz, in (0, 1e5].
+    wavelet : str
+        Mother wavelet (a discrete PyWavelets name; the paper: ``"sym3"``).
+    level : int
+        Decomposition level ``J``, 1..:data:`MAX_LEVEL`; the RTP window is ``2**J`` samples.
+    window_s : float
+        HPA window ``L`` in seconds; the HPA runs every ``L`` samples.
+        ``L`` must hold at least ``2 * 2**J`` samples and more than ``2 * ar_order``.
+    ar_order : int
+        Yule-Walker AR order ``p``.
+    backend : {"c", "reference"}
+        Where the RTP runs (see :class:`~wake.WakeFilter`).
+    mode : str
+        Wavelet boundary mode of the filter bank (docs/design.md).
+    fit : {"causal", "paper"}
+        What the HPA fits ``w`` on.
+    process_noise_ratio : float
+        Kalman process noise relative to the measurement noise: ``Q = q I``
+        with ``q = process_noise_ratio * R`` of the current HPA window.  0
+        (the default, docs/design.md) keeps the pure filter bank.  The RTP
+        classes take the absolute ``q`` (their ``process_noise``).
+    initial_covariance : float
+        ``P(0) = p0 I`` in squared signal units.
+    ridge : float
+        Relative ridge of the weight fit.
+    tremor_band, cutoff_range, default_cutoff
+        Cut-off search, see :func:`wake.hpa.find_cutoff`.
+    full_scale : float or None
+        C backend: the physical value mapped to the int16 full scale;
+        ``None`` chooses it from the signal (see :class:`~wake.WakeFilter`).
+    headroom : float
+        Factor of the automatic full scale, in [1, 1e4].
+    hpa_mode : {"inline", "thread"}
+        Streaming HPA on the sample path or on a worker thread.
+
+    Examples
+    --------
+    >>> from wake import WakeConfig
+    >>> cfg = WakeConfig(fs=100.0, level=5)
+    >>> cfg.window_samples, cfg.n_taps
+    (500, 32)
+    >>> WakeConfig(level=9)
+    Traceback (most recent call last):
+    ...
+    ValueError: level must be from 1 to 6, got 9
+    """
+
+    fs: float = 100.0
+    wavelet: str = "sym3"
+    level: int = 5
+    window_s: float = 5.0
+    ar_order: int = 17
+    backend: str = "c"
+    mode: str = "constant"
+    fit: str = "causal"
+    process_noise_ratio: float = 0.0
+    initial_covariance: float = 0.0
+    ridge: float = 1e-6
+    tremor_band: tuple = (2.5, 15.0)
+    cutoff_range: tuple = (0.5, 6.0)
+    default_cutoff: float = 2.0
+    full_scale: float | None = None
+    headroom: float = 16.0
+    hpa_mode: str = "inline"
+
+    def __post_init__(self):
+        put = lambda name, value: object.__setattr__(self, name, value)  # noqa: E731 (frozen)
+        put("fs", _number("fs", self.fs, low_open=True))
+        check_wavelet(self.wavelet)
+        if self.backend not in BACKENDS:
+            raise ValueError(f"unknown backend {self.backend!r}; valid choices: {', '.join(BACKENDS)}")
+        put("level", check_level(self.level, MAX_LEVEL))
+        check_mode(self.mode)
+        put("window_s", _number("window_s", self.window_s, low_open=True))
+        put("ar_order", _number("ar_order", self.ar_order, integer=True))
+        need = max(2 * 2**self.level, 2 * self.ar_order + 1)
+        if self.window_samples < need:
+            raise ValueError(
+                f"the HPA window holds {self.window_samples} samples (window_s * fs); level {self.level} "
+                f"and ar_order {self.ar_order} need at least {need}: lengthen window_s to "
+                f">= {need / self.fs:g} s or lower the level")
+        if self.fit not in FITS:
+            raise ValueError(f"unknown fit {self.fit!r}; valid choices: {', '.join(FITS)}")
+        for name in ("process_noise_ratio", "initial_covariance", "ridge"):
+            put(name, _number(name, getattr(self, name)))
+        nyquist = self.fs / 2
+        lo, hi = _pair("tremor_band", self.tremor_band)
+        if not 0 < lo < hi <= nyquist:
+            raise ValueError(f"tremor_band must satisfy 0 < low < high <= fs/2 = {nyquist:g}, got {self.tremor_band!r}")
+        clo, chi = _pair("cutoff_range", self.cutoff_range)
+        if not 0 < clo < chi < nyquist:
+            raise ValueError(f"cutoff_range must satisfy 0 < low < high < fs/2 = {nyquist:g}, got {self.cutoff_range!r}")
+        put("tremor_band", (lo, hi))
+        put("cutoff_range", (clo, chi))
+        if isinstance(self.default_cutoff, bool) or not isinstance(self.default_cutoff, numbers.Real) \
+                or not clo <= float(self.default_cutoff) <= chi:
+            raise ValueError(f"default_cutoff must lie in cutoff_range {self.cutoff_range}, got {self.default_cutoff!r}")
+        put("default_cutoff", float(self.default_cutoff))
+        if self.full_scale is not None:
+            put("full_scale", _number("full_scale", self.full_scale, low_open=True))
+        put("headroom", _number("headroom", self.headroom))
+        if self.hpa_mode not in HPA_MODES:
+            raise ValueError(f"unknown hpa_mode {self.hpa_mode!r}; valid choices: {', '.join(HPA_MODES)}")
+
+    @property
+    def window_samples(self) -> int:
+        """``L``, the HPA window in samples."""
+        return int(round(self.window_s * self.fs))
+
+    @property
+    def n_taps(self) -> int:
+        """``2**J``, the RTP window in samples."""
+        return 2**self.level
+
+    def replace(self, **changes) -> "WakeConfig":
+        """A copy with some settings changed (validated again)."""
+        values = {f.name: getattr(self, f.name) for f in fields(self)}
+        unknown = set(changes) - set(values)
+        if unknown:
+            raise TypeError(f"unknown setting(s) {sorted(unknown)}; valid: {', '.join(values)}")
+        values.update(changes)
+        return WakeConfig(**values)

@@ -1,0 +1,1 @@
+"""Evaluation: the synthetic dataset, real-recording loaders, baselines, metrics, the report."""

@@ -1,0 +1,183 @@
+"""Cross-compilation of the core into a bare-metal image, and a minimal ELF reader."""
+
+
+import shutil
+import struct
+import subprocess
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from wake.firmware import sources
+
+TARGETS = {
+    "m4-O2": ("Cortex-M4, -O2", ["-mcpu=cortex-m4", "-mthumb", "-O2"]),
+    "m4-Os": ("Cortex-M4, -Os", ["-mcpu=cortex-m4", "-mthumb", "-Os"]),
+    "m0plus-O2": ("Cortex-M0+, -O2", ["-mcpu=cortex-m0plus", "-mthumb", "-O2"]),
+}
+#: The configuration the targets apply to.
+DEFAULT_TARGET, DEFAULT_LEVEL, DEFAULT_WAVELET = "m4-O2", 5, "sym3"
+#: Targets for the default configuration (J = 5, sym3, Cortex-M4 -O2).
+TARGET_LIMITS = {"instructions": 1500, "state_bytes": 1024, "code_bytes": 4096}
+
+#: Warning flags of csrc/Makefile: the core must build clean with them.
+WARN_FLAGS = ["-std=c99", "-Wall", "-Wextra", "-Wconversion", "-Wsign-conversion", "-pedantic", "-Werror"]
+#: Instructions-to-cycles assumption used for the time columns.
+CPI_RANGE = (1.0, 1.3)
+CLOCKS_MHZ = (64.0, 168.0)
+SAMPLE_RATE_HZ = 100.0
+
+PROFILE_MAGIC = 0x5052464C
+INFO_MAGIC = 0x494E464F
+NEVER = 0xFFFFFFFF
+STACK_PAINT = 0xCD
+STACK_PROBE = 4096
+
+INPUT_KINDS = ("silence", "square_nyquist", "square_window", "steps", "spikes", "random", "synthetic")
+
+
+class ProfileUnavailable(RuntimeError):
+    """A tool the profiler needs is missing (compiler, unicorn, capstone, sources)."""
+
+
+# ---------------------------------------------------------------------------
+# Tools and sources
+# ---------------------------------------------------------------------------
+
+def csrc_dir(path=None) -> Path:
+    """The C sources with the profiling harness (installed with the package, or ``path``)."""
+    try:
+        return sources.csrc_dir(path, need=("profile/harness.c", "profile/startup.c"))
+    except sources.SourcesUnavailable as exc:
+        raise ProfileUnavailable(str(exc)) from None
+
+
+def toolchain(prefix="arm-none-eabi-"):
+    """Paths of gcc, size, addr2line; raises ProfileUnavailable when gcc is missing."""
+    gcc = shutil.which(prefix + "gcc")
+    if gcc is None:
+        raise ProfileUnavailable(
+            f"{prefix}gcc not found: install the Arm GNU toolchain (Debian/Ubuntu: "
+            "apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi)")
+    return {"gcc": gcc, "size": shutil.which(prefix + "size"), "addr2line": shutil.which(prefix + "addr2line")}
+
+
+def _emulator_modules():
+    try:
+        import capstone
+        import unicorn
+    except ImportError as exc:  # pragma: no cover - depends on the environment
+        raise ProfileUnavailable(
+            f"{exc.name} is not installed: pip install 'wake-tremor[profile]' (unicorn, capstone)") from None
+    return unicorn, capstone
+
+
+# ---------------------------------------------------------------------------
+# Minimal ELF32 (little-endian) reader: loadable bytes and symbols
+# ---------------------------------------------------------------------------
+
+@dataclass
+class Image:
+    """A linked profiling image and what was built with it."""
+
+    elf: Path
+    core_object: Path
+    target: str
+    callgraph: Path | None = None
+    source: Path | None = None  #: the core's C source it was built from
+    sections: list = field(default_factory=list)  #: (name, addr, size, flags, offset)
+    segments: list = field(default_factory=list)  #: (vaddr, data, memsz)
+    symbols: dict = field(default_factory=dict)  #: name -> (addr, size, type)
+
+    @classmethod
+    def read(cls, elf, core_object, target, callgraph=None):
+        img = cls(Path(elf), Path(core_object), target, Path(callgraph) if callgraph else None)
+        raw = img.elf.read_bytes()
+        if raw[:4] != b"\x7fELF" or raw[4] != 1 or raw[5] != 1:
+            raise ValueError(f"{elf} is not a little-endian ELF32 file")
+        (phoff, shoff) = struct.unpack_from("<II", raw, 0x1C)
+        (phentsize, phnum, shentsize, shnum, shstrndx) = struct.unpack_from("<HHHHH", raw, 0x2A)
+        for k in range(phnum):
+            p_type, p_off, p_vaddr, _p_paddr, p_filesz, p_memsz = struct.unpack_from("<6I", raw, phoff + k * phentsize)
+            if p_type == 1 and p_memsz:
+                img.segments.append((p_vaddr, raw[p_off:p_off + p_filesz], p_memsz))
+        shdrs = [struct.unpack_from("<10I", raw, shoff + k * shentsize) for k in range(shnum)]
+        shstr = shdrs[shstrndx]
+
+        def name_at(tab, off):
+            start = tab[4] + off
+            return raw[start:raw.index(b"\0", start)].decode()
+
+        for sh in shdrs:
+            img.sections.append((name_at(shstr, sh[0]), sh[3], sh[5], sh[2], sh[4]))
+        for sh in shdrs:
+            if sh[1] != 2:  # SHT_SYMTAB
+                continue
+            strtab = shdrs[sh[6]]
+            for k in range(sh[5] // 16):
+                st_name, value, size, info, _other, shndx = struct.unpack_from("<IIIBBH", raw, sh[4] + 16 * k)
+                if st_name == 0 or shndx == 0:
+                    continue
+                name = name_at(strtab, st_name)
+                kind = info & 0xF
+                if kind == 2:  # STT_FUNC: clear the Thumb bit
+                    value &= ~1
+                if name not in img.symbols or kind in (1, 2):
+                    img.symbols[name] = (value, size, kind)
+        return img
+
+    def addr(self, name):
+        try:
+            return self.symbols[name][0]
+        except KeyError:
+            raise KeyError(f"symbol {name!r} is not in {self.elf.name}") from None
+
+    def functions(self):
+        """Sorted (start, end, name) of the function symbols."""
+        return sorted((a, a + s, n) for n, (a, s, k) in self.symbols.items() if k == 2 and s)
+
+
+def _core_flags(target):
+    return TARGETS[target][1] + ["-ffreestanding"]
+
+
+def build_image(target="m4-O2", *, board="generic", build_dir=None, csrc=None, defs=(), debug=True) -> Image:
+    """Cross-compile the core and the harness for ``target`` and link an ELF image.
+
+    ``board`` is ``"generic"`` (flash at 0x08000000) or ``"mps2-an386"`` (the
+    QEMU board).  ``defs`` are extra ``-D`` options for the core and harness
+    (e.g. ``["-DWAKE_RTP_MAX_LEVEL=5"]``).
+    """
+    if target not in TARGETS:
+        raise ValueError(f"unknown target {target!r}; valid choices: {', '.join(TARGETS)}")
+    scripts = {"generic": "generic_m.ld", "mps2-an386": "mps2_an386.ld"}
+    if board not in scripts:
+        raise ValueError(f"unknown board {board!r}; valid choices: {', '.join(scripts)}")
+    src = csrc_dir(csrc)
+    prof = src / "profile"
+    tools = toolchain()
+    out = Path(build_dir) if build_dir else Path(tempfile.mkdtemp(prefix="wake-profile-"))
+    out = out / f"{target}-{board}"
+    out.mkdir(parents=True, exist_ok=True)
+    flags = _core_flags(target) + list(defs) + (["-g"] if debug else [])
+    core_o = out / "wake_rtp.o"
+
+    def run(cmd):
+        proc = subprocess.run(cmd, cwd=out, capture_output=True, text=True)
+        if proc.returncode != 0:
+            raise RuntimeError(f"command failed: {' '.join(map(str, cmd))}\n{proc.stdout}{proc.stderr}")
+
+    # The core alone, with the Makefile's warnings, stack usage and call graph.
+    run([tools["gcc"], *WARN_FLAGS, *flags, "-fstack-usage", "-fcallgraph-info=su",
+         "-c", str(src / "wake_rtp.c"), "-o", str(core_o)])
+    harness_flags = ["-std=c99", "-Wall", "-Wextra", *flags, "-fno-tree-loop-distribute-patterns", "-I", str(src)]
+    run([tools["gcc"], *harness_flags, "-c", str(prof / "harness.c"), "-o", "harness.o"])
+    run([tools["gcc"], *harness_flags, "-c", str(prof / "startup.c"), "-o", "startup.o"])
+    elf = out / "profile.elf"
+    run([tools["gcc"], *TARGETS[target][1], "-nostdlib", "-ffreestanding", "-T", str(prof / scripts[board]),
+         "-L", str(prof), "-Wl,-Map=profile.map",
+         "startup.o", "harness.o", str(core_o), "-lgcc", "-o", str(elf)])
+    ci = out / "wake_rtp.ci"
+    img = Image.read(elf, core_o, target, ci if ci.is_file() else None)
+    img.source = src / "wake_rtp.c"
+    return img

@@ -1,0 +1,67 @@
+"""Where the C sources are: shipped inside the package as ``wake._csrc``.
+
+``csrc/`` of the source tree is the single source of the C code.  The build
+maps it onto the package ``wake._csrc`` (``pyproject.toml``,
+``[tool.setuptools.package-dir]``), so a wheel or a plain ``pip install .``
+carries ``wake_rtp.c``, ``wake_rtp.h``, the profiling harness and the
+examples, and ``wake profile`` / ``wake export-c`` work without a checkout.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+__all__ = ["SourcesUnavailable", "csrc_dir"]
+
+#: Files every use of the sources needs.
+_REQUIRED = ("wake_rtp.c", "wake_rtp.h")
+
+
+class SourcesUnavailable(RuntimeError):
+    """The C sources are neither installed with the package nor at the given path."""
+
+
+def _installed() -> Path | None:
+    try:
+        from importlib.resources import files
+
+        root = Path(str(files("wake._csrc")))
+    except (ImportError, ModuleNotFoundError, TypeError):
+        return None
+    return root if all((root / f).is_file() for f in _REQUIRED) else None
+
+
+def csrc_dir(path: str | Path | None = None, *, need: tuple[str, ...] = ()) -> Path:
+    """The directory holding the C sources.
+
+    Parameters
+    ----------
+    path : str or Path, optional
+        An explicit ``csrc/`` directory (a checkout, or a modified copy).
+        Default: the sources installed with the package.
+    need : tuple of str
+        Further files (relative paths) that must exist there, e.g.
+        ``("profile/harness.c",)``.
+
+    Raises
+    ------
+    SourcesUnavailable
+        With the directory looked at and how to point at another one.
+
+    Examples
+    --------
+    >>> from wake.firmware.sources import csrc_dir
+    >>> (csrc_dir() / "wake_rtp.h").is_file()
+    True
+    """
+    cand = Path(path) if path else _installed()
+    if cand is None:
+        raise SourcesUnavailable(
+            "the C sources are not installed with this copy of wake (package wake._csrc is missing); "
+            "reinstall it with `pip install .` from a source tree, or pass the csrc/ directory of a checkout")
+    missing = [f for f in _REQUIRED + tuple(need) if not (cand / f).is_file()]
+    if missing:
+        raise SourcesUnavailable(
+            f"the C sources in {cand} lack {', '.join(missing)}: point at the csrc/ directory of a wake "
+            "source tree")
+    return cand

@@ -1,0 +1,67 @@
+"""S4 of the HPA: the weights that map wavelet approximations to voluntary motion."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from wake.config import WEIGHT_LIMIT
+
+__all__ = ["fit_weights", "default_weights"]
+
+
+def fit_weights(approximations, target, ridge=1e-6, weight_limit=WEIGHT_LIMIT):
+    """Least-squares weights ``w`` minimising ``e_L = sqrt(|A w - y|^2 / L)``.
+
+    ``e_L`` is quadratic in ``w``, so its minimum (which the paper reaches
+    with a quasi-Newton search) has the closed form of the normal equations.
+    A ridge ``lambda = ridge * trace(A'A) / J`` keeps the nearly collinear
+    approximations well-posed; it is raised tenfold until every weight lies
+    within ``weight_limit``.
+
+    Returns
+    -------
+    weights : numpy.ndarray, shape (J,)
+    fit_error : float
+        ``e_L``.
+    ridge : float
+        The ridge factor used.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wake.hpa import fit_weights
+    >>> A = np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])
+    >>> w, e, r = fit_weights(A, A @ [2.0, -1.0], ridge=0.0)
+    >>> np.round(w, 6).tolist(), round(e, 9)
+    ([2.0, -1.0], 0.0)
+    """
+    A = np.asarray(approximations, dtype=float)
+    y = np.asarray(target, dtype=float)
+    if A.ndim != 2 or y.shape != (A.shape[0],):
+        raise ValueError(f"approximations must be (L, J) and target (L,), got {A.shape} and {y.shape}")
+    if A.shape[0] < A.shape[1]:
+        raise ValueError(f"need at least J = {A.shape[1]} rows to fit J weights, got {A.shape[0]}")
+    J = A.shape[1]
+    G = A.T @ A
+    b = A.T @ y
+    scale = np.trace(G) / J
+    if not np.isfinite(scale) or scale <= 0:
+        return np.zeros(J), float(np.sqrt(np.mean(y**2))), float(ridge)
+    eye = np.eye(J)
+    factor = float(ridge)
+    for _ in range(16):
+        w = np.linalg.solve(G + factor * scale * eye, b) if factor > 0 else np.linalg.lstsq(A, y, rcond=None)[0]
+        if np.all(np.isfinite(w)) and np.max(np.abs(w)) <= weight_limit:
+            break
+        factor = max(factor * 10.0, 1e-9)
+    else:  # pragma: no cover - a ridge of 1e7 * trace makes w tiny
+        w = np.clip(w, -weight_limit, weight_limit)
+    err = float(np.sqrt(np.mean((A @ w - y) ** 2)))
+    return w, err, factor
+
+
+def default_weights(level):
+    """Warm-up weights: the deepest approximation alone, a plain low-pass."""
+    w = np.zeros(level)
+    w[-1] = 1.0
+    return w

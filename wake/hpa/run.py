@@ -1,0 +1,99 @@
+"""Hyper-parameter adjustment (HPA, the paper's Algorithm 1).
+
+One HPA run takes the last ``L`` samples and returns what the RTP needs:
+
+S1. :func:`wake.hpa.spectrum.ar_psd`, the Yule-Walker spectrum of the window;
+S2. :func:`find_cutoff`, the cut-off ``f_d`` at the valley between the
+    voluntary and the tremor band (with a documented fallback);
+    :func:`wake.hpa.sharp.sharp_highpass` then gives the tremor ground truth and
+    ``R``, its variance;
+S3. the ``J`` wavelet approximations (:mod:`wake.wavelets`);
+S4. :func:`fit_weights`, the weights ``w`` that minimise the paper's error
+    ``e_L``.
+
+The paper fits ``w`` on full-window approximations of the same samples, but
+the RTP predicts the *next* sample from the *causal* end-of-window
+approximations.  ``fit="causal"`` (the default) fits what the RTP actually
+sees: the filter-bank output at sample ``k`` against the voluntary ground
+truth at ``k + 1``.  ``fit="paper"`` keeps the paper's fit.  The measured
+difference is in docs/design.md.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from wake.config import FITS
+from wake.hpa.cutoff import find_cutoff
+from wake.hpa.fit import default_weights, fit_weights
+from wake.hpa.sharp import sharp_highpass
+from wake.hpa.spectrum import ar_psd
+from wake.wavelets import filter_bank_outputs, wavelet_approximations
+
+__all__ = ["HPAUpdate", "run_hpa", "FITS"]
+
+@dataclass
+class HPAUpdate:
+    """What one HPA run produced (one entry of ``WakeResult.hpa``)."""
+
+    index: int  #: number of samples received when the HPA ran
+    cutoff: float  #: f_d in Hz
+    cutoff_flag: str  #: a key of :data:`CUTOFF_FLAGS`
+    weights: np.ndarray  #: observation vector w, shape (J,)
+    measurement_noise: float  #: R, the variance of the tremor ground truth
+    fit_error: float  #: the paper's e_L (RMS fit error over the window)
+    ridge: float  #: the ridge factor finally used (raised when the fit was ill-conditioned)
+    flags: tuple = field(default_factory=tuple)  #: extra notes: "regularised", "weights_kept"
+    applied_at: int = -1  #: sample count at which the RTP took these weights (set by WakeFilter)
+
+
+def run_hpa(window, fs, *, taps, wavelet="sym3", level=5, mode="constant", ar_order=17,
+            fit="causal", ridge=1e-6, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
+            default_cutoff=2.0, previous_weights=None, index=0):
+    """One HPA run over a window of the last ``L`` samples.
+
+    Parameters
+    ----------
+    window : array_like, shape (L,)
+    fs : float
+    taps : numpy.ndarray, shape (J, 2**J)
+        The RTP filter bank (:func:`wake.wavelets.filter_bank_taps`).
+    fit : {"causal", "paper"}
+        What ``w`` is fitted on (see the module docstring).
+    previous_weights : numpy.ndarray, optional
+        Kept when the window is silent.
+
+    Returns
+    -------
+    HPAUpdate
+    """
+    if fit not in FITS:
+        raise ValueError(f"unknown fit {fit!r}; valid choices: {', '.join(FITS)}")
+    x = np.asarray(window, dtype=float)
+    flags = []
+    spread = np.std(x)
+    if not spread > 1e-12 * max(1.0, np.max(np.abs(x))):
+        w = np.array(previous_weights, dtype=float) if previous_weights is not None else default_weights(level)
+        floor = max(1e-12, (1e-6 * np.max(np.abs(x))) ** 2)
+        return HPAUpdate(index, float(default_cutoff), "silent", w, float(floor), 0.0, float(ridge),
+                         ("weights_kept",))
+    freqs, psd = ar_psd(x, fs, ar_order)
+    cutoff, flag = find_cutoff(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
+                               default_cutoff=default_cutoff)
+    tremor_gt = sharp_highpass(x, fs, cutoff)
+    voluntary_gt = x - tremor_gt
+    # R: variance of the tremor ground truth, floored at 1e-6 of the window's
+    # variance so that a window with no tremor still gives S = w'Pw + R > 0.
+    measurement_noise = float(max(np.var(tremor_gt), 1e-6 * spread**2))
+    if fit == "causal":
+        approx = filter_bank_outputs(x, taps)[:-1]  # a(k) for k = N-1 .. L-2
+        target = voluntary_gt[taps.shape[1]:]  # v_GT(k + 1)
+    else:
+        approx = wavelet_approximations(x, wavelet, level, mode)
+        target = voluntary_gt
+    w, err, used = fit_weights(approx, target, ridge)
+    if used > ridge:
+        flags.append("regularised")
+    return HPAUpdate(index, cutoff, flag, w, measurement_noise, err, used, tuple(flags))

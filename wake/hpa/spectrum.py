@@ -1,0 +1,123 @@
+"""Yule-Walker autoregressive power spectrum (HPA step S1)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from wake._validation import check_positive
+
+__all__ = ["autocorrelation", "levinson_durbin", "yule_walker", "ar_psd"]
+
+
+def autocorrelation(x, max_lag):
+    """Biased autocorrelation ``gamma(k) = (1/L) sum x(n) x(n+k)`` for k = 0..max_lag."""
+    x = np.asarray(x, dtype=float)
+    n = x.shape[0]
+    if max_lag >= n:
+        raise ValueError(f"max_lag must be below the number of samples ({n}), got {max_lag}")
+    full = np.correlate(x, x, mode="full")[n - 1 : n + max_lag]
+    return full / n
+
+
+def levinson_durbin(r, order):
+    """Solve the Yule-Walker equations by the Levinson-Durbin recursion.
+
+    Parameters
+    ----------
+    r : array_like
+        Autocorrelation ``r[0..order]``.
+    order : int
+        AR order ``p``.
+
+    Returns
+    -------
+    a : numpy.ndarray, shape (order + 1,)
+        ``[1, a_1, ..., a_p]`` of ``A(z) = 1 + sum a_k z^-k``.
+    sigma2 : float
+        Prediction error variance, ``r[0] * prod(1 - k_i**2)``.
+    reflection : numpy.ndarray, shape (order,)
+        Reflection coefficients ``k_i``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wake.hpa.spectrum import levinson_durbin
+    >>> a, s2, k = levinson_durbin([1.0, 0.5, 0.25], 2)   # AR(1) with a_1 = -0.5
+    >>> np.round(a, 6).tolist(), round(s2, 6)
+    ([1.0, -0.5, 0.0], 0.75)
+    """
+    r = np.asarray(r, dtype=float)
+    if r.shape[0] < order + 1:
+        raise ValueError(f"need {order + 1} autocorrelation lags for order {order}, got {r.shape[0]}")
+    a = np.zeros(order + 1)
+    a[0] = 1.0
+    refl = np.zeros(order)
+    err = r[0]
+    for m in range(1, order + 1):
+        if err <= 0:
+            break  # a perfectly predictable (or silent) window: higher orders add nothing
+        acc = r[m] + np.dot(a[1:m], r[m - 1 : 0 : -1])
+        k = -acc / err
+        a[1 : m + 1] = a[1 : m + 1] + k * a[m - 1 :: -1][: m]
+        refl[m - 1] = k
+        err *= 1.0 - k * k
+    return a, float(max(err, 0.0)), refl
+
+
+def yule_walker(x, order):
+    """AR(p) coefficients and noise variance of ``x`` (mean removed)."""
+    x = np.asarray(x, dtype=float)
+    x = x - x.mean()
+    r = autocorrelation(x, order)
+    a, sigma2, _ = levinson_durbin(r, order)
+    return a, sigma2
+
+
+def ar_psd(x, fs, order=17, n_freqs=512):
+    """Yule-Walker power spectral density ``sigma^2 / |1 + sum a_k e^{-j 2 pi f k / fs}|^2``.
+
+    Parameters
+    ----------
+    x : array_like, shape (L,)
+        HPA window.
+    fs : float
+        Sampling rate in Hz.
+    order : int
+        AR model order ``p`` (the paper: 17).
+    n_freqs : int
+        Number of frequencies on ``[0, fs/2]``.
+
+    Returns
+    -------
+    freqs, psd : numpy.ndarray
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wake.hpa.spectrum import ar_psd
+    >>> t = np.arange(500) / 100.0
+    >>> rng = np.random.default_rng(0)
+    >>> x = np.sin(2 * np.pi * 8 * t) + 0.1 * rng.normal(size=t.size)
+    >>> f, p = ar_psd(x, 100.0, order=8)
+    >>> bool(abs(f[np.argmax(p)] - 8.0) < 0.3)
+    True
+    """
+    fs = check_positive("fs", fs)
+    order = check_positive("order", order, integer=True)
+    x = np.asarray(x, dtype=float)
+    if x.shape[0] <= order:
+        raise ValueError(f"the window has {x.shape[0]} samples; an AR({order}) fit needs more than {order}")
+    a, sigma2 = yule_walker(x, order)
+    n_freqs = check_positive("n_freqs", n_freqs, integer=True)
+    if n_freqs < 2:
+        raise ValueError(f"n_freqs must be >= 2, got {n_freqs}")
+    # A(e^{j 2 pi f / fs}) on n_freqs points of [0, fs/2]: one real FFT of the
+    # zero-padded coefficients (nfft = 2 (n_freqs - 1) puts the last bin at fs/2).
+    nfft = max(2 * (n_freqs - 1), order + 1)
+    nfft += nfft % 2
+    denom = np.abs(np.fft.rfft(a, nfft)) ** 2
+    freqs = np.fft.rfftfreq(nfft, 1.0 / fs)
+    if freqs.size != n_freqs:  # n_freqs below the AR order: sample the fine grid
+        pick = np.linspace(0, freqs.size - 1, n_freqs).round().astype(int)
+        freqs, denom = freqs[pick], denom[pick]
+    return freqs, sigma2 / np.maximum(denom, np.finfo(float).tiny)

@@ -1,0 +1,422 @@
+"""Python wrapper of the fixed-point C core (``csrc/wake_rtp.c``).
+
+:class:`FixedPointRTP` has the interface of
+:class:`wake.rtp.reference.ReferenceRTP` but runs the integer recursion of
+the C library, the one firmware runs.  Values cross the boundary in physical
+units and are quantised with ``full_scale`` (FS):
+
+=====================  ==========================  =====================
+quantity               C format                    valid range
+=====================  ==========================  =====================
+samples, prediction    int16 Q15 of FS             [-1, 1) FS (clipped)
+taps                   int16 Q15                   |tap| < 1, row sum of |taps| < 2
+weights                int32 Q24                   [-64, 64]
+correction d           int32 Q23 of FS             [-256, 256) FS
+P, R, q, p0            int32 Q(P_FRAC) of FS**2    see :data:`P_FRAC`
+=====================  ==========================  =====================
+
+See ``docs/fixed_point.md`` for the error analysis.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from wake._rtp import ffi, lib
+
+__all__ = ["FixedPointRTP", "P_FRAC", "quantize_taps", "quantize_weights", "quantize_variance", "representable_noise"]
+
+#: Fraction bits of the covariance format (``WAKE_RTP_P_FRAC`` of the build).
+P_FRAC = int(lib.WAKE_RTP_P_FRAC)
+#: Largest level the compiled struct holds.
+MAX_LEVEL = int(lib.WAKE_RTP_MAX_LEVEL)
+
+SAMPLE_FRAC = int(lib.WAKE_RTP_SAMPLE_FRAC)
+TAP_FRAC = int(lib.WAKE_RTP_TAP_FRAC)
+STATE_FRAC = int(lib.WAKE_RTP_STATE_FRAC)
+WEIGHT_FRAC = int(lib.WAKE_RTP_WEIGHT_FRAC)
+WEIGHT_MAX = int(lib.WAKE_RTP_WEIGHT_MAX) / 2.0**WEIGHT_FRAC
+TAP_ROW_ABS_MAX = int(lib.WAKE_RTP_TAP_ROW_ABS_MAX)
+
+_INT32_MIN, _INT32_MAX = -(2**31), 2**31 - 1
+_SAMPLE_SCALE = 2.0**SAMPLE_FRAC
+
+_STATUS_TEXT = {
+    int(lib.WAKE_RTP_E_NULL): "null pointer",
+    int(lib.WAKE_RTP_E_LEVEL): "level out of range",
+    int(lib.WAKE_RTP_E_TAPS): "taps out of range",
+    int(lib.WAKE_RTP_E_WEIGHTS): "weights out of range",
+    int(lib.WAKE_RTP_E_NOISE): "bad noise values",
+    int(lib.WAKE_RTP_E_UNINIT): "uninitialised state",
+    int(lib.WAKE_RTP_E_CORRUPT): "corrupted state",
+    int(lib.WAKE_RTP_E_STATE): "bad state values",
+}
+
+
+def _check(status, what):
+    status = int(status)
+    if status != int(lib.WAKE_RTP_OK):
+        raise RuntimeError(f"{what} failed: {_STATUS_TEXT.get(status, 'unknown error')} (status {status})")
+
+
+def quantize_taps(taps):
+    """Taps (J, 2**J) -> int16 Q15, checking the C core's overflow bound."""
+    taps = np.array(taps, dtype=float)
+    if taps.ndim != 2 or taps.shape[1] != 2 ** taps.shape[0]:
+        raise ValueError(f"taps must have shape (J, 2**J), got {taps.shape}")
+    if not 1 <= taps.shape[0] <= MAX_LEVEL:
+        raise ValueError(f"the C core supports levels 1..{MAX_LEVEL}, got {taps.shape[0]}")
+    if not np.isfinite(taps).all():
+        raise ValueError("taps must be finite")
+    q = np.round(taps * 2.0**TAP_FRAC)
+    if np.abs(q).max() > 2**15 - 1:
+        raise ValueError(f"taps must lie within ±1 (int16 Q{TAP_FRAC}), got max |tap| {np.abs(taps).max():.6g}")
+    row_abs = np.abs(q).sum(axis=1)
+    if row_abs.max() > TAP_ROW_ABS_MAX:
+        raise ValueError(
+            f"each tap row's sum of |taps| must be below 2.0 (at most {TAP_ROW_ABS_MAX} in Q{TAP_FRAC}) so the "
+            f"C filter-bank accumulator cannot overflow; got {row_abs.max() / 2.0**TAP_FRAC:.6g}"
+        )
+    return np.ascontiguousarray(q, dtype=np.int16)
+
+
+def quantize_weights(weights, level):
+    """HPA weights -> int32 Q24 (|w| <= 64)."""
+    w = np.array(weights, dtype=float).reshape(-1)
+    if w.shape != (level,) or not np.isfinite(w).all():
+        raise ValueError(f"weights must be {level} finite numbers, got {weights!r}")
+    if np.abs(w).max(initial=0.0) > WEIGHT_MAX:
+        raise ValueError(
+            f"weights must lie within ±{WEIGHT_MAX:g} in Q{WEIGHT_FRAC} (int32); got max |w| {np.abs(w).max():.6g}"
+        )
+    return np.ascontiguousarray(np.round(w * 2.0**WEIGHT_FRAC), dtype=np.int32)
+
+
+def quantize_variance(value, full_scale, name, *, positive):
+    """A variance in physical units -> int32 Q(P_FRAC) of full_scale**2."""
+    v = float(value)
+    lsb = full_scale**2 / 2.0**P_FRAC
+    hi = 2.0 ** (31 - P_FRAC) * full_scale**2
+    if not np.isfinite(v) or v < 0 or (positive and v <= 0):
+        raise ValueError(f"{name} must be finite and {'> 0' if positive else '>= 0'}, got {value!r}")
+    q = round(v / lsb)
+    if q > _INT32_MAX:
+        raise ValueError(
+            f"{name} must lie within [0, {hi:.6g}), i.e. below 2**{31 - P_FRAC} full_scale**2 "
+                f"(int32 Q{P_FRAC} of full_scale**2, full_scale = {full_scale:g}); got {v:.6g}"
+        )
+    if v > 0 and q == 0:
+        raise ValueError(
+            f"{name} = {v:.6g} rounds to zero in Q{P_FRAC} of full_scale**2; it must be 0 or at least "
+            f"{lsb / 2:.6g} (half an LSB); raise it or lower full_scale"
+        )
+    return q
+
+
+class FixedPointRTP:
+    """One channel of the RTP on the fixed-point C core.
+
+    Parameters
+    ----------
+    taps, weights, measurement_noise, process_noise, initial_covariance
+        As :class:`wake.rtp.reference.ReferenceRTP`, in physical units.
+    full_scale : float
+        Physical value mapped to 1.0 in Q15.  Samples beyond ±full_scale are
+        clipped (and counted in :attr:`clipped`); choose it with headroom
+        above the largest expected |sample|.
+
+    Attributes
+    ----------
+    clipped : int
+        Input samples clipped to the int16 range since construction / reset.
+
+    Examples
+    --------
+    >>> from wake.wavelets import filter_bank_taps
+    >>> from wake.rtp.fixed import FixedPointRTP
+    >>> rtp = FixedPointRTP(filter_bank_taps("sym3", 3), [0, 0, 1], 1e-3, full_scale=4.0)
+    >>> [round(rtp.step(1.0), 3) for _ in range(3)]
+    [1.0, 1.0, 1.0]
+    """
+
+    def __init__(self, taps, weights, measurement_noise, process_noise=0.0, initial_covariance=0.0, *, full_scale):
+        fs = float(full_scale)
+        if not np.isfinite(fs) or fs <= 0:
+            raise ValueError(f"full_scale must be finite and > 0, got {full_scale!r}")
+        self.full_scale = fs
+        self._taps_q = quantize_taps(taps)
+        self.level, self.n_taps = self._taps_q.shape
+        self._p0_q = quantize_variance(initial_covariance, fs, "initial_covariance", positive=False)
+        self._state = ffi.new("wake_rtp_t *")
+        self._out = ffi.new("int16_t *")  # reused by step(): one allocation per instance, not per sample
+        self._taps_c = ffi.from_buffer("int16_t[]", self._taps_q)   # kept alive with self
+        w_q = quantize_weights(weights, self.level)
+        r_q = quantize_variance(measurement_noise, fs, "measurement_noise R", positive=True)
+        q_q = quantize_variance(process_noise, fs, "process_noise Q", positive=False)
+        _check(
+            lib.wake_rtp_init(self._state, self.level, self._taps_c, ffi.from_buffer("int32_t[]", w_q), r_q, q_q, self._p0_q),
+            "wake_rtp_init",
+        )
+        self.clipped = 0
+
+    # -- quantised parameters in physical units (what the C core really uses)
+    @property
+    def taps(self):
+        """Taps as the C core holds them (Q15, dequantised)."""
+        return self._taps_q / 2.0**TAP_FRAC
+
+    @property
+    def weights(self):
+        return np.array([self._state.weights[j] for j in range(self.level)]) / 2.0**WEIGHT_FRAC
+
+    @property
+    def measurement_noise(self):
+        return self._state.r * self._p_lsb
+
+    @property
+    def process_noise(self):
+        return self._state.q * self._p_lsb
+
+    @property
+    def initial_covariance(self):
+        return self._state.p0 * self._p_lsb
+
+    @property
+    def _p_lsb(self):
+        return self.full_scale**2 / 2.0**P_FRAC
+
+    # -- state, read from the C struct --------------------------------------
+    @property
+    def saturations(self):
+        """Narrowings that saturated inside the C core since construction / reset."""
+        return int(self._state.saturations)
+
+    @property
+    def guard_events(self):
+        """Covariance entries clamped by the C core's PSD guard since construction / reset."""
+        return int(self._state.guard_events)
+
+    @property
+    def primed(self):
+        return bool(self._state.primed)
+
+    @property
+    def last_output(self):
+        return self._state.last_output / 2.0**STATE_FRAC * self.full_scale
+
+    @property
+    def correction(self):
+        """Kalman correction d (J values, physical units)."""
+        return np.array([self._state.correction[j] for j in range(self.level)]) / 2.0**STATE_FRAC * self.full_scale
+
+    @property
+    def covariance(self):
+        """Covariance P, flat row-major J*J (physical units squared), like ReferenceRTP."""
+        J = self.level
+        return np.array([self._state.covariance[k] for k in range(J * J)]) * self._p_lsb
+
+    @property
+    def window(self):
+        """The newest 2**J samples, oldest first (physical units)."""
+        head = int(self._state.head)  # each sample is stored twice: ring[head:head + N] is the window
+        ring = np.array([self._state.ring[head + k] for k in range(self.n_taps)], dtype=float)
+        return ring / 2.0**SAMPLE_FRAC * self.full_scale
+
+    # -- configuration ------------------------------------------------------
+    def set_weights(self, weights, measurement_noise, process_noise=None):
+        """Install new HPA output between two samples (no state is touched)."""
+        w_q = quantize_weights(weights, self.level)
+        r_q = quantize_variance(measurement_noise, self.full_scale, "measurement_noise R", positive=True)
+        if process_noise is None:
+            q_q = int(self._state.q)
+        else:
+            q_q = quantize_variance(process_noise, self.full_scale, "process_noise Q", positive=False)
+        _check(lib.wake_rtp_set_weights(self._state, ffi.from_buffer("int32_t[]", w_q), r_q, q_q), "wake_rtp_set_weights")
+
+    def reset(self):
+        """Forget every sample; keep taps and weights (counters restart)."""
+        _check(lib.wake_rtp_reset(self._state), "wake_rtp_reset")
+        self.clipped = 0
+
+    def load_state(self, window_oldest_first, correction, covariance, last_output):
+        """Set ring, correction, covariance and last output (hand-over from a float warm-up).
+
+        Values are quantised like everything else; out-of-range values raise
+        ValueError.  The covariance's upper triangle is used and mirrored.
+        """
+        fs = self.full_scale
+        win = np.asarray(window_oldest_first, dtype=float).reshape(-1)
+        if win.shape != (self.n_taps,) or not np.isfinite(win).all():
+            raise ValueError(f"window must be {self.n_taps} finite samples, oldest first")
+        win_q = self._quantize_samples(win)
+        d = np.asarray(correction, dtype=float).reshape(-1)
+        if d.shape != (self.level,) or not np.isfinite(d).all():
+            raise ValueError(f"correction must be {self.level} finite numbers")
+        d_q = np.round(d / fs * 2.0**STATE_FRAC)
+        if np.abs(d_q).max() > _INT32_MAX:
+            raise ValueError(f"correction must lie within ±{2.0 ** (31 - STATE_FRAC) * fs:g} (Q{STATE_FRAC} of full_scale)")
+        P = np.asarray(covariance, dtype=float).reshape(-1)
+        if P.shape != (self.level**2,) or not np.isfinite(P).all():
+            raise ValueError(f"covariance must be {self.level}x{self.level} finite numbers")
+        P_q = np.round(P / self._p_lsb)
+        if np.abs(P_q).max() > _INT32_MAX:
+            raise ValueError(
+                f"covariance entries must lie within ±{_INT32_MAX * self._p_lsb:.6g} (Q{P_FRAC} of full_scale**2)"
+            )
+        if (np.diag(P_q.reshape(self.level, self.level)) < 0).any():
+            raise ValueError("covariance diagonal must be >= 0")
+        y = float(last_output)
+        y_q = round(y / fs * 2.0**STATE_FRAC) if np.isfinite(y) else None
+        if y_q is None or not _INT32_MIN <= y_q <= _INT32_MAX:
+            raise ValueError(f"last_output must be finite and within ±{2.0 ** (31 - STATE_FRAC) * fs:g}")
+        win_q = np.ascontiguousarray(win_q, dtype=np.int16)
+        d_q = np.ascontiguousarray(d_q, dtype=np.int32)
+        P_q = np.ascontiguousarray(P_q, dtype=np.int32)
+        _check(
+            lib.wake_rtp_load_state(
+                self._state,
+                ffi.from_buffer("int16_t[]", win_q),
+                ffi.from_buffer("int32_t[]", d_q),
+                ffi.from_buffer("int32_t[]", P_q),
+                y_q,
+            ),
+            "wake_rtp_load_state",
+        )
+
+    # -- per sample ---------------------------------------------------------
+    def _quantize_samples(self, x, nan_positions=False):
+        """Samples -> int16 Q15 of full_scale: round half to even, clip (counted in :attr:`clipped`).
+
+        One division, one ``np.rint`` in place, one ``clip`` in place (only
+        when the extremes of the rounded values are out of range: clipping is
+        then counted) and one cast.  With ``nan_positions`` NaN samples become
+        0 and their indices are returned too.
+        """
+        # x / (FS / 2^15) is exactly x / FS * 2^15 (scaling by a power of two), as in step()
+        q = np.divide(np.asarray(x, dtype=float), self.full_scale / _SAMPLE_SCALE)
+        np.rint(q, out=q)
+        nan_idx = np.flatnonzero(np.isnan(q)) if nan_positions else None
+        if nan_idx is not None and nan_idx.size:
+            q[nan_idx] = 0.0
+        if q.size and (np.fmax.reduce(q) > 32767.0 or np.fmin.reduce(q) < -32768.0):
+            self.clipped += int(np.count_nonzero(q > 32767.0) + np.count_nonzero(q < -32768.0))
+            np.clip(q, -32768.0, 32767.0, out=q)
+        q_int = q.astype(np.int16)
+        return (q_int, nan_idx) if nan_positions else q_int
+
+    def _to_physical(self, y_q):
+        # one multiply: y / 2^15 * FS == y * (FS / 2^15) exactly (power-of-two scaling)
+        return np.multiply(y_q, self.full_scale / _SAMPLE_SCALE, dtype=float)
+
+    def step(self, sample):
+        """Take sample ``m(n)``; return the predicted voluntary motion at ``n + 1``."""
+        x = float(sample)
+        if x != x:
+            return self.step_missing()
+        # Scalar twin of _quantize_samples (same half-to-even rounding), without numpy's per-call cost.
+        m = round(x / self.full_scale * _SAMPLE_SCALE)
+        if not -32768 <= m <= 32767:
+            self.clipped += 1
+            m = -32768 if m < 0 else 32767
+        out = self._out
+        status = lib.wake_rtp_step(self._state, m, out)
+        if status:
+            _check(status, "wake_rtp_step")
+        return out[0] / _SAMPLE_SCALE * self.full_scale
+
+    def step_missing(self):
+        """No measurement at ``n``: the last prediction stands in (see ReferenceRTP)."""
+        out = ffi.new("int16_t *")
+        _check(lib.wake_rtp_step_missing(self._state, out), "wake_rtp_step_missing")
+        return float(self._to_physical(out[0]))
+
+    def run(self, samples):
+        """Step through a block; NaN marks a missing sample.
+
+        Runs of finite samples go through the C block API on zero-copy int16
+        buffers; each NaN is one :meth:`step_missing`.
+        """
+        x = np.asarray(samples, dtype=float).reshape(-1)
+        n = x.shape[0]
+        out_q = np.empty(n, dtype=np.int16)              # every entry is written below
+        if n == 0:
+            return out_q.astype(float)
+        x_q, nan_idx = self._quantize_samples(x, nan_positions=True)   # NaN -> 0: each is a step_missing
+        in_c = ffi.from_buffer("int16_t[]", x_q)
+        out_c = ffi.from_buffer("int16_t[]", out_q)
+        one = ffi.new("int16_t *")
+        # boundaries of runs: NaN at k starts/ends a run
+        k = 0
+        for stop in list(nan_idx) + [n]:
+            stop = int(stop)
+            if stop > k:
+                _check(lib.wake_rtp_run(self._state, in_c + k, out_c + k, stop - k), "wake_rtp_run")
+            if stop < n:
+                _check(lib.wake_rtp_step_missing(self._state, one), "wake_rtp_step_missing")
+                out_q[stop] = one[0]
+            k = stop + 1
+        return self._to_physical(out_q)
+
+    # -- hand-over and representability ---------------------------------------
+    @classmethod
+    def from_reference(cls, reference, *, full_scale, measurement_noise, process_noise, initial_covariance):
+        """A C channel continuing a float warm-up (:class:`~wake.rtp.reference.ReferenceRTP`).
+
+        R, q and p0 are clamped into the C formats first
+        (:func:`representable_noise`); the float state (window, correction,
+        covariance, last output) is clipped into them, so a huge
+        ``initial_covariance`` or a runaway correction cannot fail the hand-over.
+
+        Returns
+        -------
+        (FixedPointRTP, bool)
+            The channel, and whether R or q had to be clamped.
+        """
+        r, q, clamped = representable_noise(measurement_noise, process_noise, full_scale)
+        p0 = representable_noise(1.0, initial_covariance, full_scale)[1]
+        rtp = cls(reference.taps, reference.weights, r, q, p0, full_scale=full_scale)
+        if reference.primed:
+            window = np.concatenate((reference.buffer[reference.head:], reference.buffer[: reference.head]))
+            top_p = _INT32_MAX * full_scale**2 / 2.0**P_FRAC
+            top_x = _INT32_MAX * full_scale / 2.0**STATE_FRAC
+            rtp.load_state(window, np.clip(reference.correction, -top_x, top_x),
+                           np.clip(reference.covariance, -top_p, top_p),
+                           float(np.clip(reference.last_output, -top_x, top_x)))
+        return rtp, clamped
+
+    def set_weights_clamped(self, weights, measurement_noise, process_noise):
+        """:meth:`set_weights` after clamping R and q into the C formats; returns whether it clamped."""
+        r, q, clamped = representable_noise(measurement_noise, process_noise, self.full_scale)
+        self.set_weights(weights, r, q)
+        return clamped
+
+    # -- pickling: the struct is plain data but for the taps pointer ----------
+    def __getstate__(self):
+        return {"full_scale": self.full_scale, "taps_q": self._taps_q, "clipped": self.clipped,
+                "p0_q": self._p0_q, "struct": bytes(ffi.buffer(self._state))}
+
+    def __setstate__(self, st):
+        self.full_scale = st["full_scale"]
+        self._taps_q = st["taps_q"]
+        self.level, self.n_taps = self._taps_q.shape
+        self._p0_q = st["p0_q"]
+        self.clipped = st["clipped"]
+        self._state = ffi.new("wake_rtp_t *")
+        self._out = ffi.new("int16_t *")
+        self._taps_c = ffi.from_buffer("int16_t[]", self._taps_q)
+        ffi.buffer(self._state)[:] = st["struct"]
+        self._state.taps = self._taps_c  # the pickled pointer belonged to the old process
+
+
+def representable_noise(r, q, full_scale):
+    """Clamp R and q into what the C core holds (Q(P_FRAC) of full_scale**2).
+
+    R below one LSB (a window with no tremor, a large full scale) is raised to
+    one LSB; R or q above the Q format's range (a full scale set below the
+    signal) are lowered to its top.  Returns ``(r, q, clamped)``.
+    """
+    lsb = full_scale**2 / 2.0**P_FRAC
+    top = _INT32_MAX * lsb
+    r2 = min(max(r, lsb), top)
+    q2 = 0.0 if q == 0 else min(max(q, lsb), top)
+    return r2, q2, (r2 != r or q2 != q)

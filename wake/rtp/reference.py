@@ -1,0 +1,230 @@
+"""Float reference of the real-time prediction (RTP) scheme.
+
+This module is the oracle the fixed-point C core (``csrc/wake_rtp.c``) is
+tested against; the two are written line for line alike.  One
+:class:`ReferenceRTP` is one channel's state, the twin of the C struct
+``wake_rtp_t``.
+
+The per-sample recursion (docs/design.md maps each line onto the paper)::
+
+    buffer <- newest sample                      m_J(n), a ring of 2**J samples
+    e      = m(n) - y(n-1)                       innovation, eq. (r(k))
+    u      = P w
+    S      = w' u + R                            eq. (S(k))
+    K      = u / S                               eq. (K(k))
+    d      = d + K e                             state update
+    P      = P - u u' / S + Q I                  eq. (P(k|k)), then the F = I prediction
+    a      = B m_J(n)                            J-level filter bank
+    y(n)   = w' (a + d)                          predicted voluntary motion at n + 1
+
+The Kalman state is ``x = a + d``: the filter-bank approximations ``a`` (the
+paper's state, eq. KFState) plus a correction ``d`` that the scalar
+measurement ``m`` observes through ``w``.  Storing ``d`` rather than ``x``
+keeps the recursion free of the difference ``a(n) - a(n-1)`` and makes the
+innovation the plain prediction error ``m(n) - y(n-1)``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["ReferenceRTP"]
+
+
+# The two sums below run in a fixed order (one tap, one level at a time), the
+# same for one sample and for a block, so that run() and a loop of step()
+# agree to the bit; a BLAS product would sum in an order that depends on the
+# shapes.
+
+def _filter_bank(windows, taps):
+    """a_j = sum_i B[j, i] m(n - N + 1 + i), oldest sample first; one row per window."""
+    acc = np.zeros((windows.shape[0], taps.shape[0]))
+    for i in range(taps.shape[1]):
+        acc += windows[:, i : i + 1] * taps[:, i]
+    return acc
+
+
+def _weighted_sum(w, values):
+    """sum_j w_j values_j, along the first axis of ``values``."""
+    acc = w[0] * values[0]
+    for j in range(1, w.shape[0]):
+        acc = acc + w[j] * values[j]
+    return acc
+
+
+class ReferenceRTP:
+    """One channel of the RTP in float64.
+
+    Parameters
+    ----------
+    taps : array_like, shape (J, 2**J)
+        Filter bank taps, oldest sample first (:func:`wake.wavelets.filter_bank_taps`).
+    weights : array_like, shape (J,)
+        Observation vector ``w`` from the HPA.
+    measurement_noise : float
+        ``R``, the variance of the HPA's tremor ground truth (> 0).
+    process_noise : float
+        ``Q = q I`` per sample (>= 0).
+    initial_covariance : float
+        ``P(0) = p0 I`` (>= 0).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wake.wavelets import filter_bank_taps
+    >>> from wake.rtp.reference import ReferenceRTP
+    >>> rtp = ReferenceRTP(filter_bank_taps("sym3", 3), [0, 0, 1], 1.0)
+    >>> [round(rtp.step(1.0), 6) for _ in range(3)]   # a constant is predicted exactly
+    [1.0, 1.0, 1.0]
+    """
+
+    def __init__(self, taps, weights, measurement_noise, process_noise=0.0, initial_covariance=0.0):
+        taps = np.array(taps, dtype=float)
+        if taps.ndim != 2 or taps.shape[1] != 2 ** taps.shape[0]:
+            raise ValueError(f"taps must have shape (J, 2**J), got {taps.shape}")
+        self.level = taps.shape[0]
+        self.n_taps = taps.shape[1]
+        self.taps = taps
+        self.initial_covariance = float(initial_covariance)
+        self.weights = np.zeros(self.level)
+        self.measurement_noise = 1.0
+        self.process_noise = 0.0
+        self.set_weights(weights, measurement_noise, process_noise)
+        self.reset()
+
+    # -- configuration -----------------------------------------------------
+    def set_weights(self, weights, measurement_noise, process_noise=None):
+        """Install new HPA output between two samples (no state is touched)."""
+        w = np.array(weights, dtype=float).reshape(-1)
+        if w.shape != (self.level,) or not np.isfinite(w).all():
+            raise ValueError(f"weights must be {self.level} finite numbers, got {weights!r}")
+        r = float(measurement_noise)
+        if not np.isfinite(r) or r <= 0:
+            raise ValueError(f"measurement_noise R must be finite and > 0, got {measurement_noise!r}")
+        q = self.process_noise if process_noise is None else float(process_noise)
+        if not np.isfinite(q) or q < 0:
+            raise ValueError(f"process_noise Q must be finite and >= 0, got {process_noise!r}")
+        self.weights = w
+        self.measurement_noise = r
+        self.process_noise = q
+
+    def reset(self):
+        """Forget every sample; keep taps and weights."""
+        self.buffer = np.zeros(self.n_taps)
+        self.head = 0                      # index of the oldest sample
+        self.primed = False
+        self.last_output = 0.0
+        self.correction = np.zeros(self.level)
+        self.covariance = self.initial_covariance * np.eye(self.level).reshape(-1)
+
+    # -- per sample ---------------------------------------------------------
+    def _push(self, sample):
+        if not self.primed:
+            # Warm-up: the window starts full of the first sample, so the
+            # filter bank output is defined (and finite) from the first call.
+            self.buffer[:] = sample
+            self.last_output = sample
+            self.primed = True
+        self.buffer[self.head] = sample
+        self.head = (self.head + 1) % self.n_taps
+
+    def _measurement_update(self, sample):
+        w = self.weights
+        P = self.covariance.reshape(self.level, self.level)
+        # e = m(n) - y(n-1)
+        e = sample - self.last_output
+        # u = P w
+        u = P @ w
+        # S = w' u + R
+        s = self.measurement_noise + w @ u
+        # d = d + K e, with K = u / S
+        self.correction += u * (e / s)
+        # P = P - u u' / S   (symmetric by construction: C fills the upper triangle and mirrors it)
+        P -= np.outer(u, u) / s
+
+    def _time_update(self):
+        # P = P + Q I   (F = I)
+        self.covariance[:: self.level + 1] += self.process_noise
+
+    def _filter_bank(self):
+        window = np.concatenate((self.buffer[self.head :], self.buffer[: self.head]))
+        return _filter_bank(window[None, :], self.taps)[0]
+
+    def _predict(self):
+        # y = w' (a + d)
+        y = float(_weighted_sum(self.weights, self._filter_bank() + self.correction))
+        self.last_output = y
+        return y
+
+    def step(self, sample):
+        """Take sample ``m(n)``; return the predicted voluntary motion at ``n + 1``."""
+        self._push(sample)
+        self._measurement_update(sample)
+        self._time_update()
+        return self._predict()
+
+    def step_missing(self):
+        """No measurement at ``n`` (NaN or a dropped packet).
+
+        Policy: the last prediction stands in for the sample in the filter
+        bank window, and the Kalman filter predicts without a measurement
+        update (its covariance grows by ``Q``).
+        """
+        if not self.primed:
+            return 0.0
+        self._push(self.last_output)
+        self._time_update()
+        return self._predict()
+
+    def run(self, samples):
+        """Step through a block; NaN marks a missing sample.
+
+        Same result as calling :meth:`step` / :meth:`step_missing` per
+        sample (to rounding), but the filter bank is evaluated for the whole
+        block at once and the Kalman recursion is skipped while it is inert
+        (``P = 0`` and ``Q = 0``, where it provably leaves ``d`` unchanged).
+        """
+        x = np.asarray(samples, dtype=float).reshape(-1)
+        n = x.shape[0]
+        out = np.empty(n)
+        if n == 0:
+            return out
+        if np.isnan(x).any() or not self.primed:
+            # Gaps and the priming sample change the window itself: go sample by sample.
+            k = 0
+            while k < n and (not self.primed or np.isnan(x[k])):
+                out[k] = self.step_missing() if np.isnan(x[k]) else self.step(x[k])
+                k += 1
+            if k < n:
+                nan_at = np.flatnonzero(np.isnan(x[k:]))
+                stop = k + (nan_at[0] if nan_at.size else n - k)
+                out[k:stop] = self.run(x[k:stop])
+                if stop < n:
+                    out[stop:] = self.run(x[stop:])
+            return out
+        N = self.n_taps
+        history = np.concatenate((self.buffer[self.head :], self.buffer[: self.head], x))
+        approx = _filter_bank(np.lib.stride_tricks.sliding_window_view(history[1:], N), self.taps)
+        w = self.weights
+        inert = self.process_noise == 0.0 and not self.covariance.any()
+        if inert:
+            out[:] = _weighted_sum(w, (approx + self.correction).T)
+        else:
+            P = self.covariance.reshape(self.level, self.level)
+            d = self.correction
+            r, q = self.measurement_noise, self.process_noise
+            diag = np.arange(self.level)
+            y_prev = self.last_output
+            for k in range(n):
+                u = P @ w
+                s = r + w @ u
+                d += u * ((x[k] - y_prev) / s)
+                P -= np.outer(u, u) / s
+                P[diag, diag] += q
+                y_prev = float(_weighted_sum(w, approx[k] + d))
+                out[k] = y_prev
+        tail = history[-N:]
+        self.buffer[:] = tail
+        self.head = 0
+        self.last_output = float(out[-1])
+        return out
