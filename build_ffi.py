@@ -27,9 +27,9 @@ def _strip_conditionals(lines):
     out, stack = [], []  # stack of "keep"/"drop" per open conditional
     for line in lines:
         s = line.strip()
-        m = re.match(r"#\s*(if|ifdef|ifndef|elif|else|endif)\b(.*)", s)
+        m = re.match(r"#\s*(if|ifdef|ifndef|elif|else|endif)\b", s)
         if m:
-            kind, rest = m.group(1), m.group(2).strip()
+            kind = m.group(1)
             if kind in ("if", "ifdef", "ifndef"):
                 # keep the include guard and `#ifndef NAME / #define NAME default` blocks
                 stack.append("keep" if kind == "ifndef" else "drop")

@@ -6,7 +6,6 @@ issues, and that a profile of the real core is well formed.
 
 import math
 import shutil
-from pathlib import Path
 
 import numpy as np
 import pytest
