@@ -30,7 +30,7 @@ run; the targets are reported there, not asserted.
 import numpy as np
 import pytest
 
-from wake import WakeFilter
+from wake import WakeConfig, WakeFilter
 from wake.hpa import run_hpa
 from wake.rtp.reference import ReferenceRTP
 
@@ -99,7 +99,7 @@ def test_filter_update_per_sample(benchmark, recording):
 
 def test_hpa_per_update(benchmark, fitted):
     benchmark.extra_info.update(items=1, unit="HPA runs")
-    upd = benchmark(run_hpa, fitted["window"], fitted["fs"], taps=fitted["taps"])
+    upd = benchmark(run_hpa, fitted["window"], WakeConfig(fs=fitted["fs"], backend="reference"), taps=fitted["taps"])
     assert np.isfinite(upd.weights).all()
 
 

@@ -47,13 +47,9 @@ class Channel:
     # -- HPA ---------------------------------------------------------------
     def hpa_job(self, window):
         """The HPA call for ``window``, with everything it reads passed in (it may run off the sample path)."""
-        c = self.config
         if np.isnan(window).any():  # gaps are interpolated for the spectrum: the one door every window goes through
             window = _fill_gaps(window)
-        kwargs = dict(taps=self.taps, wavelet=c.wavelet, level=c.level, mode=c.mode, ar_order=c.ar_order,
-                      fit=c.fit, ridge=c.ridge, tremor_band=c.tremor_band, cutoff_range=c.cutoff_range,
-                      default_cutoff=c.default_cutoff, previous_weights=self.weights.copy(), index=self.count)
-        return (window, c.fs), kwargs
+        return (window, self.config), dict(taps=self.taps, previous_weights=self.weights.copy(), index=self.count)
 
     def hpa(self, window):
         args, kwargs = self.hpa_job(window)

@@ -1,6 +1,7 @@
 import numpy as np
 import pytest
 
+from wake import WakeConfig
 from wake.hpa import CUTOFF_FLAGS, find_cutoff, fit_weights, run_hpa
 from wake.hpa.sharp import sharp_highpass
 from wake.eval.synthetic import make_signal
@@ -8,6 +9,7 @@ from wake.wavelets import filter_bank_taps
 
 FS = 100.0
 TAPS = filter_bank_taps("sym3", 5)
+CONFIG = WakeConfig(fs=FS, backend="reference")
 
 
 def window_of(kind, rng, n=500):
@@ -75,7 +77,7 @@ def test_ill_conditioned_fit_is_regularised(rng):
 
 def test_hpa_on_synthetic_window():
     s = make_signal(7.5, seed=1)
-    upd = run_hpa(s.measurement[:500], FS, taps=TAPS)
+    upd = run_hpa(s.measurement[:500], CONFIG, taps=TAPS)
     assert upd.cutoff_flag == "valley"
     assert 1.0 < upd.cutoff < 6.0
     tremor_gt = sharp_highpass(s.measurement[:500], FS, upd.cutoff)
@@ -89,7 +91,7 @@ def test_hpa_on_synthetic_window():
                                   "step", "tiny", "huge"])
 def test_degenerate_windows_give_finite_output_and_a_flag(kind, rng):
     x = window_of(kind, rng)
-    upd = run_hpa(x, FS, taps=TAPS, previous_weights=np.full(5, 0.2))
+    upd = run_hpa(x, CONFIG, taps=TAPS, previous_weights=np.full(5, 0.2))
     assert upd.cutoff_flag in CUTOFF_FLAGS
     assert 0.5 <= upd.cutoff <= 6.0
     assert np.all(np.isfinite(upd.weights)) and np.max(np.abs(upd.weights)) <= 32
@@ -101,4 +103,4 @@ def test_degenerate_windows_give_finite_output_and_a_flag(kind, rng):
 
 def test_unknown_fit_is_refused():
     with pytest.raises(ValueError, match="valid choices: causal, paper"):
-        run_hpa(np.arange(500.0), FS, taps=TAPS, fit="quasi-newton")
+        WakeConfig(fs=FS, fit="quasi-newton")

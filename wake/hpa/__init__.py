@@ -8,7 +8,8 @@ One module per step: :mod:`~wake.hpa.spectrum` (S1, Yule-Walker),
 
 from wake.hpa.cutoff import CUTOFF_FLAGS, find_cutoff
 from wake.hpa.fit import default_weights, fit_weights
-from wake.hpa.run import FITS, HPAUpdate, run_hpa
+from wake.config import FITS
+from wake.hpa.run import HPAUpdate, run_hpa
 from wake.hpa.sharp import sharp_highpass
 from wake.hpa.spectrum import ar_psd, levinson_durbin, yule_walker
 

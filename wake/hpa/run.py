@@ -25,14 +25,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from wake.config import FITS
+from wake.config import WakeConfig
 from wake.hpa.cutoff import find_cutoff
 from wake.hpa.fit import default_weights, fit_weights
 from wake.hpa.sharp import sharp_highpass
 from wake.hpa.spectrum import ar_psd
-from wake.wavelets import filter_bank_outputs, wavelet_approximations
+from wake.wavelets import filter_bank_outputs, filter_bank_taps, wavelet_approximations
 
-__all__ = ["HPAUpdate", "run_hpa", "FITS"]
+__all__ = ["HPAUpdate", "run_hpa"]
 
 @dataclass
 class HPAUpdate:
@@ -49,28 +49,42 @@ class HPAUpdate:
     applied_at: int = -1  #: sample count at which the RTP took these weights (set by WakeFilter)
 
 
-def run_hpa(window, fs, *, taps, wavelet="sym3", level=5, mode="constant", ar_order=17,
-            fit="causal", ridge=1e-6, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
-            default_cutoff=2.0, previous_weights=None, index=0):
+def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, index: int = 0) -> HPAUpdate:
     """One HPA run over a window of the last ``L`` samples.
 
     Parameters
     ----------
-    window : array_like, shape (L,)
-    fs : float
-    taps : numpy.ndarray, shape (J, 2**J)
-        The RTP filter bank (:func:`wake.wavelets.filter_bank_taps`).
-    fit : {"causal", "paper"}
-        What ``w`` is fitted on (see the module docstring).
+    window : array_like, shape (n,)
+        The samples, oldest first, finite (:class:`~wake.WakeFilter`
+        interpolates gaps before it calls this).
+    config : WakeConfig
+        Sampling rate, wavelet, level, AR order, fit, ridge and the cut-off
+        search settings.
+    taps : numpy.ndarray, shape (J, 2**J), optional
+        The RTP filter bank (:func:`wake.wavelets.filter_bank_taps`);
+        computed from ``config`` when not given.
     previous_weights : numpy.ndarray, optional
         Kept when the window is silent.
+    index : int
+        Number of samples received when the HPA ran (recorded in the result).
 
     Returns
     -------
     HPAUpdate
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wake import WakeConfig
+    >>> from wake.hpa import run_hpa
+    >>> t = np.arange(500) / 100.0
+    >>> upd = run_hpa(np.sin(2 * np.pi * 0.3 * t) + 0.2 * np.sin(2 * np.pi * 8 * t), WakeConfig())
+    >>> upd.cutoff_flag, upd.weights.shape
+    ('valley', (5,))
     """
-    if fit not in FITS:
-        raise ValueError(f"unknown fit {fit!r}; valid choices: {', '.join(FITS)}")
+    fs, level, fit, ridge, default_cutoff = config.fs, config.level, config.fit, config.ridge, config.default_cutoff
+    if taps is None:
+        taps = filter_bank_taps(config.wavelet, level, config.mode)
     x = np.asarray(window, dtype=float)
     flags = []
     spread = np.std(x)
@@ -79,8 +93,8 @@ def run_hpa(window, fs, *, taps, wavelet="sym3", level=5, mode="constant", ar_or
         floor = max(1e-12, (1e-6 * np.max(np.abs(x))) ** 2)
         return HPAUpdate(index, float(default_cutoff), "silent", w, float(floor), 0.0, float(ridge),
                          ("weights_kept",))
-    freqs, psd = ar_psd(x, fs, ar_order)
-    cutoff, flag = find_cutoff(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
+    freqs, psd = ar_psd(x, fs, config.ar_order)
+    cutoff, flag = find_cutoff(freqs, psd, tremor_band=config.tremor_band, cutoff_range=config.cutoff_range,
                                default_cutoff=default_cutoff)
     tremor_gt = sharp_highpass(x, fs, cutoff)
     voluntary_gt = x - tremor_gt
@@ -91,7 +105,7 @@ def run_hpa(window, fs, *, taps, wavelet="sym3", level=5, mode="constant", ar_or
         approx = filter_bank_outputs(x, taps)[:-1]  # a(k) for k = N-1 .. L-2
         target = voluntary_gt[taps.shape[1]:]  # v_GT(k + 1)
     else:
-        approx = wavelet_approximations(x, wavelet, level, mode)
+        approx = wavelet_approximations(x, config.wavelet, level, config.mode)
         target = voluntary_gt
     w, err, used = fit_weights(approx, target, ridge)
     if used > ridge:
