@@ -10,6 +10,7 @@ It holds no number format: the fixed-point rules live in
 from __future__ import annotations
 
 import copy
+from dataclasses import replace
 
 import numpy as np
 
@@ -56,10 +57,13 @@ class Channel:
         self.apply(run_hpa(*args, **kwargs), window, first_sample=self.count)
 
     def apply(self, upd: HPAUpdate, window, first_sample: int):
-        """Install an HPA result; ``first_sample`` is the 1-based number of the
-        first sample whose RTP step uses it (recorded as ``applied_at``)."""
-        upd.applied_at = first_sample
-        self.updates.append(upd)
+        """Install an HPA result between two samples.
+
+        ``first_sample`` is the 1-based number of the first sample whose RTP
+        step uses it.  The history keeps a copy of ``upd`` that records it
+        (``applied_at``) and what installing it took (``noise_clamped``):
+        the HPA's own result is never edited.
+        """
         self.weights = upd.weights
         self.measurement_noise = upd.measurement_noise
         if self.config.backend == "c" and not self.on_c:
@@ -67,12 +71,14 @@ class Channel:
             peak = float(np.max(np.abs(observed))) if observed.size else 0.0
             self.switch_to_c(self.config.headroom * peak if peak > 0 else 1.0)
         q = self.process_noise(self.measurement_noise)
+        notes = ()
         if self.on_c:
             if self.rtp.set_weights_clamped(self.weights, self.measurement_noise, q):
-                upd.flags = upd.flags + ("noise_clamped",)
+                notes = ("noise_clamped",)
             self.measurement_noise = self.rtp.measurement_noise
         else:
             self.rtp.set_weights(self.weights, self.measurement_noise, q)
+        self.updates.append(replace(upd, applied_at=first_sample, flags=upd.flags + notes))
 
     def switch_to_c(self, full_scale: float):
         fixed = load_fixed_point()

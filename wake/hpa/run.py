@@ -34,7 +34,7 @@ from wake.wavelets import filter_bank_outputs, filter_bank_taps, wavelet_approxi
 
 __all__ = ["HPAUpdate", "run_hpa"]
 
-@dataclass
+@dataclass(frozen=True)
 class HPAUpdate:
     """What one HPA run produced (one entry of ``WakeResult.hpa``)."""
 
@@ -46,7 +46,7 @@ class HPAUpdate:
     fit_error: float  #: the paper's e_L (RMS fit error over the window)
     ridge: float  #: the ridge factor finally used (raised when the fit was ill-conditioned)
     flags: tuple = field(default_factory=tuple)  #: extra notes: "regularised", "weights_kept"
-    applied_at: int = -1  #: sample count at which the RTP took these weights (set by WakeFilter)
+    applied_at: int = -1  #: sample count at which the RTP took these weights (-1: not installed; the filter records it)
 
 
 def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, index: int = 0) -> HPAUpdate:
