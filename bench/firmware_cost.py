@@ -16,7 +16,7 @@ missing (arm-none-eabi-gcc, unicorn, capstone).
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout without installing
 
 from wake.firmware.profile import cli  # noqa: E402
 

@@ -27,8 +27,13 @@ def _installed() -> Path | None:
 
         root = Path(str(files("wake._csrc")))
     except (ImportError, ModuleNotFoundError, TypeError):
-        return None
-    return root if all((root / f).is_file() for f in _REQUIRED) else None
+        root = None
+    if root is not None and all((root / f).is_file() for f in _REQUIRED):
+        return root
+    # Imported from a source checkout (``wake/`` beside ``csrc/``), where the
+    # package-dir mapping of the build does not apply.
+    checkout = Path(__file__).resolve().parents[2] / "csrc"
+    return checkout if all((checkout / f).is_file() for f in _REQUIRED) else None
 
 
 def csrc_dir(path: str | Path | None = None, *, need: tuple[str, ...] = ()) -> Path:
