@@ -1,44 +1,65 @@
 /**
  * @file wake_rtp.c
- * @brief Fixed-point WAKE real-time prediction; mirrors wake/rtp/reference.py.
+ * @brief Fixed-point WAKE real-time prediction in constant time.
+ *
+ * The per-sample path (wake_rtp_step) is the 2^J-tap FIR y = h' window plus
+ * a scalar Kalman recursion; the J x J covariance P and the correction d of
+ * the literal recursion (wake/rtp/reference.py) are rebuilt from a snapshot
+ * only in set_weights, reset, load_state and get_state.  docs/fixed_point.md
+ * derives the form and bounds its error.
  *
  * Conventions: no signed overflow, no left shift of a negative value, no
- * float.  Right shifts of negative values go through asr64(), which is
- * written with non-negative operands only, so the code does not rely on the
- * implementation-defined behaviour of `>>` on negative numbers (compilers
- * still emit one arithmetic shift).
+ * float, no division instruction.  Right shifts of negative values go
+ * through shift_right_floor(), written with non-negative operands only, so
+ * the code does not rely on the implementation-defined behaviour of `>>` on
+ * negative numbers (compilers still emit one arithmetic shift).
+ *
+ * Loops of the per-sample path carry a `wcet-loop:` annotation with their
+ * largest trip count (N = 2^J); `wake profile` reads it to bound the
+ * worst-case execution time from the compiled image.
  */
 #include "wake_rtp.h"
 
 #include <string.h>
 
-#if defined(__ARM_FEATURE_DSP) && __ARM_FEATURE_DSP && defined(__ARM_FEATURE_SIMD32)
-#include <arm_acle.h>
-/* Filter bank with SMLAD (two 16 x 16 multiplies added to a 32-bit accumulator). */
-#define WAKE_RTP_USE_SMLAD 1
+/* Cores without a 32 x 32 -> 64-bit multiply instruction (ARMv6-M, ARMv8-M
+ * baseline): 64-bit products are assembled from 16 x 16-bit ones, so no
+ * __aeabi_lmul call is made. */
+#if defined(__ARM_ARCH_6M__) || defined(__ARM_ARCH_8M_BASE__)
+#define WAKE_RTP_NO_LONG_MULTIPLY 1
 #else
-#define WAKE_RTP_USE_SMLAD 0
+#define WAKE_RTP_NO_LONG_MULTIPLY 0
 #endif
 
-/* The ring is 4-byte aligned inside the struct (it follows int32 fields). */
-typedef char wake_rtp_ring_is_aligned[(offsetof(wake_rtp_t, ring) % 4u == 0u) ? 1 : -1];
+/* Functions kept out of line so that `wake profile` can bound the step with
+ * and without them (the Kalman update is skipped while inert; the window fill
+ * runs on the first sample only). */
+#if defined(__GNUC__)
+#define WAKE_RTP_NOINLINE __attribute__((noinline))
+#else
+#define WAKE_RTP_NOINLINE
+#endif
 
 #define P_FRAC WAKE_RTP_P_FRAC
+#define RATIO_ONE (INT32_C(1) << WAKE_RTP_RATIO_FRAC)
+/* Q15 sample -> Q23 signal: 8 guard bits */
+#define SIGNAL_GUARD_BITS (WAKE_RTP_STATE_FRAC - WAKE_RTP_SAMPLE_FRAC)
+/* Q(FIR) x Q15 -> Q23 */
+#define FIR_TO_SIGNAL_SHIFT (WAKE_RTP_FIR_FRAC + WAKE_RTP_SAMPLE_FRAC - WAKE_RTP_STATE_FRAC)
 
 /* ---------------------------------------------------------------------- */
-/* Saturating helpers (libfixmath style: static inline, no macros).        */
+/* Integer helpers (libfixmath style: static inline, no macros).           */
 /* ---------------------------------------------------------------------- */
 
-/** Count one saturation event (the counter itself saturates). */
-static inline void count_event(uint32_t *counter)
+/** Add n events to a counter that sticks at UINT32_MAX (no branch on the data). */
+static inline void count_events(uint32_t *counter, uint32_t n)
 {
-    if (*counter != UINT32_MAX) {
-        (*counter)++;
-    }
+    uint32_t sum = *counter + n;
+    *counter = (sum < n) ? UINT32_MAX : sum;
 }
 
 /** floor(v / 2^sh) for 0 <= sh <= 63, without shifting a negative value. */
-static inline int64_t asr64(int64_t v, unsigned sh)
+static inline int64_t shift_right_floor(int64_t v, unsigned sh)
 {
     if (v >= 0) {
         return v >> sh;
@@ -47,81 +68,97 @@ static inline int64_t asr64(int64_t v, unsigned sh)
     return -1 - ((-1 - v) >> sh);
 }
 
-/** floor(v / 2^sh) for int32, 0 <= sh <= 31 (as asr64). */
-static inline int32_t asr32(int32_t v, unsigned sh)
+/** round(v / 2^sh), halves up, for 1 <= sh <= 62 and |v| <= 2^62 (cannot overflow). */
+static inline int64_t shift_right_round(int64_t v, unsigned sh)
 {
-    if (v >= 0) {
-        return v >> sh;
-    }
-    return -1 - ((-1 - v) >> sh);
+    return shift_right_floor(v + (INT64_C(1) << (sh - 1u)), sh);
 }
 
-/** round(v / 2^sh), halves rounded up, for 0 <= sh <= 62; cannot overflow. */
-static inline int64_t rshift_round64(int64_t v, unsigned sh)
+/** Narrow int64 to int32, saturating; adds 1 to *events when it saturates. */
+static inline int32_t narrow_saturate(int64_t v, uint32_t *events)
 {
-    int64_t t;
-    if (sh == 0) {
-        return v;
-    }
-    t = asr64(v, sh - 1u);
-    /* ceil(t / 2) = floor((v + 2^(sh-1)) / 2^sh); (uint64) cast gives t mod 2 */
-    return asr64(t, 1u) + (int64_t)((uint64_t)t & 1u);
+    *events += (uint32_t)((v > INT32_MAX) | (v < INT32_MIN));
+    return (v > INT32_MAX) ? INT32_MAX : (v < INT32_MIN) ? INT32_MIN : (int32_t)v;
 }
 
-/** Narrow int64 to int32, saturating and counting. */
-static inline int32_t sat32(int64_t v, uint32_t *sat)
+/** Narrow int32 to int16, saturating; adds 1 to *events when it saturates. */
+static inline int16_t narrow_saturate16(int32_t v, uint32_t *events)
 {
-    if (v > INT32_MAX) {
-        count_event(sat);
-        return INT32_MAX;
-    }
-    if (v < INT32_MIN) {
-        count_event(sat);
-        return INT32_MIN;
-    }
-    return (int32_t)v;
+    *events += (uint32_t)((v > INT16_MAX) | (v < INT16_MIN));
+    return (int16_t)((v > INT16_MAX) ? INT16_MAX : (v < INT16_MIN) ? INT16_MIN : v);
 }
 
-/** Narrow int64 to [-(2^31 - 1), 2^31 - 1] (symmetric), saturating and counting. */
-static inline int32_t sat32s(int64_t v, uint32_t *sat)
+/** a * b exactly, for int32 operands (a 32 x 32 -> 64-bit multiply). */
+static inline int64_t multiply_wide(int32_t a, int32_t b)
 {
-    if (v > INT32_MAX) {
-        count_event(sat);
-        return INT32_MAX;
-    }
-    if (v < -INT32_MAX) {
-        count_event(sat);
-        return -INT32_MAX;
-    }
-    return (int32_t)v;
+#if WAKE_RTP_NO_LONG_MULTIPLY
+    /* a = ah 2^16 + al, b = bh 2^16 + bl with al, bl in [0, 2^16): four 16 x 16-bit products */
+    int32_t ah = (int32_t)shift_right_floor(a, 16u), bh = (int32_t)shift_right_floor(b, 16u);
+    int32_t al = (int32_t)((uint32_t)a & 0xFFFFu), bl = (int32_t)((uint32_t)b & 0xFFFFu);
+    int64_t cross = (int64_t)(ah * bl) + (int64_t)(al * bh);       /* each |.| < 2^31 */
+    return (int64_t)(ah * bh) * 4294967296 + cross * 65536 + (int64_t)((uint32_t)al * (uint32_t)bl);
+#else
+    return (int64_t)a * b;
+#endif
 }
 
-/** Narrow int32 to int16, saturating and counting. */
-static inline int16_t sat16(int32_t v, uint32_t *sat)
+/** a * b exactly, for uint32 operands. */
+static inline uint64_t multiply_wide_unsigned(uint32_t a, uint32_t b)
 {
-    if (v > INT16_MAX) {
-        count_event(sat);
-        return INT16_MAX;
-    }
-    if (v < INT16_MIN) {
-        count_event(sat);
-        return INT16_MIN;
-    }
-    return (int16_t)v;
+#if WAKE_RTP_NO_LONG_MULTIPLY
+    uint32_t ah = a >> 16, al = a & 0xFFFFu, bh = b >> 16, bl = b & 0xFFFFu;
+    uint64_t cross = (uint64_t)(ah * bl) + (uint64_t)(al * bh);
+    return ((uint64_t)(ah * bh) << 32) + (cross << 16) + (uint64_t)(al * bl);
+#else
+    return (uint64_t)a * b;
+#endif
 }
 
-/** a + b for int32 operands, saturated and counted (computed in int64). */
-static inline int32_t add_sat32(int32_t a, int32_t b, uint32_t *sat)
+/** v clamped to +-2^40 (the range of z = w'd); adds 1 to *events when it clamps. */
+static inline int64_t clamp_wide(int64_t v, uint32_t *events)
 {
-    return sat32((int64_t)a + (int64_t)b, sat);
+    const int64_t top = INT64_C(1) << 40;
+    *events += (uint32_t)((v > top) | (v < -top));
+    return (v > top) ? top : (v < -top) ? -top : v;
 }
 
-/** Number of significant bits of v (0 for v = 0). */
+/** v clamped to +-2^50 (the range of s, b, acc_vv); adds 1 to *events when it clamps. */
+static inline int64_t clamp_cov_wide(int64_t v, uint32_t *events)
+{
+    const int64_t top = INT64_C(1) << 50;
+    *events += (uint32_t)((v > top) | (v < -top));
+    return (v > top) ? top : (v < -top) ? -top : v;
+}
+
+/**
+ * round (or floor) of a b / 2^sh for |a| <= 2^50, 20 <= sh <= 31: a = hi 2^31 + lo with
+ * lo in [0, 2^31), so a b = hi b 2^31 + lo b from two 32 x 32 -> 64-bit products.
+ * |result| < 2^62.
+ */
+static inline int64_t multiply_wide_by32(int64_t a, int32_t b, unsigned sh, int round)
+{
+    int64_t hi = shift_right_floor(a, 31u);                                /* |hi| <= 2^19 */
+    int32_t lo = (int32_t)(a - hi * (INT64_C(1) << 31));                   /* [0, 2^31) */
+    int64_t low = multiply_wide(lo, b);
+    return multiply_wide((int32_t)hi, b) * (INT64_C(1) << (31u - sh))
+           + (round ? shift_right_round(low, sh) : shift_right_floor(low, sh));
+}
+
+/** v / 2^k (floor) for k >= 0, v 2^-k for k < 0 (the caller keeps |v 2^-k| < 2^63). */
+static inline int64_t shift_by(int64_t v, int k)
+{
+    return (k >= 0) ? shift_right_floor(v, (unsigned)k) : v * (INT64_C(1) << (unsigned)(-k));
+}
+
+/** a + b for int32 operands, saturated (computed in int64). */
+static inline int32_t add_saturate(int32_t a, int64_t b, uint32_t *events)
+{
+    return narrow_saturate((int64_t)a + b, events);
+}
+
+/** Number of significant bits of v (0 for v = 0), portable. */
 static inline unsigned bit_length64(uint64_t v)
 {
-#if defined(__GNUC__)
-    return v ? 64u - (unsigned)__builtin_clzll(v) : 0u;   /* CLZ on ARMv7-M */
-#else
     unsigned n = 0;
     if (v >> 32) { v >>= 32; n += 32; }
     if (v >> 16) { v >>= 16; n += 16; }
@@ -130,11 +167,146 @@ static inline unsigned bit_length64(uint64_t v)
     if (v >> 2) { v >>= 2; n += 2; }
     if (v >> 1) { v >>= 1; n += 1; }
     return n + (unsigned)v;
-#endif
 }
 
-/** floor(sqrt(v)), bit by bit (only on the rare PSD-guard path). */
-static inline uint32_t isqrt64(uint64_t v)
+uint32_t wake_rtp_reciprocal(uint32_t x)
+{
+    /* x in [2^30, 2^31) is X = x / 2^31 in [0.5, 1); r is 1/X in Q30.
+     * Start: r0 = 48/17 - 32/17 X (max relative error 1/17), then
+     * r <- r (2 - X r): 1/17 -> 3.5e-3 -> 1.2e-5 -> 1.4e-10 -> rounding.
+     * The result is within 2^-29 relative of 2^61 / x (csrc/tests). */
+    uint32_t r = (uint32_t)(UINT32_C(3031741621)
+                            - (uint32_t)(multiply_wide_unsigned(x, UINT32_C(2021161081)) >> 31));
+    int it;
+    for (it = 0; it < 4; ++it) {                                          /* wcet-loop: 4 */
+        uint64_t xr = multiply_wide_unsigned(x, r) >> 31;                 /* X r, Q30, about 2^30 */
+        uint32_t two_minus = (uint32_t)((UINT64_C(1) << 31) - xr);       /* 2 - X r, Q30, < 2^31 */
+        r = (uint32_t)(multiply_wide_unsigned(r, two_minus) >> 30);
+    }
+    return r;
+}
+
+/**
+ * A positive divisor as a reciprocal: 1/x = recip 2^-(61 + exponent), with
+ * x = mantissa 2^exponent, mantissa in [2^30, 2^31).
+ */
+typedef struct {
+    uint32_t recip;
+    int exponent;
+} inverse_t;
+
+/** The inverse of x, 1 <= x < 2^63 (normalisation by shifts, then Newton-Raphson). */
+static inline inverse_t inverse_of(uint64_t x)
+{
+    inverse_t inv;
+    int k = (int)bit_length64(x) - 31;
+    uint32_t mant = (k >= 0) ? (uint32_t)(x >> (unsigned)k) : (uint32_t)(x << (unsigned)(-k));
+    inv.recip = wake_rtp_reciprocal(mant);
+    inv.exponent = k;
+    return inv;
+}
+
+/**
+ * round(a / x 2^frac) saturated to int32, for |a| < 2^62 and the inverse of x.
+ * a is first reduced to 31 significant bits (relative error <= 2^-31); then
+ * a * recip < 2^62, and the shift 61 + exponent - frac is applied (left
+ * shifts saturate).
+ */
+static int32_t divide_scaled(int64_t a, inverse_t inv, int frac, uint32_t *events)
+{
+    uint64_t mag_a = (uint64_t)(a < 0 ? -a : a);
+    int m = (int)bit_length64(mag_a) - 31;
+    int64_t p, mag;
+    int sh;
+    if (m < 0) {
+        m = 0;
+    }
+    p = (int64_t)multiply_wide_unsigned((uint32_t)(mag_a >> (unsigned)m), inv.recip);
+    sh = 61 + inv.exponent - frac - m;
+    if (p == 0 || sh > 62) {
+        mag = 0;
+    } else if (sh >= 1) {
+        mag = shift_right_round(p, (unsigned)sh);
+    } else {
+        mag = (sh < -30 || (p >> (unsigned)(63 + sh)) != 0) ? INT64_MAX : p << (unsigned)(-sh);
+    }
+    return narrow_saturate(a < 0 ? -mag : mag, events);
+}
+
+/* ---------------------------------------------------------------------- */
+/* Validation                                                              */
+/* ---------------------------------------------------------------------- */
+
+static int weights_in_range(const wake_q24_t *weights, unsigned level)
+{
+    unsigned j;
+    for (j = 0; j < level; ++j) {
+        if (weights[j] > WAKE_RTP_WEIGHT_MAX || weights[j] < -WAKE_RTP_WEIGHT_MAX) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/** The structural fields: what wake_rtp_step indexes with or branches on. */
+static wake_rtp_status_t check_structure(const wake_rtp_t *s)
+{
+    if (s == NULL) {
+        return WAKE_RTP_E_NULL;
+    }
+    if (s->magic != WAKE_RTP_MAGIC) {
+        return WAKE_RTP_E_UNINIT;
+    }
+    if (s->level < 1u || s->level > (unsigned)WAKE_RTP_MAX_LEVEL
+        || s->n_taps != (uint16_t)(1u << s->level) || s->head >= s->n_taps
+        || s->primed > 1u || s->taps == NULL || s->r <= 0 || s->q < 0 || s->p0 < 0
+        || s->inert > 1u || (s->inert != 0u && (s->q != 0 || s->s != 0 || s->b != 0))) {
+        return WAKE_RTP_E_CORRUPT;
+    }
+    return WAKE_RTP_OK;
+}
+
+/** check_structure plus the weights' range (every function that multiplies by the weights). */
+static wake_rtp_status_t check_instance(const wake_rtp_t *s)
+{
+    wake_rtp_status_t st = check_structure(s);
+    if (st == WAKE_RTP_OK && !weights_in_range(s->weights, s->level)) {
+        return WAKE_RTP_E_CORRUPT;
+    }
+    return st;
+}
+
+static wake_rtp_status_t check_weights(const wake_q24_t *weights, unsigned level, wake_cov_t r, wake_cov_t q)
+{
+    if (weights == NULL) {
+        return WAKE_RTP_E_NULL;
+    }
+    if (!weights_in_range(weights, level)) {
+        return WAKE_RTP_E_WEIGHTS;
+    }
+    if (r <= 0 || q < 0) {
+        return WAKE_RTP_E_NOISE;
+    }
+    return WAKE_RTP_OK;
+}
+
+/* ---------------------------------------------------------------------- */
+/* Rebuild: the affine form <-> P and d                                    */
+/* ---------------------------------------------------------------------- */
+
+/** |w|^2 in Q24 (exact sum of Q48 squares, rounded once): < 2^40. */
+static uint64_t weight_norm2(const wake_q24_t *w, unsigned J)
+{
+    unsigned j;
+    uint64_t acc = 0;
+    for (j = 0; j < J; ++j) {
+        acc += (uint64_t)((int64_t)w[j] * w[j]);           /* < 2^60, J <= 8 terms */
+    }
+    return (acc + (UINT64_C(1) << 23)) >> 24;
+}
+
+/** floor(sqrt(v)), bit by bit (rebuild only, never in the per-sample path). */
+static uint32_t isqrt64(uint64_t v)
 {
     uint64_t res = 0;
     uint64_t bit = (uint64_t)1 << 62;
@@ -153,86 +325,182 @@ static inline uint32_t isqrt64(uint64_t v)
     return (uint32_t)res;
 }
 
-uint32_t wake_rtp_reciprocal(uint32_t x)
+/**
+ * Keep a rebuilt P a covariance where rounding or saturation broke it:
+ * P_ii >= 0 and |P_ij| <= sqrt(P_ii P_jj) (symmetric J x J, stride J).
+ * Runs in the rebuild (once per weight update), never per sample.
+ */
+static void covariance_guard(wake_cov_t *P, unsigned J, uint32_t *events)
 {
-    /* x in [2^30, 2^31) is X = x / 2^31 in [0.5, 1); r is 1/X in Q30.
-     * Start: r0 = 48/17 - 32/17 X (max relative error 1/17), then
-     * r <- r (2 - X r): 1/17 -> 3.5e-3 -> 1.2e-5 -> 1.4e-10 -> rounding.
-     * The result is within 2^-29 relative of 2^61 / x (csrc/tests). */
-    uint32_t r = (uint32_t)(UINT32_C(3031741621)
-                            - (uint32_t)(((uint64_t)x * UINT64_C(2021161081)) >> 31));
-    int it;
-    for (it = 0; it < 4; ++it) {
-        uint64_t xr = ((uint64_t)x * r) >> 31;               /* X r, Q30, about 2^30 */
-        uint64_t two_minus = (UINT64_C(1) << 31) - xr;      /* 2 - X r, Q30 */
-        r = (uint32_t)(((uint64_t)r * two_minus) >> 30);
-    }
-    return r;
-}
-
-/* ---------------------------------------------------------------------- */
-/* Validation                                                              */
-/* ---------------------------------------------------------------------- */
-
-static wake_rtp_status_t check_instance(const wake_rtp_t *s)
-{
-    if (s == NULL) {
-        return WAKE_RTP_E_NULL;
-    }
-    if (s->magic != WAKE_RTP_MAGIC) {
-        return WAKE_RTP_E_UNINIT;
-    }
-    if (s->level < 1u || s->level > (unsigned)WAKE_RTP_MAX_LEVEL
-        || s->n_taps != (uint16_t)(1u << s->level) || s->head >= s->n_taps
-        || s->primed > 1u || s->taps == NULL || s->r <= 0 || s->q < 0 || s->p0 < 0
-        || s->inert > 1u || (s->inert != 0u && s->q != 0)) {
-        return WAKE_RTP_E_CORRUPT;
-    }
-    return WAKE_RTP_OK;
-}
-
-static wake_rtp_status_t check_weights(const int32_t *weights, unsigned level,
-                                       int32_t r, int32_t q)
-{
-    unsigned j;
-    if (weights == NULL) {
-        return WAKE_RTP_E_NULL;
-    }
-    for (j = 0; j < level; ++j) {
-        if (weights[j] > WAKE_RTP_WEIGHT_MAX || weights[j] < -WAKE_RTP_WEIGHT_MAX) {
-            return WAKE_RTP_E_WEIGHTS;
+    unsigned i, j;
+    for (i = 0; i < J; ++i) {
+        if (P[i * J + i] < 0) {
+            P[i * J + i] = 0;
+            count_events(events, 1u);
         }
     }
-    if (r <= 0 || q < 0) {
-        return WAKE_RTP_E_NOISE;
+    for (i = 0; i < J; ++i) {
+        for (j = i + 1u; j < J; ++j) {
+            int64_t pij = P[i * J + j];
+            int64_t apij = (pij < 0) ? -pij : pij;
+            int64_t bound2 = (int64_t)P[i * J + i] * P[j * J + j];            /* < 2^62 */
+            if (apij * apij > bound2) {                                        /* <= 2^62 */
+                int32_t b = (int32_t)isqrt64((uint64_t)bound2);               /* < 2^31 */
+                P[i * J + j] = (pij < 0) ? -b : b;
+                P[j * J + i] = P[i * J + j];
+                count_events(events, 1u);
+            }
+        }
     }
-    return WAKE_RTP_OK;
+}
+
+/**
+ * P and d of the literal recursion from the affine form (docs/fixed_point.md):
+ *
+ *   P = P_s + steps q I - acc_vv v v' - ((b_s - b) / |w|^2)(v w' + w v')
+ *         + ((s - s_s) / |w|^4 - steps q / |w|^2) w w'
+ *   d = d_s + d_dir v + ((z - z_s) / |w|^2) w
+ *
+ * Only the v v' coefficient needs an accumulator: P w = b v + (s/|w|^2) w
+ * fixes the others.  Where rounding or saturation left P indefinite, the
+ * guard restores P_ii >= 0 and |P_ij| <= sqrt(P_ii P_jj) (counted).
+ */
+static void materialise(const wake_rtp_t *s, wake_q23_t *d, wake_cov_t *P, uint32_t *events)
+{
+    unsigned i, j, J = s->level;
+    const wake_q24_t *w = s->weights, *v = s->direction;
+    uint64_t omega = weight_norm2(w, J);
+    int64_t nq = (int64_t)s->steps * s->q;                  /* < 2^63 */
+    wake_cov_t grow = narrow_saturate(nq, events);
+    wake_cov_t c_vw = 0, c_ww = 0;
+    wake_q23_t c_z = 0;
+    wake_cov_t row_v[WAKE_RTP_MAX_LEVEL], row_w[WAKE_RTP_MAX_LEVEL];
+    if (omega != 0u) {
+        inverse_t inv = inverse_of(omega);                  /* 1 / |w|^2, |w|^2 in Q24 */
+        /* c_vw = (b_s - b) / |w|^2 ;  c_ww = ((s - s_s) / |w|^2 - steps q) / |w|^2      Q(P) */
+        c_vw = divide_scaled(s->b_snap - s->b, inv, 24, events);
+        c_ww = divide_scaled(s->s - s->s_snap, inv, 24, events);
+        c_ww = divide_scaled((int64_t)c_ww - grow, inv, 24, events);
+        /* c_z = (z - z_s) / |w|^2                                                     Q23 */
+        c_z = divide_scaled(s->z - s->z_snap, inv, 24, events);
+    }
+    /* row_v_i = acc_vv v_i + c_vw w_i ;  row_w_i = c_vw v_i - c_ww w_i             Q(P) */
+    for (i = 0; i < J; ++i) {
+        row_v[i] = narrow_saturate(multiply_wide_by32(s->acc_vv, v[i], 24u, 1)
+                                   + shift_right_round(multiply_wide(c_vw, w[i]), 24u), events);
+        row_w[i] = narrow_saturate(shift_right_round(multiply_wide(c_vw, v[i])
+                                                     - multiply_wide(c_ww, w[i]), 24u), events);
+    }
+    /* P_ij = P_s,ij + grow d_ij - row_v_i v_j - row_w_i w_j   upper triangle, mirrored */
+    for (i = 0; i < J; ++i) {
+        for (j = i; j < J; ++j) {
+            int64_t p = (int64_t)s->covariance[i * J + j] + (i == j ? grow : 0)
+                        - shift_right_round(multiply_wide(row_v[i], v[j]) + multiply_wide(row_w[i], w[j]), 24u);
+            P[i * J + j] = narrow_saturate(p, events);
+            P[j * J + i] = P[i * J + j];
+        }
+    }
+    covariance_guard(P, J, events);
+    /* d_i = d_s,i + d_dir v_i + c_z w_i                                             Q23 */
+    for (i = 0; i < J; ++i) {
+        int64_t t = shift_right_round(multiply_wide(s->d_dir, v[i]) + multiply_wide(c_z, w[i]), 24u);
+        d[i] = narrow_saturate((int64_t)s->correction[i] + t, events);
+    }
+}
+
+/**
+ * Make (P, d) the snapshot for the current weights and restart the affine
+ * form from it:  g = P_s w,  s = w'g,  v = (g - (s/|w|^2) w) / b,  z = w'd_s.
+ * Also rebuilds the FIR taps h = B'w.  P (J x J, stride J) and d are read
+ * before anything is written, so they may be the struct's own snapshot.
+ */
+static void rebuild(wake_rtp_t *s, const wake_q23_t *d, const wake_cov_t *P)
+{
+    unsigned i, j, J = s->level, N = s->n_taps;
+    const wake_q24_t *w = s->weights;
+    uint64_t omega = weight_norm2(w, J);
+    int64_t g[WAKE_RTP_MAX_LEVEL];
+    int64_t perp[WAKE_RTP_MAX_LEVEL];
+    int64_t gamma = 0, zacc = 0, s_val;
+    uint64_t perp_max = 0;
+    wake_cov_t ratio = 0;
+    unsigned nb;
+    uint32_t *ev = &s->saturations;
+
+    if (d != s->correction) {
+        memcpy(s->correction, d, (size_t)J * sizeof(wake_q23_t));
+    }
+    if (P != s->covariance) {
+        memcpy(s->covariance, P, (size_t)J * J * sizeof(wake_cov_t));
+    }
+    /* g = P_s w: J products < 2^61 each, in Q(P + 24) -> Q(P); |g_i| < 2^40 */
+    for (i = 0; i < J; ++i) {
+        int64_t acc = 0;
+        for (j = 0; j < J; ++j) {
+            acc += shift_right_floor(multiply_wide(s->covariance[i * J + j], w[j]), 3u);   /* 8 terms < 2^63 */
+        }
+        g[i] = shift_right_round(acc, 21u);
+        zacc += shift_right_floor(multiply_wide(s->correction[i], w[i]), 3u);   /* 8 terms < 2^63 */
+    }
+    /* s = w' g                                                          Q(P), int64, < 2^50 */
+    for (i = 0; i < J; ++i) {
+        gamma += multiply_wide_by32(g[i], w[i], 24u, 1);
+    }
+    s_val = clamp_cov_wide(gamma, ev);
+    s->s = s_val;
+    /* v: g minus its component along w, scaled by the power of two b just above its largest entry */
+    if (omega != 0u) {
+        ratio = divide_scaled(s_val, inverse_of(omega), 24, ev);        /* s / |w|^2, Q(P) */
+    }
+    for (i = 0; i < J; ++i) {
+        uint64_t mag;
+        perp[i] = g[i] - shift_right_round(multiply_wide(ratio, w[i]), 24u);
+        mag = (uint64_t)(perp[i] < 0 ? -perp[i] : perp[i]);
+        perp_max = mag > perp_max ? mag : perp_max;
+    }
+    nb = bit_length64(perp_max);                                        /* b = 2^nb > max |perp_i| */
+    s->b = (perp_max == 0u) ? 0 : (INT64_C(1) << nb);                   /* nb <= 42 */
+    for (i = 0; i < J; ++i) {
+        /* v_i = perp_i / 2^nb in Q24, |v_i| < 2 */
+        int64_t vi;
+        if (nb > 24u) {
+            vi = shift_right_round(perp[i], nb - 24u);
+        } else {
+            vi = perp[i] * (INT64_C(1) << (24u - nb));
+        }
+        s->direction[i] = (perp_max == 0u) ? 0 : narrow_saturate(vi, ev);
+    }
+    for (i = J; i < (unsigned)WAKE_RTP_MAX_LEVEL; ++i) {
+        s->direction[i] = 0;
+    }
+    /* z = w' d_s                                                        Q23 */
+    s->z = shift_right_round(zacc, 21u);                                /* < 2^40 */
+    s->z_snap = s->z;
+    s->d_dir = 0;
+    s->acc_vv = 0;
+    s->s_snap = s->s;
+    s->b_snap = s->b;
+    s->steps = 0u;
+    /* q |w|^2 = q (hi + lo / 2^24) with |w|^2 = hi 2^24 + lo in Q24: hi < 2^16, lo < 2^24 */
+    s->q_omega = (int64_t)s->q * (int64_t)(omega >> 24)                   /* < 2^47 */
+                 + shift_right_round((int64_t)s->q * (int64_t)(omega & 0xFFFFFFu), 24u);
+    /* h_i = sum_j B_ji w_j: exact in int64 (Q39), rounded once to Q(FIR) */
+    for (i = 0; i < N; ++i) {
+        int64_t acc = 0;
+        for (j = 0; j < J; ++j) {
+            acc += (int64_t)s->taps[j * N + i] * w[j];
+        }
+        s->fir[i] = narrow_saturate(shift_right_round(acc, 15u + WAKE_RTP_WEIGHT_FRAC - WAKE_RTP_FIR_FRAC), ev);
+    }
+    s->inert = (s->q == 0 && s->s == 0 && s->b == 0) ? 1u : 0u;
 }
 
 /* ---------------------------------------------------------------------- */
 /* Configuration                                                           */
 /* ---------------------------------------------------------------------- */
 
-/**
- * inert = 1 iff q == 0 and P == 0.  Then u = P w = 0, K = 0: the measurement
- * update leaves d and P unchanged, P + q I = P and the PSD guard has nothing
- * to clamp, so wake_rtp_step skips both updates (bit-identical output).
- * Called wherever q or P is set from outside the recursion.
- */
-static void refresh_inert(wake_rtp_t *s)
-{
-    unsigned k, JJ = (unsigned)s->level * s->level;
-    uint16_t inert = (s->q == 0) ? 1u : 0u;
-    for (k = 0; k < JJ; ++k) {
-        if (s->covariance[k] != 0) {
-            inert = 0u;
-        }
-    }
-    s->inert = inert;
-}
-
-wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const int16_t *taps,
-                                const int32_t *weights, int32_t r, int32_t q, int32_t p0)
+wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const wake_q15_t *taps,
+                                const wake_q24_t *weights, wake_cov_t r, wake_cov_t q, wake_cov_t p0)
 {
     wake_rtp_status_t st;
     unsigned j, i, n;
@@ -248,7 +516,7 @@ wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const int16_t *taps,
     }
     n = 1u << (unsigned)level;
     for (j = 0; j < (unsigned)level; ++j) {
-        /* sum of |taps| <= 65535 (Q15) keeps the filter-bank sum below 2^31 */
+        /* sum of |taps| <= 65535 (Q15) per row */
         int32_t row_abs = 0;
         for (i = 0; i < n; ++i) {
             int32_t t = taps[j * n + i];
@@ -269,7 +537,7 @@ wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const int16_t *taps,
     s->level = (uint16_t)level;
     s->n_taps = (uint16_t)n;
     s->taps = taps;
-    memcpy(s->weights, weights, (size_t)level * sizeof(int32_t));
+    memcpy(s->weights, weights, (size_t)level * sizeof(wake_q24_t));
     s->r = r;
     s->q = q;
     s->p0 = p0;
@@ -277,8 +545,10 @@ wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const int16_t *taps,
     return wake_rtp_reset(s);
 }
 
-wake_rtp_status_t wake_rtp_set_weights(wake_rtp_t *s, const int32_t *weights, int32_t r, int32_t q)
+wake_rtp_status_t wake_rtp_set_weights(wake_rtp_t *s, const wake_q24_t *weights, wake_cov_t r, wake_cov_t q)
 {
+    wake_q23_t d[WAKE_RTP_MAX_LEVEL];
+    wake_cov_t P[WAKE_RTP_MAX_LEVEL * WAKE_RTP_MAX_LEVEL];
     wake_rtp_status_t st = check_instance(s);
     if (st != WAKE_RTP_OK) {
         return st;
@@ -287,10 +557,11 @@ wake_rtp_status_t wake_rtp_set_weights(wake_rtp_t *s, const int32_t *weights, in
     if (st != WAKE_RTP_OK) {
         return st;
     }
-    memcpy(s->weights, weights, (size_t)s->level * sizeof(int32_t));
+    materialise(s, d, P, &s->saturations);          /* P, d under the old weights */
+    memcpy(s->weights, weights, (size_t)s->level * sizeof(wake_q24_t));
     s->r = r;
     s->q = q;
-    refresh_inert(s);
+    rebuild(s, d, P);
     return WAKE_RTP_OK;
 }
 
@@ -312,8 +583,21 @@ wake_rtp_status_t wake_rtp_reset(wake_rtp_t *s)
     s->primed = 0u;
     s->last_output = 0;
     s->saturations = 0u;
-    s->guard_events = 0u;
-    refresh_inert(s);
+    rebuild(s, s->correction, s->covariance);
+    return WAKE_RTP_OK;
+}
+
+wake_rtp_status_t wake_rtp_get_state(const wake_rtp_t *s, wake_q23_t *correction, wake_cov_t *covariance)
+{
+    uint32_t ignored = 0u;
+    wake_rtp_status_t st = check_instance(s);
+    if (st != WAKE_RTP_OK) {
+        return st;
+    }
+    if (correction == NULL || covariance == NULL) {
+        return WAKE_RTP_E_NULL;
+    }
+    materialise(s, correction, covariance, &ignored);
     return WAKE_RTP_OK;
 }
 
@@ -321,258 +605,158 @@ wake_rtp_status_t wake_rtp_reset(wake_rtp_t *s)
 /* Per-sample recursion                                                    */
 /* ---------------------------------------------------------------------- */
 
-/** buffer <- newest sample (on the very first one the whole window is filled). */
-static void push(wake_rtp_t *s, int16_t sample)
+/** The first sample fills the whole window (both copies); runs once per stream. */
+WAKE_RTP_NOINLINE static void prime_window(wake_rtp_t *s, wake_q15_t sample)
+{
+    unsigned i, N = s->n_taps;
+    for (i = 0; i < N; ++i) {                                             /* wcet-loop: N */
+        s->ring[i] = sample;
+        s->ring[i + N] = sample;
+    }
+    s->last_output = (int32_t)sample * (INT32_C(1) << SIGNAL_GUARD_BITS);
+    s->primed = 1u;
+}
+
+/** buffer <- newest sample (the ring holds each sample twice). */
+static inline void push(wake_rtp_t *s, wake_q15_t sample)
 {
     if (!s->primed) {
-        unsigned i;
-        for (i = 0; i < 2u * s->n_taps; ++i) {
-            s->ring[i] = sample;
-        }
-        s->last_output = (int32_t)sample * (INT32_C(1) << (WAKE_RTP_STATE_FRAC - WAKE_RTP_SAMPLE_FRAC));
-        s->primed = 1u;
+        prime_window(s, sample);
     }
-    s->ring[s->head] = sample;                   /* both copies */
+    s->ring[s->head] = sample;
     s->ring[s->head + s->n_taps] = sample;
     s->head = (uint16_t)((s->head + 1u) & (s->n_taps - 1u));
 }
 
-/** PSD guard on P (upper triangle, mirrored): P_ii >= 0, |P_ij| <= sqrt(P_ii P_jj). */
-static void psd_guard(wake_rtp_t *s)
-{
-    unsigned i, j, J = s->level;
-    int32_t *P = s->covariance;
-    for (i = 0; i < J; ++i) {
-        if (P[i * J + i] < 0) {
-            P[i * J + i] = 0;
-            count_event(&s->guard_events);
-        }
-    }
-    for (i = 0; i < J; ++i) {
-        for (j = i + 1u; j < J; ++j) {
-            int64_t pij = P[i * J + j];
-            int32_t pii = P[i * J + i], pjj = P[j * J + j];
-            int64_t apij = (pij < 0) ? -pij : pij;
-            int64_t bound2;
-            if (apij <= ((pii < pjj) ? pii : pjj)) {
-                /* |P_ij| <= min(P_ii, P_jj) implies P_ij^2 <= P_ii P_jj: nothing to clamp */
-                P[j * J + i] = (int32_t)pij;
-                continue;
-            }
-            bound2 = (int64_t)pii * pjj;                               /* < 2^62 */
-            if (pij * pij > bound2) {                                  /* <= 2^62 */
-                int32_t b = (int32_t)isqrt64((uint64_t)bound2);       /* < 2^31 */
-                P[i * J + j] = (pij < 0) ? -b : b;
-                count_event(&s->guard_events);
-            }
-            P[j * J + i] = P[i * J + j];
-        }
-    }
-}
-
-/** e = m(n) - y(n-1), Q23, saturated and counted. */
-static int32_t innovation(wake_rtp_t *s, int16_t sample)
-{
-    return sat32((int64_t)sample * (INT64_C(1) << (WAKE_RTP_STATE_FRAC - WAKE_RTP_SAMPLE_FRAC))
-                 - s->last_output, &s->saturations);
-}
-
 /**
- * round(sum_j w_j x_j / 2^24) for n <= 8 terms, |w_j| <= 2^30 (64 in Q24)
- * and |x_j| <= 2^31 - 1.  Each product is below 2^61 in magnitude; the even
- * and the odd j go to two int64 accumulators (plain multiply-accumulate,
- * SMLAL on Cortex-M4) of at most 4 terms each, so each stays below 2^63.
- * Both are halved (floor) before they are added, then the sum is rounded
- * once: exact up to 2^-25 of the result's LSB per accumulator.  |result| < 2^39.
+ * h' window for n = 2^J >= 2 taps.  |h_i| < 2^31, |window_i| <= 2^15, so
+ * every partial sum stays below 2^52 (N <= 256): exact in int64.
  */
-static inline int64_t dot_w(const int32_t *w, const int32_t *x, unsigned n)
+static inline int64_t fir_window(const wake_fir_t *h, const wake_q15_t *x, unsigned n)
 {
-    int64_t acc0 = 0, acc1 = 0;
-    unsigned j = 0;
-    for (; j + 2u <= n; j += 2u) {
-        acc0 += (int64_t)w[j] * x[j];
-        acc1 += (int64_t)w[j + 1u] * x[j + 1u];
-    }
-    if (j < n) {
-        acc0 += (int64_t)w[j] * x[j];
-    }
-    return rshift_round64(asr64(acc0, 1u) + asr64(acc1, 1u), WAKE_RTP_WEIGHT_FRAC - 1u);
-}
-
-/** round(v / 2^sh), halves up, for 0 <= sh <= 62 and |v| <= 2^62 (no overflow check needed). */
-static inline int64_t round_shift62(int64_t v, unsigned sh)
-{
-    int64_t half = (INT64_C(1) << sh) >> 1;          /* 2^(sh-1), 0 for sh = 0 */
-    return asr64(v + half, sh);
-}
-
-/** Kalman measurement update for the innovation e (Q23). */
-static void measurement_update(wake_rtp_t *s, int32_t e)
-{
-    unsigned i, j, J = s->level;
-    const int32_t *w = s->weights;
-    int32_t *P = s->covariance;
-    int32_t u[WAKE_RTP_MAX_LEVEL];
-    int32_t t[WAKE_RTP_MAX_LEVEL];
-    int64_t S;
-    unsigned nbits, shift;
-    int k;
-    uint32_t mant, recip;
-
-    /* u = P w                                   Q(P); |P_ij| <= 2^31 - 1 here (PSD guard) */
-    for (i = 0; i < J; ++i) {
-        u[i] = sat32s(dot_w(w, P + i * J, J), &s->saturations);
-    }
-
-    /* S = w' u + R                              Q(P), int64, |w'u| < 2^39 */
-    S = dot_w(w, u, J) + s->r;
-    if (S < 1) {
-        /* only reachable if rounding left P slightly indefinite along w */
-        S = 1;
-        count_event(&s->saturations);
-    }
-
-    /* 1/S: S = mant 2^k with mant in [2^30, 2^31); 1/S = recip 2^-(61+k) */
-    nbits = bit_length64((uint64_t)S);           /* 1..40 */
-    k = (int)nbits - 31;                         /* -30..9 */
-    if (k >= 0) {
-        mant = (uint32_t)((uint64_t)S >> (unsigned)k);
-    } else {
-        mant = (uint32_t)((uint64_t)S << (unsigned)(-k));
-    }
-    recip = wake_rtp_reciprocal(mant);
-    shift = (unsigned)(30 + k);                  /* 0..39 */
-
-    /* K = u / S = t 2^-(30+k), t = u recip / 2^31: |u recip| < 2^62, |t| <= 2^31 - 1 */
-    for (i = 0; i < J; ++i) {
-        t[i] = (int32_t)round_shift62((int64_t)u[i] * (int64_t)recip, 31u);
-    }
-
-    /* d = d + K e                               (reference: d += u (e / S)); Q23 */
-    for (i = 0; i < J; ++i) {
-        int64_t delta = round_shift62((int64_t)t[i] * e, shift);      /* |t e| < 2^62 */
-        s->correction[i] = sat32((int64_t)s->correction[i] + delta, &s->saturations);
-    }
-
-    /* P = P - u u' / S = P - K u'               upper triangle, mirrored: symmetric */
-    for (i = 0; i < J; ++i) {
-        int32_t *Pi = P + i * J;
-        for (j = i; j < J; ++j) {
-            int64_t delta = round_shift62((int64_t)t[i] * u[j], shift); /* |t u| < 2^62 */
-            int32_t p = sat32((int64_t)Pi[j] - delta, &s->saturations);
-            Pi[j] = p;
-            P[j * J + i] = p;
-        }
-    }
-}
-
-/** P = P + q I (F = I), then the PSD guard. */
-static void time_update(wake_rtp_t *s)
-{
-    unsigned i, J = s->level;
-    for (i = 0; i < J; ++i) {
-        s->covariance[i * J + i] = add_sat32(s->covariance[i * J + i], s->q, &s->saturations);
-    }
-    psd_guard(s);
-}
-
-#if WAKE_RTP_USE_SMLAD
-/**
- * Two adjacent int16 as one 32-bit word, any alignment.  __builtin_memcpy
- * (gcc, clang, armclang: the compilers that provide arm_acle.h) stays a
- * builtin under -ffreestanding and becomes one LDR on ARMv7E-M; with
- * -mno-unaligned-access (a firmware that sets CCR.UNALIGN_TRP) it becomes
- * byte loads: slower, still correct.
- */
-static inline int32_t load_pair(const int16_t *p)
-{
-    int32_t v;
-    __builtin_memcpy(&v, p, sizeof(v));
-    return v;
-}
-#endif
-
-/**
- * sum_i b[i] x[i] for n = 2^J >= 2 int16 pairs.  With sum_i |b[i]| <= 65535
- * and |x[i]| <= 2^15 every partial sum is below 2^31 in magnitude, so the
- * int32 accumulation (also SMLAD's) is exact whatever the order.
- */
-static inline int32_t fir(const int16_t *b, const int16_t *x, unsigned n)
-{
-    int32_t acc = 0;
-    unsigned i = 0;
-#if WAKE_RTP_USE_SMLAD
-    for (; i + 16u <= n; i += 16u) {
-        acc = __smlad(load_pair(b + i), load_pair(x + i), acc);
-        acc = __smlad(load_pair(b + i + 2u), load_pair(x + i + 2u), acc);
-        acc = __smlad(load_pair(b + i + 4u), load_pair(x + i + 4u), acc);
-        acc = __smlad(load_pair(b + i + 6u), load_pair(x + i + 6u), acc);
-        acc = __smlad(load_pair(b + i + 8u), load_pair(x + i + 8u), acc);
-        acc = __smlad(load_pair(b + i + 10u), load_pair(x + i + 10u), acc);
-        acc = __smlad(load_pair(b + i + 12u), load_pair(x + i + 12u), acc);
-        acc = __smlad(load_pair(b + i + 14u), load_pair(x + i + 14u), acc);
-    }
-    for (; i < n; i += 2u) {
-        acc = __smlad(load_pair(b + i), load_pair(x + i), acc);
-    }
+#if WAKE_RTP_NO_LONG_MULTIPLY
+    /* h = hi 2^16 + lo, lo in [0, 2^16): hi x and lo x are 16 x 16-bit products.
+     * sum |hi x| < (sum |h| / 2^16 + n) 2^15 < 2^31 for J <= 6 (sum |h| < 2^32,
+     * see WAKE_RTP_FIR_FRAC); sum lo x needs int64. */
+#if WAKE_RTP_MAX_LEVEL <= 6
+    int32_t acc_hi = 0;
 #else
-    for (; i < n; ++i) {
-        acc += (int32_t)b[i] * (int32_t)x[i];
-    }
+    int64_t acc_hi = 0;
 #endif
-    return acc;
+    int64_t acc_lo = 0;
+    unsigned i;
+    for (i = 0; i < n; ++i) {                                             /* wcet-loop: N */
+        int32_t hi = (int32_t)shift_right_floor(h[i], 16u);
+        int32_t lo = (int32_t)((uint32_t)h[i] & 0xFFFFu);
+        acc_hi += hi * x[i];
+        acc_lo += lo * x[i];
+    }
+    return (int64_t)acc_hi * 65536 + acc_lo;
+#else
+    int64_t acc0 = 0, acc1 = 0;
+    unsigned i = 0;
+    if (n == 2u) {
+        return (int64_t)h[0] * x[0] + (int64_t)h[1] * x[1];
+    }
+    for (; i < n; i += 4u) {                                              /* wcet-loop: N / 4 */
+        acc0 += (int64_t)h[i] * x[i];
+        acc1 += (int64_t)h[i + 1u] * x[i + 1u];
+        acc0 += (int64_t)h[i + 2u] * x[i + 2u];
+        acc1 += (int64_t)h[i + 3u] * x[i + 3u];
+    }
+    return acc0 + acc1;
+#endif
 }
 
-/** a_j = sum_i B[j][i] window[i] (oldest first); y = w' (a + d). */
-static int16_t predict(wake_rtp_t *s)
+/** e = m(n) - y(n-1), Q23, saturated. */
+static inline wake_q23_t innovation(const wake_rtp_t *s, wake_q15_t sample, uint32_t *events)
 {
-    unsigned j, J = s->level, N = s->n_taps;
-    const int16_t *window = s->ring + s->head;     /* contiguous: each sample is stored twice */
-    int32_t x[WAKE_RTP_MAX_LEVEL];
-    int32_t y;
-    for (j = 0; j < J; ++j) {
-        /* |acc| <= (sum_i |B_ji|) 2^15 <= 65535 * 2^15 < 2^31: exact in int32 */
-        int32_t acc = fir(s->taps + (size_t)j * N, window, N);
-        /* a_j: Q30 -> Q23, rounded; acc + 2^6 < 2^31 */
-        int32_t a = asr32(acc + (INT32_C(1) << 6), (WAKE_RTP_TAP_FRAC + WAKE_RTP_SAMPLE_FRAC) - WAKE_RTP_STATE_FRAC);
-        /* x_j = a_j + d_j                       Q23, |x_j| <= 2^31 - 1 */
-        x[j] = sat32s((int64_t)a + s->correction[j], &s->saturations);
-    }
-    /* y(n) = w' x: Q47 -> Q23 (stored), -> Q15 (returned) */
-    y = sat32(dot_w(s->weights, x, J), &s->saturations);
+    return narrow_saturate((int64_t)sample * (INT64_C(1) << SIGNAL_GUARD_BITS) - s->last_output, events);
+}
+
+/**
+ * Kalman measurement and time update in the affine form, for the innovation
+ * e (Q23).  Constant time: one reciprocal, eight 32 x 32 -> 64-bit products.
+ */
+WAKE_RTP_NOINLINE static uint32_t kalman_update(wake_rtp_t *s, wake_q23_t e)
+{
+    uint32_t ev = 0u;
+    /* S = s + R, clamped to >= 1 LSB (only a non-PSD loaded P makes s + R < 1); < 2^51 */
+    int64_t S = s->s + s->r;
+    inverse_t inv;
+    int32_t s_norm, b_norm, half_recip;
+    wake_ratio_t rho, tau;
+    wake_q24_t b_over_s;
+    ev += (uint32_t)(S < 1);
+    S = (S < 1) ? 1 : S;
+    /* 1/S = recip 2^-(61 + k), S = mant 2^k, mant in [2^30, 2^31); k in -30..20 */
+    inv = inverse_of((uint64_t)S);
+    half_recip = (int32_t)(inv.recip >> 1);
+    /* rho = s / S = (s / 2^k) recip / 2^31                                Q30 */
+    s_norm = narrow_saturate(shift_by(s->s, inv.exponent), &ev);
+    rho = narrow_saturate(shift_right_round(multiply_wide(s_norm, half_recip), 30u), &ev);
+    /* tau = R / S = 1 - rho                                                Q30 */
+    tau = narrow_saturate((int64_t)RATIO_ONE - rho, &ev);
+    /* b / S = (b / 2^(k+7)) recip / 2^30                                   Q24 */
+    b_norm = narrow_saturate(shift_by(inv.exponent + 7 >= 0 ? s->b : (s->b > INT32_MAX ? INT32_MAX : s->b),
+                                      inv.exponent + 7), &ev);
+    b_over_s = narrow_saturate(shift_right_round(multiply_wide(b_norm, half_recip), 29u), &ev);
+    /* d = d + u e / S:  z = w'd gains rho e; the v-coefficient gains (b/S) e   Q23 */
+    s->z = clamp_wide(s->z + shift_right_round(multiply_wide(rho, e), 30u), &ev);
+    s->d_dir = add_saturate(s->d_dir, shift_right_round(multiply_wide(b_over_s, e), 24u), &ev);
+    /* P = P - u u'/S + q I: the v v' part accumulates (P w fixes the rest)   Q(P) */
+    s->acc_vv = clamp_cov_wide(s->acc_vv + multiply_wide_by32(s->b, b_over_s, 24u, 1), &ev);
+    /* u' = P' w = (R/S) u + q w:  s = tau s + q|w|^2,  b = tau b            Q(P) */
+    s->s = clamp_cov_wide(multiply_wide_by32(s->s, tau, 30u, 1) + s->q_omega, &ev);
+    /* b >= 0 and 0 < tau <= 1 (s >= 0 when P is PSD): rounding down lets b reach 0 and stay */
+    s->b = clamp_cov_wide(multiply_wide_by32(s->b, tau, 30u, 0), &ev);
+    return ev;
+}
+
+/** a = h' window + z = w'(B window + d), rounded to Q23 (stored as y(n)) and to Q15 (returned). */
+static inline wake_q15_t predict(wake_rtp_t *s, uint32_t *events)
+{
+    const wake_q15_t *window = s->ring + s->head;     /* contiguous: each sample is stored twice */
+    int64_t acc = fir_window(s->fir, window, s->n_taps);
+    /* y(n) = h' window + w'd:  Q(FIR + 15) -> Q23, rounded once; |.| < 2^48 */
+    wake_q23_t y = narrow_saturate(shift_right_round(acc, FIR_TO_SIGNAL_SHIFT) + s->z, events);
     s->last_output = y;
-    return sat16((int32_t)rshift_round64(y, WAKE_RTP_STATE_FRAC - WAKE_RTP_SAMPLE_FRAC),
-                 &s->saturations);
+    return narrow_saturate16((int32_t)shift_right_round(y, SIGNAL_GUARD_BITS), events);
 }
 
-static int16_t step_checked(wake_rtp_t *s, int16_t sample)
+static wake_q15_t step_validated(wake_rtp_t *s, wake_q15_t sample)
 {
-    int32_t e;
+    uint32_t ev = 0u;
+    wake_q23_t e;
+    wake_q15_t y;
     push(s, sample);
-    e = innovation(s, sample);        /* always: its saturation is counted even when inert */
+    e = innovation(s, sample, &ev);   /* always: its saturation is counted even when inert */
     if (!s->inert) {
-        measurement_update(s, e);
-        time_update(s);
+        ev += kalman_update(s, e);
     }
-    return predict(s);
+    s->steps += (uint32_t)(s->steps != UINT32_MAX);      /* P gains q I per sample */
+    y = predict(s, &ev);
+    count_events(&s->saturations, ev);
+    return y;
 }
 
-wake_rtp_status_t wake_rtp_step(wake_rtp_t *s, int16_t sample, int16_t *prediction)
+wake_rtp_status_t wake_rtp_step(wake_rtp_t *s, wake_q15_t sample, wake_q15_t *prediction)
 {
-    wake_rtp_status_t st = check_instance(s);
+    wake_rtp_status_t st = check_structure(s);
     if (st != WAKE_RTP_OK) {
         return st;
     }
     if (prediction == NULL) {
         return WAKE_RTP_E_NULL;
     }
-    *prediction = step_checked(s, sample);
+    *prediction = step_validated(s, sample);
     return WAKE_RTP_OK;
 }
 
-wake_rtp_status_t wake_rtp_step_missing(wake_rtp_t *s, int16_t *prediction)
+wake_rtp_status_t wake_rtp_step_missing(wake_rtp_t *s, wake_q15_t *prediction)
 {
-    wake_rtp_status_t st = check_instance(s);
+    uint32_t ev = 0u;
+    wake_rtp_status_t st = check_structure(s);
     if (st != WAKE_RTP_OK) {
         return st;
     }
@@ -584,20 +768,21 @@ wake_rtp_status_t wake_rtp_step_missing(wake_rtp_t *s, int16_t *prediction)
         return WAKE_RTP_OK;
     }
     /* the last prediction stands in for the sample; no measurement update */
-    push(s, sat16((int32_t)rshift_round64(s->last_output,
-                                          WAKE_RTP_STATE_FRAC - WAKE_RTP_SAMPLE_FRAC),
-                  &s->saturations));
+    push(s, narrow_saturate16((int32_t)shift_right_round(s->last_output, SIGNAL_GUARD_BITS), &ev));
     if (!s->inert) {
-        time_update(s);
+        /* P = P + q I:  s gains q|w|^2 (steps counts the q I) */
+        s->s = clamp_cov_wide(s->s + s->q_omega, &ev);
     }
-    *prediction = predict(s);
+    s->steps += (uint32_t)(s->steps != UINT32_MAX);
+    *prediction = predict(s, &ev);
+    count_events(&s->saturations, ev);
     return WAKE_RTP_OK;
 }
 
-wake_rtp_status_t wake_rtp_run(wake_rtp_t *s, const int16_t *in, int16_t *out, size_t n)
+wake_rtp_status_t wake_rtp_run(wake_rtp_t *s, const wake_q15_t *in, wake_q15_t *out, size_t n)
 {
     size_t k;
-    wake_rtp_status_t st = check_instance(s);
+    wake_rtp_status_t st = check_structure(s);
     if (st != WAKE_RTP_OK) {
         return st;
     }
@@ -608,16 +793,17 @@ wake_rtp_status_t wake_rtp_run(wake_rtp_t *s, const int16_t *in, int16_t *out, s
         return WAKE_RTP_E_NULL;
     }
     for (k = 0; k < n; ++k) {
-        out[k] = step_checked(s, in[k]);
+        out[k] = step_validated(s, in[k]);
     }
     return WAKE_RTP_OK;
 }
 
-wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const int16_t *window,
-                                      const int32_t *correction, const int32_t *covariance,
-                                      int32_t last_output)
+wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q15_t *window,
+                                      const wake_q23_t *correction, const wake_cov_t *covariance,
+                                      wake_q23_t last_output)
 {
     unsigned i, j, J;
+    wake_cov_t P[WAKE_RTP_MAX_LEVEL * WAKE_RTP_MAX_LEVEL];
     wake_rtp_status_t st = check_instance(s);
     if (st != WAKE_RTP_OK) {
         return st;
@@ -631,18 +817,17 @@ wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const int16_t *window,
             return WAKE_RTP_E_STATE;
         }
     }
-    memcpy(s->ring, window, (size_t)s->n_taps * sizeof(int16_t));
-    memcpy(s->ring + s->n_taps, window, (size_t)s->n_taps * sizeof(int16_t));
+    memcpy(s->ring, window, (size_t)s->n_taps * sizeof(wake_q15_t));
+    memcpy(s->ring + s->n_taps, window, (size_t)s->n_taps * sizeof(wake_q15_t));
     s->head = 0u;
-    memcpy(s->correction, correction, (size_t)J * sizeof(int32_t));
     for (i = 0; i < J; ++i) {
         for (j = i; j < J; ++j) {
-            s->covariance[i * J + j] = covariance[i * J + j];
-            s->covariance[j * J + i] = covariance[i * J + j];
+            P[i * J + j] = covariance[i * J + j];
+            P[j * J + i] = covariance[i * J + j];
         }
     }
-    psd_guard(s);
-    refresh_inert(s);
+    covariance_guard(P, J, &s->saturations);
+    rebuild(s, correction, P);
     s->last_output = last_output;
     s->primed = 1u;
     return WAKE_RTP_OK;

@@ -4,20 +4,32 @@
  *
  * One ::wake_rtp_t is one channel of the WAKE real-time predictor: a ring of
  * the newest 2^J samples, a J-level wavelet filter bank and a J-state Kalman
- * correction observed through the HPA weights.  The recursion mirrors the
- * float64 oracle `wake/rtp/reference.py` line for line:
+ * correction observed through the HPA weights w.  The float64 oracle
+ * `wake/rtp/reference.py` runs that recursion literally:
  *
  * @code
- *   buffer <- newest sample            ring of N = 2^J samples
- *   e      = m(n) - y(n-1)             innovation
- *   u      = P w
- *   S      = w' u + R
- *   d      = d + (u / S) e             correction state (J values)
- *   P      = P - u u' / S              upper triangle, mirrored
- *   P      = P + q I                   time update (F = I)
- *   a_j    = sum_i B[j][i] m_i         window oldest first
- *   y(n)   = sum_j w_j (a_j + d_j)     prediction of the voluntary motion at n+1
+ *   e    = m(n) - y(n-1)            innovation
+ *   u    = P w,  S = w' u + R
+ *   d    = d + u e / S              correction state (J values)
+ *   P    = P - u u' / S + q I       F = I
+ *   y(n) = w' (B window + d)        prediction of the voluntary motion at n + 1
  * @endcode
+ *
+ * This core evaluates the same recursion in an algebraically equivalent,
+ * constant-time form (docs/fixed_point.md proves the equivalence and bounds
+ * the error):
+ *
+ * @code
+ *   h    = B' w                     2^J FIR taps, rebuilt by set_weights
+ *   y(n) = h' window + z,           z = w' d
+ *   u    = b v + (s / |w|^2) w      u = P w stays in span{v, w}: two scalars s = w'Pw, b
+ *   S = s + R;  rho = s / S;  tau = R / S
+ *   z   += rho e                    w' d
+ *   s    = tau s + q |w|^2;  b = tau b
+ * @endcode
+ *
+ * P and d themselves are rebuilt from a snapshot (P_s, d_s) and a few scalars only in wake_rtp_set_weights and wake_rtp_get_state; the
+ * per-sample path has no data-dependent loop and no rare slow path.
  *
  * Portable C99, integer arithmetic only, no allocation, no global state: any
  * number of instances may live side by side.  Every narrowing saturates (and
@@ -27,16 +39,15 @@
  * A value "Qf of X" is the integer round(v / X * 2^f).  FS is the full-scale
  * value chosen by the caller (the Python wrapper's `full_scale`).
  *
- * | quantity                    | C type          | format              | range              |
- * |-----------------------------|-----------------|---------------------|--------------------|
- * | sample m, prediction y (I/O)| int16_t         | Q15 of FS           | [-1, 1) FS         |
- * | taps B                      | int16_t         | Q15                 | [-1, 1), row sum of abs < 2  |
- * | filter-bank accumulator     | int32_t         | Q30 of FS           | provably < 2^31    |
- * | a_j, d_j, a_j + d_j, y(n-1) | int32_t         | Q23 of FS           | [-256, 256) FS     |
- * | weights w                   | int32_t         | Q24                 | [-64, 64]          |
- * | x_j = a_j + d_j, u = P w    | int32_t         | Q23 / Q(P_FRAC)     | saturate to +-(2^31 - 1) |
- * | P, R, q, p0, u = P w, S     | int32_t / int64 | Q(WAKE_RTP_P_FRAC) of FS^2 | default Q32: [-0.5, 0.5) FS^2 |
- * | 1/S mantissa                | uint32_t        | Q30 of 1/[0.5,1)    | (1, 2]             |
+ * | quantity                        | C type            | format                     | range              |
+ * |---------------------------------|-------------------|----------------------------|--------------------|
+ * | sample m, prediction y (I/O)    | ::wake_q15_t      | Q15 of FS                  | [-1, 1) FS         |
+ * | filter-bank taps B              | ::wake_q15_t      | Q15                        | row sum of abs < 2 |
+ * | HPA weights w                   | ::wake_q24_t      | Q24                        | [-64, 64]          |
+ * | FIR taps h = B'w                | ::wake_fir_t      | Q(WAKE_RTP_FIR_FRAC)       | < 64 J             |
+ * | d, z, e, y(n-1)                 | ::wake_q23_t      | Q23 of FS                  | [-256, 256) FS     |
+ * | P, R, q, p0, s, b               | ::wake_cov_t      | Q(WAKE_RTP_P_FRAC) of FS^2 | default Q32: [-0.5, 0.5) FS^2 |
+ * | rho = s/S, tau = R/S            | ::wake_ratio_t    | Q30                        | [-2, 2)            |
  */
 #ifndef WAKE_RTP_H
 #define WAKE_RTP_H
@@ -91,8 +102,36 @@ extern "C" {
 /** Largest accepted sum of |taps| of one row in Q15 (2.0 - 2^-15). */
 #define WAKE_RTP_TAP_ROW_ABS_MAX ((INT32_C(2) << WAKE_RTP_TAP_FRAC) - 1)
 
+/**
+ * Fraction bits of the FIR taps h = B'w: |h_i| <= 64 sum_j |B_ji| < 64 J, so
+ * Q22 (range +-512) holds every h for J <= 8 and keeps the split M0+ FIR
+ * (16 x 16-bit partial products) inside int32 for J <= 6.
+ */
+#if WAKE_RTP_MAX_LEVEL <= 6
+#define WAKE_RTP_FIR_FRAC 22
+#else
+#define WAKE_RTP_FIR_FRAC 21
+#endif
+/** Fraction bits of the ratios rho = s/S and tau = R/S (Q30). */
+#define WAKE_RTP_RATIO_FRAC 30
+/** Fraction bits of the direction v (Q24, |v_i| < 2). */
+#define WAKE_RTP_DIR_FRAC 24
+
 /** Value of wake_rtp_t::magic once initialised ("WAKE"). */
 #define WAKE_RTP_MAGIC UINT32_C(0x57414B45)
+
+/** A sample, a prediction or a filter-bank tap: Q15 (of FS for signals). */
+typedef int16_t wake_q15_t;
+/** A signal value with 8 guard bits: Q23 of FS (d, z, e, y(n-1)). */
+typedef int32_t wake_q23_t;
+/** An HPA weight or the direction v: Q24, |w| <= 64. */
+typedef int32_t wake_q24_t;
+/** A FIR tap h = B'w: Q(WAKE_RTP_FIR_FRAC). */
+typedef int32_t wake_fir_t;
+/** A covariance-like value (P, R, q, p0, s, b): Q(WAKE_RTP_P_FRAC) of FS^2. */
+typedef int32_t wake_cov_t;
+/** A dimensionless ratio (s/S, R/S): Q30. */
+typedef int32_t wake_ratio_t;
 
 /** Status codes: zero is success, every error is a distinct negative value. */
 typedef enum {
@@ -103,7 +142,7 @@ typedef enum {
     WAKE_RTP_E_WEIGHTS = -4,      /**< a weight outside [-64, 64] (Q24) */
     WAKE_RTP_E_NOISE = -5,        /**< R <= 0, q < 0 or p0 < 0 */
     WAKE_RTP_E_UNINIT = -6,       /**< the struct was never initialised (bad magic) */
-    WAKE_RTP_E_CORRUPT = -7,      /**< magic present but fields inconsistent */
+    WAKE_RTP_E_CORRUPT = -7,      /**< magic present but fields inconsistent (weights included) */
     WAKE_RTP_E_STATE = -8         /**< load_state: covariance diagonal negative */
 } wake_rtp_status_t;
 
@@ -113,35 +152,54 @@ typedef enum {
  *
  * @par Scaling and overflow
  * See each field.  The struct holds no pointer except the taps, which the
- * caller owns (typically a `const` table in flash) and must keep alive.
+ * caller owns (typically a `const` table in flash) and must keep alive; they
+ * are read by init and set_weights only.  Any value of the per-sample fields
+ * is safe for wake_rtp_step (every operation on them saturates), so a
+ * corrupted number can give a wrong prediction but never undefined behaviour;
+ * the structural fields and the weights are re-checked by every call.
  */
 typedef struct {
     uint32_t magic;            /**< WAKE_RTP_MAGIC when initialised */
     uint32_t saturations;      /**< narrowings that saturated since init/reset (sticks at UINT32_MAX) */
-    uint32_t guard_events;     /**< covariance entries clamped by the PSD guard since init/reset */
+    uint32_t steps;            /**< samples since the last rebuild (sticks at UINT32_MAX); P gains steps * q I */
     uint16_t level;            /**< J, 1..WAKE_RTP_MAX_LEVEL */
     uint16_t n_taps;           /**< N = 2^J */
     uint16_t head;             /**< ring index of the oldest sample, 0..N-1 */
     uint16_t primed;           /**< 0 until the first sample, then 1 */
-    uint16_t inert;            /**< 1 only while q == 0 and P == 0 (the Kalman update is then the
-                                    identity and is skipped); 0 is always safe.  Kept by init,
-                                    reset, set_weights and load_state */
-    const int16_t *taps;       /**< J x N taps, row-major, oldest sample first, Q15 (caller-owned) */
-    int32_t weights[WAKE_RTP_MAX_LEVEL];     /**< HPA weights w, Q24, |w| <= 64 */
-    int32_t r;                 /**< measurement noise R, Q(P_FRAC) of FS^2, > 0 */
-    int32_t q;                 /**< process noise q (Q = q I), Q(P_FRAC) of FS^2, >= 0 */
-    int32_t p0;                /**< initial covariance P(0) = p0 I, Q(P_FRAC) of FS^2, >= 0 */
-    int32_t last_output;       /**< y(n-1), Q23 of FS (saturated to int32) */
-    int32_t correction[WAKE_RTP_MAX_LEVEL];  /**< Kalman correction d, Q23 of FS */
-    int32_t covariance[WAKE_RTP_MAX_LEVEL * WAKE_RTP_MAX_LEVEL]; /**< P, J x J row-major (stride J), Q(P_FRAC) of FS^2, symmetric */
-    int16_t ring[2 * WAKE_RTP_MAX_TAPS];     /**< the newest N samples, Q15 of FS, each stored twice (at k
-                                                  and k + N) so that the window, oldest first, is the
-                                                  contiguous ring[head .. head + N - 1]; 4-byte aligned */
+    uint16_t inert;            /**< 1 only while q == 0, s == 0 and b == 0 (the Kalman update is then the
+                                    identity and is skipped); set by every rebuild */
+    uint16_t reserved;         /**< 0 */
+    const wake_q15_t *taps;    /**< J x N taps B, row-major, oldest sample first, Q15 (caller-owned) */
+    wake_q24_t weights[WAKE_RTP_MAX_LEVEL];  /**< HPA weights w, Q24, |w| <= 64 */
+    wake_cov_t r;              /**< measurement noise R, > 0 */
+    wake_cov_t q;              /**< process noise q (Q = q I), >= 0 */
+    wake_cov_t p0;             /**< initial covariance P(0) = p0 I, >= 0 */
+    int64_t q_omega;           /**< q |w|^2, Q(P_FRAC) of FS^2 in int64 */
+    wake_q23_t last_output;    /**< y(n-1) (saturated to int32) */
+    /* per-sample Kalman state: u = P w = b v + (s / |w|^2) w */
+    int64_t s;                 /**< w' P w, Q(P_FRAC) of FS^2 in int64 (with |w| up to 64 it leaves the
+                                    int32 range of P); kept within +-2^50 */
+    int64_t b;                 /**< coefficient of v in P w, >= 0, Q(P_FRAC) of FS^2 in int64 */
+    int64_t z;                 /**< w' d, Q23 of FS in int64 (w'a and w'd may each leave the int32
+                                    range while y = w'(a + d) does not); kept within +-2^40 */
+    int64_t z_snap;            /**< w' d_s at the last rebuild */
+    wake_q23_t d_dir;          /**< coefficient of v in d - d_s */
+    int64_t acc_vv;            /**< sum b^2 / S: P loses acc_vv v v' (int64, within +-2^50) */
+    int64_t s_snap;            /**< s at the last rebuild */
+    int64_t b_snap;            /**< b at the last rebuild */
+    /* snapshot, rebuilt by reset, set_weights and load_state */
+    wake_q23_t correction[WAKE_RTP_MAX_LEVEL];   /**< d_s */
+    wake_cov_t covariance[WAKE_RTP_MAX_LEVEL * WAKE_RTP_MAX_LEVEL]; /**< P_s, J x J row-major (stride J), symmetric */
+    wake_q24_t direction[WAKE_RTP_MAX_LEVEL];    /**< v = (P_s w - (w'P_s w / |w|^2) w) / b(0), |v_i| < 2 */
+    wake_fir_t fir[WAKE_RTP_MAX_TAPS];           /**< h = B' w, oldest sample first */
+    wake_q15_t ring[2 * WAKE_RTP_MAX_TAPS];      /**< the newest N samples, each stored twice (at k and
+                                                      k + N) so that the window, oldest first, is the
+                                                      contiguous ring[head .. head + N - 1] */
 } wake_rtp_t;
 
 /**
  * @brief Initialise one channel.
- * @param[out] s        instance (any content; fully overwritten)
+ * @param[out] s        instance (any content)
  * @param[in]  level    J, 1..WAKE_RTP_MAX_LEVEL
  * @param[in]  taps     J x 2^J taps, row-major, oldest sample first, Q15;
  *                      kept by pointer (not copied): must outlive @p s
@@ -149,30 +207,27 @@ typedef struct {
  * @param[in]  r        R, Q(P_FRAC) of FS^2, > 0
  * @param[in]  q        q, Q(P_FRAC) of FS^2, >= 0
  * @param[in]  p0       P(0) = p0 I, Q(P_FRAC) of FS^2, >= 0
- * @return WAKE_RTP_OK, or WAKE_RTP_E_NULL / _LEVEL / _TAPS / _WEIGHTS / _NOISE
- *         (then @p s is left uninitialised: its magic is cleared).
+ * @return WAKE_RTP_OK, or WAKE_RTP_E_NULL / _LEVEL / _TAPS / _WEIGHTS / _NOISE.
+ *         On any error other than a NULL @p s, only the magic of @p s is
+ *         written (cleared): every other call then refuses @p s with
+ *         WAKE_RTP_E_UNINIT.
  *
  * @par Scaling and overflow
  * A tap row whose sum of |taps| exceeds 65535 (2.0 - 2^-15 in Q15) is
- * rejected.  With that bound and |sample| <= 2^15, the filter-bank sum
- * sum_i B[j][i] m_i is at most 65535 * 2^15 = 2^31 - 2^15 in magnitude, so
- * its int32 accumulator provably never overflows, whatever the input.  Wavelet taps
- * have unit DC gain and a sum of |taps| below 1.7 for db/sym/haar wavelets
- * at levels 3..6; the sum is done with SMLAD on DSP targets (every
- * partial sum obeys the same bound, so it is exact there too).  Weights are
- * limited to |w| <= 64 so that every product of a weight with an int32
- * factor of magnitude <= 2^31 - 1 (P, u and a_j + d_j, see wake_rtp_step) is
- * below 2^61; even and odd j go to two int64 accumulators of at most 4 terms
- * (J <= 8), each below 2^63.
+ * rejected, and |w| <= 64; so |h_i| = |sum_j B_ji w_j| < 64 J and the
+ * window sum h' window stays below 2^47 in its int64 accumulator (exact).
+ * The FIR taps are the exact int64 sums rounded once to
+ * Q(WAKE_RTP_FIR_FRAC).  See wake_rtp_set_weights for the rebuild.
  */
-wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const int16_t *taps,
-                                const int32_t *weights, int32_t r, int32_t q, int32_t p0);
+wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const wake_q15_t *taps,
+                                const wake_q24_t *weights, wake_cov_t r, wake_cov_t q, wake_cov_t p0);
 
 /**
  * @brief Install new HPA weights, R and q between two samples.
  *
- * Glitch-free: the ring, d, P and the last output are untouched; the next
- * step uses the new values.
+ * Glitch-free: the ring and the last output are untouched; P and d are
+ * rebuilt from the affine form (the values wake_rtp_get_state returns) and
+ * become the new snapshot; the next step uses the new values.
  * @param[in,out] s        initialised instance
  * @param[in]     weights  J weights, Q24, |w| <= 64
  * @param[in]     r        R, Q(P_FRAC) of FS^2, > 0
@@ -181,16 +236,24 @@ wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const int16_t *taps,
  *         (on error nothing changes).
  *
  * @par Scaling and overflow
- * As wake_rtp_init.
+ * The rebuild (docs/fixed_point.md): P_ij = P_s,ij + steps q d_ij - (terms
+ * along v and w from acc_vv, s, b and their snapshots), every product 32 x 32 -> 64 bit
+ * rounded once and saturated to int32; divisions by |w|^2 are products with
+ * a Newton-Raphson reciprocal (no division instruction).  The new snapshot
+ * takes g = P_s w (int64 sums of J products < 2^61, rounded to Q(P_FRAC)),
+ * s = w'g saturated to int32, v = (g - (s/|w|^2) w) / b with b the power of
+ * two just above max|g_i - (s/|w|^2) w_i|, so |v_i| < 2 in Q24.
  */
-wake_rtp_status_t wake_rtp_set_weights(wake_rtp_t *s, const int32_t *weights, int32_t r, int32_t q);
+wake_rtp_status_t wake_rtp_set_weights(wake_rtp_t *s, const wake_q24_t *weights, wake_cov_t r, wake_cov_t q);
 
 /**
  * @brief Forget every sample; keep taps, weights, R, q and p0.
  *
- * Ring and d are zeroed, P = p0 I, the instance is unprimed and both event
- * counters restart from zero.
+ * Ring and d are zeroed, P = p0 I, the instance is unprimed and the
+ * saturation counter restarts from zero.
  * @return WAKE_RTP_OK, WAKE_RTP_E_NULL, _UNINIT or _CORRUPT.
+ * @par Scaling and overflow
+ * As wake_rtp_set_weights (the rebuild from P = p0 I, d = 0).
  */
 wake_rtp_status_t wake_rtp_reset(wake_rtp_t *s);
 
@@ -202,27 +265,22 @@ wake_rtp_status_t wake_rtp_reset(wake_rtp_t *s);
  * @return WAKE_RTP_OK, WAKE_RTP_E_NULL, _UNINIT or _CORRUPT (then
  *         @p prediction is not written and the state is untouched).
  *
+ * Constant time: no loop but the 2^J-tap FIR (and, on the first sample
+ * only, the fill of the ring), no data-dependent branch but saturation.
+ *
  * @par Scaling and overflow
- * Filter bank: int32 accumulator, exact and overflow-free (see
- * wake_rtp_init), rounded once to Q23.  Innovation e in Q23, saturated to
- * int32.  u = P w and w' u: exact int64 multiply-accumulates of Q(P_FRAC+24)
- * products (each < 2^61: |P_ij| <= 2^31 - 1 after the PSD guard, u
- * saturates symmetrically to +-(2^31 - 1)) into two accumulators (even /
- * odd j, <= 4 terms each, < 2^63), each halved, added and rounded once to
- * Q(P_FRAC).  S = w'u + R is kept in int64 and clamped to >= 1 LSB.  1/S: S is normalised to a 31-bit mantissa and its
- * reciprocal is computed by four Newton-Raphson iterations with 32 x 32 ->
- * 64-bit multiplies only (no division; relative error <= 2^-29).  The gain
- * K = u / S is kept as a 32-bit value with the exponent of S; d += K e and
- * P -= K u' are 32 x 32 -> 64-bit products rounded once and saturated to
- * int32.  The upper triangle of P is computed and mirrored, then P += q I and
- * the PSD guard (diagonal clamped to >= 0, |P_ij| <= sqrt(P_ii P_jj)) run.
- * The prediction w'x, x = a + d saturated symmetrically to +-(2^31 - 1), is
- * accumulated the same way, rounded to Q23 (stored as y(n)) and to Q15
- * (returned), both saturated.  While wake_rtp_t::inert is set (q = 0,
- * P = 0) the measurement and time updates are skipped: they would change
- * nothing (bit-identical).
+ * FIR: h' window, int32 x int16 products into an int64 accumulator (exact,
+ * < 2^47), rounded once to Q23.  e = m - y(n-1) in Q23, saturated.  S =
+ * s + R in [1, 2^32) (clamped to >= 1); 1/S from a 31-bit mantissa by four
+ * Newton-Raphson steps (32 x 32 -> 64-bit products only, relative error
+ * <= 2^-29).  rho = s/S and tau = 1 - rho in Q30, b/S in Q24: one product
+ * with the reciprocal each, rounded once and saturated.  Every update
+ * (z, d_dir, acc_vv, s, b) is one 32 x 32 -> 64-bit product
+ * rounded once and added with int32 saturation.  y(n) = FIR + z, saturated
+ * to int32 Q23 (stored) and to Q15 (returned).  While wake_rtp_t::inert is
+ * set the Kalman part is skipped: it would change nothing.
  */
-wake_rtp_status_t wake_rtp_step(wake_rtp_t *s, int16_t sample, int16_t *prediction);
+wake_rtp_status_t wake_rtp_step(wake_rtp_t *s, wake_q15_t sample, wake_q15_t *prediction);
 
 /**
  * @brief No measurement at n (dropped packet, NaN).
@@ -233,9 +291,9 @@ wake_rtp_status_t wake_rtp_step(wake_rtp_t *s, int16_t sample, int16_t *predicti
  * changes.
  * @return as wake_rtp_step.
  * @par Scaling and overflow
- * As wake_rtp_step.
+ * As wake_rtp_step; the time update is s += q|w|^2, saturating.
  */
-wake_rtp_status_t wake_rtp_step_missing(wake_rtp_t *s, int16_t *prediction);
+wake_rtp_status_t wake_rtp_step_missing(wake_rtp_t *s, wake_q15_t *prediction);
 
 /**
  * @brief Run a block: out[k] = prediction after in[k], k = 0..n-1.
@@ -247,7 +305,7 @@ wake_rtp_status_t wake_rtp_step_missing(wake_rtp_t *s, int16_t *prediction);
  * @par Scaling and overflow
  * As wake_rtp_step.
  */
-wake_rtp_status_t wake_rtp_run(wake_rtp_t *s, const int16_t *in, int16_t *out, size_t n);
+wake_rtp_status_t wake_rtp_run(wake_rtp_t *s, const wake_q15_t *in, wake_q15_t *out, size_t n);
 
 /**
  * @brief Set the full state (hand-over from a float warm-up).
@@ -255,23 +313,39 @@ wake_rtp_status_t wake_rtp_run(wake_rtp_t *s, const int16_t *in, int16_t *out, s
  * @param[in]     window      N = 2^J samples, oldest first, Q15 of FS
  * @param[in]     correction  J values d, Q23 of FS
  * @param[in]     covariance  J x J values P, row-major, Q(P_FRAC) of FS^2;
- *                            the upper triangle is used and mirrored, then
- *                            the PSD guard runs
+ *                            the upper triangle is used and mirrored
  * @param[in]     last_output y(n-1), Q23 of FS
  * @return WAKE_RTP_OK, WAKE_RTP_E_NULL, _UNINIT, _CORRUPT or _STATE (a
  *         negative diagonal entry; nothing changes).
  *
- * The instance is primed afterwards; the event counters are kept.
+ * The instance is primed afterwards; the saturation counter is kept.
+ * @par Scaling and overflow
+ * As wake_rtp_set_weights (the rebuild from the given P and d).
  */
-wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const int16_t *window,
-                                      const int32_t *correction, const int32_t *covariance,
-                                      int32_t last_output);
+wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q15_t *window,
+                                      const wake_q23_t *correction, const wake_cov_t *covariance,
+                                      wake_q23_t last_output);
+
+/**
+ * @brief Read the Kalman state P and d (what the literal recursion holds).
+ * @param[in]  s           initialised instance (not modified)
+ * @param[out] correction  J values d, Q23 of FS
+ * @param[out] covariance  J x J values P, row-major, Q(P_FRAC) of FS^2
+ * @return WAKE_RTP_OK, WAKE_RTP_E_NULL, _UNINIT or _CORRUPT.
+ * @par Scaling and overflow
+ * As wake_rtp_set_weights; entries beyond int32 saturate (not counted: the
+ * instance is const).
+ */
+wake_rtp_status_t wake_rtp_get_state(const wake_rtp_t *s, wake_q23_t *correction, wake_cov_t *covariance);
 
 /**
  * @brief 2^61 / x for x in [2^30, 2^31), by Newton-Raphson (no division).
  *
  * Exposed for testing.  The result lies in [2^30, 2^31]; its error is at
  * most 2^-29 relative (measured over 2e5 arguments: 1 unit of 2^-30).
+ * @par Scaling and overflow
+ * x is Q31 of [0.5, 1), the result Q30 of (1, 2]; 32 x 32 -> 64-bit
+ * unsigned products only, each below 2^62.
  */
 uint32_t wake_rtp_reciprocal(uint32_t x);
 

@@ -48,9 +48,9 @@ def quantized(x, fs):
 
 
 def static_bound(c):
-    """docs/fixed_point.md, eq. (B1), in full-scale units."""
-    sw = np.abs(c.weights).sum()
-    return 2.0**-16 + 2.0**-24 + sw * 2.0**-24 + c.level * 2.0**-44
+    """docs/fixed_point.md, eq. (B1), in full-scale units: Q15 output rounding, Q23 rounding of
+    the FIR sum, and the rounding of the N FIR taps h = B'w to Q(FIR_FRAC) times |sample| <= 1."""
+    return 2.0**-16 + 2.0**-24 + c.n_taps * 2.0 ** -(_c.FIR_FRAC + 1)
 
 
 def reference_with_bound(c, x, fs):

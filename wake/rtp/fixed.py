@@ -37,6 +37,8 @@ STATE_FRAC = int(lib.WAKE_RTP_STATE_FRAC)
 WEIGHT_FRAC = int(lib.WAKE_RTP_WEIGHT_FRAC)
 WEIGHT_MAX = int(lib.WAKE_RTP_WEIGHT_MAX) / 2.0**WEIGHT_FRAC
 TAP_ROW_ABS_MAX = int(lib.WAKE_RTP_TAP_ROW_ABS_MAX)
+#: Fraction bits of the FIR taps h = B'w (``WAKE_RTP_FIR_FRAC``: 22 up to level 6, else 21).
+FIR_FRAC = 22 if MAX_LEVEL <= 6 else 21
 
 _INT32_MIN, _INT32_MAX = -(2**31), 2**31 - 1
 _SAMPLE_SCALE = 2.0**SAMPLE_FRAC
@@ -192,11 +194,6 @@ class FixedPointRTP:
         return int(self._state.saturations)
 
     @property
-    def guard_events(self):
-        """Covariance entries clamped by the C core's PSD guard since construction / reset."""
-        return int(self._state.guard_events)
-
-    @property
     def primed(self):
         return bool(self._state.primed)
 
@@ -204,16 +201,24 @@ class FixedPointRTP:
     def last_output(self):
         return self._state.last_output / 2.0**STATE_FRAC * self.full_scale
 
+    def _kalman_state(self):
+        """(d, P) as integers, rebuilt by the C core from its constant-time form (wake_rtp_get_state)."""
+        J = self.level
+        d = np.zeros(J, dtype=np.int32)
+        P = np.zeros(J * J, dtype=np.int32)
+        _check(lib.wake_rtp_get_state(self._state, ffi.from_buffer("int32_t[]", d), ffi.from_buffer("int32_t[]", P)),
+               "wake_rtp_get_state")
+        return d, P
+
     @property
     def correction(self):
         """Kalman correction d (J values, physical units)."""
-        return np.array([self._state.correction[j] for j in range(self.level)]) / 2.0**STATE_FRAC * self.full_scale
+        return self._kalman_state()[0] / 2.0**STATE_FRAC * self.full_scale
 
     @property
     def covariance(self):
         """Covariance P, flat row-major J*J (physical units squared), like ReferenceRTP."""
-        J = self.level
-        return np.array([self._state.covariance[k] for k in range(J * J)]) * self._p_lsb
+        return self._kalman_state()[1] * self._p_lsb
 
     @property
     def window(self):
