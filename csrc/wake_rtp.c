@@ -40,6 +40,9 @@
 #define WAKE_RTP_NOINLINE
 #endif
 
+/* The ring is 4-byte aligned inside the struct (prime_window stores words). */
+typedef char wake_rtp_ring_is_aligned[(offsetof(wake_rtp_t, ring) % 4u == 0u) ? 1 : -1];
+
 #define P_FRAC WAKE_RTP_P_FRAC
 #define RATIO_ONE (INT32_C(1) << WAKE_RTP_RATIO_FRAC)
 /* Q15 sample -> Q23 signal: 8 guard bits */
@@ -605,14 +608,33 @@ wake_rtp_status_t wake_rtp_get_state(const wake_rtp_t *s, wake_q23_t *correction
 /* Per-sample recursion                                                    */
 /* ---------------------------------------------------------------------- */
 
-/** The first sample fills the whole window (both copies); runs once per stream. */
+/**
+ * The first sample fills the whole window (both copies); runs once per stream.
+ * Two samples per aligned 32-bit store (the ring is 4-byte aligned and 2N is
+ * a multiple of 4 samples for J >= 1), four stores per iteration.
+ */
 WAKE_RTP_NOINLINE static void prime_window(wake_rtp_t *s, wake_q15_t sample)
 {
     unsigned i, N = s->n_taps;
-    for (i = 0; i < N; ++i) {                                             /* wcet-loop: N */
-        s->ring[i] = sample;
-        s->ring[i + N] = sample;
+#if defined(__GNUC__)
+    uint32_t pair = (uint32_t)(uint16_t)sample * UINT32_C(0x10001);
+    unsigned char *ring = (unsigned char *)__builtin_assume_aligned(s->ring, 4);
+    if (N == 2u) {                                /* J = 1: 2N = 4 samples, two words */
+        __builtin_memcpy(ring, &pair, 4);
+        __builtin_memcpy(ring + 4u, &pair, 4);
+    } else {
+        for (i = 0; i < 4u * N; i += 16u) {                               /* wcet-loop: N / 4 */
+            __builtin_memcpy(ring + i, &pair, 4);
+            __builtin_memcpy(ring + i + 4u, &pair, 4);
+            __builtin_memcpy(ring + i + 8u, &pair, 4);
+            __builtin_memcpy(ring + i + 12u, &pair, 4);
+        }
     }
+#else
+    for (i = 0; i < 2u * N; ++i) {                                        /* wcet-loop: 2 * N */
+        s->ring[i] = sample;
+    }
+#endif
     s->last_output = (int32_t)sample * (INT32_C(1) << SIGNAL_GUARD_BITS);
     s->primed = 1u;
 }

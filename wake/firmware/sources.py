@@ -22,6 +22,12 @@ class SourcesUnavailable(RuntimeError):
 
 
 def _installed() -> Path | None:
+    # Imported from a source checkout (``wake/`` beside ``csrc/``): that tree's
+    # sources, even when another copy is installed as ``wake._csrc`` (an
+    # editable install of a different checkout maps it there).
+    checkout = Path(__file__).resolve().parents[2] / "csrc"
+    if all((checkout / f).is_file() for f in _REQUIRED):
+        return checkout
     try:
         from importlib.resources import files
 
@@ -30,10 +36,7 @@ def _installed() -> Path | None:
         root = None
     if root is not None and all((root / f).is_file() for f in _REQUIRED):
         return root
-    # Imported from a source checkout (``wake/`` beside ``csrc/``), where the
-    # package-dir mapping of the build does not apply.
-    checkout = Path(__file__).resolve().parents[2] / "csrc"
-    return checkout if all((checkout / f).is_file() for f in _REQUIRED) else None
+    return None
 
 
 def csrc_dir(path: str | Path | None = None, *, need: tuple[str, ...] = ()) -> Path:
