@@ -210,12 +210,12 @@ static inline inverse_t inverse_of(uint64_t x)
 }
 
 /**
- * round(a / x 2^frac) saturated to int32, for |a| < 2^62 and the inverse of x.
+ * round(a / x 2^frac) clamped to +-2^50, for |a| < 2^62 and the inverse of x.
  * a is first reduced to 31 significant bits (relative error <= 2^-31); then
  * a * recip < 2^62, and the shift 61 + exponent - frac is applied (left
  * shifts saturate).
  */
-static int32_t divide_scaled(int64_t a, inverse_t inv, int frac, uint32_t *events)
+static int64_t divide_wide(int64_t a, inverse_t inv, int frac, uint32_t *events)
 {
     uint64_t mag_a = (uint64_t)(a < 0 ? -a : a);
     int m = (int)bit_length64(mag_a) - 31;
@@ -233,7 +233,13 @@ static int32_t divide_scaled(int64_t a, inverse_t inv, int frac, uint32_t *event
     } else {
         mag = (sh < -30 || (p >> (unsigned)(63 + sh)) != 0) ? INT64_MAX : p << (unsigned)(-sh);
     }
-    return narrow_saturate(a < 0 ? -mag : mag, events);
+    return clamp_cov_wide(a < 0 ? -mag : mag, events);
+}
+
+/** divide_wide narrowed to int32 with saturation. */
+static int32_t divide_scaled(int64_t a, inverse_t inv, int frac, uint32_t *events)
+{
+    return narrow_saturate(divide_wide(a, inv, frac, events), events);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -368,45 +374,49 @@ static void covariance_guard(wake_cov_t *P, unsigned J, uint32_t *events)
  * fixes the others.  Where rounding or saturation left P indefinite, the
  * guard restores P_ii >= 0 and |P_ij| <= sqrt(P_ii P_jj) (counted).
  */
-static void materialise(const wake_rtp_t *s, wake_q23_t *d, wake_cov_t *P, uint32_t *events)
+static void materialise(const wake_rtp_t *s, wake_q23_t *d, wake_cov_t *P, uint32_t *events, uint32_t *guarded)
 {
+    /* The coefficients carry XF extra fraction bits: they are multiplied by
+     * weights up to 64, whose products w_i w_j would otherwise amplify their
+     * rounding to many LSB of P. */
+    enum { XF = 16 };
     unsigned i, j, J = s->level;
     const wake_q24_t *w = s->weights, *v = s->direction;
     uint64_t omega = weight_norm2(w, J);
     int64_t nq = (int64_t)s->steps * s->q;                  /* < 2^63 */
     wake_cov_t grow = narrow_saturate(nq, events);
-    wake_cov_t c_vw = 0, c_ww = 0;
-    wake_q23_t c_z = 0;
-    wake_cov_t row_v[WAKE_RTP_MAX_LEVEL], row_w[WAKE_RTP_MAX_LEVEL];
+    int64_t c_vw = 0, c_ww = 0, c_z = 0;                    /* Q(P + XF), Q(P + XF), Q(23 + XF) */
+    int64_t row_v[WAKE_RTP_MAX_LEVEL], row_w[WAKE_RTP_MAX_LEVEL];
     if (omega != 0u) {
         inverse_t inv = inverse_of(omega);                  /* 1 / |w|^2, |w|^2 in Q24 */
-        /* c_vw = (b_s - b) / |w|^2 ;  c_ww = ((s - s_s) / |w|^2 - steps q) / |w|^2      Q(P) */
-        c_vw = divide_scaled(s->b_snap - s->b, inv, 24, events);
-        c_ww = divide_scaled(s->s - s->s_snap, inv, 24, events);
-        c_ww = divide_scaled((int64_t)c_ww - grow, inv, 24, events);
-        /* c_z = (z - z_s) / |w|^2                                                     Q23 */
-        c_z = divide_scaled(s->z - s->z_snap, inv, 24, events);
+        /* c_vw = (b_s - b) / |w|^2 ;  c_ww = ((s - s_s) / |w|^2 - steps q) / |w|^2 */
+        c_vw = divide_wide(s->b_snap - s->b, inv, 24 + XF, events);
+        c_ww = divide_wide(s->s - s->s_snap, inv, 24 + XF, events) - (int64_t)grow * (INT64_C(1) << XF);
+        c_ww = divide_wide(c_ww, inv, 24, events);
+        /* c_z = (z - z_s) / |w|^2 */
+        c_z = divide_wide(s->z - s->z_snap, inv, 24 + XF, events);
     }
-    /* row_v_i = acc_vv v_i + c_vw w_i ;  row_w_i = c_vw v_i - c_ww w_i             Q(P) */
+    /* row_v_i = acc_vv v_i + c_vw w_i ;  row_w_i = c_vw v_i - c_ww w_i       Q(P + XF) */
     for (i = 0; i < J; ++i) {
-        row_v[i] = narrow_saturate(multiply_wide_by32(s->acc_vv, v[i], 24u, 1)
-                                   + shift_right_round(multiply_wide(c_vw, w[i]), 24u), events);
-        row_w[i] = narrow_saturate(shift_right_round(multiply_wide(c_vw, v[i])
-                                                     - multiply_wide(c_ww, w[i]), 24u), events);
+        row_v[i] = clamp_cov_wide(multiply_wide_by32(s->acc_vv, v[i], 24u - XF, 1)
+                                  + multiply_wide_by32(c_vw, w[i], 24u, 1), events);
+        row_w[i] = clamp_cov_wide(multiply_wide_by32(c_vw, v[i], 24u, 1)
+                                  - multiply_wide_by32(c_ww, w[i], 24u, 1), events);
     }
     /* P_ij = P_s,ij + grow d_ij - row_v_i v_j - row_w_i w_j   upper triangle, mirrored */
     for (i = 0; i < J; ++i) {
         for (j = i; j < J; ++j) {
-            int64_t p = (int64_t)s->covariance[i * J + j] + (i == j ? grow : 0)
-                        - shift_right_round(multiply_wide(row_v[i], v[j]) + multiply_wide(row_w[i], w[j]), 24u);
+            int64_t t = multiply_wide_by32(row_v[i], v[j], 24u, 1) + multiply_wide_by32(row_w[i], w[j], 24u, 1);
+            int64_t p = (int64_t)s->covariance[i * J + j] + (i == j ? grow : 0) - shift_right_round(t, XF);
             P[i * J + j] = narrow_saturate(p, events);
             P[j * J + i] = P[i * J + j];
         }
     }
-    covariance_guard(P, J, events);
+    covariance_guard(P, J, guarded);
     /* d_i = d_s,i + d_dir v_i + c_z w_i                                             Q23 */
     for (i = 0; i < J; ++i) {
-        int64_t t = shift_right_round(multiply_wide(s->d_dir, v[i]) + multiply_wide(c_z, w[i]), 24u);
+        int64_t t = shift_right_round(multiply_wide(s->d_dir, v[i]), 24u)
+                    + shift_right_round(multiply_wide_by32(c_z, w[i], 24u, 1), XF);
         d[i] = narrow_saturate((int64_t)s->correction[i] + t, events);
     }
 }
@@ -449,7 +459,10 @@ static void rebuild(wake_rtp_t *s, const wake_q23_t *d, const wake_cov_t *P)
     for (i = 0; i < J; ++i) {
         gamma += multiply_wide_by32(g[i], w[i], 24u, 1);
     }
-    s_val = clamp_cov_wide(gamma, ev);
+    /* w'Pw of a covariance is >= 0; rounding of the rebuilt P (a few LSB per entry, times |w|^2)
+     * can leave it just below 0 when the new w is nearly unobservable: take 0 there (with s >= 0
+     * the recursion keeps 0 <= rho < 1, 0 < tau <= 1 and s >= 0 for ever) */
+    s_val = clamp_cov_wide(gamma < 0 ? 0 : gamma, ev);
     s->s = s_val;
     /* v: g minus its component along w, scaled by the power of two b just above its largest entry */
     if (omega != 0u) {
@@ -560,7 +573,7 @@ wake_rtp_status_t wake_rtp_set_weights(wake_rtp_t *s, const wake_q24_t *weights,
     if (st != WAKE_RTP_OK) {
         return st;
     }
-    materialise(s, d, P, &s->saturations);          /* P, d under the old weights */
+    materialise(s, d, P, &s->saturations, &s->guard_events);   /* P, d under the old weights */
     memcpy(s->weights, weights, (size_t)s->level * sizeof(wake_q24_t));
     s->r = r;
     s->q = q;
@@ -586,6 +599,7 @@ wake_rtp_status_t wake_rtp_reset(wake_rtp_t *s)
     s->primed = 0u;
     s->last_output = 0;
     s->saturations = 0u;
+    s->guard_events = 0u;
     rebuild(s, s->correction, s->covariance);
     return WAKE_RTP_OK;
 }
@@ -600,7 +614,7 @@ wake_rtp_status_t wake_rtp_get_state(const wake_rtp_t *s, wake_q23_t *correction
     if (correction == NULL || covariance == NULL) {
         return WAKE_RTP_E_NULL;
     }
-    materialise(s, correction, covariance, &ignored);
+    materialise(s, correction, covariance, &ignored, &ignored);
     return WAKE_RTP_OK;
 }
 
@@ -848,7 +862,7 @@ wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q15_t *window,
             P[j * J + i] = covariance[i * J + j];
         }
     }
-    covariance_guard(P, J, &s->saturations);
+    covariance_guard(P, J, &s->guard_events);
     rebuild(s, correction, P);
     s->last_output = last_output;
     s->primed = 1u;

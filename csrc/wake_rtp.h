@@ -161,6 +161,8 @@ typedef enum {
 typedef struct {
     uint32_t magic;            /**< WAKE_RTP_MAGIC when initialised */
     uint32_t saturations;      /**< narrowings that saturated since init/reset (sticks at UINT32_MAX) */
+    uint32_t guard_events;     /**< covariance entries repaired by the rebuild's guard (P_ii >= 0,
+                                    |P_ij| <= sqrt(P_ii P_jj)) since init/reset; never per sample */
     uint32_t steps;            /**< samples since the last rebuild (sticks at UINT32_MAX); P gains steps * q I */
     uint16_t level;            /**< J, 1..WAKE_RTP_MAX_LEVEL */
     uint16_t n_taps;           /**< N = 2^J */

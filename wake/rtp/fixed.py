@@ -194,6 +194,11 @@ class FixedPointRTP:
         return int(self._state.saturations)
 
     @property
+    def guard_events(self):
+        """Covariance entries the C core's rebuild (at a weight update) repaired since construction / reset."""
+        return int(self._state.guard_events)
+
+    @property
     def primed(self):
         return bool(self._state.primed)
 
