@@ -31,12 +31,16 @@ class BlockCounter:
     per-function attribution.
     """
 
-    def __init__(self, uc, *, keep_hits=False):
+    def __init__(self, uc, *, keep_hits=False, cycle_model=None):
         unicorn, capstone = _emulator_modules()
         self._uc = uc
         self._md = capstone.Cs(capstone.CS_ARCH_ARM, capstone.CS_MODE_THUMB | capstone.CS_MODE_MCLASS)
         self._sizes = {}
+        self._cycles = {}
+        self._model = cycle_model
+        self._prev = None   #: (end address, extra cycles if the next block is not the fall-through)
         self.count = 0
+        self.cycles = 0
         self.keep_hits = keep_hits
         self.hits = {}
         self._handle = uc.hook_add(unicorn.UC_HOOK_BLOCK, self._on_block)
@@ -57,15 +61,45 @@ class BlockCounter:
             self._sizes[key] = n
         return n
 
+    def _block_cycles(self, address, size):
+        """(cycles with every branch not taken, extra cycles when the block's last branch is taken)."""
+        key = (address, size)
+        hit = self._cycles.get(key)
+        if hit is None:
+            code = bytes(self._uc.mem_read(address, size)) if size else b""
+            base, extra = 0, 0
+            insns = list(self._md.disasm_lite(code, address))
+            for k, (_a, _s, mn, op) in enumerate(insns):
+                c = self._model.cycles(mn, op, taken=False)
+                base += c
+                if k == len(insns) - 1:
+                    extra = self._model.cycles(mn, op, taken=True) - c
+            hit = self._cycles[key] = (base, extra)
+        return hit
+
     def _on_block(self, uc, address, size, _user):
         self.count += self.instructions_in(address, size)
+        if self._model is not None:
+            if self._prev is not None and address != self._prev[0]:
+                self.cycles += self._prev[1]       # the previous block's last branch was taken
+            base, extra = self._block_cycles(address, size)
+            self.cycles += base
+            self._prev = (address + size, extra)
         if self.keep_hits:
             key = (address, size)
             self.hits[key] = self.hits.get(key, 0) + 1
 
     def reset(self):
         self.count = 0
+        self.cycles = 0
+        self._prev = None
         self.hits = {}
+
+    def finish(self):
+        """Price the last block's exit (the return is a taken branch)."""
+        if self._model is not None and self._prev is not None:
+            self.cycles += self._prev[1]
+            self._prev = None
 
     def close(self):
         self._uc.hook_del(self._handle)
@@ -93,7 +127,11 @@ class Emulator:
                 self.uc.mem_write(vaddr, bytes(data))
         self.stack_top = image.addr("_estack")
         self.stop = image.addr("profile_stop")
-        self.counter = BlockCounter(self.uc, keep_hits=keep_hits)
+        from wake.firmware.wcet import cycle_model_for
+
+        self.cycle_model = cycle_model_for(image.target)
+        self.counter = BlockCounter(self.uc, keep_hits=keep_hits, cycle_model=self.cycle_model)
+        self.last_cycles = None
         info = self.read_words(image.addr("g_profile_info"), 14)
         if info[0] != INFO_MAGIC:
             raise RuntimeError("g_profile_info not found in the image")
@@ -137,6 +175,8 @@ class Emulator:
         self.uc.reg_write(r.UC_ARM_REG_LR, self.stop | 1)
         self.counter.reset()
         self.uc.emu_start(addr | 1, self.stop, count=limit)
+        self.counter.finish()
+        self.last_cycles = self.counter.cycles
         pc = self.uc.reg_read(r.UC_ARM_REG_PC)
         if pc != self.stop:
             raise RuntimeError(f"{func} did not return within {limit} instructions (pc {pc:#x})")

@@ -150,6 +150,8 @@ class StepProfile:
     set_weights: int  #: instructions of one wake_rtp_set_weights
     stack_bytes: int  #: deepest stack measured below the caller's SP
     update_at: int
+    cycles: dict = None  #: input kind -> list of cycles per step (the image's cycle model)
+    bound: object = None  #: wake.firmware.wcet.Bound of this configuration (static)
 
     def all_counts(self, *, priming=True):
         return np.concatenate([np.asarray(c[0 if priming else 1:]) for c in self.counts.values()])
@@ -180,6 +182,10 @@ class StepProfile:
         """Worst step right after a weight update."""
         return int(max(c[self.update_at] for c in self.counts.values()))
 
+    @property
+    def max_cycles(self):
+        return int(max(max(c) for c in self.cycles.values())) if self.cycles else None
+
     def worst(self):
         """(input kind, sample index, instructions) of the worst step."""
         best = None
@@ -198,6 +204,11 @@ class StepProfile:
             "worst_index": idx, "set_weights": self.set_weights, "stack_bytes": self.stack_bytes,
             "floor_macs": arithmetic_floor(self.level),
             "per_input_max": {k: int(max(v)) for k, v in self.counts.items()},
+            "max_cycles": self.max_cycles,
+            "bound_instructions": self.bound.instructions if self.bound else None,
+            "bound_cycles": self.bound.cycles if self.bound else None,
+            "bound_loops": [(f, int(h), int(n)) for f, h, n in self.bound.loops] if self.bound else None,
+            "bound_callees": self.bound.callees if self.bound else None,
         }
 
 
@@ -214,22 +225,28 @@ def profile_configuration(emu: Emulator, wavelet="sym3", level=5, *, kalman=True
     inputs = adversarial_inputs(level, n, seed=seed, measurement=params["measurement"])
     if kinds is not None:
         inputs = {k: v for k, v in inputs.items() if k in kinds}
-    counts = {}
+    counts, cycles = {}, {}
     sw = 0
     stack = 0
     emu.write_config(params)
     for kind, x in inputs.items():
         emu.init()
-        c = []
+        c, cy = [], []
         for i, sample in enumerate(x):
             if i == update_at:
                 sw = emu.set_weights()
             _, ni, depth = emu.step(int(sample), stack=(i < 2 or i == update_at))
             c.append(ni)
+            cy.append(emu.last_cycles)
             if depth is not None:
                 stack = max(stack, depth)
         counts[kind] = c
-    return StepProfile(emu.image.target, int(level), wavelet, bool(kalman), counts, sw, stack, update_at)
+        cycles[kind] = cy
+    from wake.firmware.wcet import static_bound
+
+    bound = static_bound(emu.image, level, exclude=() if kalman else ("kalman_update",))
+    return StepProfile(emu.image.target, int(level), wavelet, bool(kalman), counts, sw, stack, update_at,
+                       cycles, bound)
 
 
 PHASES = ("check_instance", "push", "measurement_update", "time_update", "psd_guard", "predict")
