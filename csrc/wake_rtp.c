@@ -363,6 +363,72 @@ static void covariance_guard(wake_cov_t *P, unsigned J, uint32_t *events)
     }
 }
 
+/** What the affine form derives from the snapshot (P_s, d_s) and w; recomputed, not stored. */
+typedef struct {
+    int64_t s;                          /**< w' P_s w (>= 0), Q(P) */
+    int64_t b;                          /**< 2^nb > max |g_i - (s/|w|^2) w_i|, or 0 */
+    int64_t z;                          /**< w' d_s, Q23 */
+    wake_q24_t v[WAKE_RTP_MAX_LEVEL];   /**< (g - (s/|w|^2) w) / b, |v_i| < 2 */
+} snapshot_t;
+
+/**
+ * g = P_s w,  s = w'g,  v = (g - (s/|w|^2) w) / b,  z = w'd_s.  Deterministic:
+ * the rebuild and every later materialisation get the same values.
+ */
+static void snapshot_terms(const wake_rtp_t *s, snapshot_t *out, uint32_t *ev)
+{
+    unsigned i, j, J = s->level;
+    const wake_q24_t *w = s->weights;
+    uint64_t omega = weight_norm2(w, J);
+    int64_t g[WAKE_RTP_MAX_LEVEL];
+    int64_t perp[WAKE_RTP_MAX_LEVEL];
+    int64_t gamma = 0, zacc = 0;
+    uint64_t perp_max = 0;
+    wake_cov_t ratio = 0;
+    unsigned nb;
+    /* g = P_s w: J products < 2^61 each, in Q(P + 24) -> Q(P); |g_i| < 2^40 */
+    for (i = 0; i < J; ++i) {
+        int64_t acc = 0;
+        for (j = 0; j < J; ++j) {
+            acc += shift_right_floor(multiply_wide(s->covariance[i * J + j], w[j]), 3u);   /* 8 terms < 2^63 */
+        }
+        g[i] = shift_right_round(acc, 21u);
+        zacc += shift_right_floor(multiply_wide(s->correction[i], w[i]), 3u);   /* 8 terms < 2^63 */
+    }
+    /* s = w' g                                                          Q(P), int64, < 2^50 */
+    for (i = 0; i < J; ++i) {
+        gamma += multiply_wide_by32(g[i], w[i], 24u, 1);
+    }
+    /* w'Pw of a covariance is >= 0; rounding of the rebuilt P (a few LSB per entry, times |w|^2)
+     * can leave it just below 0 when the new w is nearly unobservable: take 0 there (with s >= 0
+     * the recursion keeps 0 <= rho < 1, 0 < tau <= 1 and s >= 0 for ever) */
+    out->s = clamp_cov_wide(gamma < 0 ? 0 : gamma, ev);
+    /* v: g minus its component along w, scaled by the power of two b just above its largest entry */
+    if (omega != 0u) {
+        ratio = divide_scaled(out->s, inverse_of(omega), 24, ev);        /* s / |w|^2, Q(P) */
+    }
+    for (i = 0; i < J; ++i) {
+        uint64_t mag;
+        perp[i] = g[i] - shift_right_round(multiply_wide(ratio, w[i]), 24u);
+        mag = (uint64_t)(perp[i] < 0 ? -perp[i] : perp[i]);
+        perp_max = mag > perp_max ? mag : perp_max;
+    }
+    nb = bit_length64(perp_max);                                        /* b = 2^nb > max |perp_i| */
+    out->b = (perp_max == 0u) ? 0 : (INT64_C(1) << nb);                   /* nb <= 42 */
+    for (i = 0; i < J; ++i) {
+        /* v_i = perp_i / 2^nb in Q24, |v_i| < 2 */
+        int64_t vi;
+        if (nb > 24u) {
+            vi = shift_right_round(perp[i], nb - 24u);
+        } else {
+            vi = perp[i] * (INT64_C(1) << (24u - nb));
+        }
+        out->v[i] = (perp_max == 0u) ? 0 : narrow_saturate(vi, ev);
+    }
+    /* z = w' d_s                                                        Q23 */
+    out->z = shift_right_round(zacc, 21u);                              /* < 2^40 */
+}
+
 /**
  * P and d of the literal recursion from the affine form (docs/fixed_point.md):
  *
@@ -381,20 +447,24 @@ static void materialise(const wake_rtp_t *s, wake_q23_t *d, wake_cov_t *P, uint3
      * rounding to many LSB of P. */
     enum { XF = 16 };
     unsigned i, j, J = s->level;
-    const wake_q24_t *w = s->weights, *v = s->direction;
+    const wake_q24_t *w = s->weights, *v;
     uint64_t omega = weight_norm2(w, J);
     int64_t nq = (int64_t)s->steps * s->q;                  /* < 2^63 */
+    snapshot_t snap;
+    uint32_t again = 0u;                                    /* counted at the rebuild already */
     wake_cov_t grow = narrow_saturate(nq, events);
     int64_t c_vw = 0, c_ww = 0, c_z = 0;                    /* Q(P + XF), Q(P + XF), Q(23 + XF) */
     int64_t row_v[WAKE_RTP_MAX_LEVEL], row_w[WAKE_RTP_MAX_LEVEL];
+    snapshot_terms(s, &snap, &again);
+    v = snap.v;
     if (omega != 0u) {
         inverse_t inv = inverse_of(omega);                  /* 1 / |w|^2, |w|^2 in Q24 */
         /* c_vw = (b_s - b) / |w|^2 ;  c_ww = ((s - s_s) / |w|^2 - steps q) / |w|^2 */
-        c_vw = divide_wide(s->b_snap - s->b, inv, 24 + XF, events);
-        c_ww = divide_wide(s->s - s->s_snap, inv, 24 + XF, events) - (int64_t)grow * (INT64_C(1) << XF);
+        c_vw = divide_wide(snap.b - s->b, inv, 24 + XF, events);
+        c_ww = divide_wide(s->s - snap.s, inv, 24 + XF, events) - (int64_t)grow * (INT64_C(1) << XF);
         c_ww = divide_wide(c_ww, inv, 24, events);
         /* c_z = (z - z_s) / |w|^2 */
-        c_z = divide_wide(s->z - s->z_snap, inv, 24 + XF, events);
+        c_z = divide_wide(s->z - snap.z, inv, 24 + XF, events);
     }
     /* row_v_i = acc_vv v_i + c_vw w_i ;  row_w_i = c_vw v_i - c_ww w_i       Q(P + XF) */
     for (i = 0; i < J; ++i) {
@@ -432,12 +502,7 @@ static void rebuild(wake_rtp_t *s, const wake_q23_t *d, const wake_cov_t *P)
     unsigned i, j, J = s->level, N = s->n_taps;
     const wake_q24_t *w = s->weights;
     uint64_t omega = weight_norm2(w, J);
-    int64_t g[WAKE_RTP_MAX_LEVEL];
-    int64_t perp[WAKE_RTP_MAX_LEVEL];
-    int64_t gamma = 0, zacc = 0, s_val;
-    uint64_t perp_max = 0;
-    wake_cov_t ratio = 0;
-    unsigned nb;
+    snapshot_t snap;
     uint32_t *ev = &s->saturations;
 
     if (d != s->correction) {
@@ -446,56 +511,12 @@ static void rebuild(wake_rtp_t *s, const wake_q23_t *d, const wake_cov_t *P)
     if (P != s->covariance) {
         memcpy(s->covariance, P, (size_t)J * J * sizeof(wake_cov_t));
     }
-    /* g = P_s w: J products < 2^61 each, in Q(P + 24) -> Q(P); |g_i| < 2^40 */
-    for (i = 0; i < J; ++i) {
-        int64_t acc = 0;
-        for (j = 0; j < J; ++j) {
-            acc += shift_right_floor(multiply_wide(s->covariance[i * J + j], w[j]), 3u);   /* 8 terms < 2^63 */
-        }
-        g[i] = shift_right_round(acc, 21u);
-        zacc += shift_right_floor(multiply_wide(s->correction[i], w[i]), 3u);   /* 8 terms < 2^63 */
-    }
-    /* s = w' g                                                          Q(P), int64, < 2^50 */
-    for (i = 0; i < J; ++i) {
-        gamma += multiply_wide_by32(g[i], w[i], 24u, 1);
-    }
-    /* w'Pw of a covariance is >= 0; rounding of the rebuilt P (a few LSB per entry, times |w|^2)
-     * can leave it just below 0 when the new w is nearly unobservable: take 0 there (with s >= 0
-     * the recursion keeps 0 <= rho < 1, 0 < tau <= 1 and s >= 0 for ever) */
-    s_val = clamp_cov_wide(gamma < 0 ? 0 : gamma, ev);
-    s->s = s_val;
-    /* v: g minus its component along w, scaled by the power of two b just above its largest entry */
-    if (omega != 0u) {
-        ratio = divide_scaled(s_val, inverse_of(omega), 24, ev);        /* s / |w|^2, Q(P) */
-    }
-    for (i = 0; i < J; ++i) {
-        uint64_t mag;
-        perp[i] = g[i] - shift_right_round(multiply_wide(ratio, w[i]), 24u);
-        mag = (uint64_t)(perp[i] < 0 ? -perp[i] : perp[i]);
-        perp_max = mag > perp_max ? mag : perp_max;
-    }
-    nb = bit_length64(perp_max);                                        /* b = 2^nb > max |perp_i| */
-    s->b = (perp_max == 0u) ? 0 : (INT64_C(1) << nb);                   /* nb <= 42 */
-    for (i = 0; i < J; ++i) {
-        /* v_i = perp_i / 2^nb in Q24, |v_i| < 2 */
-        int64_t vi;
-        if (nb > 24u) {
-            vi = shift_right_round(perp[i], nb - 24u);
-        } else {
-            vi = perp[i] * (INT64_C(1) << (24u - nb));
-        }
-        s->direction[i] = (perp_max == 0u) ? 0 : narrow_saturate(vi, ev);
-    }
-    for (i = J; i < (unsigned)WAKE_RTP_MAX_LEVEL; ++i) {
-        s->direction[i] = 0;
-    }
-    /* z = w' d_s                                                        Q23 */
-    s->z = shift_right_round(zacc, 21u);                                /* < 2^40 */
-    s->z_snap = s->z;
+    snapshot_terms(s, &snap, ev);
+    s->s = snap.s;
+    s->b = snap.b;
+    s->z = snap.z;
     s->d_dir = 0;
     s->acc_vv = 0;
-    s->s_snap = s->s;
-    s->b_snap = s->b;
     s->steps = 0u;
     /* q |w|^2 = q (hi + lo / 2^24) with |w|^2 = hi 2^24 + lo in Q24: hi < 2^16, lo < 2^24 */
     s->q_omega = (int64_t)s->q * (int64_t)(omega >> 24)                   /* < 2^47 */

@@ -178,21 +178,18 @@ typedef struct {
     wake_cov_t p0;             /**< initial covariance P(0) = p0 I, >= 0 */
     int64_t q_omega;           /**< q |w|^2, Q(P_FRAC) of FS^2 in int64 */
     wake_q23_t last_output;    /**< y(n-1) (saturated to int32) */
-    /* per-sample Kalman state: u = P w = b v + (s / |w|^2) w */
+    /* per-sample Kalman state: u = P w = b v + (s / |w|^2) w, where v (|v_i| < 2, v'w = 0) and the
+     * values at the rebuild are derived from the snapshot and w when needed (wake_rtp.c, snapshot_terms) */
     int64_t s;                 /**< w' P w, Q(P_FRAC) of FS^2 in int64 (with |w| up to 64 it leaves the
                                     int32 range of P); kept within +-2^50 */
     int64_t b;                 /**< coefficient of v in P w, >= 0, Q(P_FRAC) of FS^2 in int64 */
     int64_t z;                 /**< w' d, Q23 of FS in int64 (w'a and w'd may each leave the int32
                                     range while y = w'(a + d) does not); kept within +-2^40 */
-    int64_t z_snap;            /**< w' d_s at the last rebuild */
     wake_q23_t d_dir;          /**< coefficient of v in d - d_s */
     int64_t acc_vv;            /**< sum b^2 / S: P loses acc_vv v v' (int64, within +-2^50) */
-    int64_t s_snap;            /**< s at the last rebuild */
-    int64_t b_snap;            /**< b at the last rebuild */
     /* snapshot, rebuilt by reset, set_weights and load_state */
     wake_q23_t correction[WAKE_RTP_MAX_LEVEL];   /**< d_s */
     wake_cov_t covariance[WAKE_RTP_MAX_LEVEL * WAKE_RTP_MAX_LEVEL]; /**< P_s, J x J row-major (stride J), symmetric */
-    wake_q24_t direction[WAKE_RTP_MAX_LEVEL];    /**< v = (P_s w - (w'P_s w / |w|^2) w) / b(0), |v_i| < 2 */
     wake_fir_t fir[WAKE_RTP_MAX_TAPS];           /**< h = B' w, oldest sample first */
     wake_q15_t ring[2 * WAKE_RTP_MAX_TAPS];      /**< the newest N samples, each stored twice (at k and
                                                       k + N) so that the window, oldest first, is the
