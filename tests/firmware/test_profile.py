@@ -134,3 +134,31 @@ def test_prediction_matches_the_host_core(m4_emulator):
     one = 2.0**emu.sample_frac
     theirs = np.round(host.run(x / one * fs) / fs * one).astype(int)
     assert ours == list(theirs)
+
+
+def _fake_profile(target, kalman, measured, bound):
+    from types import SimpleNamespace
+
+    from wake.firmware.wcet import Bound
+    return SimpleNamespace(target=target, level=5, wavelet="sym3", kalman=kalman, max=measured,
+                           max_cycles=measured, bound=Bound("wake_rtp_step", bound, bound, [], []))
+
+
+def test_check_targets_separates_goals_from_regression_ceilings():
+    from wake.firmware.profile.build import CEILING_LIMITS, TARGET_LIMITS
+    from wake.firmware.profile.report import check_targets
+    foot = {"m4-O2": {"state": 496, "stack_static": (104, []), "code": 8000},
+            "m4-Os": {"state": 496, "stack_static": (156, []), "code": 5432}}
+    # the current core's figures: goals missed (bound 831 > 800, code 5,432 > 3,072), ceilings held
+    profiles = [_fake_profile("m4-O2", True, 756, 831), _fake_profile("m4-O2", False, 370, 402),
+                _fake_profile("m0plus-O2", True, 2634, 2915)]
+    goals = check_targets(profiles, foot, TARGET_LIMITS)
+    assert any("831 > 800" in f for f in goals) and any("5,432 B > 3,072 B" in f for f in goals)
+    assert check_targets(profiles, foot, CEILING_LIMITS) == []
+    # a measured step above its static bound fails under either set: the bound would be wrong
+    unsound = profiles + [_fake_profile("m4-Os", True, 1100, 1017)]
+    for limits in (TARGET_LIMITS, CEILING_LIMITS):
+        assert any("exceed the static bound" in f for f in check_targets(unsound, foot, limits))
+    # a regression of the bound past its ceiling fails --check
+    worse = [_fake_profile("m4-O2", True, 900, 950)] + profiles[1:]
+    assert any("950 > 880" in f for f in check_targets(worse, foot, CEILING_LIMITS))
