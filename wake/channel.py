@@ -10,6 +10,7 @@ It holds no number format: the fixed-point rules live in
 from __future__ import annotations
 
 import copy
+import warnings
 from dataclasses import replace
 
 import numpy as np
@@ -17,8 +18,26 @@ import numpy as np
 from wake.config import WakeConfig
 from wake.hpa import HPAUpdate, default_weights, run_hpa
 from wake.rtp import ReferenceRTP, load_fixed_point
+from wake.rtp.full_scale import (
+    GLITCH_SHARE,
+    RAISE_AFTER,
+    FullScalePolicy,
+    first_persistent_overflow,
+    power_of_two_at_least,
+    robust_peak,
+)
 
-__all__ = ["Channel"]
+#: A sample beyond this many robust peaks of its window is an outlier for the HPA (interpolated over,
+#: flagged): it would dominate the spectrum and the fit, and near 1e154 its square overflows.
+OUTLIER_PEAKS = 1e6
+#: ... and beyond this magnitude always (L x^2 stays finite for any window length WakeConfig accepts).
+OUTLIER_ABS = 1e150
+
+__all__ = ["Channel", "ClippingWarning"]
+
+
+class ClippingWarning(RuntimeWarning):
+    """More than 1 % of a window was clipped at the fixed-point full scale."""
 
 
 class Channel:
@@ -33,6 +52,11 @@ class Channel:
                                 self.process_noise(self.measurement_noise), config.initial_covariance)
         self.on_c = False
         self.full_scale = config.full_scale
+        self.full_scale_policy = FullScalePolicy(headroom=config.headroom)
+        self.full_scale_changes = 0   # rises and falls after the first choice
+        self.clipped_before = 0       # the RTP's clip count at the last HPA
+        self.over_run = 0             # samples in a row beyond the full scale, up to the last one
+        self.over_peak = 0.0          # their largest magnitude
         self.updates: list[HPAUpdate] = []
         self.history = np.zeros(config.window_samples)
         self.pos = 0
@@ -48,6 +72,7 @@ class Channel:
     # -- HPA ---------------------------------------------------------------
     def hpa_job(self, window):
         """The HPA call for ``window``, with everything it reads passed in (it may run off the sample path)."""
+        window = _drop_outliers(window)
         if np.isnan(window).any():  # gaps are interpolated for the spectrum: the one door every window goes through
             window = _fill_gaps(window)
         return (window, self.config), dict(taps=self.taps, previous_weights=self.weights.copy(), index=self.count)
@@ -66,19 +91,49 @@ class Channel:
         """
         self.weights = upd.weights
         self.measurement_noise = upd.measurement_noise
-        if self.config.backend == "c" and not self.on_c:
-            observed = window[~np.isnan(window)]  # the window may hold gaps
-            peak = float(np.max(np.abs(observed))) if observed.size else 0.0
-            self.switch_to_c(self.config.headroom * peak if peak > 0 else 1.0)
+        notes = self.revise_full_scale(window) if self.config.backend == "c" else ()
         q = self.process_noise(self.measurement_noise)
-        notes = ()
         if self.on_c:
             if self.rtp.set_weights_clamped(self.weights, self.measurement_noise, q):
-                notes = ("noise_clamped",)
+                notes += ("noise_clamped",)
             self.measurement_noise = self.rtp.measurement_noise
         else:
             self.rtp.set_weights(self.weights, self.measurement_noise, q)
         self.updates.append(replace(upd, applied_at=first_sample, flags=upd.flags + notes))
+
+    def revise_full_scale(self, window) -> tuple:
+        """Apply the full-scale policy (:mod:`wake.rtp.full_scale`) to the window the HPA saw.
+
+        The C path starts at the first window that is not quiet (until then the
+        float reference runs); later windows raise or lower the full scale. A
+        full scale given in the configuration is kept as it is. Returns the
+        notes for the HPA history.
+        """
+        notes = ()
+        if self.on_c:
+            clipped = self.rtp.clipped - self.clipped_before
+            self.clipped_before = self.rtp.clipped
+            if clipped > GLITCH_SHARE * len(window):
+                notes += ("clipping",)
+                warnings.warn(
+                    f"{clipped} of the last {len(window)} samples were clipped at the fixed-point full scale "
+                    f"±{self.full_scale:g}"
+                    + (" (raise full_scale, or leave it None to let it follow the signal)"
+                       if self.config.full_scale is not None else "; the full scale follows at this HPA"),
+                    ClippingWarning, stacklevel=2)
+        if self.config.full_scale is not None:
+            return notes
+        fs, reason = self.full_scale_policy.decide(self.full_scale if self.on_c else None, window)
+        if reason is None:
+            return notes
+        if not self.on_c:
+            self.switch_to_c(fs)
+        else:
+            self.rtp, _ = self.rtp.rescaled(fs)
+            self.full_scale = fs
+            self.full_scale_changes += 1
+        self.clipped_before = self.rtp.clipped
+        return notes + (reason,)
 
     def switch_to_c(self, full_scale: float):
         fixed = load_fixed_point()
@@ -106,7 +161,7 @@ class Channel:
         first_hpa = (-(base + 1)) % L  # index in x of the first sample completing a window
         for stop in list(range(first_hpa, n, L)) + [n]:
             if start < stop:
-                y[start:stop] = self.rtp.run(x[start:stop])
+                y[start:stop] = self.run_rtp(x[start:stop])
             if stop < n:
                 self.count = base + stop + 1
                 self.hpa(seen[stop + 1 : stop + 1 + L])
@@ -144,8 +199,64 @@ class Channel:
                 args, kwargs = self.hpa_job(window)
                 self.pending = (executor().submit(run_hpa, *args, **kwargs), window)
         if sample != sample:
+            self.over_run = 0
             return self.rtp.step_missing()
+        if self.follows_signal():
+            if abs(sample) > self.full_scale:
+                self.over_run += 1
+                self.over_peak = max(self.over_peak, abs(sample))
+                if self.over_run >= RAISE_AFTER:
+                    self.raise_full_scale(self.over_peak)
+            else:
+                self.over_run, self.over_peak = 0, 0.0
         return self.rtp.step(sample)
+
+    # -- full scale between two HPAs ------------------------------------------
+    def follows_signal(self) -> bool:
+        """Whether the full scale may rise between HPAs (C path, full scale not fixed by the user)."""
+        return self.on_c and self.config.full_scale is None
+
+    def run_rtp(self, x):
+        """``rtp.run(x)``, raising the full scale where :data:`RAISE_AFTER` samples in a row overflow it.
+
+        Gives what :meth:`update` gives sample by sample.
+        """
+        if not self.follows_signal():
+            return self.rtp.run(x)
+        n = x.shape[0]
+        y = np.empty(n)
+        start = 0
+        while start < n:
+            k, run = first_persistent_overflow(x[start:], self.full_scale, self.over_run)
+            end = start + min(k, n - start - 1)          # the last sample of the run looked at
+            peak = 0.0
+            if run:
+                first = end - run + 1                       # before start: carried from earlier samples
+                peak = float(np.max(np.abs(x[max(start, first) : end + 1])))
+                if first < start:
+                    peak = max(peak, self.over_peak)
+            if start + k < n:
+                stop = start + k
+                y[start:stop] = self.rtp.run(x[start:stop])
+                self.raise_full_scale(peak)
+                y[stop] = self.rtp.run(x[stop : stop + 1])[0]
+                start = stop + 1
+            else:
+                y[start:] = self.rtp.run(x[start:])
+                self.over_run, self.over_peak = run, peak
+                start = n
+        return y
+
+    def raise_full_scale(self, peak: float):
+        """Rise to the power of two at or above ``headroom`` x ``peak`` before the next sample."""
+        fs = power_of_two_at_least(self.config.headroom * peak)
+        if fs > self.full_scale:
+            self.rtp, _ = self.rtp.rescaled(fs)
+            self.full_scale = fs
+            self.full_scale_changes += 1
+            self.clipped_before = self.rtp.clipped
+            self.full_scale_policy.quiet_windows = 0
+        self.over_run, self.over_peak = 0, 0.0
 
     def ordered_history(self):
         """The last L samples, oldest first (a copy)."""
@@ -154,6 +265,19 @@ class Channel:
     def snapshot(self) -> dict:
         """Plain-data copy of everything but the in-flight HPA (see WakeFilter.get_state)."""
         return {k: copy.deepcopy(v) for k, v in vars(self).items() if k not in ("pending", "config", "taps")}
+
+
+def _drop_outliers(window):
+    """``window`` with samples far beyond its robust peak as NaN (gaps, interpolated for the HPA)."""
+    peak = robust_peak(window)
+    limit = min(OUTLIER_ABS, OUTLIER_PEAKS * peak) if peak > 0 else OUTLIER_ABS
+    with np.errstate(invalid="ignore"):
+        wild = np.abs(window) > limit
+    if not wild.any():
+        return window
+    out = np.array(window, dtype=float)
+    out[wild] = np.nan
+    return out
 
 
 def _fill_gaps(window):

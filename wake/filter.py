@@ -54,6 +54,7 @@ class WakeResult:
     full_scale: np.ndarray = field(default=None)  #: per channel (C backend), else None
     clipped: np.ndarray = field(default=None)  #: input samples clipped to full scale, per channel
     saturations: np.ndarray = field(default=None)  #: saturating narrowings inside the C core, per channel
+    full_scale_changes: np.ndarray = field(default=None)  #: rises and falls of the full scale, per channel
 
     @property
     def cutoffs(self) -> list:
@@ -230,6 +231,7 @@ class WakeFilter:
             res.full_scale = np.array([ch.full_scale if ch.full_scale is not None else np.nan for ch in channels])
             res.clipped = np.array([getattr(ch.rtp, "clipped", 0) for ch in channels])
             res.saturations = np.array([getattr(ch.rtp, "saturations", 0) for ch in channels])
+            res.full_scale_changes = np.array([ch.full_scale_changes for ch in channels])
         return res
 
     # -- streaming ---------------------------------------------------------

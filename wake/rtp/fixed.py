@@ -160,6 +160,8 @@ class FixedPointRTP:
             "wake_rtp_init",
         )
         self.clipped = 0
+        self._carried_saturations = 0  # counted at an earlier full scale (rescaled)
+        self._carried_guard_events = 0
 
     # -- quantised parameters in physical units (what the C core really uses)
     @property
@@ -191,12 +193,12 @@ class FixedPointRTP:
     @property
     def saturations(self):
         """Narrowings that saturated inside the C core since construction / reset."""
-        return int(self._state.saturations)
+        return int(self._state.saturations) + self._carried_saturations
 
     @property
     def guard_events(self):
         """Covariance entries the C core's rebuild (at a weight update) repaired since construction / reset."""
-        return int(self._state.guard_events)
+        return int(self._state.guard_events) + self._carried_guard_events
 
     @property
     def primed(self):
@@ -247,6 +249,7 @@ class FixedPointRTP:
         """Forget every sample; keep taps and weights (counters restart)."""
         _check(lib.wake_rtp_reset(self._state), "wake_rtp_reset")
         self.clipped = 0
+        self._carried_saturations = self._carried_guard_events = 0
 
     def load_state(self, window_oldest_first, correction, covariance, last_output):
         """Set ring, correction, covariance and last output (hand-over from a float warm-up).
@@ -303,7 +306,8 @@ class FixedPointRTP:
         0 and their indices are returned too.
         """
         # x / (FS / 2^15) is exactly x / FS * 2^15 (scaling by a power of two), as in step()
-        q = np.divide(np.asarray(x, dtype=float), self.full_scale / _SAMPLE_SCALE)
+        with np.errstate(over="ignore"):  # a huge sample becomes ±inf here and is clipped and counted below
+            q = np.divide(np.asarray(x, dtype=float), self.full_scale / _SAMPLE_SCALE)
         np.rint(q, out=q)
         nan_idx = np.flatnonzero(np.isnan(q)) if nan_positions else None
         if nan_idx is not None and nan_idx.size:
@@ -324,10 +328,17 @@ class FixedPointRTP:
         if x != x:
             return self.step_missing()
         # Scalar twin of _quantize_samples (same half-to-even rounding), without numpy's per-call cost.
-        m = round(x / self.full_scale * _SAMPLE_SCALE)
-        if not -32768 <= m <= 32767:
+        # Clip in float first: x / FS may overflow to inf (x = 1e307), which round() refuses;
+        # update_block clips and counts the same values (_quantize_samples).
+        v = x / self.full_scale * _SAMPLE_SCALE
+        if not -32768.5 < v < 32767.5:
             self.clipped += 1
-            m = -32768 if m < 0 else 32767
+            m = -32768 if v < 0 else 32767
+        else:
+            m = round(v)
+            if not -32768 <= m <= 32767:   # a half-way case rounded to even outside the range
+                self.clipped += 1
+                m = -32768 if m < 0 else 32767
         out = self._out
         status = lib.wake_rtp_step(self._state, m, out)
         if status:
@@ -394,6 +405,35 @@ class FixedPointRTP:
                            float(np.clip(reference.last_output, -top_x, top_x)))
         return rtp, clamped
 
+    def rescaled(self, full_scale):
+        """This channel at another full scale: same taps, weights, R, q, p0 and state, requantised.
+
+        The window, correction, covariance and last output are carried in
+        physical units and clipped into the new formats (a sample beyond the
+        new ±FS is clipped and counted); the counters (clipped, saturations,
+        guard events) carry on.  R and q are clamped like in
+        :meth:`from_reference`.
+
+        Returns
+        -------
+        (FixedPointRTP, bool)
+            The channel, and whether R or q had to be clamped.
+        """
+        fs = float(full_scale)
+        r, q, clamped = representable_noise(self.measurement_noise, self.process_noise, fs)
+        p0 = representable_noise(1.0, self.initial_covariance, fs)[1]
+        new = type(self)(self.taps, self.weights, r, q, p0, full_scale=fs)
+        if self.primed:
+            top_p = _INT32_MAX * fs**2 / 2.0**P_FRAC
+            top_x = _INT32_MAX * fs / 2.0**STATE_FRAC
+            new.load_state(self.window, np.clip(self.correction, -top_x, top_x),
+                           np.clip(self.covariance, -top_p, top_p),
+                           float(np.clip(self.last_output, -top_x, top_x)))
+        new.clipped += self.clipped
+        new._carried_saturations = self.saturations
+        new._carried_guard_events = self.guard_events
+        return new, clamped
+
     def set_weights_clamped(self, weights, measurement_noise, process_noise):
         """:meth:`set_weights` after clamping R and q into the C formats; returns whether it clamped."""
         r, q, clamped = representable_noise(measurement_noise, process_noise, self.full_scale)
@@ -403,7 +443,8 @@ class FixedPointRTP:
     # -- pickling: the struct is plain data but for the taps pointer ----------
     def __getstate__(self):
         return {"full_scale": self.full_scale, "taps_q": self._taps_q, "clipped": self.clipped,
-                "p0_q": self._p0_q, "struct": bytes(ffi.buffer(self._state))}
+                "p0_q": self._p0_q, "struct": bytes(ffi.buffer(self._state)),
+                "carried": (self._carried_saturations, self._carried_guard_events)}
 
     def __setstate__(self, st):
         self.full_scale = st["full_scale"]
@@ -411,6 +452,7 @@ class FixedPointRTP:
         self.level, self.n_taps = self._taps_q.shape
         self._p0_q = st["p0_q"]
         self.clipped = st["clipped"]
+        self._carried_saturations, self._carried_guard_events = st.get("carried", (0, 0))
         self._state = ffi.new("wake_rtp_t *")
         self._out = ffi.new("int16_t *")
         self._taps_c = ffi.from_buffer("int16_t[]", self._taps_q)
