@@ -38,7 +38,8 @@ def _stream(kind):
 
 
 def _tremor_nrmse(x, vol, result, start):
-    keep = np.isfinite(x)
+    """Tremor NRMSE over the samples that are signal (a glitch or a gap is neither tremor nor motion)."""
+    keep = np.isfinite(x) & (np.abs(x) < 1e4)
     tremor_truth = np.where(keep, x - vol, 0.0)
     tremor_est = np.where(keep, x - result.voluntary, 0.0)
     return nrmse(tremor_truth[start:], tremor_est[start:])
