@@ -68,3 +68,50 @@ def test_export_header_fits_weights(recording, tmp_path, capsys):
 def test_no_command_prints_help(capsys):
     assert main([]) == 2
     assert "demo" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("through_link", [False, True])
+def test_run_refuses_to_write_over_its_input(recording, tmp_path, capsys, through_link):
+    recording = recording[0]
+    before = recording.read_bytes()
+    out = recording
+    if through_link:
+        out = tmp_path / "link.csv"
+        out.symlink_to(recording)
+    assert main(["run", str(recording), "--fs", "100", "--column", "0", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "is the input file" in err and "choose another output path" in err
+    assert recording.read_bytes() == before
+
+
+def test_export_header_refuses_to_write_over_the_fit_recording(recording, tmp_path, capsys):
+    recording = recording[0]
+    before = recording.read_bytes()
+    link = tmp_path / "out.h"
+    link.symlink_to(recording)
+    assert main(["export-header", str(link), "--fit", str(recording)]) == 2
+    assert "is the input file" in capsys.readouterr().err
+    assert recording.read_bytes() == before
+
+
+def test_outputs_are_written_whole_and_leave_no_temporary_file(recording, tmp_path):
+    recording = recording[0]
+    out = tmp_path / "out.csv"
+    out.write_text("old content\n")
+    assert main(["run", str(recording), "--fs", "100", "--out", str(out)]) == 0
+    assert out.read_text().startswith("measurement")
+    assert [p.name for p in tmp_path.iterdir() if p.name.endswith(".tmp")] == []
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["export-header", "OUT", "--full-scale", "1e200"], "full_scale must lie in (0, 1e+100]"),
+    (["export-header", "OUT", "--full-scale", "nan"], "full_scale must lie in"),
+    (["run", "REC", "--fs", "1e308"], "fs must lie in (0, 100000]"),
+    (["run", "REC", "--fs", "100", "--window", "inf"], "window_s must lie in"),
+])
+def test_out_of_range_numbers_exit_2_with_one_line(argv, message, recording, tmp_path, capsys):
+    recording = recording[0]
+    argv = [str(tmp_path / "o.h") if a == "OUT" else str(recording) if a == "REC" else a for a in argv]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert message in err and "Traceback" not in err and len(err.splitlines()) == 1

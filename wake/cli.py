@@ -82,8 +82,12 @@ def _read_csv(path, column, fs):
 
 
 def _cmd_run(args) -> int:
+    from wake._files import atomic_write_text, refuse_same_file
+
     if not args.fs > 0:
         raise ValueError(f"--fs must be > 0 Hz, got {args.fs}")
+    if args.out:
+        refuse_same_file(args.out, [args.file])
     rec = _read_csv(args.file, args.column, args.fs)
     x = rec.samples
     filt = _make_filter(args, args.fs)
@@ -94,7 +98,11 @@ def _cmd_run(args) -> int:
     names = ([f"measurement_{c}" for c in range(k)] + [f"voluntary_{c}" for c in range(k)]
              + [f"tremor_{c}" for c in range(k)]) if k > 1 else ["measurement", "voluntary", "tremor"]
     if args.out:
-        np.savetxt(args.out, out, delimiter=",", header=",".join(names), comments="", fmt="%.9g")
+        import io
+
+        buf = io.StringIO()
+        np.savetxt(buf, out, delimiter=",", header=",".join(names), comments="", fmt="%.9g")
+        atomic_write_text(args.out, buf.getvalue())
         print(f"wrote {len(x)} rows to {args.out}")
     cut = ", ".join(f"{c:.2f}" for c in res.mean_cutoff)
     print(f"{len(x)} samples, {len(res.hpa[0])} HPA runs per channel, mean cut-off f_d = {cut} Hz, "

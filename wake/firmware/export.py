@@ -20,7 +20,10 @@ import re
 
 import numpy as np
 
+from wake._files import atomic_write_text, refuse_same_file
+from wake.config import LIMITS
 from wake.rtp.fixed import P_FRAC, TAP_FRAC, WEIGHT_FRAC, quantize_taps, quantize_variance, quantize_weights
+from wake.rtp.full_scale import power_of_two_at_least, robust_peak
 from wake.wavelets import filter_bank_taps
 
 __all__ = ["export_header"]
@@ -74,9 +77,7 @@ def export_header(
     """
     if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
         raise ValueError(f"name must be a C identifier, got {name!r}")
-    fs = float(full_scale)
-    if not np.isfinite(fs) or fs <= 0:
-        raise ValueError(f"full_scale must be finite and > 0, got {full_scale!r}")
+    fs = _checked_full_scale(full_scale)
     taps = filter_bank_taps(wavelet, level)
     taps_q = quantize_taps(taps)
     J, N = taps_q.shape
@@ -126,13 +127,20 @@ static const int32_t {name}_weights[{J}] = {{
 #endif /* {macro}_H */
 """
     if isinstance(path_or_file, (str, os.PathLike)):
-        with open(path_or_file, "w", encoding="ascii") as fh:
-            fh.write(text)
+        atomic_write_text(path_or_file, text, encoding="ascii")
     elif isinstance(path_or_file, io.TextIOBase) or hasattr(path_or_file, "write"):
         path_or_file.write(text)
     else:
         raise TypeError("path_or_file must be a path or a writable text file")
     return text
+
+
+def _checked_full_scale(full_scale) -> float:
+    fs = float(full_scale)
+    low, high = LIMITS["full_scale"]
+    if not np.isfinite(fs) or not low < fs <= high:
+        raise ValueError(f"full_scale must lie in ({low:g}, {high:g}], got {full_scale!r}")
+    return fs
 
 
 def cli(argv=None) -> int:
@@ -161,7 +169,9 @@ def cli(argv=None) -> int:
     args = p.parse_args(argv)
     weights = None
     r = args.measurement_noise
-    fs_value = args.full_scale
+    fs_value = None if args.full_scale is None else _checked_full_scale(args.full_scale)
+    if args.fit and args.out != "-":
+        refuse_same_file(args.out, [args.fit], option="out")
     if args.fit:
         from wake.eval.datasets import load_csv
         from wake.filter import WakeFilter
@@ -175,7 +185,9 @@ def cli(argv=None) -> int:
         weights = last.weights
         r = last.measurement_noise if r is None else r
         if fs_value is None:
-            fs_value = filt.headroom * float(np.max(np.abs(x[: filt.window_samples])))
+            # the runtime's rule (wake.rtp.full_scale): a power of two above 16x the robust peak
+            peak = robust_peak(x[: filt.window_samples])
+            fs_value = power_of_two_at_least(filt.headroom * peak) if peak > 0 else None
     if args.weights:
         try:
             weights = [float(v) for v in args.weights.split(",")]

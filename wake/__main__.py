@@ -1,0 +1,7 @@
+"""``python -m wake`` is the ``wake`` command."""
+
+import sys
+
+from wake.cli import main
+
+sys.exit(main())

@@ -1,0 +1,54 @@
+"""Writing output files without destroying anything: no output over an input, no half-written file."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+__all__ = ["refuse_same_file", "atomic_write_text"]
+
+
+def refuse_same_file(out, inputs, *, option="--out"):
+    """Raise ValueError when ``out`` is (or links to) one of ``inputs``.
+
+    Compares the files themselves (``os.path.samefile``), so a symbolic
+    link, a hard link or another spelling of the same path is caught.
+    """
+    out_path = Path(out)
+    if not out_path.exists():
+        return
+    for inp in inputs:
+        if inp is None:
+            continue
+        try:
+            same = os.path.samefile(out_path, inp)
+        except OSError:
+            continue
+        if same:
+            raise ValueError(f"{option} {out} is the input file {inp}: writing it would destroy the recording; "
+                             "choose another output path")
+
+
+def atomic_write_text(path, text: str, encoding: str = "utf-8") -> None:
+    """Write ``text`` to ``path`` through a temporary file in the same folder and ``os.replace``.
+
+    A crash or a full disk leaves the old file (or none), never half of the
+    new one. A symbolic link at ``path`` is followed: its target is replaced.
+    """
+    target = Path(os.path.realpath(path))
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+    try:
+        with os.fdopen(fd, "w", encoding=encoding, newline="") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())
+        if target.exists():
+            os.chmod(tmp, target.stat().st_mode & 0o7777)
+        os.replace(tmp, target)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
