@@ -15,6 +15,9 @@ What is measured (one core, single thread):
 * ``test_filter_update_per_sample``: ``WakeFilter(backend="c").update``,
   one call per sample, HPA every window included.
 * ``test_hpa_per_update``: one ``wake.hpa.run_hpa`` on a 5 s window.
+* ``test_hpa_long_window``: one ``run_hpa`` on a 200 s window of a 1 kHz
+  sensor (L = 2e5).  Target: < 0.5 s (the autocorrelation takes only the
+  p + 1 lags it needs; the full correlation took 4 s here).
 * ``test_reference_block_run``: the float64 reference ``ReferenceRTP.run``
   with the Kalman correction inert (q = 0, P = 0, the filter's default),
   where it is one vectorised filter-bank product.
@@ -100,6 +103,15 @@ def test_filter_update_per_sample(benchmark, recording):
 def test_hpa_per_update(benchmark, fitted):
     benchmark.extra_info.update(items=1, unit="HPA runs")
     upd = benchmark(run_hpa, fitted["window"], WakeConfig(fs=fitted["fs"], backend="reference"), taps=fitted["taps"])
+    assert np.isfinite(upd.weights).all()
+
+
+def test_hpa_long_window(benchmark, recording):
+    fs, n = 1000.0, 200_000
+    window = np.resize(recording.measurement, n)
+    config = WakeConfig(fs=fs, backend="reference", window_s=n / fs)
+    benchmark.extra_info.update(items=1, unit="HPA runs")
+    upd = benchmark.pedantic(run_hpa, args=(window, config), rounds=5, iterations=1)
     assert np.isfinite(upd.weights).all()
 
 

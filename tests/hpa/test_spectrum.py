@@ -50,3 +50,17 @@ def test_bad_arguments(bad):
 def test_order_too_high_for_window():
     with pytest.raises(ValueError, match="AR\\(17\\) fit needs more than 17"):
         ar_psd(np.arange(10.0), 100.0, order=17)
+
+
+@pytest.mark.parametrize("n, max_lag", [(1, 0), (7, 6), (400, 17), (3001, 40)])
+def test_autocorrelation_matches_full_correlation(rng, n, max_lag):
+    # Only the first max_lag + 1 lags are computed (O(p L)); they must equal the biased
+    # estimate taken from the full O(L^2) correlation.
+    x = rng.normal(size=n)
+    full = np.correlate(x, x, mode="full")[n - 1 : n + max_lag] / n
+    np.testing.assert_allclose(autocorrelation(x, max_lag), full, rtol=1e-12, atol=1e-12)
+
+
+def test_autocorrelation_rejects_lag_beyond_window():
+    with pytest.raises(ValueError, match="max_lag must be below"):
+        autocorrelation(np.ones(5), 5)
