@@ -24,7 +24,7 @@ from wake import WakeFilter  # noqa: E402
 def main():
     print("| stream | C whole | reference whole | C after 5 s | reference after 5 s | clipped | full scale | changes |")
     print("|---|---:|---:|---:|---:|---:|---:|---:|")
-    for kind in ("clean", "glitch", "quiet", "nan_start", "dc_jump", "late_glitch"):
+    for kind in ("clean", "glitch", "quiet", "nan_start", "dc_jump", "late_glitch", "rail", "huge"):
         x, vol = _stream(kind)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
