@@ -61,9 +61,11 @@ def as_signal(x, *, name: str = "x", allow_nan: bool = False) -> tuple[np.ndarra
 
     Returns the 2-D array and whether the input was 1-D.  Integer and float32
     input are accepted and converted; booleans, complex numbers, objects and
-    arrays of more than two dimensions are refused.
+    arrays of more than two dimensions are refused.  A masked array's masked
+    entries are missing samples: NaN where ``allow_nan``, else refused.
     """
-    arr = np.asarray(x)
+    masked = np.ma.getmaskarray(x) if np.ma.isMaskedArray(x) else None
+    arr = np.asarray(np.ma.getdata(x) if masked is not None else x)
     if arr.dtype == bool or arr.dtype.kind not in "iuf":
         raise ValueError(
             f"{name} must hold real numbers (integer or float), got dtype {arr.dtype}; "
@@ -80,6 +82,11 @@ def as_signal(x, *, name: str = "x", allow_nan: bool = False) -> tuple[np.ndarra
     if arr.size == 0:
         raise ValueError(f"{name} is empty (shape {np.shape(x)}); give at least one sample per channel")
     arr = arr.astype(np.float64, copy=True).reshape(arr.shape[0], -1)
+    if masked is not None and masked.any():
+        if not allow_nan:
+            raise ValueError(f"{name} is a masked array with {int(masked.sum())} masked value(s); "
+                             f"fill them (np.ma.filled) or pass NaN for missing samples where accepted")
+        arr[masked.reshape(arr.shape)] = np.nan
     if not allow_nan:
         bad = ~np.isfinite(arr)
         if bad.any():
@@ -92,3 +99,31 @@ def as_signal(x, *, name: str = "x", allow_nan: bool = False) -> tuple[np.ndarra
     elif np.isinf(arr).any():
         raise ValueError(f"{name} holds inf; only NaN is accepted as a missing-sample marker")
     return arr, one_d
+
+
+def as_sample(sample, *, name: str = "sample") -> np.ndarray:
+    """Normalise one streamed sample (a number, or one number per channel) to a 1-D float64 array.
+
+    The same policy as :func:`as_signal` for a recording: real numbers only
+    (``True``, ``None``, strings and bytes are refused rather than coerced),
+    NaN or a masked entry marks a missing sample, inf is refused.
+    """
+    if sample is None or isinstance(sample, (str, bytes, bool, np.bool_)):
+        raise ValueError(f"{name} must be a real number or one per channel, got {sample!r}; "
+                         "pass NaN for a missing sample")
+    masked = np.ma.getmaskarray(sample) if np.ma.isMaskedArray(sample) else None
+    arr = np.asarray(np.ma.getdata(sample) if masked is not None else sample)
+    if arr.dtype == bool or arr.dtype.kind not in "iuf":
+        raise ValueError(f"{name} must hold real numbers (integer or float), got {sample!r} "
+                         f"(dtype {arr.dtype}); pass NaN for a missing sample")
+    if arr.ndim > 1:
+        raise ValueError(f"{name} must be a number or a 1-D array of one value per channel, "
+                         f"got shape {arr.shape}; use update_block() for several samples")
+    values = arr.astype(np.float64).reshape(-1)
+    if values.size == 0:
+        raise ValueError(f"{name} needs one value per channel, got an empty sample")
+    if masked is not None:
+        values[masked.reshape(-1)] = np.nan
+    if np.isinf(values).any():
+        raise ValueError(f"{name} holds inf ({sample!r}); pass NaN for a missing sample")
+    return values

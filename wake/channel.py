@@ -10,6 +10,7 @@ It holds no number format: the fixed-point rules live in
 from __future__ import annotations
 
 import copy
+from collections import deque
 import warnings
 from dataclasses import replace
 
@@ -43,7 +44,7 @@ class ClippingWarning(RuntimeWarning):
 class Channel:
     """HPA bookkeeping and RTP state of one channel."""
 
-    def __init__(self, config: WakeConfig, taps: np.ndarray):
+    def __init__(self, config: WakeConfig, taps: np.ndarray, history_limit: int | None = None):
         self.config = config
         self.taps = taps
         self.weights = default_weights(config.level)
@@ -57,7 +58,8 @@ class Channel:
         self.clipped_before = 0       # the RTP's clip count at the last HPA
         self.over_run = 0             # samples in a row beyond the full scale, up to the last one
         self.over_peak = 0.0          # their largest magnitude
-        self.updates: list[HPAUpdate] = []
+        # the newest history_limit HPA updates (None: all of them, for run())
+        self.updates: deque[HPAUpdate] = deque(maxlen=history_limit)
         self.history = np.zeros(config.window_samples)
         self.pos = 0
         self.count = 0

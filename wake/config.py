@@ -43,6 +43,7 @@ LIMITS = {
     "ridge": (0.0, 1e6),
     "full_scale": (0.0, 1e100),       # exclusive low
     "headroom": (1.0, 1e4),
+    "hpa_history_limit": (1, 10**9),
 }
 
 
@@ -115,6 +116,12 @@ class WakeConfig:
         Factor of the automatic full scale, in [1, 1e4].
     hpa_mode : {"inline", "thread"}
         Streaming HPA on the sample path or on a worker thread.
+    hpa_history_limit : int
+        Streaming only: how many HPA updates per channel
+        :attr:`~wake.WakeFilter.hpa_history` keeps (the newest; one update
+        is about 420 B, so the default 1,000 is ~0.4 MB per channel, 83 min
+        at 100 Hz with 5 s windows).  :meth:`~wake.WakeFilter.run` keeps
+        every update of the recording it returns.
 
     Examples
     --------
@@ -145,6 +152,7 @@ class WakeConfig:
     full_scale: float | None = None
     headroom: float = 16.0
     hpa_mode: str = "inline"
+    hpa_history_limit: int = 1000
 
     def __post_init__(self):
         put = lambda name, value: object.__setattr__(self, name, value)  # noqa: E731 (frozen)
@@ -184,6 +192,7 @@ class WakeConfig:
         put("headroom", _number("headroom", self.headroom))
         if self.hpa_mode not in HPA_MODES:
             raise ValueError(f"unknown hpa_mode {self.hpa_mode!r}; valid choices: {', '.join(HPA_MODES)}")
+        put("hpa_history_limit", _number("hpa_history_limit", self.hpa_history_limit, integer=True))
 
     @property
     def window_samples(self) -> int:

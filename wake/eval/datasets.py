@@ -60,9 +60,13 @@ class Recording:
 
 
 def _read_numeric_rows(path: Path):
-    """All rows of a CSV file as lists of strings (blank lines dropped)."""
+    """All rows of a CSV file as lists of strings (blank lines dropped).
+
+    A UTF-8 byte-order mark (spreadsheet exports write one) is stripped, so
+    it cannot turn the first number into text and cost the first sample.
+    """
     try:
-        with open(path, newline="") as fh:
+        with open(path, newline="", encoding="utf-8-sig") as fh:
             rows = [row for row in csv.reader(fh) if row and any(cell.strip() for cell in row)]
     except UnicodeDecodeError:
         raise ValueError(f"{path}: not a text CSV file") from None
