@@ -124,3 +124,25 @@ def test_csv_with_a_byte_order_mark_keeps_its_first_sample(tmp_path):
     rec = load_csv(path, column="gyro_x", fs=100.0)
     assert rec.channels == ("gyro_x",)
     np.testing.assert_array_equal(rec.samples[:, 0], [1.0, 3.0])
+
+
+def test_dropped_filters_stop_their_workers_without_garbage_collection():
+    import gc
+
+    x = np.sin(np.arange(520) / 10.0)
+    ours = lambda: [t for t in threading.enumerate() if t.name.startswith("wake-hpa")]  # noqa: E731
+    before = set(ours())
+    gc.disable()
+    try:
+        for _ in range(20):
+            filt = WakeFilter(fs=100.0, backend="reference", hpa_mode="thread")
+            filt.update_block(x[:499])
+            for v in x[499:]:
+                filt.update(float(v))  # starts the worker
+            del filt
+    finally:
+        gc.enable()
+    left = [t for t in ours() if t not in before]
+    for t in left:
+        t.join(timeout=5.0)
+    assert not [t for t in left if t.is_alive()]
