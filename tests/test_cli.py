@@ -70,6 +70,15 @@ def test_no_command_prints_help(capsys):
     assert "demo" in capsys.readouterr().out
 
 
+@pytest.mark.parametrize("command", ["demo", "run", "evaluate", "profile", "export-header"])
+def test_every_command_prints_its_help(capsys, command):
+    # argparse formats help lazily: a stray "%" in a help text only fails here
+    with pytest.raises(SystemExit) as exit_info:
+        main([command, "--help"])
+    assert exit_info.value.code == 0
+    assert "usage:" in capsys.readouterr().out
+
+
 @pytest.mark.parametrize("through_link", [False, True])
 def test_run_refuses_to_write_over_its_input(recording, tmp_path, capsys, through_link):
     recording = recording[0]

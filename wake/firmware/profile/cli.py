@@ -61,7 +61,7 @@ def build_parser():
     p.add_argument("--check-goals", action="store_true",
                    help="exit with status 1 when a goal is missed (static bound, Cortex-M4 -O2: "
                         f"{TARGET_LIMITS['bound_m4_active']:,} active / {TARGET_LIMITS['bound_m4_inert']:,} inert "
-                        f"instructions, within {100 * TARGET_LIMITS['bound_gap']:g} % of the measured worst; "
+                        f"instructions, within {100 * TARGET_LIMITS['bound_gap']:g} %% of the measured worst; "
                         f"Cortex-M0+ -O2: {TARGET_LIMITS['bound_m0plus_active']:,} active; "
                         f"{TARGET_LIMITS['code_bytes']:,} B code at -Os, {TARGET_LIMITS['state_bytes']} B state, "
                         f"{TARGET_LIMITS['stack_bytes']} B stack)")
