@@ -37,7 +37,7 @@ struct profile_config {
     int32_t r2, q2;                 /**< R and q installed by profile_set_weights() */
     int32_t weights[8];             /**< initial weights, Q24 */
     int32_t weights2[8];            /**< weights installed by profile_set_weights(), Q24 */
-    int16_t taps[WAKE_RTP_MAX_LEVEL * WAKE_RTP_MAX_TAPS]; /**< J x 2^J, Q14 */
+    int16_t taps[WAKE_RTP_MAX_LEVEL * WAKE_RTP_MAX_TAPS]; /**< J x 2^J, Q15 */
     int16_t input[PROFILE_MAX_SAMPLES];                     /**< Q15 */
 };
 
