@@ -29,7 +29,7 @@ def test_run_writes_csv(recording, tmp_path, capsys):
     assert data.shape == (1200, 3)
     np.testing.assert_allclose(data[:, 0], s.measurement, rtol=1e-8)
     np.testing.assert_allclose(data[:, 2], data[:, 0] - data[:, 1], atol=1e-7)
-    assert "2 HPA runs per channel" in capsys.readouterr().out
+    assert "5 HPA runs per channel" in capsys.readouterr().out
 
 
 def test_run_all_columns(recording, tmp_path):

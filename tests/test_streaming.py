@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from wake import WakeFilter
-from wake.hpa import default_weights
+from wake.hpa.prior import prior_weights
 from wake.rtp.reference import ReferenceRTP
 from wake.eval.synthetic import make_signal
 
@@ -14,9 +14,9 @@ def stream():
     return make_signal(10.0, seed=11, duration=25.0)
 
 
-def replay(x, updates, taps, level):
-    """Re-run the RTP alone, installing each HPA result at its recorded swap point."""
-    rtp = ReferenceRTP(taps, default_weights(level), 1.0)
+def replay(x, updates, taps, config):
+    """Re-run the RTP alone from the start-up weights, installing each HPA result at its recorded swap point."""
+    rtp = ReferenceRTP(taps, prior_weights(config, taps), 1.0)
     by_count = {u.applied_at: u for u in updates}
     out = []
     for count, v in enumerate(x, start=1):
@@ -34,10 +34,10 @@ def test_thread_mode_is_deterministic_given_the_swap_points(stream):
     f.flush()
     updates = f.hpa_history[0]
     f.close()
-    assert len(updates) == len(x) // 500
+    assert len(updates) == 3 + len(x) // 500  # warm-up HPA runs at 2, 3 and 4 s, then one per window
     # swaps happen between samples, never before the window that fed them was complete
     assert all(u.applied_at > u.index for u in updates)
-    np.testing.assert_array_equal(y, replay(x, updates, f.taps, f.level))
+    np.testing.assert_array_equal(y, replay(x, updates, f.taps, f.config))
 
 
 def test_thread_mode_computes_the_same_hpa_as_inline(stream):
@@ -62,7 +62,7 @@ def test_inline_swap_point_is_the_window_end(stream):
     f = WakeFilter(backend="reference")
     for v in stream.measurement[:1000]:
         f.update(v)
-    assert [u.applied_at for u in f.hpa_history[0]] == [500, 1000]
+    assert [u.applied_at for u in f.hpa_history[0]] == [200, 300, 400, 500, 1000]
 
 
 def test_gap_of_one_second_recovers(stream):
@@ -126,7 +126,7 @@ def test_update_block_equals_update(backend, stream):
     one = np.array([a.update(v) for v in x])
     blocks = np.concatenate([b.update_block(x[:333]), b.update_block(x[333:1500]), b.update_block(x[1500:])])
     np.testing.assert_array_equal(one, blocks)
-    assert [u.index for u in a.hpa_history[0]] == [u.index for u in b.hpa_history[0]] == [500, 1000, 1500, 2000]
+    assert [u.index for u in a.hpa_history[0]] == [u.index for u in b.hpa_history[0]] == [200, 300, 400, 500, 1000, 1500, 2000]
     with pytest.raises(ValueError, match="streams 1 channel"):
         b.update_block(np.ones((10, 2)))
 

@@ -18,6 +18,7 @@ import numpy as np
 
 from wake.config import WakeConfig
 from wake.hpa import HPAUpdate, default_weights, run_hpa
+from wake.hpa.prior import prior_weights
 from wake.rtp import ReferenceRTP, load_fixed_point
 from wake.rtp.full_scale import (
     GLITCH_SHARE,
@@ -47,7 +48,9 @@ class Channel:
     def __init__(self, config: WakeConfig, taps: np.ndarray, history_limit: int | None = None):
         self.config = config
         self.taps = taps
-        self.weights = default_weights(config.level)
+        self.start_weights = (prior_weights(config, taps) if config.initial_weights == "prior"
+                              else default_weights(config.level))
+        self.weights = self.start_weights
         self.measurement_noise = 1.0
         self.rtp = ReferenceRTP(taps, self.weights, self.measurement_noise,
                                 self.process_noise(self.measurement_noise), config.initial_covariance)
@@ -63,6 +66,7 @@ class Channel:
         self.history = np.zeros(config.window_samples)
         self.pos = 0
         self.count = 0
+        self.next_hpa = config.next_hpa(0)  # sample count of the next HPA (progressive, then every L)
         self.pending = None  # thread mode: (future, window) of an HPA still off the sample path
         if config.backend == "c" and config.full_scale is not None:
             self.switch_to_c(config.full_scale)
@@ -77,7 +81,8 @@ class Channel:
         window = _drop_outliers(window)
         if np.isnan(window).any():  # gaps are interpolated for the spectrum: the one door every window goes through
             window = _fill_gaps(window)
-        return (window, self.config), dict(taps=self.taps, previous_weights=self.weights.copy(), index=self.count)
+        return (window, self.config), dict(taps=self.taps, previous_weights=self.weights.copy(), index=self.count,
+                                      start_weights=self.start_weights)
 
     def hpa(self, window):
         args, kwargs = self.hpa_job(window)
@@ -158,16 +163,21 @@ class Channel:
         seen = np.concatenate((self.ordered_history(), x))  # the last L samples before x, then x
         base = self.count
         start = 0
-        # After sample number c arrives, an HPA runs when c is a multiple of L,
-        # before that sample's RTP step.
-        first_hpa = (-(base + 1)) % L  # index in x of the first sample completing a window
-        for stop in list(range(first_hpa, n, L)) + [n]:
+        # After sample number c = next_hpa arrives, an HPA runs (on the last
+        # min(c, L) samples) before that sample's RTP step.
+        while True:
+            stop = self.next_hpa - base - 1  # index in x of the sample completing the next HPA point
+            if stop >= n:
+                break
             if start < stop:
                 y[start:stop] = self.run_rtp(x[start:stop])
-            if stop < n:
-                self.count = base + stop + 1
-                self.hpa(seen[stop + 1 : stop + 1 + L])
-            start = stop
+                start = stop
+            self.count = base + stop + 1
+            m = min(self.count, L)
+            self.hpa(seen[L + stop + 1 - m : L + stop + 1])
+            self.next_hpa = self.config.next_hpa(self.count)
+        if start < n:
+            y[start:] = self.run_rtp(x[start:])
         self.count = base + n
         self.history = seen[-L:].copy()
         self.pos = 0
@@ -190,8 +200,9 @@ class Channel:
         self.history[self.pos] = sample
         self.pos = (self.pos + 1) % L
         self.count += 1
-        if self.count % L == 0:
-            window = self.ordered_history()
+        if self.count == self.next_hpa:
+            window = self.ordered_history()[-min(self.count, L):]
+            self.next_hpa = self.config.next_hpa(self.count)
             if self.config.hpa_mode == "inline":
                 self.hpa(window)
             else:

@@ -30,6 +30,8 @@ BACKENDS = ("c", "reference")
 HPA_MODES = ("inline", "thread")
 #: What the HPA fits ``w`` on (see :mod:`wake.hpa.run`).
 FITS = ("causal", "paper")
+#: Weights before the first HPA (see :mod:`wake.hpa.prior`).
+INITIAL_WEIGHTS = ("prior", "deepest")
 
 #: Accepted range of each number, inclusive unless noted: wide enough for
 #: every sensor we know of, narrow enough that nothing overflows a float64 on
@@ -75,6 +77,21 @@ def _pair(name: str, value) -> tuple[float, float]:
     return float(lo), float(hi)
 
 
+#: Candidate warm-up HPA times (s) of the automatic schedule (docs/design.md, "Warm-up").
+AUTO_WARMUP_S = (2.0, 3.0, 4.0)
+
+
+def auto_warmup_points(fs: float, window_s: float, level: int) -> tuple:
+    """The automatic warm-up schedule: :data:`AUTO_WARMUP_S` and then every 4 s, each
+    before the first full window and holding at least ``2 * 2**level`` samples."""
+    need = 2 * 2**level
+    L = int(round(window_s * fs))
+    times = list(AUTO_WARMUP_S)
+    while times[-1] + 4.0 < window_s:
+        times.append(times[-1] + 4.0)
+    return tuple(t for t in times if need <= int(round(t * fs)) < L)
+
+
 @dataclass(frozen=True)
 class WakeConfig:
     """Every setting of a :class:`~wake.WakeFilter`, validated on construction.
@@ -116,6 +133,17 @@ class WakeConfig:
         Factor of the automatic full scale, in [1, 1e4].
     hpa_mode : {"inline", "thread"}
         Streaming HPA on the sample path or on a worker thread.
+    warmup_hpa_s : tuple of float or None
+        Progressive HPA: times since start (s), each shorter than
+        ``window_s``, at which the HPA also runs, on every sample seen so far,
+        before the first full window (docs/design.md, "Warm-up").  ``()``
+        keeps the paper's schedule (the first HPA at ``window_s``).  Each
+        must leave at least ``2 * 2**J`` samples.  ``None`` (the default):
+        :func:`auto_warmup_points`.
+    initial_weights : {"prior", "deepest"}
+        Weights before the first HPA: ``"prior"`` the designed one-step-ahead
+        predictor of :func:`wake.hpa.prior.prior_weights`; ``"deepest"`` the
+        deepest approximation alone (the first release).
     hpa_history_limit : int
         Streaming only: how many HPA updates per channel
         :attr:`~wake.WakeFilter.hpa_history` keeps (the newest; one update
@@ -152,6 +180,8 @@ class WakeConfig:
     full_scale: float | None = None
     headroom: float = 16.0
     hpa_mode: str = "inline"
+    warmup_hpa_s: tuple | None = None
+    initial_weights: str = "prior"
     hpa_history_limit: int = 1000
 
     def __post_init__(self):
@@ -192,7 +222,46 @@ class WakeConfig:
         put("headroom", _number("headroom", self.headroom))
         if self.hpa_mode not in HPA_MODES:
             raise ValueError(f"unknown hpa_mode {self.hpa_mode!r}; valid choices: {', '.join(HPA_MODES)}")
+        put("warmup_hpa_s", self._warmup_points())
+        if self.initial_weights not in INITIAL_WEIGHTS:
+            raise ValueError(f"unknown initial_weights {self.initial_weights!r}; valid choices: "
+                             f"{', '.join(INITIAL_WEIGHTS)}")
         put("hpa_history_limit", _number("hpa_history_limit", self.hpa_history_limit, integer=True))
+
+    def _warmup_points(self) -> tuple:
+        if self.warmup_hpa_s is None:
+            return auto_warmup_points(self.fs, self.window_s, self.level)
+        try:
+            points = tuple(self.warmup_hpa_s)
+        except TypeError:
+            raise ValueError(f"warmup_hpa_s must be a tuple of times in seconds, got {self.warmup_hpa_s!r}") from None
+        need = 2 * 2**self.level
+        out = []
+        for t in points:
+            if isinstance(t, bool) or not isinstance(t, numbers.Real) or not math.isfinite(t):
+                raise ValueError(f"warmup_hpa_s must hold finite times in seconds, got {self.warmup_hpa_s!r}")
+            n = int(round(float(t) * self.fs))
+            if not need <= n < self.window_samples:
+                raise ValueError(
+                    f"warmup_hpa_s: {t:g} s is {n} samples; each warm-up HPA needs at least {need} samples "
+                    f"(2 * 2**level) and must come before the first full window ({self.window_samples} samples, "
+                    f"{self.window_s:g} s); pass () for none")
+            out.append(float(t))
+        if out != sorted(set(out)):
+            raise ValueError(f"warmup_hpa_s must be strictly increasing, got {self.warmup_hpa_s!r}")
+        return tuple(out)
+
+    def hpa_points(self) -> tuple:
+        """Sample counts of the warm-up HPA runs (before the first full window)."""
+        return tuple(int(round(t * self.fs)) for t in self.warmup_hpa_s)
+
+    def next_hpa(self, count: int) -> int:
+        """The sample count of the first HPA after ``count`` samples."""
+        L = self.window_samples
+        for point in self.hpa_points():
+            if point > count:
+                return point
+        return L if count < L else (count // L + 1) * L
 
     @property
     def window_samples(self) -> int:

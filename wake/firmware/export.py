@@ -21,7 +21,8 @@ import re
 import numpy as np
 
 from wake._files import atomic_write_text, refuse_same_file
-from wake.config import LIMITS
+from wake.config import LIMITS, WakeConfig
+from wake.hpa.prior import prior_weights
 from wake.rtp.fixed import P_FRAC, TAP_FRAC, WEIGHT_FRAC, quantize_taps, quantize_variance, quantize_weights
 from wake.rtp.full_scale import power_of_two_at_least, robust_peak
 from wake.wavelets import filter_bank_taps
@@ -46,6 +47,7 @@ def export_header(
     initial_covariance=0.0,
     full_scale,
     name="wake_config",
+    sample_rate=100.0,
 ):
     """Write ``name.h``-style C header with a quantised configuration.
 
@@ -56,14 +58,18 @@ def export_header(
     wavelet, level
         Filter bank (:func:`wake.wavelets.filter_bank_taps`).
     weights : array_like, optional
-        HPA weights (``level`` values).  Default: the coarsest approximation
-        alone, ``[0, ..., 0, 1]``.
+        HPA weights (``level`` values).  Default: the start-up weights.
     measurement_noise, process_noise, initial_covariance : float
         ``R``, ``q`` and ``p0`` in physical units squared.
     full_scale : float
         Physical value mapped to 1.0 in Q15 (same as ``FixedPointRTP``).
     name : str
         C identifier prefix; macros use its upper-case form.
+    sample_rate : float
+        Sampling rate in Hz, for the start-up weights
+        (:func:`wake.hpa.prior.prior_weights` with the default cut-off),
+        written as ``name_start_weights``: what firmware installs after
+        init or reset, before its first HPA.
 
     Returns
     -------
@@ -81,9 +87,10 @@ def export_header(
     taps = filter_bank_taps(wavelet, level)
     taps_q = quantize_taps(taps)
     J, N = taps_q.shape
+    start = prior_weights(WakeConfig(fs=sample_rate, wavelet=wavelet, level=J), taps)
+    start_q = quantize_weights(start, J)
     if weights is None:
-        weights = np.zeros(J)
-        weights[-1] = 1.0
+        weights = start
     w_q = quantize_weights(weights, J)
     r_q = quantize_variance(measurement_noise, fs, "measurement_noise R", positive=True)
     q_q = quantize_variance(process_noise, fs, "process_noise Q", positive=False)
@@ -124,6 +131,12 @@ static const int32_t {name}_weights[{J}] = {{
 {_c_array(w_q, 8)}
 }};
 
+/* Start-up weights (before the first HPA, after a reset): the filter bank as a one-step-ahead
+ * predictor below the default cut-off at {float(sample_rate)!r} Hz (wake.hpa.prior.prior_weights). */
+static const int32_t {name}_start_weights[{J}] = {{
+{_c_array(start_q, 8)}
+}};
+
 #endif /* {macro}_H */
 """
     if isinstance(path_or_file, (str, os.PathLike)):
@@ -152,17 +165,18 @@ def cli(argv=None) -> int:
     p = argparse.ArgumentParser(prog="wake export-header",
                                 description="Write a C header with the quantised taps and weights for firmware.")
     p.add_argument("out", help="header file to write ('-' for standard output)")
-    p.add_argument("--wavelet", default="sym3")
-    p.add_argument("--level", type=int, default=5)
+    p.add_argument("--wavelet", default="sym3", help="mother wavelet of the filter bank (a discrete PyWavelets name)")
+    p.add_argument("--level", type=int, default=5, help="decomposition level J (the RTP window is 2**J samples)")
     p.add_argument("--full-scale", type=float, default=None,
                    help="physical value of int16 full scale (default: 16x the recording's first-window peak, "
                         "or 1.0 without --fit)")
-    p.add_argument("--weights", default=None, help="comma-separated weights (default: [0,...,0,1] or fitted)")
+    p.add_argument("--weights", default=None, help="comma-separated weights (default: fitted with --fit, else the "
+                                                   "start-up weights)")
     p.add_argument("--measurement-noise", type=float, default=None, help="R (default: fitted, or 1e-3 FS^2)")
     p.add_argument("--process-noise", type=float, default=0.0, help="q in physical units squared")
     p.add_argument("--initial-covariance", type=float, default=0.0, help="p0 in physical units squared")
     p.add_argument("--fit", metavar="CSV", help="fit weights and R on this recording (last HPA run)")
-    p.add_argument("--fs", type=float, default=100.0, help="sampling rate of --fit (Hz)")
+    p.add_argument("--fs", type=float, default=100.0, help="sampling rate (Hz) of --fit and of the start-up weights")
     p.add_argument("--column", type=int, default=None, help="column of --fit (default: the first)")
     p.add_argument("--window", type=float, default=5.0, help="HPA window of --fit in s")
     p.add_argument("--name", default="wake_config", help="C identifier prefix")
@@ -198,7 +212,7 @@ def cli(argv=None) -> int:
     dest = sys.stdout if args.out == "-" else args.out
     export_header(dest, wavelet=args.wavelet, level=args.level, weights=weights, measurement_noise=r,
                   process_noise=args.process_noise, initial_covariance=args.initial_covariance,
-                  full_scale=fs_value, name=args.name)
+                  full_scale=fs_value, name=args.name, sample_rate=args.fs)
     if dest is not sys.stdout:
         print(f"wrote {args.out} ({args.wavelet}, J={args.level}, full scale {fs_value:g})")
     return 0

@@ -9,8 +9,13 @@ from wake.config import WEIGHT_LIMIT
 __all__ = ["fit_weights", "default_weights"]
 
 
-def fit_weights(approximations, target, ridge=1e-6, weight_limit=WEIGHT_LIMIT):
+def fit_weights(approximations, target, ridge=1e-6, weight_limit=WEIGHT_LIMIT, *, center=None, shrink=0.0):
     """Least-squares weights ``w`` minimising ``e_L = sqrt(|A w - y|^2 / L)``.
+
+    With ``center`` and ``shrink > 0`` the fit minimises
+    ``|A w - y|^2 + shrink * trace(A'A) / J * |w - center|^2`` instead: a
+    warm-up window too short to pin ``w`` down is pulled towards the prior
+    weights (docs/design.md, "Warm-up").
 
     ``e_L`` is quadratic in ``w``, so its minimum (which the paper reaches
     with a quasi-Newton search) has the closed form of the normal equations.
@@ -48,9 +53,16 @@ def fit_weights(approximations, target, ridge=1e-6, weight_limit=WEIGHT_LIMIT):
     if not np.isfinite(scale) or scale <= 0:
         return np.zeros(J), float(np.sqrt(np.mean(y**2))), float(ridge)
     eye = np.eye(J)
+    if center is not None and shrink > 0:
+        # |A w - y|^2 + s |w - c|^2: the normal equations gain s I on the left and s c on the right
+        G = G + shrink * scale * eye
+        b = b + shrink * scale * np.asarray(center, dtype=float)
     factor = float(ridge)
     for _ in range(16):
-        w = np.linalg.solve(G + factor * scale * eye, b) if factor > 0 else np.linalg.lstsq(A, y, rcond=None)[0]
+        if factor > 0 or shrink > 0:
+            w = np.linalg.solve(G + factor * scale * eye, b)
+        else:
+            w = np.linalg.lstsq(A, y, rcond=None)[0]
         if np.all(np.isfinite(w)) and np.max(np.abs(w)) <= weight_limit:
             break
         factor = max(factor * 10.0, 1e-9)

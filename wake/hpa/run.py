@@ -49,14 +49,22 @@ class HPAUpdate:
     applied_at: int = -1  #: sample count at which the RTP took these weights (-1: not installed; the filter records it)
 
 
-def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, index: int = 0) -> HPAUpdate:
+#: Pull of a warm-up fit towards the start-up weights: shrink = WARMUP_SHRINK * (L - n) / L
+#: for a window of n < L samples, 0 for a full window (docs/design.md, "Warm-up").
+WARMUP_SHRINK = 0.0
+
+
+def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, index: int = 0,
+            start_weights=None) -> HPAUpdate:
     """One HPA run over a window of the last ``L`` samples.
 
     Parameters
     ----------
     window : array_like, shape (n,)
         The samples, oldest first, finite (:class:`~wake.WakeFilter`
-        interpolates gaps before it calls this).
+        interpolates gaps before it calls this).  Usually the last ``L``
+        samples; a warm-up HPA passes every sample seen so far (at least
+        ``2 * 2**J``).
     config : WakeConfig
         Sampling rate, wavelet, level, AR order, fit, ridge and the cut-off
         search settings.
@@ -67,6 +75,10 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
         Kept when the window is silent.
     index : int
         Number of samples received when the HPA ran (recorded in the result).
+    start_weights : numpy.ndarray, optional
+        The weights before the first HPA; a warm-up window (shorter than
+        ``L``) is fitted with a pull towards them that fades as the window
+        grows (:data:`WARMUP_SHRINK`).
 
     Returns
     -------
@@ -93,7 +105,10 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
         floor = max(1e-12, (1e-6 * np.max(np.abs(x))) ** 2)
         return HPAUpdate(index, float(default_cutoff), "silent", w, float(floor), 0.0, float(ridge),
                          ("weights_kept",))
-    freqs, psd = ar_psd(x, fs, config.ar_order)
+    # A warm-up window (docs/design.md, "Warm-up") may be shorter than L: the AR order
+    # keeps the Yule-Walker system over-determined (n > 2p, as WakeConfig asks of L).
+    order = min(config.ar_order, (x.size - 1) // 2)
+    freqs, psd = ar_psd(x, fs, order)
     cutoff, flag = find_cutoff(freqs, psd, tremor_band=config.tremor_band, cutoff_range=config.cutoff_range,
                                default_cutoff=default_cutoff)
     tremor_gt = sharp_highpass(x, fs, cutoff)
@@ -107,7 +122,9 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
     else:
         approx = wavelet_approximations(x, config.wavelet, level, config.mode)
         target = voluntary_gt
-    w, err, used = fit_weights(approx, target, ridge)
+    L = config.window_samples
+    shrink = WARMUP_SHRINK * (L - x.size) / L if (start_weights is not None and x.size < L) else 0.0
+    w, err, used = fit_weights(approx, target, ridge, center=start_weights, shrink=shrink)
     if used > ridge:
         flags.append("regularised")
     return HPAUpdate(index, cutoff, flag, w, measurement_noise, err, used, tuple(flags))
