@@ -70,6 +70,15 @@ def test_no_command_prints_help(capsys):
     assert "demo" in capsys.readouterr().out
 
 
+def test_version(capsys):
+    from wake import __version__
+
+    with pytest.raises(SystemExit) as exit_info:
+        main(["--version"])
+    assert exit_info.value.code == 0
+    assert capsys.readouterr().out.strip() == f"wake {__version__}"
+
+
 @pytest.mark.parametrize("command", ["demo", "run", "evaluate", "profile", "export-header"])
 def test_every_command_prints_its_help(capsys, command):
     # argparse formats help lazily: a stray "%" in a help text only fails here

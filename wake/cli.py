@@ -127,6 +127,9 @@ def _delegate(module: str, argv) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="wake", description="Real-time pathological tremor extraction (WAKE).")
+    from wake import __version__
+
+    p.add_argument("--version", action="version", version=f"wake {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
     d = sub.add_parser("demo", help="run the paper's synthetic dataset and compare with the paper")
     _filter_arguments(d)
