@@ -97,33 +97,24 @@ def as_signal(x, *, name: str = "x", allow_nan: bool = False) -> tuple[np.ndarra
                 "treats NaN as a missing sample"
             )
     elif np.isinf(arr).any():
-        raise ValueError(f"{name} holds inf; only NaN is accepted as a missing-sample marker")
+        raise ValueError(f"{name} holds inf; only NaN is accepted as a missing-sample marker: "
+                         "pass NaN for a missing sample")
     return arr, one_d
 
 
 def as_sample(sample, *, name: str = "sample") -> np.ndarray:
     """Normalise one streamed sample (a number, or one number per channel) to a 1-D float64 array.
 
-    The same policy as :func:`as_signal` for a recording: real numbers only
-    (``True``, ``None``, strings and bytes are refused rather than coerced),
-    NaN or a masked entry marks a missing sample, inf is refused.
+    The policy of :func:`as_signal` with ``allow_nan=True``, applied to the
+    sample as a column of channel values: real numbers only (``True``,
+    ``None``, strings and bytes are refused rather than coerced), NaN or a
+    masked entry marks a missing sample, inf is refused.
     """
-    if sample is None or isinstance(sample, (str, bytes, bool, np.bool_)):
+    if sample is None or isinstance(sample, (str, bytes, bool, np.bool_)):  # refused, not coerced
         raise ValueError(f"{name} must be a real number or one per channel, got {sample!r}; "
                          "pass NaN for a missing sample")
-    masked = np.ma.getmaskarray(sample) if np.ma.isMaskedArray(sample) else None
-    arr = np.asarray(np.ma.getdata(sample) if masked is not None else sample)
-    if arr.dtype == bool or arr.dtype.kind not in "iuf":
-        raise ValueError(f"{name} must hold real numbers (integer or float), got {sample!r} "
-                         f"(dtype {arr.dtype}); pass NaN for a missing sample")
-    if arr.ndim > 1:
+    if np.ndim(sample) > 1:
         raise ValueError(f"{name} must be a number or a 1-D array of one value per channel, "
-                         f"got shape {arr.shape}; use update_block() for several samples")
-    values = arr.astype(np.float64).reshape(-1)
-    if values.size == 0:
-        raise ValueError(f"{name} needs one value per channel, got an empty sample")
-    if masked is not None:
-        values[masked.reshape(-1)] = np.nan
-    if np.isinf(values).any():
-        raise ValueError(f"{name} holds inf ({sample!r}); pass NaN for a missing sample")
-    return values
+                         f"got shape {np.shape(sample)}; use update_block() for several samples")
+    column = np.ma.atleast_1d(sample) if np.ma.isMaskedArray(sample) else np.atleast_1d(sample)
+    return as_signal(column, name=name, allow_nan=True)[0].reshape(-1)

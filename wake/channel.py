@@ -10,8 +10,8 @@ It holds no number format: the fixed-point rules live in
 from __future__ import annotations
 
 import copy
-from collections import deque
 import warnings
+from collections import deque
 from dataclasses import replace
 
 import numpy as np
@@ -45,12 +45,12 @@ class ClippingWarning(RuntimeWarning):
 class Channel:
     """HPA bookkeeping and RTP state of one channel."""
 
-    def __init__(self, config: WakeConfig, taps: np.ndarray, history_limit: int | None = None):
+    def __init__(self, config: WakeConfig, taps: np.ndarray, start_weights: np.ndarray,
+                 history_limit: int | None = None):
         self.config = config
         self.taps = taps
-        self.start_weights = (prior_weights(config, taps) if config.initial_weights == "prior"
-                              else default_weights(config.level))
-        self.weights = self.start_weights
+        self.start_weights = start_weights  # before the first HPA (start_weights_for)
+        self.weights = start_weights
         self.measurement_noise = 1.0
         self.rtp = ReferenceRTP(taps, self.weights, self.measurement_noise,
                                 self.process_noise(self.measurement_noise), config.initial_covariance)
@@ -135,11 +135,9 @@ class Channel:
             return notes
         if not self.on_c:
             self.switch_to_c(fs)
+            self.clipped_before = self.rtp.clipped
         else:
-            self.rtp, _ = self.rtp.rescaled(fs)
-            self.full_scale = fs
-            self.full_scale_changes += 1
-        self.clipped_before = self.rtp.clipped
+            self.rescale(fs)
         return notes + (reason,)
 
     def switch_to_c(self, full_scale: float):
@@ -264,12 +262,16 @@ class Channel:
         """Rise to the power of two at or above ``headroom`` x ``peak`` before the next sample."""
         fs = power_of_two_at_least(self.config.headroom * peak)
         if fs > self.full_scale:
-            self.rtp, _ = self.rtp.rescaled(fs)
-            self.full_scale = fs
-            self.full_scale_changes += 1
-            self.clipped_before = self.rtp.clipped
+            self.rescale(fs)
             self.full_scale_policy.quiet_windows = 0
         self.over_run, self.over_peak = 0, 0.0
+
+    def rescale(self, fs: float):
+        """Move the C path to full scale ``fs`` between two samples (state carried, counted)."""
+        self.rtp, _ = self.rtp.rescaled(fs)
+        self.full_scale = fs
+        self.full_scale_changes += 1
+        self.clipped_before = self.rtp.clipped
 
     def ordered_history(self):
         """The last L samples, oldest first (a copy)."""
@@ -278,6 +280,11 @@ class Channel:
     def snapshot(self) -> dict:
         """Plain-data copy of everything but the in-flight HPA (see WakeFilter.get_state)."""
         return {k: copy.deepcopy(v) for k, v in vars(self).items() if k not in ("pending", "config", "taps")}
+
+
+def start_weights_for(config: WakeConfig, taps: np.ndarray) -> np.ndarray:
+    """The weights before the first HPA (``config.initial_weights``): one per filter, shared by its channels."""
+    return prior_weights(config, taps) if config.initial_weights == "prior" else default_weights(config.level)
 
 
 def _drop_outliers(window):

@@ -24,7 +24,7 @@ import numpy as np
 
 from wake._validation import as_sample, as_signal
 from wake.config import BACKENDS, WakeConfig
-from wake.channel import Channel
+from wake.channel import Channel, start_weights_for
 from wake.rtp import load_fixed_point
 from wake.wavelets import filter_bank_taps
 
@@ -157,7 +157,6 @@ class WakeFilter:
     when the filter is garbage collected.  :attr:`hpa_history` keeps the
     newest ``hpa_history_limit`` updates per channel.
 
-    
     Output contract: :meth:`update`, :meth:`update_block` and
     :attr:`WakeResult.prediction` of :meth:`run` all return, for each sample,
     the prediction of the voluntary motion at the next sample; the three
@@ -193,6 +192,7 @@ class WakeFilter:
             load_fixed_point()  # fail here, with how to build the core, not at the first HPA
         self.config = config
         self.taps = filter_bank_taps(config.wavelet, config.level, config.mode)
+        self.start_weights = start_weights_for(config, self.taps)  # 0.5 ms: once per filter, not per channel
         self._pool = None
         self._lock = threading.RLock()
         self._channels: list[Channel] | None = None
@@ -207,7 +207,7 @@ class WakeFilter:
 
     def _new_channels(self, n: int, *, streaming: bool = True) -> list:
         limit = self.config.hpa_history_limit if streaming else None
-        return [Channel(self.config, self.taps, limit) for _ in range(n)]
+        return [Channel(self.config, self.taps, self.start_weights, limit) for _ in range(n)]
 
     # -- whole recordings --------------------------------------------------
     def run(self, x) -> WakeResult:
