@@ -1,4 +1,4 @@
-"""Command line: ``wake demo``, ``wake run``, ``wake evaluate``, ``wake profile``, ``wake export-header``."""
+"""Command line: ``wake demo``, ``wake run``, ``wake evaluate``, ``wake profile``, ``wake export-header``, ``wake export-c``."""
 
 from __future__ import annotations
 
@@ -144,7 +144,8 @@ def build_parser() -> argparse.ArgumentParser:
     _filter_arguments(r)
     for name, helptext in (("evaluate", "baselines vs WAKE on synthetic and real recordings"),
                            ("profile", "Cortex-M instruction count, footprint and stack per sample"),
-                           ("export-header", "write a C header with taps and weights for firmware")):
+                           ("export-header", "write a C header with taps and weights for firmware"),
+                           ("export-c", "write a drop-in firmware folder: C core, configuration header, README")):
         s = sub.add_parser(name, help=helptext, add_help=False)
         s.add_argument("rest", nargs=argparse.REMAINDER)
     return p
@@ -153,9 +154,10 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
-    if argv and argv[0] in ("evaluate", "profile", "export-header"):
-        module = {"evaluate": "wake.eval.evaluate", "profile": "wake.firmware.profile.cli",
-                  "export-header": "wake.firmware.export"}[argv[0]]
+    delegated = {"evaluate": "wake.eval.evaluate", "profile": "wake.firmware.profile.cli",
+                 "export-header": "wake.firmware.export", "export-c": "wake.firmware.folder"}
+    if argv and argv[0] in delegated:
+        module = delegated[argv[0]]
         try:
             return _delegate(module, argv[1:])
         except (ValueError, OSError) as exc:

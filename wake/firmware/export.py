@@ -27,7 +27,7 @@ from wake.rtp.fixed import P_FRAC, TAP_FRAC, WEIGHT_FRAC, quantize_taps, quantiz
 from wake.rtp.full_scale import power_of_two_at_least, robust_peak
 from wake.wavelets import filter_bank_taps
 
-__all__ = ["export_header"]
+__all__ = ["add_config_arguments", "export_header", "resolve_config"]
 
 
 def _c_array(values, per_line):
@@ -137,6 +137,14 @@ static const int32_t {name}_start_weights[{J}] = {{
 {_c_array(start_q, 8)}
 }};
 
+/* One call to start a channel with this configuration and the weights above:
+ *     static wake_rtp_t rtp;
+ *     if ({name}_init(&rtp) != WAKE_RTP_OK) {{ ... }}                              */
+static inline wake_rtp_status_t {name}_init(wake_rtp_t *rtp)
+{{
+    return wake_rtp_init(rtp, {macro}_LEVEL, {name}_taps, {name}_weights, {macro}_R, {macro}_Q, {macro}_P0);
+}}
+
 #endif /* {macro}_H */
 """
     if isinstance(path_or_file, (str, os.PathLike)):
@@ -156,20 +164,13 @@ def _checked_full_scale(full_scale) -> float:
     return fs
 
 
-def cli(argv=None) -> int:
-    """``wake export-header OUT.h ...``: the header for a configuration, optionally
-    with weights fitted on a recording (the last HPA run over it)."""
-    import argparse
-    import sys
-
-    p = argparse.ArgumentParser(prog="wake export-header",
-                                description="Write a C header with the quantised taps and weights for firmware.")
-    p.add_argument("out", help="header file to write ('-' for standard output)")
+def add_config_arguments(p) -> None:
+    """The options that choose and fit a configuration (shared by ``export-header`` and ``export-c``)."""
     p.add_argument("--wavelet", default="sym3", help="mother wavelet of the filter bank (a discrete PyWavelets name)")
     p.add_argument("--level", type=int, default=5, help="decomposition level J (the RTP window is 2**J samples)")
     p.add_argument("--full-scale", type=float, default=None,
-                   help="physical value of int16 full scale (default: 16x the recording's first-window peak, "
-                        "or 1.0 without --fit)")
+                   help="physical value of int16 full scale (default: the runtime's rule on the first HPA window "
+                        "of --fit, a power of two at least 16x its robust peak; 1.0 without --fit)")
     p.add_argument("--weights", default=None, help="comma-separated weights (default: fitted with --fit, else the "
                                                    "start-up weights)")
     p.add_argument("--measurement-noise", type=float, default=None, help="R (default: fitted, or 1e-3 FS^2)")
@@ -180,12 +181,13 @@ def cli(argv=None) -> int:
     p.add_argument("--column", type=int, default=None, help="column of --fit (default: the first)")
     p.add_argument("--window", type=float, default=5.0, help="HPA window of --fit in s")
     p.add_argument("--name", default="wake_config", help="C identifier prefix")
-    args = p.parse_args(argv)
+
+
+def resolve_config(args) -> dict:
+    """Keyword arguments of :func:`export_header` from the options of :func:`add_config_arguments`."""
     weights = None
     r = args.measurement_noise
     fs_value = None if args.full_scale is None else _checked_full_scale(args.full_scale)
-    if args.fit and args.out != "-":
-        refuse_same_file(args.out, [args.fit], option="out")
     if args.fit:
         from wake.eval.datasets import load_csv
         from wake.filter import WakeFilter
@@ -195,6 +197,10 @@ def cli(argv=None) -> int:
         filt = WakeFilter(fs=args.fs, wavelet=args.wavelet, level=args.level, window_s=args.window,
                           backend="reference")
         res = filt.run(x)
+        if not res.hpa[0]:
+            raise ValueError(f"--fit {args.fit}: {len(x)} samples are too few for one HPA "
+                             f"({filt.window_samples} at --fs {args.fs:g} and --window {args.window:g}); "
+                             "give a longer recording or a shorter --window")
         last = res.hpa[0][-1]
         weights = last.weights
         r = last.measurement_noise if r is None else r
@@ -209,10 +215,27 @@ def cli(argv=None) -> int:
             raise ValueError(f"--weights must be comma-separated numbers, got {args.weights!r}") from None
     fs_value = 1.0 if fs_value is None else fs_value
     r = 1e-3 * fs_value**2 if r is None else r
+    return dict(wavelet=args.wavelet, level=args.level, weights=weights, measurement_noise=r,
+                process_noise=args.process_noise, initial_covariance=args.initial_covariance,
+                full_scale=fs_value, name=args.name, sample_rate=args.fs)
+
+
+def cli(argv=None) -> int:
+    """``wake export-header OUT.h ...``: the header for a configuration, optionally
+    with weights fitted on a recording (the last HPA run over it)."""
+    import argparse
+    import sys
+
+    p = argparse.ArgumentParser(prog="wake export-header",
+                                description="Write a C header with the quantised taps and weights for firmware.")
+    p.add_argument("out", help="header file to write ('-' for standard output)")
+    add_config_arguments(p)
+    args = p.parse_args(argv)
+    if args.fit and args.out != "-":
+        refuse_same_file(args.out, [args.fit], option="out")
+    config = resolve_config(args)
     dest = sys.stdout if args.out == "-" else args.out
-    export_header(dest, wavelet=args.wavelet, level=args.level, weights=weights, measurement_noise=r,
-                  process_noise=args.process_noise, initial_covariance=args.initial_covariance,
-                  full_scale=fs_value, name=args.name, sample_rate=args.fs)
+    export_header(dest, **config)
     if dest is not sys.stdout:
-        print(f"wrote {args.out} ({args.wavelet}, J={args.level}, full scale {fs_value:g})")
+        print(f"wrote {args.out} ({args.wavelet}, J={args.level}, full scale {config['full_scale']:g})")
     return 0

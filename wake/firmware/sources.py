@@ -17,7 +17,7 @@ __all__ = ["SourcesUnavailable", "csrc_dir"]
 _REQUIRED = ("wake_rtp.c", "wake_rtp.h")
 
 
-class SourcesUnavailable(RuntimeError):
+class SourcesUnavailable(FileNotFoundError):
     """The C sources are neither installed with the package nor at the given path."""
 
 

@@ -127,7 +127,7 @@ class Emulator:
                 self.uc.mem_write(vaddr, bytes(data))
         self.stack_top = image.addr("_estack")
         self.stop = image.addr("profile_stop")
-        from wake.firmware.wcet import cycle_model_for
+        from wake.firmware.cycles import cycle_model_for
 
         self.cycle_model = cycle_model_for(image.target)
         self.counter = BlockCounter(self.uc, keep_hits=keep_hits, cycle_model=self.cycle_model)

@@ -22,7 +22,7 @@ from .build import (
     toolchain,
 )
 from .emulator import Emulator
-from .scenarios import adversarial_inputs, arithmetic_floor, fitted_parameters
+from .scenarios import adversarial_inputs, fitted_parameters
 
 # ---------------------------------------------------------------------------
 # Footprint
