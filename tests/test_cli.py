@@ -25,10 +25,12 @@ def test_run_writes_csv(recording, tmp_path, capsys):
     path, s = recording
     out = tmp_path / "out.csv"
     assert main(["run", str(path), "--fs", "100", "--column", "0", "--out", str(out)]) == 0
+    assert out.read_text().splitlines()[0] == "time [s],a,a_voluntary,a_tremor"
     data = np.loadtxt(out, delimiter=",", skiprows=1)
-    assert data.shape == (1200, 3)
-    np.testing.assert_allclose(data[:, 0], s.measurement, rtol=1e-8)
-    np.testing.assert_allclose(data[:, 2], data[:, 0] - data[:, 1], atol=1e-7)
+    assert data.shape == (1200, 4)
+    np.testing.assert_allclose(data[:, 0], np.arange(1200) / 100.0, atol=1e-9)
+    np.testing.assert_allclose(data[:, 1], s.measurement, rtol=1e-8)
+    np.testing.assert_allclose(data[:, 3], data[:, 1] - data[:, 2], atol=1e-7)
     assert "5 HPA runs per channel" in capsys.readouterr().out
 
 
@@ -36,7 +38,7 @@ def test_run_all_columns(recording, tmp_path):
     path, _ = recording
     out = tmp_path / "out.csv"
     assert main(["run", str(path), "--fs", "100", "--out", str(out)]) == 0
-    assert np.loadtxt(out, delimiter=",", skiprows=1).shape == (1200, 6)
+    assert np.loadtxt(out, delimiter=",", skiprows=1).shape == (1200, 7)
 
 
 @pytest.mark.parametrize("args, message", [
@@ -117,7 +119,7 @@ def test_outputs_are_written_whole_and_leave_no_temporary_file(recording, tmp_pa
     out = tmp_path / "out.csv"
     out.write_text("old content\n")
     assert main(["run", str(recording), "--fs", "100", "--out", str(out)]) == 0
-    assert out.read_text().startswith("measurement")
+    assert out.read_text().startswith("time [s],a,")
     assert [p.name for p in tmp_path.iterdir() if p.name.endswith(".tmp")] == []
 
 

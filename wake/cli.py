@@ -1,4 +1,4 @@
-"""Command line: ``wake demo``, ``wake run``, ``wake evaluate``, ``wake profile``, ``wake export-header``, ``wake export-c``."""
+"""Command line: ``wake demo``, ``wake run``, ``wake evaluate``, ``wake profile``, ``wake export-header``, ``wake export-c``, ``wake stream``."""
 
 from __future__ import annotations
 
@@ -75,45 +75,51 @@ def _cmd_demo(args) -> int:
     return 0
 
 
-def _read_csv(path, column, fs):
-    from wake.eval.datasets import load_csv
-
-    return load_csv(path, column=column, fs=fs)
+def _columns(values):
+    """``--column a,b --column 3`` -> ``["a", "b", 3]`` (None when not given)."""
+    if not values:
+        return None
+    out = []
+    for value in values:
+        for cell in value.split(","):
+            cell = cell.strip()
+            if not cell:
+                raise ValueError(f"--column {value!r} has an empty name; give names or 0-based indices, "
+                                 "comma-separated")
+            out.append(int(cell) if cell.lstrip("-").isdigit() else cell)
+    return out
 
 
 def _cmd_run(args) -> int:
-    from wake._files import atomic_write_text, refuse_same_file
+    from wake._files import refuse_same_file
+    from wake.io import read_recording, write_result_csv
 
-    if not args.fs > 0:
+    if args.fs is not None and not args.fs > 0:
         raise ValueError(f"--fs must be > 0 Hz, got {args.fs}")
     if args.out:
         refuse_same_file(args.out, [args.file])
-    rec = _read_csv(args.file, args.column, args.fs)
+    time_column = args.time_column
+    if time_column.lower() == "none":
+        time_column = None
+    rec = read_recording(args.file, format=args.format, fs=args.fs, time_column=time_column,
+                         columns=_columns(args.column))
     x = rec.samples
-    filt = _make_filter(args, args.fs)
-    res = filt.run(x)
-    out = np.column_stack([x.reshape(len(x), -1), np.reshape(res.voluntary, (len(x), -1)),
-                           np.reshape(res.tremor, (len(x), -1))])
-    k = out.shape[1] // 3
-    names = ([f"measurement_{c}" for c in range(k)] + [f"voluntary_{c}" for c in range(k)]
-             + [f"tremor_{c}" for c in range(k)]) if k > 1 else ["measurement", "voluntary", "tremor"]
+    print(f"{rec.name}: {x.shape[0]} samples x {x.shape[1]} channel(s) ({', '.join(rec.channels)}); "
+          f"{rec.timing.describe(rec.fs)}")
+    filt = _make_filter(args, rec.fs)
+    res = filt.run(x if x.shape[1] > 1 else x[:, 0])
     if args.out:
-        import io
-
-        buf = io.StringIO()
-        np.savetxt(buf, out, delimiter=",", header=",".join(names), comments="", fmt="%.9g")
-        atomic_write_text(args.out, buf.getvalue())
-        print(f"wrote {len(x)} rows to {args.out}")
+        rows = write_result_csv(args.out, rec, res)
+        print(f"wrote {rows} rows to {args.out} (time, then per channel: measurement, voluntary, tremor)")
     cut = ", ".join(f"{c:.2f}" for c in res.mean_cutoff)
-    print(f"{len(x)} samples, {len(res.hpa[0])} HPA runs per channel, mean cut-off f_d = {cut} Hz, "
-          f"backend {res.backend}")
+    print(f"{len(res.hpa[0])} HPA runs per channel, mean cut-off f_d = {cut} Hz, backend {res.backend}")
     if res.clipped is not None and np.any(res.clipped):
         print(f"warning: {int(np.sum(res.clipped))} input samples were clipped at full scale", file=sys.stderr)
     if args.plot:
         from wake.eval.plotting import plot_result
 
-        plot_result(args.plot, np.reshape(x, (len(x), -1))[:, 0], res, args.fs, ar_order=filt.ar_order,
-                    title=Path(args.file).name)
+        plot_result(args.plot, x[:, 0], res, rec.fs, ar_order=filt.ar_order,
+                    title=f"{Path(args.file).name}: {rec.channels[0]}")
         print(f"figure written to {args.plot}")
     return 0
 
@@ -134,18 +140,27 @@ def build_parser() -> argparse.ArgumentParser:
     d = sub.add_parser("demo", help="run the paper's synthetic dataset and compare with the paper")
     _filter_arguments(d)
     d.add_argument("--plot", metavar="PNG", help="draw signal 1 (needs matplotlib)")
-    r = sub.add_parser("run", help="process a CSV recording")
-    r.add_argument("file", help="CSV file, one sample per row (a header row is skipped)")
-    r.add_argument("--fs", type=float, required=True, help="sampling rate in Hz")
-    r.add_argument("--column", type=int, default=None,
-                   help="0-based column to process (default: every column)")
-    r.add_argument("--out", metavar="CSV", help="write measurement, voluntary and tremor columns")
+    r = sub.add_parser("run", help="process a recording (CSV, PADS or MATLAB .mat)")
+    r.add_argument("file", help="recording: delimited text (a header row of names is read), a PADS .txt, or a .mat")
+    r.add_argument("--fs", type=float, default=None,
+                   help="sampling rate in Hz (default: from the time column; required when there is none)")
+    r.add_argument("--time-column", default="auto", metavar="auto|none|NAME|INDEX",
+                   help="the time column: detected by default (a first column named like time, or "
+                        "increasing in even steps); irregular timestamps are resampled onto --fs")
+    r.add_argument("--column", action="append", metavar="NAME|INDEX",
+                   help="channel(s) to process: header names or 0-based file column indices, comma-separated "
+                        "or repeated (default: every column but the time column)")
+    r.add_argument("--format", choices=("auto", "csv", "pads", "mat"), default="auto",
+                   help="file format (default: .mat by suffix, else delimited text; PADS by its shape)")
+    r.add_argument("--out", metavar="CSV", help="write time, then per channel measurement, voluntary, tremor "
+                                                "(names and units in the header)")
     r.add_argument("--plot", metavar="PNG", help="draw the first channel (needs matplotlib)")
     _filter_arguments(r)
     for name, helptext in (("evaluate", "baselines vs WAKE on synthetic and real recordings"),
                            ("profile", "Cortex-M instruction count, footprint and stack per sample"),
                            ("export-header", "write a C header with taps and weights for firmware"),
-                           ("export-c", "write a drop-in firmware folder: C core, configuration header, README")):
+                           ("export-c", "write a drop-in firmware folder: C core, configuration header, README"),
+                           ("stream", "run on a live stream: text pipes or Lab Streaming Layer")):
         s = sub.add_parser(name, help=helptext, add_help=False)
         s.add_argument("rest", nargs=argparse.REMAINDER)
     return p
@@ -155,7 +170,8 @@ def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
     delegated = {"evaluate": "wake.eval.evaluate", "profile": "wake.firmware.profile.cli",
-                 "export-header": "wake.firmware.export", "export-c": "wake.firmware.folder"}
+                 "export-header": "wake.firmware.export", "export-c": "wake.firmware.folder",
+                 "stream": "wake.io.stream"}
     if argv and argv[0] in delegated:
         module = delegated[argv[0]]
         try:

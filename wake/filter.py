@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import copy
 import threading
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field, fields
 
 import numpy as np
@@ -257,6 +258,8 @@ class WakeFilter:
         if self._channels is None:
             self._channels = self._new_channels(n)
             self._n_channels = n
+            if self.config.hpa_mode == "thread":
+                self._executor()  # the worker starts with the stream, off the first HPA's sample
         elif n != self._n_channels:
             raise ValueError(
                 f"this filter streams {self._n_channels} channel(s); got {what} with {n}. "
@@ -382,10 +385,21 @@ class WakeFilter:
     # -- worker thread -------------------------------------------------------
     def _executor(self):
         if self._pool is None:
-            from concurrent.futures import ThreadPoolExecutor
-
             self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="wake-hpa")
+            # start the worker now (a no-op task), not inside the update() that completes a window:
+            # importing concurrent.futures and starting the thread there cost that sample 10 ms
+            self._pool.submit(int).result()
         return self._pool
+
+    def start_worker(self) -> None:
+        """Start the HPA worker thread now instead of with the first sample (thread mode).
+
+        A live stream calls this before its first sample.  Nothing happens
+        inline or when the worker runs already.
+        """
+        if self.config.hpa_mode == "thread":
+            with self._lock:
+                self._executor()
 
     def close(self) -> None:
         """Stop the HPA worker thread (thread mode); the filter stays usable.

@@ -45,14 +45,14 @@ def test_pads_merges_repeated_timestamps_and_counts_irregular_steps(tmp_path):
 @pytest.mark.parametrize(
     "content, match",
     [
-        ("", "empty"),
+        ("", "holds no data"),
         ("0.0,1,2,3\n0.01,1,2,3\n", "7 columns"),
         ("0.0,1,2,3,4,5,6\n0.01,1,2,3,4,5\n", "line 2: 6 columns"),
-        ("0.0,1,2,3,4,5,6\n0.01,1,2,x,4,5,6\n", "line 2: non-numeric"),
-        ("0.0,1,2,3,4,5,6\n0.01,1,2,nan,4,5,6\n", "non-finite"),
+        ("0.0,1,2,3,4,5,6\n0.01,1,2,x,4,5,6\n", "line 2: 'x' is not a number"),
+        ("0.0,1,2,3,4,5,6\n0.01,1,2,nan,4,5,6\n", "line 2: an empty or nan cell"),
         ("0.0,1,2,3,4,5,6\n", "at least two samples"),
         ("0.02,1,2,3,4,5,6\n0.01,1,2,3,4,5,6\n", "backwards"),
-        ("0.01,1,2,3,4,5,6\n0.01,1,2,3,4,5,6\n", "two distinct timestamps"),
+        ("0.01,1,2,3,4,5,6\n0.01,1,2,3,4,5,6\n", "never advances"),
     ],
 )
 def test_pads_malformed_files(tmp_path, content, match):

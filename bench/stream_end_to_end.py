@@ -1,0 +1,180 @@
+"""End-to-end latency of ``wake stream``: sample in -> result out, in real time.
+
+Streams 6 channels at 100 Hz (the PADS recordings, joined end to end and
+repeated, or a synthetic 6-axis signal when PADS is absent) into a
+``wake stream`` subprocess, paced by the clock, for ``--duration`` seconds
+(default 300 = 5 minutes), and times every sample from the moment it is
+written to the moment its output arrives:
+
+* ``--transport pipe``: ``wake stream --stdin --stdout``; the latency is
+  taken with ``time.perf_counter`` in this process (write -> line read back);
+* ``--transport lsl``: an LSL outlet -> ``wake stream --lsl-in/--lsl-out`` ->
+  an inlet; the latency is ``pylsl.local_clock()`` at arrival minus the
+  sample's timestamp (set at push).
+
+It reports the median, p99, p99.9 and maximum, and whether the stream kept
+up (every sample answered, in order, and the lag did not grow).  Not a test:
+run it by hand on a quiet machine::
+
+    python bench/stream_end_to_end.py                    # 5 minutes over pipes
+    python bench/stream_end_to_end.py --transport lsl    # 5 minutes over LSL (needs pylsl)
+    python bench/stream_end_to_end.py --duration 30      # a quick look
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+FS = 100.0
+TARGET_P999_MS = 2.0
+
+
+def six_channels(n: int) -> tuple[np.ndarray, str]:
+    from wake.eval.datasets import default_pads_dir, load_pads_folder
+
+    folder = default_pads_dir(cwd=ROOT)
+    if folder is not None and folder.is_dir():
+        recs = load_pads_folder(folder)
+        x = np.concatenate([r.samples for r in recs])
+        source = f"PADS, {len(recs)} recordings joined"
+    else:
+        from wake.eval.synthetic import make_signal
+
+        s = make_signal(10.0, seed=5, duration=60.0)
+        x = np.column_stack([s.measurement * k for k in (1.0, -0.5, 0.8, 2.0, -1.2, 0.3)])
+        source = "synthetic (PADS not found)"
+    reps = int(np.ceil(n / len(x)))
+    return np.tile(x, (reps, 1))[:n], source
+
+
+def _env():
+    env = dict(os.environ)
+    env["PYTHONPATH"] = str(ROOT) + os.pathsep + env.get("PYTHONPATH", "")
+    return env
+
+
+#: The floor of the machine and the pipes: a Python process that echoes every line, doing nothing else.
+ECHO = ("import sys\nfor line in sys.stdin:\n    sys.stdout.write(line)\n    sys.stdout.flush()\n"
+        "print('echo: end of input', file=sys.stderr)")
+
+
+def run_pipe(x: np.ndarray, extra, echo=False) -> np.ndarray:
+    cmd = ([sys.executable, "-c", ECHO] if echo else
+           [sys.executable, "-m", "wake", "stream", "--stdin", "--stdout", "--fs", str(FS), "--status", "0", *extra])
+    p = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True, bufsize=1, env=_env())
+    sent = np.zeros(len(x))
+    got = np.full(len(x), np.nan)
+
+    def reader():
+        for i in range(len(x)):
+            line = p.stdout.readline()
+            if not line:
+                return
+            got[i] = time.perf_counter()
+
+    th = threading.Thread(target=reader, daemon=True)
+    th.start()
+    lines = [",".join(repr(v) for v in row) + "\n" for row in x.tolist()]
+    start = time.perf_counter() + 0.5
+    for i, line in enumerate(lines):
+        due = start + i / FS
+        while (now := time.perf_counter()) < due:
+            time.sleep(min(due - now, 0.002))
+        sent[i] = time.perf_counter()
+        p.stdin.write(line)
+        p.stdin.flush()
+    p.stdin.close()
+    th.join(timeout=30)
+    p.wait(timeout=30)
+    err = p.stderr.read()
+    if p.returncode != 0:
+        raise SystemExit(f"wake stream failed ({p.returncode}):\n{err}")
+    print(err.strip().splitlines()[-1], file=sys.stderr)
+    return got - sent
+
+
+def run_lsl(x: np.ndarray, extra) -> np.ndarray:
+    import pylsl
+
+    tag = f"{os.getpid()}"
+    info = pylsl.StreamInfo(f"wake-bench-in-{tag}", "IMU", x.shape[1], FS, pylsl.cf_double64, f"bench-{tag}")
+    outlet = pylsl.StreamOutlet(info)
+    p = subprocess.Popen([sys.executable, "-m", "wake", "stream", "--lsl-in", f"wake-bench-in-{tag}", "--lsl-out",
+                          f"wake-bench-out-{tag}", "--status", "0", *extra], stderr=subprocess.PIPE, text=True,
+                         env=_env())
+    found = pylsl.resolve_byprop("name", f"wake-bench-out-{tag}", timeout=30)
+    inlet = pylsl.StreamInlet(found[0], max_buflen=360)
+    inlet.open_stream(timeout=10)
+    outlet.wait_for_consumers(10)
+    lat = np.full(len(x), np.nan)
+    count = [0]
+
+    def reader():
+        while count[0] < len(x):
+            sample, stamp = inlet.pull_sample(timeout=2.0)
+            if sample is None:
+                return
+            lat[count[0]] = pylsl.local_clock() - stamp
+            count[0] += 1
+
+    th = threading.Thread(target=reader, daemon=True)
+    th.start()
+    start = time.perf_counter() + 0.5
+    for i, row in enumerate(x.tolist()):
+        due = start + i / FS
+        while (now := time.perf_counter()) < due:
+            time.sleep(min(due - now, 0.002))
+        outlet.push_sample(row, pylsl.local_clock())
+    th.join(timeout=30)
+    del outlet
+    err = p.communicate(timeout=30)[1]
+    print(err.strip().splitlines()[-1] if err.strip() else "", file=sys.stderr)
+    return lat
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--duration", type=float, default=300.0, help="seconds of streamed data (default 300)")
+    ap.add_argument("--transport", choices=("pipe", "lsl"), default="pipe")
+    ap.add_argument("--hpa-mode", choices=("thread", "inline"), default="thread")
+    ap.add_argument("--echo-baseline", action="store_true",
+                    help="also time a process that only echoes the lines: the floor of this machine and its pipes")
+    args = ap.parse_args(argv)
+    n = int(args.duration * FS)
+    x, source = six_channels(n)
+    extra = ["--hpa-mode", args.hpa_mode]
+    lat = (run_pipe if args.transport == "pipe" else run_lsl)(x, extra)
+    report(lat, n, f"wake stream, {args.transport}, hpa_mode={args.hpa_mode}", args.duration, source)
+    if args.echo_baseline:
+        report(run_pipe(x, extra, echo=True), n, "echo baseline, pipe (no filtering)", args.duration, source)
+    return 0
+
+
+def report(lat, n, what, duration, source) -> None:
+    answered = int(np.isfinite(lat).sum())
+    ms = lat[np.isfinite(lat)] * 1e3
+    p50, p99, p999 = np.percentile(ms, [50, 99, 99.9])
+    half = len(ms) // 2
+    drift = np.median(ms[half:]) - np.median(ms[:half])
+    print(f"{what}: {n} samples x 6 channels at {FS:g} Hz ({duration:g} s, {source})")
+    print("| answered | median | p99 | p99.9 | max | median drift (2nd half - 1st) |")
+    print("|---:|---:|---:|---:|---:|---:|")
+    print(f"| {answered} of {n} | {p50:.3f} ms | {p99:.3f} ms | {p999:.3f} ms | {ms.max():.3f} ms | {drift:+.3f} ms |")
+    ok = answered == n and p999 < TARGET_P999_MS
+    print(f"target p99.9 < {TARGET_P999_MS:g} ms with every sample answered: {'met' if ok else 'MISSED'}")
+
+
+if __name__ == "__main__":
+    sys.exit(main())

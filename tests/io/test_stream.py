@@ -1,0 +1,178 @@
+"""``wake stream``: every sample in gets its output, in order, equal to ``WakeFilter.run``; clean stops; LSL."""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from wake import WakeFilter
+from wake.eval.synthetic import make_signal
+from wake.io.stream import StreamProcessor, cli
+
+FS = 100.0
+
+
+@pytest.fixture(scope="module")
+def signal3():
+    s = make_signal(5.0, seed=1, duration=12.0)
+    return np.column_stack([s.measurement, -s.measurement, 0.5 * s.measurement])
+
+
+def _env():
+    env = dict(os.environ)
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    env["PYTHONPATH"] = root + os.pathsep + env.get("PYTHONPATH", "")
+    return env
+
+
+def stream(args, text, timeout=120):
+    return subprocess.run([sys.executable, "-m", "wake", "stream", *args], input=text, capture_output=True,
+                          text=True, timeout=timeout, env=_env())
+
+
+def lines_of(x, stamps=None):
+    rows = x.tolist()
+    if stamps is not None:
+        rows = [[t, *r] for t, r in zip(stamps.tolist(), rows)]
+    return "".join(",".join(repr(v) for v in r) + "\n" for r in rows)
+
+
+def test_pipes_inline_equal_run_bit_for_bit_with_header_and_timestamps(signal3):
+    stamps = 1000.0 + np.arange(len(signal3)) / FS
+    text = "time,gx,gy,gz\n" + lines_of(signal3, stamps)
+    res = stream(["--stdin", "--stdout", "--fs", "100", "--hpa-mode", "inline", "--timestamps", "--header"], text)
+    assert res.returncode == 0, res.stderr
+    out = res.stdout.splitlines()
+    assert out[0] == "time,gx_voluntary,gy_voluntary,gz_voluntary,gx_tremor,gy_tremor,gz_tremor"
+    got = np.array([[float(v) for v in line.split(",")] for line in out[1:]])
+    assert got.shape == (len(signal3), 7)
+    ref = WakeFilter(fs=FS).run(signal3)
+    np.testing.assert_array_equal(got[:, 0], stamps)
+    np.testing.assert_array_equal(got[:, 1:4], ref.voluntary)
+    np.testing.assert_array_equal(got[:, 4:], ref.tremor)
+    assert "end of input: 1200 samples" in res.stderr and "f_d [Hz]: gx" in res.stderr
+
+
+def test_thread_mode_answers_every_sample_and_matches_run_until_the_first_swap(signal3):
+    res = stream(["--stdin", "--stdout", "--fs", "100"], lines_of(signal3))
+    assert res.returncode == 0, res.stderr
+    got = np.loadtxt(res.stdout.splitlines(), delimiter=",")
+    assert got.shape == (len(signal3), 6) and np.isfinite(got).all()
+    ref = WakeFilter(fs=FS).run(signal3)
+    first_hpa = ref.hpa[0][0].index  # nothing can differ before the first HPA result exists
+    np.testing.assert_array_equal(got[:first_hpa, :3], ref.voluntary[:first_hpa])
+    np.testing.assert_allclose(got[:, 3:] + got[:, :3], signal3, atol=1e-12)  # tremor = x - voluntary
+
+
+def test_ctrl_c_stops_cleanly_with_every_sample_answered(signal3):
+    p = subprocess.Popen([sys.executable, "-m", "wake", "stream", "--stdin", "--stdout", "--fs", "100"],
+                         stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=_env())
+    try:
+        p.stdin.write(lines_of(signal3[:50]))
+        p.stdin.flush()
+        answered = [p.stdout.readline() for _ in range(50)]  # the stream is now waiting for sample 51
+        assert all(line.count(",") == 5 for line in answered)
+        time.sleep(0.2)
+        p.send_signal(signal.SIGINT)
+        rest, err = p.communicate(timeout=30)
+    finally:
+        p.kill()
+    assert p.returncode == 0, err
+    assert rest == "" and "stopped by signal: 50 samples" in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("policy", ["stop", "missing"])
+def test_a_bad_line(policy, signal3):
+    text = lines_of(signal3[:30]) + "1.0,abc,2.0\n" + lines_of(signal3[30:40])
+    res = stream(["--stdin", "--stdout", "--fs", "100", "--bad-lines", policy], text)
+    out = res.stdout.splitlines()
+    assert "Traceback" not in res.stderr
+    if policy == "stop":
+        assert res.returncode == 2 and len(out) == 30
+        assert "input line 31: could not convert string to float: 'abc'" in res.stderr
+        assert "--bad-lines missing" in res.stderr
+    else:
+        assert res.returncode == 0 and len(out) == 41
+        bad = [float(v) for v in out[30].split(",")]
+        assert np.isfinite(bad[:3]).all() and np.isnan(bad[3:]).all()  # a prediction, no tremor
+        assert "bad lines 1" in res.stderr
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--stdin", "--stdout"], "--stdin needs the sampling rate: give it with --fs HZ"),
+    (["--stdin", "--stdout", "--fs", "0"], "--fs must be > 0 Hz"),
+    (["--stdin", "--stdout", "--fs", "100", "--level", "9"], "level must be from 1 to"),
+])
+def test_setting_errors_exit_2_before_reading(args, message):
+    res = stream(args, "1\n2\n")
+    assert res.returncode == 2 and message in res.stderr and res.stdout == ""
+    assert "Traceback" not in res.stderr
+
+
+def test_processor_aligns_like_run_and_passes_missing_samples(signal3):
+    x = signal3[:700, :1].copy()
+    x[300] = np.nan
+    sp = StreamProcessor(WakeFilter(fs=FS, backend="reference", hpa_mode="inline"), ["g"])
+    vol = np.array([sp.process(v)[0] for v in x])
+    ref = WakeFilter(fs=FS, backend="reference").run(x)
+    np.testing.assert_array_equal(vol, ref.voluntary)
+    with pytest.raises(ValueError, match="2 values where the stream has 1"):
+        sp.process([1.0, 2.0])
+
+
+def test_lsl_without_pylsl_says_how_to_install(monkeypatch, capsys):
+    monkeypatch.setitem(sys.modules, "pylsl", None)
+    assert cli(["--lsl-in", "x", "--lsl-out", "y"]) == 2
+    assert 'pip install "wake-tremor[lsl]"' in capsys.readouterr().err
+
+
+def test_lsl_loopback_every_sample_in_order_equal_to_run(signal3):
+    pylsl = pytest.importorskip("pylsl", reason="pylsl is not installed (pip install 'wake-tremor[lsl]')")
+    tag = f"{os.getpid()}-{time.monotonic_ns()}"
+    info = pylsl.StreamInfo(f"wake-test-in-{tag}", "IMU", 3, FS, pylsl.cf_double64, f"src-{tag}")
+    chans = info.desc().append_child("channels")
+    for name in ("gx", "gy", "gz"):
+        c = chans.append_child("channel")
+        c.append_child_value("label", name)
+        c.append_child_value("unit", "rad/s")
+    outlet = pylsl.StreamOutlet(info)
+    p = subprocess.Popen([sys.executable, "-m", "wake", "stream", "--lsl-in", f"wake-test-in-{tag}",
+                          "--lsl-out", f"wake-test-out-{tag}", "--hpa-mode", "inline", "--status", "0"],
+                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=_env())
+    try:
+        found = pylsl.resolve_byprop("name", f"wake-test-out-{tag}", timeout=30)
+        assert found, "wake stream did not publish its outlet"
+        inlet = pylsl.StreamInlet(found[0], max_buflen=360)
+        inlet.open_stream(timeout=10)
+        desc = inlet.info(timeout=10).desc().child("channels").child("channel")
+        labels = []
+        while not desc.empty():
+            labels.append(desc.child_value("label"))
+            desc = desc.next_sibling()
+        assert labels == ["gx_voluntary", "gy_voluntary", "gz_voluntary", "gx_tremor", "gy_tremor", "gz_tremor"]
+        assert outlet.wait_for_consumers(10)
+        stamps = pylsl.local_clock() + np.arange(len(signal3)) / FS
+        for row, t in zip(signal3.tolist(), stamps.tolist()):
+            outlet.push_sample(row, t)
+        got, got_t = [], []
+        deadline = time.monotonic() + 60
+        while len(got) < len(signal3) and time.monotonic() < deadline:
+            chunk, t = inlet.pull_chunk(timeout=0.5)
+            got += chunk
+            got_t += t
+        del outlet  # the end of the input stream: wake stream stops
+        err = p.communicate(timeout=60)[1]
+    finally:
+        p.kill()
+    assert p.returncode == 0, err
+    assert len(got) == len(signal3)
+    ref = WakeFilter(fs=FS).run(signal3)
+    g = np.array(got)
+    np.testing.assert_array_equal(g[:, :3], ref.voluntary)
+    np.testing.assert_array_equal(g[:, 3:], ref.tremor)
+    np.testing.assert_allclose(got_t, stamps, rtol=0, atol=1e-6)  # the input's timestamps, in order
+    assert "the input stream ended: 1200 samples" in err
