@@ -15,7 +15,7 @@ from dataclasses import dataclass, fields
 
 from wake._validation import check_level, check_mode, check_wavelet
 
-__all__ = ["WakeConfig", "MAX_LEVEL", "WEIGHT_LIMIT", "BACKENDS", "HPA_MODES", "FITS", "LIMITS"]
+__all__ = ["CoreMissingWarning", "WakeConfig", "MAX_LEVEL", "WEIGHT_LIMIT", "BACKENDS", "HPA_MODES", "FITS", "LIMITS"]
 
 #: Highest decomposition level J, for the float reference and the C core alike
 #: (the C struct is sized by ``WAKE_RTP_MAX_LEVEL``, which must equal it).
@@ -92,6 +92,24 @@ def auto_warmup_points(fs: float, window_s: float, level: int) -> tuple:
     return tuple(t for t in times if need <= int(round(t * fs)) < L)
 
 
+class CoreMissingWarning(UserWarning):
+    """The compiled C core is not installed: the default backend is the float64 reference."""
+
+
+def _default_backend() -> str:
+    """``"c"`` when the compiled core imports, else ``"reference"``, warning (once per process) which."""
+    from wake.rtp import BUILD_HINT, c_backend_available  # here: wake.rtp imports this module
+
+    if c_backend_available():
+        return "c"
+    import warnings
+
+    warnings.warn("the compiled C core (wake._rtp) is not installed, so WAKE runs on the float64 reference "
+                  f"backend; to run the fixed-point core that firmware runs, {BUILD_HINT.split(', or use')[0]}",
+                  CoreMissingWarning, stacklevel=4)
+    return "reference"
+
+
 @dataclass(frozen=True)
 class WakeConfig:
     """Every setting of a :class:`~wake.WakeFilter`, validated on construction.
@@ -109,8 +127,10 @@ class WakeConfig:
         ``L`` must hold at least ``2 * 2**J`` samples and more than ``2 * ar_order``.
     ar_order : int
         Yule-Walker AR order ``p``.
-    backend : {"c", "reference"}
-        Where the RTP runs (see :class:`~wake.WakeFilter`).
+    backend : {"c", "reference"} or None
+        Where the RTP runs (see :class:`~wake.WakeFilter`).  ``None`` (the
+        default): ``"c"`` when the compiled core is installed, else
+        ``"reference"``; the resolved name is what the config holds.
     mode : str
         Wavelet boundary mode of the filter bank (docs/design.md).
     fit : {"causal", "paper"}
@@ -168,7 +188,7 @@ class WakeConfig:
     level: int = 5
     window_s: float = 5.0
     ar_order: int = 17
-    backend: str = "c"
+    backend: str | None = None
     mode: str = "constant"
     fit: str = "causal"
     process_noise_ratio: float = 0.0
@@ -188,6 +208,8 @@ class WakeConfig:
         put = lambda name, value: object.__setattr__(self, name, value)  # noqa: E731 (frozen)
         put("fs", _number("fs", self.fs, low_open=True))
         check_wavelet(self.wavelet)
+        if self.backend is None:
+            put("backend", _default_backend())
         if self.backend not in BACKENDS:
             raise ValueError(f"unknown backend {self.backend!r}; valid choices: {', '.join(BACKENDS)}")
         put("level", check_level(self.level, MAX_LEVEL))

@@ -37,26 +37,25 @@ def _clean_env():
     return {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME", "PYTHONSTARTUP")}
 
 
-def _run(cmd, **kw):
-    res = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, env=_clean_env(), **kw)
+def _run(cmd, env=None, **kw):
+    res = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, env=env or _clean_env(), **kw)
     assert res.returncode == 0, f"{cmd} exited {res.returncode}\nstdout:\n{res.stdout}\nstderr:\n{res.stderr}"
     return res
 
 
-def _build_wheel(tmp: Path) -> Path:
+def _build_wheel(tmp: Path, env=None) -> Path:
     src = tmp / "src"
     shutil.copytree(ROOT, src, ignore=_IGNORE)
     dist = tmp / "dist"
-    _run([sys.executable, "-m", "pip", "wheel", "--no-deps", "-q", "-w", dist, src])
+    _run([sys.executable, "-m", "pip", "wheel", "--no-deps", "-q", "-w", dist, src], **({"env": env} if env else {}))
     wheels = list(dist.glob("wake_tremor-*.whl"))
     assert len(wheels) == 1, wheels
     return wheels[0]
 
 
-@pytest.fixture(scope="module")
-def installed(tmp_path_factory):
+def _install(tmp_path_factory, build_env=None):
     tmp = tmp_path_factory.mktemp("wheel")
-    wheel = _build_wheel(tmp)
+    wheel = _build_wheel(tmp, build_env)
     env_dir = tmp / "venv"
     venv.EnvBuilder(with_pip=False).create(env_dir)
     py = env_dir / ("Scripts/python.exe" if os.name == "nt" else "bin/python")
@@ -73,6 +72,34 @@ def installed(tmp_path_factory):
     return env_dir, py, work
 
 
+@pytest.fixture(scope="module")
+def installed(tmp_path_factory):
+    return _install(tmp_path_factory)
+
+
+@pytest.fixture(scope="module")
+def installed_without_compiler(tmp_path_factory):
+    # CC=false: every compiler call fails, as on a machine without one
+    return _install(tmp_path_factory, {**_clean_env(), "CC": "false", "WAKE_REQUIRE_C": "0"})
+
+
+def test_without_a_compiler_the_package_installs_and_runs_on_the_reference(installed_without_compiler):
+    env_dir, py, work = installed_without_compiler
+    assert not list(env_dir.rglob("_rtp*.so")) and not list(env_dir.rglob("_rtp*.pyd"))
+    demo = _run([env_dir / "bin" / "wake", "demo"], cwd=work)
+    assert "(backend reference," in demo.stdout and "NRMSE relative to the paper" in demo.stdout
+    assert "CoreMissingWarning" in demo.stderr and "C compiler" in demo.stderr
+    res = subprocess.run([str(py), "-c", "from wake import WakeFilter; WakeFilter(backend='c')"], cwd=work,
+                         capture_output=True, text=True, env=_clean_env())
+    assert res.returncode == 1 and "CoreUnavailable" in res.stderr and "pip install" in res.stderr
+
+
+def test_with_a_compiler_the_demo_runs_on_the_c_core(installed):
+    env_dir, py, work = installed
+    demo = _run([env_dir / "bin" / "wake", "demo"], cwd=work)
+    assert "(backend c," in demo.stdout and "CoreMissingWarning" not in demo.stderr
+
+
 def test_the_package_comes_from_the_wheel_not_the_checkout(installed):
     env_dir, py, work = installed
     out = _run([py, "-c", "import wake, wake.firmware.sources as s; print(wake.__file__); print(s.csrc_dir())"],
@@ -83,8 +110,8 @@ def test_the_package_comes_from_the_wheel_not_the_checkout(installed):
 
 @pytest.mark.skipif(ARM_CC is None, reason="arm-none-eabi-gcc is not installed (the Arm GNU toolchain)")
 def test_profile_quick_from_the_wheel(installed):
-    pytest.importorskip("unicorn", reason="unicorn is not installed (pip install 'wake-tremor[profile]')")
-    pytest.importorskip("capstone", reason="capstone is not installed (pip install 'wake-tremor[profile]')")
+    pytest.importorskip("unicorn", reason="unicorn is not installed (pip install unicorn capstone)")
+    pytest.importorskip("capstone", reason="capstone is not installed (pip install unicorn capstone)")
     env_dir, py, work = installed
     res = _run([env_dir / "bin" / "wake", "profile", "--quick"], cwd=work)
     assert "Cortex-M4, -O2" in res.stdout and "static bound" in res.stdout
