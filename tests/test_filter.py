@@ -98,6 +98,7 @@ def test_streaming_several_channels():
 @pytest.mark.parametrize("x, match", [
     (np.r_[np.ones(600), np.inf], "only NaN is accepted as a missing-sample marker"),
     (np.ones(499), "at least one HPA window of 500 samples"),
+    (np.ones((3, 5000)), "shape \\(3, 5000\\): if its rows are channels, pass x.T"),
     (np.ones((600, 2, 2)), "shape \\(n,\\) or \\(n, channels\\)"),
     (np.array([], dtype=float), "empty"),
     (np.array(["a"] * 600), "real numbers"),
@@ -143,3 +144,16 @@ def test_update_refuses_inf_and_empty():
         f.update(np.inf)
     with pytest.raises(ValueError, match="empty"):
         f.update([])
+
+
+def test_a_rate_far_from_100_hz_warns_with_the_fix():
+    import warnings
+
+    from wake.filter import RateWarning
+
+    with pytest.warns(RateWarning, match="resample_poly\\(x, 1, 10\\) for 1000 Hz"):
+        WakeFilter(fs=1000.0, backend="reference")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for fs in (50.0, 100.0, 200.0):
+            WakeFilter(fs=fs, backend="reference")

@@ -24,9 +24,9 @@ def _filter_arguments(p: argparse.ArgumentParser):
 def _make_filter(args, fs):
     from wake.filter import WakeFilter
 
-    backend = args.backend or default_backend()
+    # backend None: the C core when installed, else the reference (with a CoreMissingWarning)
     return WakeFilter(fs=fs, wavelet=args.wavelet, level=args.level, window_s=args.window_s,
-                      ar_order=args.ar_order, backend=backend)
+                      ar_order=args.ar_order, backend=args.backend)
 
 
 def default_backend():
@@ -118,7 +118,7 @@ def _cmd_run(args) -> int:
     if args.plot:
         from wake.eval.plotting import plot_result
 
-        plot_result(args.plot, x[:, 0], res, rec.fs, ar_order=filt.ar_order,
+        plot_result(args.plot, x[:, 0], res, rec.fs, ar_order=filt.ar_order, unit=rec.unit(0),
                     title=f"{Path(args.file).name}: {rec.channels[0]}")
         print(f"figure written to {args.plot}")
     return 0

@@ -12,8 +12,8 @@ import pytest
 
 from wake.firmware import profile
 
-unicorn = pytest.importorskip("unicorn", reason="unicorn is not installed (pip install 'wake-tremor[profile]')")
-pytest.importorskip("capstone", reason="capstone is not installed (pip install 'wake-tremor[profile]')")
+unicorn = pytest.importorskip("unicorn", reason="unicorn is not installed (pip install unicorn capstone)")
+pytest.importorskip("capstone", reason="capstone is not installed (pip install unicorn capstone)")
 
 from support import CSRC
 

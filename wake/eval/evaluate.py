@@ -342,7 +342,8 @@ def _figures(out_dir, syn, real, traces, fs):
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
-        return [], "matplotlib is not installed (pip install 'wake-tremor[plot]'): no figures written."
+        return [], ("matplotlib is not installed (pip install matplotlib, or pip install \".[plot]\" in a wake "
+                    "source tree): no figures written.")
     made = []
     names = _method_order(syn["rows"][0]["methods"])
     # NRMSE per synthetic signal, then per recording

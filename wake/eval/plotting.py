@@ -14,41 +14,98 @@ def _pyplot():
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:  # pragma: no cover - depends on the environment
-        raise ValueError("plotting needs matplotlib: pip install 'wake-tremor[plot]'") from None
+        raise ValueError("plotting needs matplotlib: pip install matplotlib "
+                         "(or pip install \".[plot]\" in a wake source tree)") from None
     return plt
 
 
-def plot_result(path, x, result, fs, *, voluntary_truth=None, tremor_truth=None, ar_order=17, title=""):
-    """Measurement, predicted voluntary motion, tremor estimate and the PSD with the cut-off.
+def _envelope(t, y, fs, seconds=0.2):
+    """Min and max of ``y`` over bins of ``seconds``: a long trace readable at a glance."""
+    k = max(1, int(round(seconds * fs)))
+    n = (len(y) // k) * k
+    if n == 0:
+        return t, y, y
+    yb = np.asarray(y[:n], dtype=float).reshape(-1, k)
+    return t[:n].reshape(-1, k)[:, 0], np.nanmin(yb, axis=1), np.nanmax(yb, axis=1)
 
-    Only the first channel of ``result`` is drawn.
+
+def plot_result(path, x, result, fs, *, voluntary_truth=None, tremor_truth=None, ar_order=17, title="",
+                unit="", zoom_s=4.0):
+    """A four-panel figure of the first channel of ``result``.
+
+    1. the whole recording: measurement and predicted voluntary motion, the
+       warm-up (before the first HPA on a full window) shaded;
+    2. ``zoom_s`` seconds after the warm-up, sample by sample;
+    3. the tremor estimate over the whole recording as a min-max envelope
+       (about 400 bins), so thousands of samples stay readable;
+    4. the AR spectrum of the last HPA window with that HPA's cut-off
+       ``f_d`` and its flag (``valley``, or the fallback that set it).
+
+    ``unit`` labels the signal axes (for example ``"rad/s"``).
     """
     plt = _pyplot()
+    x = np.asarray(x, dtype=float).reshape(len(x), -1)[:, 0]
     vol = np.reshape(result.voluntary, (len(x), -1))[:, 0]
     tre = np.reshape(result.tremor, (len(x), -1))[:, 0]
     t = np.arange(len(x)) / fs
-    fig, ax = plt.subplots(3, 1, figsize=(10, 9))
-    ax[0].plot(t, x, lw=0.6, color="0.6", label="measurement")
+    ylab = f"signal ({unit})" if unit else "signal"
+    warm = result.warmup / fs
+    fig, ax = plt.subplots(4, 1, figsize=(10, 12))
+
+    ax[0].plot(t, x, lw=0.5, color="0.65", label="measurement")
     if voluntary_truth is not None:
         ax[0].plot(t, voluntary_truth, lw=1.2, color="k", label="voluntary (truth)")
-    ax[0].plot(t, vol, lw=1.0, color="C0", label="voluntary (predicted)")
-    ax[0].axvline(result.warmup / fs, color="C3", ls=":", lw=1, label="first HPA")
-    ax[0].set_ylabel("signal")
-    ax[0].legend(loc="upper right", fontsize=8)
+    ax[0].plot(t, vol, lw=0.9, color="C0", label="voluntary (predicted)")
+    ax[0].axvspan(0, warm, color="C3", alpha=0.08, label=f"warm-up: before the first full HPA window ({warm:g} s)")
+    ax[0].set_ylabel(ylab)
+    ax[0].set_xlabel("time (s)")
+    ax[0].legend(loc="upper right", fontsize=8, ncol=2)
     ax[0].set_title(title)
-    ax[1].plot(t, tre, lw=0.7, color="C1", label="tremor (estimate)")
+
+    start = min(warm, max(t[-1] - zoom_s, 0.0))
+    z = (t >= start) & (t <= start + zoom_s)
+    ax[1].plot(t[z], x[z], lw=0.8, color="0.6", label="measurement")
+    if voluntary_truth is not None:
+        ax[1].plot(t[z], np.asarray(voluntary_truth)[z], lw=1.4, color="k", label="voluntary (truth)")
+    ax[1].plot(t[z], vol[z], lw=1.2, color="C0", label="voluntary (predicted)")
+    ax[1].plot(t[z], tre[z], lw=0.9, color="C1", label="tremor (estimate)")
     if tremor_truth is not None:
-        ax[1].plot(t, tremor_truth, lw=0.7, color="k", alpha=0.6, label="tremor + noise (truth)")
-    ax[1].set_xlabel("time (s)")
-    ax[1].legend(loc="upper right", fontsize=8)
-    freqs, psd = ar_psd(np.asarray(x, dtype=float)[: result.warmup], fs, ar_order)
-    ax[2].semilogy(freqs, psd, color="C2", label=f"Yule-Walker PSD, first window (p={ar_order})")
-    cut = result.mean_cutoff[0]
-    ax[2].axvline(cut, color="C3", ls="--", label=f"mean cut-off f_d = {cut:.2f} Hz")
-    ax[2].set_xlabel("frequency (Hz)")
-    ax[2].set_xlim(0, min(20.0, fs / 2))
+        ax[1].plot(t[z], np.asarray(tremor_truth)[z], lw=0.8, color="C1", ls=":", label="tremor + noise (truth)")
+    ax[1].set_ylabel(ylab)
+    ax[1].set_xlabel(f"time (s), {zoom_s:g} s after the warm-up")
+    ax[1].legend(loc="upper right", fontsize=8, ncol=3)
+
+    bin_s = max(2.0 / fs, len(x) / fs / 400.0)  # about 400 bins whatever the length
+    te, lo, hi = _envelope(t, tre, fs, bin_s)
+    ax[2].fill_between(te, lo, hi, color="C1", alpha=0.6, lw=0,
+                       label=f"tremor (estimate), min-max per {bin_s:.2g} s")
+    if tremor_truth is not None:
+        te2, lo2, hi2 = _envelope(t, np.asarray(tremor_truth), fs, bin_s)
+        ax[2].plot(te2, hi2, color="k", lw=0.6, alpha=0.7, label="tremor + noise (truth), envelope")
+        ax[2].plot(te2, lo2, color="k", lw=0.6, alpha=0.7)
+    ax[2].axvspan(0, warm, color="C3", alpha=0.08)
+    ax[2].set_ylabel(f"tremor ({unit})" if unit else "tremor")
+    ax[2].set_xlabel("time (s)")
     ax[2].legend(loc="upper right", fontsize=8)
+
+    updates = result.hpa[0]
+    if updates:
+        last = updates[-1]
+        L = int(round(result.warmup))
+        seg = x[max(0, last.index - L): last.index]
+        seg = seg[np.isfinite(seg)]
+        freqs, psd = ar_psd(seg, fs, ar_order)
+        ax[2 + 1].semilogy(freqs, psd, color="C2", label=f"AR(p={ar_order}) spectrum, last HPA window "
+                                                       f"(ending at {last.index / fs:.1f} s)")
+        kind = "valley" if last.cutoff_flag == "valley" else f"{last.cutoff_flag}: default used"
+        ax[3].axvline(last.cutoff, color="C3", ls="--", label=f"f_d = {last.cutoff:.2f} Hz ({kind})")
+        flags = [u.cutoff_flag for u in updates]
+        share = 100.0 * sum(f != "valley" for f in flags) / len(flags)
+        ax[3].set_title(f"{len(flags)} HPA runs, {share:.0f} % fell back to the default cut-off", fontsize=9)
+    ax[3].set_xlabel("frequency (Hz)")
+    ax[3].set_ylabel(f"PSD ({unit}$^2$/Hz)" if unit else "PSD (1/Hz)")
+    ax[3].set_xlim(0, min(20.0, fs / 2))
+    ax[3].legend(loc="upper right", fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=100)
     plt.close(fig)
-    return path

@@ -8,7 +8,7 @@ Every input sample gets exactly one output sample, in order:
 * ``--lsl-in NAME`` / ``--lsl-out NAME``: an LSL inlet resolved by name (any
   channel count, its nominal rate as ``fs``) and an outlet of
   ``2 x channels`` values with the input's timestamps and channel labels.
-  Needs the optional ``pylsl`` (``pip install "wake-tremor[lsl]"``).
+  Needs the optional ``pylsl`` (``pip install pylsl``, or ``pip install ".[lsl]"`` in a source tree).
 
 Output per input sample ``x(n)``: the voluntary motion ``v(n)`` (predicted
 from the samples before ``n``: what :meth:`WakeFilter.run` gives as
@@ -40,7 +40,7 @@ __all__ = ["StreamProcessor", "cli"]
 #: GIL switch interval while an HPA thread runs beside the sample path (default Python: 5 ms).
 SWITCH_INTERVAL_S = 2e-4
 
-LSL_HINT = 'pylsl is not installed: pip install "wake-tremor[lsl]" (or pip install pylsl)'
+LSL_HINT = "pylsl is not installed: pip install pylsl, or pip install \".[lsl]\" in a wake source tree"
 
 
 class StreamProcessor:
@@ -135,11 +135,10 @@ def _parse(line: str, expect: int | None):
 
 
 def _make_filter(args, fs):
-    from wake.cli import default_backend
     from wake.filter import WakeFilter
 
     filt = WakeFilter(fs=fs, wavelet=args.wavelet, level=args.level, window_s=args.window_s,
-                      ar_order=args.ar_order, backend=args.backend or default_backend(), hpa_mode=args.hpa_mode)
+                      ar_order=args.ar_order, backend=args.backend, hpa_mode=args.hpa_mode)
     return filt
 
 

@@ -76,7 +76,8 @@ def _emulator_modules():
         import unicorn
     except ImportError as exc:  # pragma: no cover - depends on the environment
         raise ProfileUnavailable(
-            f"{exc.name} is not installed: pip install 'wake-tremor[profile]' (unicorn, capstone)") from None
+            f"{exc.name} is not installed: pip install unicorn capstone "
+            "(or pip install \".[profile]\" in a wake source tree)") from None
     return unicorn, capstone
 
 
