@@ -32,9 +32,14 @@ def _env():
     return env
 
 
+#: The subprocesses' working directory: `python -m` puts it first on sys.path, so it must hold no `wake`
+#: (from a checkout's root the source tree, without its compiled core, would shadow the installed copy).
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
 def stream(args, text, timeout=120):
     return subprocess.run([sys.executable, "-m", "wake", "stream", *args], input=text, capture_output=True,
-                          text=True, timeout=timeout, env=_env())
+                          text=True, timeout=timeout, env=_env(), cwd=HERE)
 
 
 def lines_of(x, stamps=None):
@@ -73,7 +78,8 @@ def test_thread_mode_answers_every_sample_and_matches_run_until_the_first_swap(s
 
 def test_ctrl_c_stops_cleanly_with_every_sample_answered(signal3):
     p = subprocess.Popen([sys.executable, "-m", "wake", "stream", "--stdin", "--stdout", "--fs", "100"],
-                         stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=_env())
+                         stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=_env(),
+                         cwd=HERE)
     try:
         p.stdin.write(lines_of(signal3[:50]))
         p.stdin.flush()
@@ -145,7 +151,7 @@ def test_lsl_loopback_every_sample_in_order_equal_to_run(signal3):
     outlet = pylsl.StreamOutlet(info)
     p = subprocess.Popen([sys.executable, "-m", "wake", "stream", "--lsl-in", f"wake-test-in-{tag}",
                           "--lsl-out", f"wake-test-out-{tag}", "--hpa-mode", "inline", "--status", "0"],
-                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=_env())
+                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=_env(), cwd=HERE)
     try:
         found = pylsl.resolve_byprop("name", f"wake-test-out-{tag}", timeout=30)
         assert found, "wake stream did not publish its outlet"
