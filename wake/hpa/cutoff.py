@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["CUTOFF_FLAGS", "find_cutoff"]
+__all__ = ["CUTOFF_FLAGS", "CUTOFF_RULES", "find_cutoff"]
 
 #: How a cut-off was found.  ``"valley"`` is the normal case; the others are fallbacks.
 CUTOFF_FLAGS = {
@@ -12,10 +12,14 @@ CUTOFF_FLAGS = {
     "no_tremor_peak": "no local PSD maximum inside tremor_band: default_cutoff used",
     "no_valley": "the PSD has no dip of min_depth_db below both sides: default_cutoff used",
     "silent": "the window has (near) zero variance: default_cutoff used, weights kept",
+    "shallow_valley": "rule 'shallow': a tremor peak but no 3 dB valley; f_d at the PSD minimum below the peak",
 }
 
+#: Cut-off rules (docs/design.md, "Cut-off on real wear").  "paper" is the default.
+CUTOFF_RULES = ("paper", "shallow")
+
 def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
-                default_cutoff=2.0, min_depth_db=3.0):
+                default_cutoff=2.0, min_depth_db=3.0, rule="paper"):
     """Cut-off ``f_d`` at the valley between voluntary and tremor content.
 
     The tremor peak is the largest local maximum of the PSD inside
@@ -36,6 +40,10 @@ def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
         The fallback, Hz; must lie in ``cutoff_range``.
     min_depth_db : float
         How deep a dip must be to count as a valley.
+    rule : {"paper", "shallow"}
+        ``"shallow"``: where ``"paper"`` finds a tremor peak but no valley
+        deep enough, take the PSD minimum between ``cutoff_range[0]`` and the
+        peak anyway (flag ``"shallow_valley"``) instead of the default.
 
     Returns
     -------
@@ -59,6 +67,8 @@ def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
             f"need 0 < cutoff_range[0] <= default_cutoff <= cutoff_range[1], got "
             f"cutoff_range={cutoff_range!r}, default_cutoff={default_cutoff!r}"
         )
+    if rule not in CUTOFF_RULES:
+        raise ValueError(f"unknown cut-off rule {rule!r}; valid choices: {', '.join(CUTOFF_RULES)}")
     if not 0 < tremor_band[0] < tremor_band[1]:
         raise ValueError(f"tremor_band must be (low, high) with 0 < low < high, got {tremor_band!r}")
     freqs = np.asarray(freqs, dtype=float)
@@ -78,5 +88,7 @@ def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
     valley = search[np.argmin(db[search])]
     left = db[: valley + 1].max()
     if db[valley] > db[peak] - min_depth_db or db[valley] > left - min_depth_db:
+        if rule == "shallow":
+            return float(freqs[valley]), "shallow_valley"
         return float(default_cutoff), "no_valley"
     return float(freqs[valley]), "valley"

@@ -110,7 +110,7 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
     order = min(config.ar_order, (x.size - 1) // 2)
     freqs, psd = ar_psd(x, fs, order)
     cutoff, flag = find_cutoff(freqs, psd, tremor_band=config.tremor_band, cutoff_range=config.cutoff_range,
-                               default_cutoff=default_cutoff)
+                               default_cutoff=default_cutoff, rule=config.cutoff_rule)
     tremor_gt = sharp_highpass(x, fs, cutoff)
     voluntary_gt = x - tremor_gt
     # R: variance of the tremor ground truth, floored at 1e-6 of the window's

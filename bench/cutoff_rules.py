@@ -1,0 +1,140 @@
+"""Cut-off rules on real wear: how often each falls back to the default, and what it does to the scores.
+
+    python bench/cutoff_rules.py            # PADS (when found) and the paper's synthetic set
+
+For each rule: the share of HPA windows per cut-off flag, the PADS tremor
+NRMSE against the independent ground truth (``wake.eval.warmup``) over the
+whole recording from 0.5 s and after 5 s, and the synthetic voluntary NRMSE
+(whole and after 5 s).  The rules (``wake.hpa.cutoff``):
+
+* ``paper`` - the valley counts only if it lies ``min_depth_db`` = 3 dB below
+  both the tremor peak and the largest PSD value to its left (the shipped rule);
+* ``depth 1 dB`` - the same with a 1 dB depth;
+* ``no left test`` - 3 dB below the tremor peak only;
+* ``shallow`` - whenever the window has a tremor peak, the PSD minimum
+  between ``cutoff_range[0]`` and the peak, however shallow (``shallow D``:
+  only if it lies at least D dB below the peak);
+* ``default F`` - the shipped rule with the fallback at F Hz instead of 2 Hz
+  (is a gain only a higher cut-off?);
+* ``flank`` - as ``paper``, and when that finds no valley but there is a
+  tremor peak, the frequency on the peak's left flank where the PSD is 3 dB
+  below the peak.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+import wake.hpa.run as hpa_run  # noqa: E402
+from wake import WakeFilter  # noqa: E402
+from wake.eval.datasets import default_pads_dir, load_pads_folder  # noqa: E402
+from wake.eval.synthetic import paper_dataset  # noqa: E402
+from wake.eval.warmup import independent_ground_truth, slice_nrmse  # noqa: E402
+from wake.hpa import cutoff as cutoff_mod  # noqa: E402
+
+SHIPPED = cutoff_mod.find_cutoff
+
+
+def _peak(freqs, db, band):
+    inner = np.flatnonzero((freqs >= band[0]) & (freqs <= band[1]))
+    inner = inner[(inner > 0) & (inner < freqs.size - 1)]
+    local_max = inner[(db[inner] >= db[inner - 1]) & (db[inner] >= db[inner + 1])]
+    return None if local_max.size == 0 else local_max[np.argmax(db[local_max])]
+
+
+def make_rule(kind):
+    def find(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0), default_cutoff=2.0,
+             min_depth_db=3.0, rule=None):
+        if "+default" in kind:  # "shallow+default 3": the shallow rule with the fallback at 3 Hz
+            base, fallback = kind.split("+default")
+            return make_rule(base)(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
+                              default_cutoff=float(fallback))
+        if kind == "paper":
+            return SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
+                           default_cutoff=default_cutoff)
+        if kind.startswith("default "):
+            return SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
+                           default_cutoff=float(kind.split()[1]))
+        if kind == "shallow":  # the library's rule (WakeConfig(cutoff_rule="shallow"))
+            return SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
+                           default_cutoff=default_cutoff, rule="shallow")
+        if kind == "depth 1 dB":
+            return SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
+                           default_cutoff=default_cutoff, min_depth_db=1.0)
+        fd, flag = SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
+                           default_cutoff=default_cutoff)
+        if flag != "no_valley":
+            return fd, flag
+        freqs = np.asarray(freqs, float)
+        db = 10 * np.log10(np.maximum(psd, np.max(psd) * 1e-30))
+        peak = _peak(freqs, db, tremor_band)
+        lo, hi = cutoff_range
+        search = np.flatnonzero((freqs >= lo) & (freqs <= min(hi, freqs[peak])))
+        if search.size < 3:
+            return fd, flag
+        if kind == "no left test":
+            valley = search[np.argmin(db[search])]
+            return (float(freqs[valley]), "valley") if db[valley] <= db[peak] - 3.0 else (fd, flag)
+        if kind.startswith("shallow "):
+            valley = search[np.argmin(db[search])]
+            need = float(kind.split()[1]) if " " in kind else None  # "shallow 1" : 1 dB below the peak
+            if need is not None and db[valley] > db[peak] - need:
+                return fd, flag
+            return float(freqs[valley]), "shallow_valley"
+        if kind == "flank":
+            below = search[db[search] <= db[peak] - 3.0]
+            if below.size == 0:
+                return fd, flag
+            return float(freqs[below[-1]]), "peak_flank"
+        raise ValueError(kind)
+    return find
+
+
+RULES = ("paper", "default 2.5", "default 3", "default 3.5", "depth 1 dB", "no left test", "shallow", "shallow 0",
+         "shallow 1", "flank", "shallow+default 2.5", "shallow+default 3")
+
+
+def evaluate(kind, pads, synthetic):
+    hpa_run.find_cutoff = make_rule(kind)
+    try:
+        flags, pads_scores, syn_scores = [], [], []
+        for rec in pads:
+            x = rec.samples
+            res = WakeFilter(fs=rec.fs).run(x)
+            flags += [u.cutoff_flag for ch in res.hpa for u in ch]
+            for c in range(x.shape[1]):
+                _, tremor, _ = independent_ground_truth(x[:, c], rec.fs)
+                pads_scores.append(slice_nrmse(tremor, res.tremor[:, c], rec.fs))
+        for s in synthetic:
+            res = WakeFilter(fs=s.fs).run(s.measurement)
+            syn_scores.append(slice_nrmse(s.voluntary, res.voluntary, s.fs))
+        return flags, pads_scores, syn_scores
+    finally:
+        hpa_run.find_cutoff = SHIPPED
+
+
+def main():
+    folder = default_pads_dir(cwd=Path(__file__).resolve().parents[1])
+    pads = load_pads_folder(folder) if folder is not None and folder.is_dir() else []
+    synthetic = paper_dataset()
+    print(f"PADS: {len(pads)} recordings; synthetic: {len(synthetic)} signals\n")
+    print("| rule | PADS windows on the default | PADS flags | PADS tremor NRMSE whole / after 5 s "
+          "| synthetic voluntary NRMSE whole / after 5 s |")
+    print("|---|---:|---|---:|---:|")
+    for kind in RULES:
+        flags, ps, ss = evaluate(kind, pads, synthetic)
+        share = {f: flags.count(f) / max(len(flags), 1) for f in sorted(set(flags))}
+        default = sum(v for f, v in share.items() if f in ("no_valley", "no_tremor_peak", "silent"))
+        mean = lambda rows, k: np.nanmean([r[k] for r in rows]) if rows else float("nan")  # noqa: E731
+        print(f"| {kind} | {100 * default:.0f} % | " + ", ".join(f"{f} {100 * v:.0f} %" for f, v in share.items())
+              + f" | {mean(ps, 'whole (from 0.5 s)'):.5f} / {mean(ps, 'after 5 s'):.5f} "
+              f"| {mean(ss, 'whole (from 0.5 s)'):.5f} / {mean(ss, 'after 5 s'):.5f} |")
+
+
+if __name__ == "__main__":
+    main()
