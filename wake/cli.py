@@ -11,7 +11,8 @@ import numpy as np
 __all__ = ["main"]
 
 
-def _filter_arguments(p: argparse.ArgumentParser):
+def add_filter_arguments(p: argparse.ArgumentParser) -> None:
+    """The WAKE settings every command that filters takes (demo, run, stream)."""
     g = p.add_argument_group("WAKE parameters")
     g.add_argument("--wavelet", default="sym3", help="mother wavelet (default: sym3)")
     g.add_argument("--level", type=int, default=5, help="decomposition level J (default: 5)")
@@ -138,7 +139,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--version", action="version", version=f"wake {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
     d = sub.add_parser("demo", help="run the paper's synthetic dataset and compare with the paper")
-    _filter_arguments(d)
+    add_filter_arguments(d)
     d.add_argument("--plot", metavar="PNG", help="draw signal 1 (needs matplotlib)")
     r = sub.add_parser("run", help="process a recording (CSV, PADS or MATLAB .mat)")
     r.add_argument("file", help="recording: delimited text (a header row of names is read), a PADS .txt, or a .mat")
@@ -155,7 +156,7 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--out", metavar="CSV", help="write time, then per channel measurement, voluntary, tremor "
                                                 "(names and units in the header)")
     r.add_argument("--plot", metavar="PNG", help="draw the first channel (needs matplotlib)")
-    _filter_arguments(r)
+    add_filter_arguments(r)
     for name, helptext in (("evaluate", "baselines vs WAKE on synthetic and real recordings"),
                            ("profile", "Cortex-M instruction count, footprint and stack per sample"),
                            ("export-header", "write a C header with taps and weights for firmware"),

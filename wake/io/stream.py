@@ -216,12 +216,9 @@ def _pipe_loop(args, stop, log, filt, fin, fout) -> int:
             vol, trem = proc.process(values[1:] if args.timestamps else values)
             fout.write(_fmt([*stamp, *vol, *trem]) + "\n")
             fout.flush()
-            proc.latencies.append(time.perf_counter() - t_in)
-            if args.max_samples and proc.samples >= args.max_samples:
+            done, last_status = _after_sample(proc, args, log, t_in, last_status)
+            if done:
                 break
-            if args.status and time.monotonic() - last_status >= args.status:
-                last_status = time.monotonic()
-                log(f"wake stream: {proc.status()}")
     except BrokenPipeError:
         log("wake stream: error: the output pipe was closed by the reader; stopping")
         _silence_stdout()
@@ -229,6 +226,15 @@ def _pipe_loop(args, stop, log, filt, fin, fout) -> int:
         return 1
     _finish(proc, log, "stopped by signal" if stop.requested else "end of input", filt)
     return 0
+
+
+def _after_sample(proc, args, log, t_in, last_status):
+    """Record the sample's latency, print the status line when due; (stop now?, time of the last status)."""
+    proc.latencies.append(time.perf_counter() - t_in)
+    if args.status and time.monotonic() - last_status >= args.status:
+        last_status = time.monotonic()
+        log(f"wake stream: {proc.status()}")
+    return bool(args.max_samples) and proc.samples >= args.max_samples, last_status
 
 
 def _numeric_line(text: str) -> bool:
@@ -331,12 +337,9 @@ def _run_lsl(args, stop, log) -> int:
             values = [math.nan if (v is None or math.isinf(v)) else float(v) for v in sample]
             vol, trem = proc.process(values)
             outlet.push_sample([*vol.tolist(), *trem.tolist()], stamp)
-            proc.latencies.append(time.perf_counter() - t_in)
-            if args.max_samples and proc.samples >= args.max_samples:
+            done, last_status = _after_sample(proc, args, log, t_in, last_status)
+            if done:
                 break
-            if args.status and time.monotonic() - last_status >= args.status:
-                last_status = time.monotonic()
-                log(f"wake stream: {proc.status()}")
     except _lsl_lost_error(pylsl):
         why = "the input stream ended"
     if stop.requested:
@@ -373,13 +376,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="status line on stderr every S seconds (0: only the final summary)")
     p.add_argument("--max-samples", type=int, default=0, help="stop after this many samples (0: no limit)")
     p.add_argument("--lsl-timeout", type=float, default=10.0, metavar="S", help="seconds to find the LSL stream")
-    g = p.add_argument_group("WAKE parameters")
-    g.add_argument("--wavelet", default="sym3", help="mother wavelet (default: sym3)")
-    g.add_argument("--level", type=int, default=5, help="decomposition level J (default: 5)")
-    g.add_argument("--window", type=float, default=5.0, dest="window_s", help="HPA window in s (default: 5)")
-    g.add_argument("--ar-order", type=int, default=17, help="Yule-Walker order p (default: 17)")
-    g.add_argument("--backend", choices=("c", "reference"), default=None,
-                   help="RTP backend (default: c when the compiled core is present, else reference)")
+    from wake.cli import add_filter_arguments
+
+    add_filter_arguments(p)
     return p
 
 
