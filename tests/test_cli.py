@@ -21,6 +21,20 @@ def test_demo_prints_the_table(capsys):
     assert len(rows) == 10
 
 
+def test_demo_reports_the_whole_recording_beside_the_papers_score(capsys):
+    from wake import WakeFilter
+    from wake.eval.metrics import nrmse
+    from wake.eval.synthetic import paper_dataset
+
+    assert main(["demo", "--backend", "reference"]) == 0
+    out = capsys.readouterr().out
+    assert out.splitlines()[1].split()[-1] == "whole"
+    mean_whole = float([line for line in out.splitlines() if line.strip().startswith("mean")][0].split()[-1])
+    want = np.mean([nrmse(s.voluntary, WakeFilter(fs=s.fs, backend="reference").run(s.measurement).voluntary, 50)
+                    for s in paper_dataset()])
+    assert mean_whole == pytest.approx(want, abs=6e-5)
+
+
 def test_run_writes_csv(recording, tmp_path, capsys):
     path, s = recording
     out = tmp_path / "out.csv"
