@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from wake._validation import check_positive
-from wake.io.recording import Recording, Timing, analyse_time, nominal_rate, resample_uniform
+from wake.io.recording import Recording, analyse_time, nominal_rate, resample_uniform
 
 __all__ = ["FORMATS", "PADS_CHANNELS", "PADS_UNITS", "read_recording", "read_csv", "read_pads", "read_mat"]
 
@@ -72,8 +72,8 @@ def _shaped_like_time(col: np.ndarray) -> bool:
     steps = np.diff(col)
     if (steps < 0).any() or not (steps > 0).any():
         return False
-    if np.all(col == np.round(col)) and np.all(steps == 1):
-        return False  # a row counter: 0, 1, 2, ... is an index, not seconds
+    if _is_row_counter(col):
+        return False  # 0, 1, 2, ... is an index, not seconds
     median = np.median(steps[steps > 0])
     return np.mean(np.abs(steps - median) <= 0.5 * median) >= 0.9
 
@@ -133,6 +133,28 @@ def _is_number(cell: str) -> bool:
         return not cell
 
 
+def _no_time(time_column) -> bool:
+    """``None`` or the string ``"none"`` (as the command line spells it): the file has no time column."""
+    return time_column is None or (isinstance(time_column, str) and time_column.lower() == "none")
+
+
+def _column_index(spec, names, path, what="column") -> int:
+    """The file column a header name or a 0-based index (a digit string counts as an index) stands for."""
+    if isinstance(spec, str) and spec.strip().lstrip("-").isdigit():
+        spec = int(spec)
+    if isinstance(spec, str):
+        name = split_unit(spec)[0]
+        if name not in names:
+            raise ValueError(f"{path}: no {what} {spec!r}; columns: {', '.join(names)}")
+        return names.index(name)
+    if isinstance(spec, (int, np.integer)) and not isinstance(spec, bool):
+        if not -len(names) <= spec < len(names):
+            raise ValueError(f"{path}: {what} index {spec} out of range (the file has {len(names)} columns, "
+                             f"0..{len(names) - 1})")
+        return int(spec) % len(names)
+    raise ValueError(f"{what} must be a name or a 0-based index, got {spec!r}")
+
+
 def _select(names, columns, path, time_index):
     """File column indices for ``columns`` (names or file indices, ``None`` = every non-time column)."""
     if columns is None:
@@ -145,20 +167,7 @@ def _select(names, columns, path, time_index):
         raise ValueError(f"column must be a name, a 0-based index or a list of them, got {columns!r}")
     idx = []
     for c in wanted:
-        if isinstance(c, str) and c.strip().lstrip("-").isdigit():
-            c = int(c)
-        if isinstance(c, str):
-            name = split_unit(c)[0]
-            if name not in names:
-                raise ValueError(f"{path}: no column {c!r}; columns: {', '.join(names)}")
-            i = names.index(name)
-        elif isinstance(c, (int, np.integer)) and not isinstance(c, bool):
-            if not -len(names) <= c < len(names):
-                raise ValueError(f"{path}: column index {c} out of range (the file has {len(names)} columns, "
-                                 f"0..{len(names) - 1})")
-            i = int(c) % len(names)
-        else:
-            raise ValueError(f"column must be a name or a 0-based index, got {c!r}")
+        i = _column_index(c, names, path)
         if i == time_index:
             raise ValueError(f"{path}: column {c!r} is the time column; pass time_column=None "
                              "(--time-column none) to filter it as a signal")
@@ -179,7 +188,7 @@ def _finish(path, name, data, names, units, time_index, time_scale, fs, columns)
             raise ValueError(f"{path} has no time column, so the sampling rate is unknown: give it with --fs HZ "
                              "(fs=...), or name the time column with --time-column NAME (time_column=...)")
         fs = check_positive("fs", fs)
-        return Recording(name, fs, ch_names, values, str(path), units=ch_units, timing=Timing("--fs"))
+        return Recording(name, fs, ch_names, values, str(path), units=ch_units)
     time = data[:, time_index] * time_scale
     try:
         rate = nominal_rate(time) if fs is None else check_positive("fs", fs)
@@ -188,8 +197,7 @@ def _finish(path, name, data, names, units, time_index, time_scale, fs, columns)
             values, _ = resample_uniform(time, values, rate)
     except ValueError as exc:
         raise ValueError(f"{path}: {exc}") from None
-    return Recording(name, rate, ch_names, values, str(path), timing.irregular_steps, ch_units,
-                     float(time[0]), timing)
+    return Recording(name, rate, ch_names, values, str(path), units=ch_units, t0=float(time[0]), timing=timing)
 
 
 def read_csv(path, *, fs=None, time_column="auto", columns=None, name=None) -> Recording:
@@ -247,7 +255,7 @@ def read_csv(path, *, fs=None, time_column="auto", columns=None, name=None) -> R
 
 def _find_time(data, names, units, time_column, path, has_header):
     width = data.shape[1]
-    if time_column is None or (isinstance(time_column, str) and time_column.lower() == "none"):
+    if _no_time(time_column):
         return None, 1.0
     if isinstance(time_column, str) and time_column.lower() == "auto":
         if width < 2:
@@ -258,19 +266,9 @@ def _find_time(data, names, units, time_column, path, has_header):
         if (not has_header or not names[0]) and _shaped_like_time(data[:, 0]):
             return 0, 1.0  # unnamed: by its shape
         return None, 1.0  # a named column that is not called time is a signal
-    if isinstance(time_column, str) and time_column.strip().lstrip("-").isdigit():
-        time_column = int(time_column)
-    if isinstance(time_column, str):
-        key = split_unit(time_column)[0]
-        if key not in names:
-            raise ValueError(f"{path}: no time column {time_column!r}; columns: {', '.join(names)}")
-        i = names.index(key)
-    elif isinstance(time_column, (int, np.integer)) and not isinstance(time_column, bool):
-        if not -width <= time_column < width:
-            raise ValueError(f"{path}: time column index {time_column} out of range (0..{width - 1})")
-        i = int(time_column) % width
-    else:
+    if isinstance(time_column, bool) or not isinstance(time_column, (str, int, np.integer)):
         raise ValueError(f"time_column must be 'auto', None, a name or an index, got {time_column!r}")
+    i = _column_index(time_column, names, path, what="time column")
     if width < 2:
         raise ValueError(f"{path}: the only column cannot be both time and signal")
     scale = _time_scale(names[i], units[i])
@@ -332,7 +330,7 @@ def read_mat(path, *, fs=None, time_column="auto", columns=None, name=None) -> R
         for k in _MAT_RATE:
             numeric.pop(k, None)
     time = None
-    if time_column is not None and not (isinstance(time_column, str) and time_column.lower() == "none"):
+    if not _no_time(time_column):
         keys = _MAT_TIME if time_column == "auto" else (time_column,)
         for k in keys:
             if k in numeric and 1 in numeric[k].shape and numeric[k].size > 1:

@@ -55,7 +55,6 @@ class Recording:
     channels: tuple  #: one name per column of ``samples``
     samples: np.ndarray  #: shape (n, len(channels)), uniformly sampled
     source: str = ""  #: file it was read from
-    irregular_steps: int = 0  #: raw time steps off the nominal 1/fs by more than 50 %
     units: tuple = ()  #: one unit per channel ("" when unknown), or () when none is known
     t0: float = 0.0  #: time of the first sample, s
     timing: Timing = field(default_factory=lambda: Timing("--fs"))
@@ -63,6 +62,11 @@ class Recording:
     @property
     def duration(self) -> float:
         return self.samples.shape[0] / self.fs
+
+    @property
+    def irregular_steps(self) -> int:
+        """Raw time steps off the nominal ``1/fs`` by more than 50 % (0 without a time column)."""
+        return self.timing.irregular_steps
 
     @property
     def time(self) -> np.ndarray:
