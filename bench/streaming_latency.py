@@ -17,7 +17,7 @@ import time
 import numpy as np
 
 from wake import WakeFilter
-from wake.cli import default_backend
+from wake.config import WakeConfig
 from wake.eval.synthetic import make_signal
 
 
@@ -39,7 +39,7 @@ def main():
     ap.add_argument("--seconds", type=float, default=600.0, help="stream length at 100 Hz (default 600 s)")
     ap.add_argument("--backend", default=None, choices=("c", "reference"))
     args = ap.parse_args()
-    backend = args.backend or default_backend()
+    backend = WakeConfig(backend=args.backend).backend  # None: the C core when installed
     x = make_signal(10.0, seed=7, duration=args.seconds).measurement
     print(f"{x.size} samples, backend {backend}, HPA every 500 samples")
     print("| HPA mode | median (us) | p99 (us) | p99.9 (us) | max (us) |")

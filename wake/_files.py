@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import os
+import sys
 import tempfile
 from pathlib import Path
 
-__all__ = ["refuse_same_file", "atomic_write_text"]
+__all__ = ["refuse_same_file", "atomic_write_text", "silence_stdout"]
 
 
 def refuse_same_file(out, inputs, *, option="--out"):
@@ -52,3 +53,14 @@ def atomic_write_text(path, text: str, encoding: str = "utf-8") -> None:
         except OSError:
             pass
         raise
+
+
+def silence_stdout() -> None:
+    """Point standard output at the null device, after its reader has gone (a broken pipe).
+
+    Without this, Python's own flush at exit reports the broken pipe a second time.
+    """
+    try:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    except (OSError, ValueError):
+        pass

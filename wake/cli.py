@@ -22,19 +22,13 @@ def add_filter_arguments(p: argparse.ArgumentParser) -> None:
                    help="RTP backend (default: c when the compiled core is present, else reference)")
 
 
-def _make_filter(args, fs):
+def make_filter(args, fs, **settings):
+    """The WakeFilter of the options of :func:`add_filter_arguments` (and ``settings``) at ``fs``."""
     from wake.filter import WakeFilter
 
     # backend None: the C core when installed, else the reference (with a CoreMissingWarning)
     return WakeFilter(fs=fs, wavelet=args.wavelet, level=args.level, window_s=args.window_s,
-                      ar_order=args.ar_order, backend=args.backend)
-
-
-def default_backend():
-    """``"c"`` when the compiled core imports, else ``"reference"``."""
-    from wake.rtp import c_backend_available
-
-    return "c" if c_backend_available() else "reference"
+                      ar_order=args.ar_order, backend=args.backend, **settings)
 
 
 def _cmd_demo(args) -> int:
@@ -42,7 +36,7 @@ def _cmd_demo(args) -> int:
     from wake.eval.synthetic import PAPER_WAKE, paper_dataset
 
     data = paper_dataset()
-    filt = _make_filter(args, data[0].fs)
+    filt = make_filter(args, data[0].fs)
     print(f"WAKE on the paper's synthetic dataset (backend {filt.backend}, {filt.wavelet}, J={filt.level}, "
           f"L={filt.window_s:g} s, p={filt.ar_order}); as in the paper, the warm-up of {filt.window_samples} "
           "samples is left out, except in 'whole' (NRMSE from 0.5 s: what a wearer lives through)")
@@ -80,7 +74,7 @@ def _cmd_demo(args) -> int:
 
 
 def _columns(values):
-    """``--column a,b --column 3`` -> ``["a", "b", 3]`` (None when not given)."""
+    """``--column a,b --column 3`` -> ``["a", "b", "3"]`` (None when not given)."""
     if not values:
         return None
     out = []
@@ -90,7 +84,7 @@ def _columns(values):
             if not cell:
                 raise ValueError(f"--column {value!r} has an empty name; give names or 0-based indices, "
                                  "comma-separated")
-            out.append(int(cell) if cell.lstrip("-").isdigit() else cell)
+            out.append(cell)  # a digit string is an index (wake.io.readers)
     return out
 
 
@@ -102,15 +96,12 @@ def _cmd_run(args) -> int:
         raise ValueError(f"--fs must be > 0 Hz, got {args.fs}")
     if args.out:
         refuse_same_file(args.out, [args.file])
-    time_column = args.time_column
-    if time_column.lower() == "none":
-        time_column = None
-    rec = read_recording(args.file, format=args.format, fs=args.fs, time_column=time_column,
+    rec = read_recording(args.file, format=args.format, fs=args.fs, time_column=args.time_column,
                          columns=_columns(args.column))
     x = rec.samples
     print(f"{rec.name}: {x.shape[0]} samples x {x.shape[1]} channel(s) ({', '.join(rec.channels)}); "
           f"{rec.timing.describe(rec.fs)}")
-    filt = _make_filter(args, rec.fs)
+    filt = make_filter(args, rec.fs)
     res = filt.run(x if x.shape[1] > 1 else x[:, 0])
     if args.out:
         rows = write_result_csv(args.out, rec, res)
@@ -170,15 +161,6 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _silence_stdout() -> None:
-    import os
-
-    try:
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-    except (OSError, ValueError):
-        pass
-
-
 def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
@@ -199,7 +181,9 @@ def main(argv=None) -> int:
     try:
         return {"demo": _cmd_demo, "run": _cmd_run}[args.command](args)
     except BrokenPipeError:  # `wake demo | head`: the reader left; not an error of ours
-        _silence_stdout()
+        from wake._files import silence_stdout
+
+        silence_stdout()
         return 0
     except (ValueError, OSError) as exc:
         print(f"wake {args.command}: error: {exc}", file=sys.stderr)

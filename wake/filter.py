@@ -288,8 +288,7 @@ class WakeFilter:
         if self._channels is None:
             self._channels = self._new_channels(n)
             self._n_channels = n
-            if self.config.hpa_mode == "thread":
-                self._executor()  # the worker starts with the stream, off the first HPA's sample
+            self.start_worker()  # with the stream, off the sample that completes the first HPA window
         elif n != self._n_channels:
             raise ValueError(
                 f"this filter streams {self._n_channels} channel(s); got {what} with {n}. "

@@ -11,6 +11,7 @@ uses only ``<stdint.h>``, ``<stddef.h>`` and ``<string.h>``.
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
 
 from wake._files import atomic_write_text
@@ -126,7 +127,7 @@ def export_folder(directory, *, force: bool = False, sources=None, **config) -> 
     """
     name = config.get("name", "wake_config")
     # validates every value (ValueError) before the directory is touched
-    header = export_header(_Discard(), **config)
+    header = export_header(io.StringIO(), **config)
     src = csrc_dir(sources)
     out = Path(directory)
     if out.exists() and not out.is_dir():
@@ -146,11 +147,6 @@ def export_folder(directory, *, force: bool = False, sources=None, **config) -> 
     atomic_write_text(out / "README.md", _readme(name, config), encoding="utf-8")
     written.append(out / "README.md")
     return written
-
-
-class _Discard:
-    def write(self, text):
-        return len(text)
 
 
 def cli(argv=None) -> int:

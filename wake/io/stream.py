@@ -35,6 +35,8 @@ from collections import deque
 
 import numpy as np
 
+from wake._files import silence_stdout
+
 __all__ = ["StreamProcessor", "cli"]
 
 #: GIL switch interval while an HPA thread runs beside the sample path (default Python: 5 ms).
@@ -135,11 +137,9 @@ def _parse(line: str, expect: int | None):
 
 
 def _make_filter(args, fs):
-    from wake.filter import WakeFilter
+    from wake.cli import make_filter
 
-    filt = WakeFilter(fs=fs, wavelet=args.wavelet, level=args.level, window_s=args.window_s,
-                      ar_order=args.ar_order, backend=args.backend, hpa_mode=args.hpa_mode)
-    return filt
+    return make_filter(args, fs, hpa_mode=args.hpa_mode)
 
 
 def _ready(filt):
@@ -221,10 +221,10 @@ def _pipe_loop(args, stop, log, filt, fin, fout) -> int:
                 break
     except BrokenPipeError:
         log("wake stream: error: the output pipe was closed by the reader; stopping")
-        _silence_stdout()
-        _finish(proc, log, "output closed", filt)
+        silence_stdout()
+        _finish(proc, log, "output closed")
         return 1
-    _finish(proc, log, "stopped by signal" if stop.requested else "end of input", filt)
+    _finish(proc, log, "stopped by signal" if stop.requested else "end of input")
     return 0
 
 
@@ -245,20 +245,9 @@ def _numeric_line(text: str) -> bool:
         return False
 
 
-def _silence_stdout():
-    import os
-
-    try:
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
-    except (OSError, ValueError):
-        pass
-
-
-def _finish(proc, log, why, filt=None):
+def _finish(proc, log, why):
+    """The summary line; the filter is closed first so that it counts an HPA that was in flight."""
     if proc is None:
-        if filt is not None:
-            filt.close()
         log(f"wake stream: {why}: no samples")
         return
     proc.filt.close()
