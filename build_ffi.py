@@ -64,7 +64,8 @@ def cdef_from_header(text: str) -> str:
 
 
 def public_headers():
-    return sorted(glob.glob(os.path.join(HERE, CSRC, "wake_*.h")))
+    # wake_rtp.h first: the other headers use its types
+    return sorted(glob.glob(os.path.join(HERE, CSRC, "wake_*.h")), key=lambda p: (not p.endswith("wake_rtp.h"), p))
 
 
 def sources():
@@ -81,6 +82,10 @@ ffibuilder.set_source(
     "\n".join(f'#include "{os.path.basename(h)}"' for h in public_headers()),
     sources=[s.replace(os.sep, "/") for s in sources()],
     include_dirs=[CSRC],
+    # The HPA's floats must round the same on every machine: no fused multiply-add.
+    extra_compile_args=["-ffp-contract=off"],
+    # Host limits of the C HPA: any window up to 1024 samples, AR order up to 128, every PSD bin.
+    define_macros=[("WAKE_HPA_MAX_WINDOW", "1024"), ("WAKE_HPA_MAX_ORDER", "128"), ("WAKE_HPA_MAX_PSD_BINS", "512")],
 )
 
 if __name__ == "__main__":

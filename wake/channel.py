@@ -13,11 +13,13 @@ import copy
 import warnings
 from collections import deque
 from dataclasses import replace
+from functools import partial
 
 import numpy as np
 
 from wake.config import WakeConfig
 from wake.hpa import HPAUpdate, default_weights, run_hpa
+from wake.hpa.c_port import run_hpa_c
 from wake.hpa.prior import prior_weights
 from wake.rtp import ReferenceRTP, load_fixed_point
 from wake.rtp.full_scale import (
@@ -77,16 +79,20 @@ class Channel:
 
     # -- HPA ---------------------------------------------------------------
     def hpa_job(self, window):
-        """The HPA call for ``window``, with everything it reads passed in (it may run off the sample path)."""
+        """The HPA call for ``window`` as a function of no arguments, with everything it reads bound
+        (it may run off the sample path)."""
         window = _drop_outliers(window)
         if np.isnan(window).any():  # gaps are interpolated for the spectrum: the one door every window goes through
             window = _fill_gaps(window)
-        return (window, self.config), dict(taps=self.taps, previous_weights=self.weights.copy(), index=self.count,
-                                      start_weights=self.start_weights)
+        if self.config.hpa_backend == "c":
+            # the C HPA reads the int16 samples the RTP reads (its full scale once on the C path)
+            return partial(run_hpa_c, window, self.config, taps=self.taps, previous_weights=self.weights.copy(),
+                           index=self.count, full_scale=self.full_scale if self.on_c else None)
+        return partial(run_hpa, window, self.config, taps=self.taps, previous_weights=self.weights.copy(),
+                       index=self.count, start_weights=self.start_weights)
 
     def hpa(self, window):
-        args, kwargs = self.hpa_job(window)
-        self.apply(run_hpa(*args, **kwargs), window, first_sample=self.count)
+        self.apply(self.hpa_job(window)(), window, first_sample=self.count)
 
     def apply(self, upd: HPAUpdate, window, first_sample: int):
         """Install an HPA result between two samples.
@@ -207,8 +213,7 @@ class Channel:
                 # One HPA in flight at a time: a new window waits for the last
                 # one (it had L samples' time to finish).
                 self.swap_if_ready(wait=True, first_sample=self.count)
-                args, kwargs = self.hpa_job(window)
-                self.pending = (executor().submit(run_hpa, *args, **kwargs), window)
+                self.pending = (executor().submit(self.hpa_job(window)), window)
         if sample != sample:
             self.over_run = 0
             return self.rtp.step_missing()

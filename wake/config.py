@@ -15,7 +15,7 @@ from dataclasses import dataclass, fields
 
 from wake._validation import check_level, check_mode, check_wavelet
 
-__all__ = ["CoreMissingWarning", "WakeConfig", "MAX_LEVEL", "WEIGHT_LIMIT", "BACKENDS", "HPA_MODES", "FITS", "LIMITS"]
+__all__ = ["CoreMissingWarning", "WakeConfig", "MAX_LEVEL", "WEIGHT_LIMIT", "BACKENDS", "HPA_BACKENDS", "HPA_MODES", "FITS", "LIMITS"]
 
 #: Highest decomposition level J, for the float reference and the C core alike
 #: (the C struct is sized by ``WAKE_RTP_MAX_LEVEL``, which must equal it).
@@ -28,6 +28,8 @@ WEIGHT_LIMIT = 32.0
 BACKENDS = ("c", "reference")
 #: Streaming HPA: inside ``update()`` or on a worker thread.
 HPA_MODES = ("inline", "thread")
+#: Where the HPA runs: the Python reference (float64) or the single-precision C port (csrc/wake_hpa.c).
+HPA_BACKENDS = ("python", "c")
 #: What the HPA fits ``w`` on (see :mod:`wake.hpa.run`).
 FITS = ("causal", "paper")
 #: Weights before the first HPA (see :mod:`wake.hpa.prior`).
@@ -159,6 +161,11 @@ class WakeConfig:
         Factor of the automatic full scale, in [1, 1e4].
     hpa_mode : {"inline", "thread"}
         Streaming HPA on the sample path or on a worker thread.
+    hpa_backend : {"python", "c"}
+        ``"python"`` (default): the float64 reference HPA.  ``"c"``: the
+        single-precision C port a standalone device runs
+        (:mod:`wake.hpa.c_port`, docs/hpa_c.md), on the window quantised to
+        int16 as the RTP sees it.
     warmup_hpa_s : tuple of float or None
         Progressive HPA: times since start (s), each shorter than
         ``window_s``, at which the HPA also runs, on every sample seen so far,
@@ -207,6 +214,7 @@ class WakeConfig:
     full_scale: float | None = None
     headroom: float = 16.0
     hpa_mode: str = "inline"
+    hpa_backend: str = "python"
     warmup_hpa_s: tuple | None = None
     initial_weights: str = "prior"
     hpa_history_limit: int = 1000
@@ -255,6 +263,8 @@ class WakeConfig:
         put("headroom", _number("headroom", self.headroom))
         if self.hpa_mode not in HPA_MODES:
             raise ValueError(f"unknown hpa_mode {self.hpa_mode!r}; valid choices: {', '.join(HPA_MODES)}")
+        if self.hpa_backend not in HPA_BACKENDS:
+            raise ValueError(f"unknown hpa_backend {self.hpa_backend!r}; valid choices: {', '.join(HPA_BACKENDS)}")
         put("warmup_hpa_s", self._warmup_points())
         if self.initial_weights not in INITIAL_WEIGHTS:
             raise ValueError(f"unknown initial_weights {self.initial_weights!r}; valid choices: "

@@ -25,6 +25,7 @@ import numpy as np
 
 from wake._validation import as_sample, as_signal
 from wake.config import BACKENDS, WakeConfig
+from wake.hpa.c_port import check_c_hpa_config
 from wake.channel import Channel, start_weights_for
 from wake.rtp import load_fixed_point
 from wake.wavelets import filter_bank_taps
@@ -216,8 +217,10 @@ class WakeFilter:
                 raise TypeError(f"unknown setting(s) {unknown}; valid settings: {', '.join(sorted(valid))}")
             config = WakeConfig(fs=fs, wavelet=wavelet, level=level, window_s=window_s, ar_order=ar_order,
                                 **settings)
-        if config.backend == "c":
+        if config.backend == "c" or config.hpa_backend == "c":
             load_fixed_point()  # fail here, with how to build the core, not at the first HPA
+        if config.hpa_backend == "c":
+            check_c_hpa_config(config)
         _warn_if_far_from_tuned_rate(config)
         self.config = config
         self.taps = filter_bank_taps(config.wavelet, config.level, config.mode)

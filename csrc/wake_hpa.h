@@ -1,0 +1,348 @@
+/**
+ * @file wake_hpa.h
+ * @brief The WAKE hyper-parameter adjustment (HPA) in portable single-precision C.
+ *
+ * A port of the Python reference `wake.hpa.run_hpa` (causal fit) for firmware
+ * that re-fits its own weights with no host.  One HPA run takes a window of
+ * the newest n <= L samples (the RTP's int16 Q15 input) and produces what
+ * wake_rtp_set_weights() takes:
+ * @code
+ *   S1  r(k) = sum x_c(t) x_c(t+k)          exact in int64 (x_c = x - mean)
+ *       a, sigma^2 = Levinson-Durbin(r)      AR(p), float
+ *       D(f) = |1 + sum a_k e^{-j 2 pi f k / fs}|^2 on f = k fs / 1022
+ *   S2  f_d = the valley rule on PSD = sigma^2 / D (dB tests as ratios of D)
+ *   GT  v(t) = mean + (2/n) Re sum_{m: m fs/n <= f_d} X_m e^{j 2 pi m t / n}
+ *       (the sharp FFT high-pass's voluntary part, from the bins below f_d only)
+ *   S4  w = argmin |A w - v(+1)|^2 + lambda |w|^2 over the causal bank outputs A
+ *       G = A'A = B Rxx B' + mean terms,  b = A'v(+1) = B Cxy + mean terms
+ *       R = var(x - v), floored at 1e-6 var(x)
+ * @endcode
+ * docs/hpa_c.md derives each rearrangement and records its agreement with the
+ * Python HPA.
+ *
+ * Single precision only (`float`, no double: builds with -Wdouble-promotion),
+ * no libm (cosines from a polynomial on an exact integer angle, dB tests as
+ * ratios), no allocation, no global state.  Every buffer lives in one
+ * caller-owned ::wake_hpa_t.  Build with `-ffp-contract=off` (the Makefile
+ * does): the evaluation order is then fixed and the same image gives the same
+ * bits on every IEEE-754 single-precision machine (checked: host x86-64
+ * against a Cortex-M4F under QEMU).
+ *
+ * @par Two ways to run it
+ * - RTOS task or main loop: wake_hpa_start() (or wake_hpa_push() when a window
+ *   fills) then wake_hpa_run(), which returns when the result is ready.
+ * - Bare-metal super-loop: one wake_hpa_slice() after each wake_rtp_step().
+ *   A slice does a bounded amount of work (at most #WAKE_HPA_CHUNK samples of
+ *   one inner loop); `wake profile` reports the largest slice in
+ *   instructions.  wake_hpa_apply() hands the result to the RTP between two
+ *   samples.
+ *
+ * @par Double buffering
+ * wake_hpa_push() fills one window buffer while the HPA reads the other; the
+ * buffers swap every L samples.  A warm-up HPA (a sample count in
+ * wake_hpa_config_t::warmup) reads the prefix of the buffer being filled,
+ * which pushes never overwrite until the swap.
+ *
+ * @par Memory
+ * sizeof(wake_hpa_t) is a compile-time constant, about
+ * 4 WAKE_HPA_MAX_WINDOW (two int16 windows and the cos/sin table)
+ * + 4 (WAKE_HPA_MAX_LEVEL + 3) 2^WAKE_HPA_MAX_LEVEL + 8 WAKE_HPA_MAX_ORDER
+ * + 4 WAKE_HPA_MAX_PSD_BINS + 8 (WAKE_HPA_MAX_ORDER + 2^WAKE_HPA_MAX_LEVEL) + 200 bytes;
+ * with -DWAKE_HPA_MAX_WINDOW=500 -DWAKE_HPA_MAX_LEVEL=5 -DWAKE_HPA_MAX_ORDER=17
+ * -DWAKE_HPA_MAX_PSD_BINS=64 `wake profile` measures it on the target.
+ * Stack use is below 200 bytes (no recursion, no arrays on the stack).
+ */
+#ifndef WAKE_HPA_H
+#define WAKE_HPA_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "wake_rtp.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Largest window L (samples) the struct has room for; at most 1024 (int64 sums stay exact). */
+#ifndef WAKE_HPA_MAX_WINDOW
+#define WAKE_HPA_MAX_WINDOW 512
+#endif
+/** Largest level J (filter bank of 2^J taps). */
+#ifndef WAKE_HPA_MAX_LEVEL
+#define WAKE_HPA_MAX_LEVEL WAKE_RTP_MAX_LEVEL
+#endif
+/** Largest AR order p. */
+#ifndef WAKE_HPA_MAX_ORDER
+#define WAKE_HPA_MAX_ORDER 24
+#endif
+/** PSD bins kept for the valley search: bins k with k fs / 1022 <= cutoff_high (62 at 100 Hz, 6 Hz). */
+#ifndef WAKE_HPA_MAX_PSD_BINS
+#define WAKE_HPA_MAX_PSD_BINS 128
+#endif
+/** Samples (or PSD bins, or table entries) one slice handles in one inner loop. */
+#ifndef WAKE_HPA_CHUNK
+#define WAKE_HPA_CHUNK 64
+#endif
+
+#if WAKE_HPA_MAX_WINDOW < 4 || WAKE_HPA_MAX_WINDOW > 1024
+#error "WAKE_HPA_MAX_WINDOW must lie in 4..1024"
+#endif
+#if WAKE_HPA_MAX_LEVEL < 1 || WAKE_HPA_MAX_LEVEL > WAKE_RTP_MAX_LEVEL
+#error "WAKE_HPA_MAX_LEVEL must lie in 1..WAKE_RTP_MAX_LEVEL"
+#endif
+#if WAKE_HPA_MAX_ORDER < 1 || WAKE_HPA_MAX_ORDER > 255
+#error "WAKE_HPA_MAX_ORDER must lie in 1..255"
+#endif
+#if WAKE_HPA_MAX_PSD_BINS < 4 || WAKE_HPA_MAX_PSD_BINS > 512
+#error "WAKE_HPA_MAX_PSD_BINS must lie in 4..512"
+#endif
+#if WAKE_HPA_CHUNK < 1 || WAKE_HPA_CHUNK > 1024
+#error "WAKE_HPA_CHUNK must lie in 1..1024"
+#endif
+
+/** Filter-bank taps for the largest level. */
+#define WAKE_HPA_MAX_TAPS (1 << WAKE_HPA_MAX_LEVEL)
+/** Warm-up HPA points the configuration can hold. */
+#define WAKE_HPA_MAX_WARMUP 4
+/** FFT length of the Python AR spectrum: 512 frequencies on [0, fs/2]. */
+#define WAKE_HPA_PSD_GRID 1022
+/** Largest |weight| the fit returns (the ridge rises until every weight is within it). */
+#define WAKE_HPA_WEIGHT_LIMIT 32
+/** Times the ridge may rise tenfold. */
+#define WAKE_HPA_RIDGE_STEPS 16
+/** Value of wake_hpa_t::magic once initialised ("HPAW"). */
+#define WAKE_HPA_MAGIC 0x48504157u
+
+/** wake_hpa_result_t::notes: the ridge was raised to keep the weights within the limit. */
+#define WAKE_HPA_NOTE_REGULARISED 1
+/** wake_hpa_result_t::notes: a silent window; the previous weights are kept. */
+#define WAKE_HPA_NOTE_WEIGHTS_KEPT 2
+/** wake_hpa_result_t::notes: no ridge kept the weights within the limit; they were clipped. */
+#define WAKE_HPA_NOTE_CLIPPED 4
+
+/** Status codes: zero is success, positive values report progress, errors are negative. */
+typedef enum {
+    WAKE_HPA_OK = 0,            /**< success; for slice/run: nothing to do */
+    WAKE_HPA_RUNNING = 1,       /**< slice: more work remains */
+    WAKE_HPA_DONE = 2,          /**< slice/run: the result just became ready */
+    WAKE_HPA_STARTED = 3,       /**< push: a window was complete and an HPA started */
+    WAKE_HPA_E_NULL = -1,       /**< a required pointer is NULL */
+    WAKE_HPA_E_CONFIG = -2,     /**< a configuration value out of range (see wake_hpa_init) */
+    WAKE_HPA_E_UNINIT = -3,     /**< the struct was never initialised (bad magic) */
+    WAKE_HPA_E_WINDOW = -4,     /**< start: n outside [2 * 2^J, L] */
+    WAKE_HPA_E_BUSY = -5,       /**< start: an HPA is still running */
+    WAKE_HPA_E_IDLE = -6,       /**< result/apply: no new result */
+    WAKE_HPA_E_RTP = -7,        /**< apply: the RTP refused (level mismatch or its own status) */
+    WAKE_HPA_E_CORRUPT = -8     /**< magic present but fields inconsistent */
+} wake_hpa_status_t;
+
+/** How the cut-off was found (the keys of wake.hpa.CUTOFF_FLAGS). */
+typedef enum {
+    WAKE_HPA_VALLEY = 0,          /**< the PSD minimum between voluntary content and tremor peak */
+    WAKE_HPA_NO_TREMOR_PEAK = 1,  /**< no local PSD maximum in the tremor band: default cut-off */
+    WAKE_HPA_NO_VALLEY = 2,       /**< no dip min_depth below both sides: default cut-off */
+    WAKE_HPA_SILENT = 3,          /**< constant window (or zero AR error): default cut-off */
+    WAKE_HPA_SHALLOW_VALLEY = 4   /**< rule "shallow": the PSD minimum below the peak */
+} wake_hpa_flag_t;
+
+/** Cut-off rules (wake.hpa.CUTOFF_RULES). */
+typedef enum {
+    WAKE_HPA_RULE_PAPER = 0,
+    WAKE_HPA_RULE_SHALLOW = 1
+} wake_hpa_rule_t;
+
+/** The settings of wake.WakeConfig the HPA reads (`wake export-c` writes them). */
+typedef struct {
+    float fs;                   /**< sampling rate, Hz, > 0 */
+    float tremor_low;           /**< tremor band, Hz: 0 < low < high <= fs/2 */
+    float tremor_high;
+    float cutoff_low;           /**< where f_d may lie, Hz: 0 < low <= default <= high < fs/2 */
+    float cutoff_high;
+    float default_cutoff;       /**< the fallback f_d, Hz */
+    float min_depth_ratio;      /**< 10^(-min_depth_db / 10), in (0, 1): 0.5011872 for 3 dB */
+    float ridge;                /**< relative ridge, >= 0 (1e-6) */
+    float process_noise_ratio;  /**< q = ratio * R when applied to the RTP, >= 0 */
+    uint16_t window;            /**< L, samples: 2 * 2^J <= L <= WAKE_HPA_MAX_WINDOW, L > 2 p */
+    uint16_t level;             /**< J, 1..WAKE_HPA_MAX_LEVEL */
+    uint16_t ar_order;          /**< p, 1..WAKE_HPA_MAX_ORDER */
+    uint16_t rule;              /**< a ::wake_hpa_rule_t */
+    uint16_t warmup[WAKE_HPA_MAX_WARMUP]; /**< sample counts of warm-up HPAs before the first full
+                                               window, increasing, each in [2 * 2^J, L); 0 ends the list */
+} wake_hpa_config_t;
+
+/** What one HPA run produced (the C image of wake.hpa.HPAUpdate). */
+typedef struct {
+    float weights[WAKE_HPA_MAX_LEVEL];  /**< w, |w_j| <= WAKE_HPA_WEIGHT_LIMIT */
+    float cutoff;                       /**< f_d, Hz */
+    float measurement_noise;            /**< R in LSB^2 of the Q15 input (R / FS^2 = this / 2^30) */
+    float fit_mse;                      /**< e_L^2 in LSB^2 */
+    float ridge;                        /**< the ridge factor finally used */
+    uint32_t index;                     /**< samples received when the window closed */
+    uint16_t n;                         /**< window length */
+    uint16_t flag;                      /**< a ::wake_hpa_flag_t */
+    uint16_t notes;                     /**< WAKE_HPA_NOTE_* bits */
+    uint16_t reserved;
+} wake_hpa_result_t;
+
+/**
+ * One channel's HPA: configuration, both window buffers and every work array.
+ * Treat the fields as read-only.
+ */
+typedef struct {
+    uint32_t magic;               /**< WAKE_HPA_MAGIC once initialised */
+    wake_hpa_config_t cfg;        /**< validated copy */
+    const wake_q15_t *taps;       /**< J x 2^J filter bank, Q15 (the RTP's; caller-owned) */
+    /* feeding */
+    uint32_t count;               /**< samples pushed (sticks at UINT32_MAX) */
+    uint32_t runs;                /**< HPAs started */
+    uint32_t overruns;            /**< HPAs abandoned because their buffer was needed again */
+    uint32_t skipped;             /**< warm-up points skipped because an HPA was running */
+    uint16_t fill_len;            /**< samples in the buffer being filled */
+    uint16_t fill;                /**< which buffer is being filled (0 or 1) */
+    uint16_t warmup_next;         /**< next warm-up point to check */
+    uint16_t ready;               /**< 1 while ::result holds a result not yet taken */
+    /* the job */
+    const wake_q15_t *work;       /**< the window being analysed (oldest first) */
+    uint32_t index;               /**< its sample count */
+    uint16_t phase;               /**< 0 idle, else the step being worked on */
+    uint16_t n;                   /**< window length */
+    uint16_t rows;                /**< causal fit rows, n - 2^J */
+    uint16_t order;               /**< AR order used, min(p, (n - 1) / 2) */
+    uint16_t lags;                /**< correlation lags computed, max(order + 1, 2^J) */
+    uint16_t d, t, m;             /**< loop counters of the current step */
+    uint16_t bins;                /**< DFT bins at or below f_d */
+    uint16_t psd_end;             /**< last PSD bin evaluated */
+    uint16_t peak;                /**< tremor peak bin (0xFFFF: none yet) */
+    uint16_t tw_n;                /**< window length the twiddle table was built for (0: none) */
+    uint16_t flag;                /**< cut-off flag of this run */
+    uint16_t psd_lo, psd_hi;      /**< PSD bins of the tremor band (set by init) */
+    uint16_t cut_lo, cut_hi;      /**< PSD bins of the cut-off range (set by init) */
+    uint16_t idx;                 /**< (m t) mod n of the DFT step */
+    uint16_t attempts;            /**< ridge rises so far */
+    int16_t lo, hi;               /**< smallest and largest sample */
+    int64_t sum;                  /**< S = sum x */
+    int64_t prefix_rows;          /**< sum of x[0 .. rows-1] */
+    int64_t prefix_lo;            /**< P(d) = sum x[0 .. d-1] */
+    int64_t prefix_hi;            /**< P(rows + d) */
+    int64_t suffix;               /**< sum x[n-d .. n-1] */
+    int64_t acc_head, acc_tail;   /**< the lag sum being accumulated (t < rows, t >= rows) */
+    float mean;                   /**< S / n */
+    float cutoff;                 /**< f_d of this run */
+    float xr, xi, qr, qi;         /**< the DFT bin being accumulated; its value at t = rows */
+    float power;                  /**< sum over bins of |X_m|^2 */
+    float prev1, prev2;           /**< D of the two previous PSD bins */
+    float err;                    /**< Levinson prediction error */
+    float den_peak;               /**< D at the tremor peak */
+    float yy;                     /**< sum of the squared fit targets */
+    float noise;                  /**< R of this run, LSB^2 */
+    float scale;                  /**< trace(G) / J */
+    float factor;                 /**< the ridge factor being tried */
+    float gram[WAKE_HPA_MAX_LEVEL * WAKE_HPA_MAX_LEVEL]; /**< G = A'A, J x J row-major */
+    float rhs[WAKE_HPA_MAX_LEVEL];              /**< b = A'v(+1) */
+    float chol[WAKE_HPA_MAX_LEVEL * WAKE_HPA_MAX_LEVEL]; /**< L of (G + lambda I) = L D L' */
+    float trial[WAKE_HPA_MAX_LEVEL];            /**< the weights of the current ridge */
+    float weights[WAKE_HPA_MAX_LEVEL];          /**< the newest weights (a silent window keeps them) */
+    float r[WAKE_HPA_MAX_ORDER + 1];            /**< autocorrelation (scaled by n^3) */
+    float a[WAKE_HPA_MAX_ORDER + 1];            /**< AR polynomial, a[0] = 1 */
+    float den[WAKE_HPA_MAX_PSD_BINS];           /**< D(f_k) for the valley search */
+    float tw_cos[WAKE_HPA_MAX_WINDOW / 2 + 1];  /**< cos(2 pi k / n), k = 0..n/2 */
+    float tw_sin[WAKE_HPA_MAX_WINDOW / 2 + 1];  /**< sin(2 pi k / n) */
+    float bank_rxx[WAKE_HPA_MAX_TAPS * WAKE_HPA_MAX_LEVEL]; /**< Rxx B', 2^J x J row-major */
+    float cxy[WAKE_HPA_MAX_TAPS];               /**< sum x_c(t + i) v_c(t + 2^J) over the fit rows */
+    float wsum[WAKE_HPA_MAX_TAPS];              /**< sum x_c(t + i) over the fit rows */
+    float vhead[WAKE_HPA_MAX_TAPS];             /**< v_c(t), t < 2^J */
+    wake_hpa_result_t result;                   /**< the newest result */
+    wake_q15_t buf[2 * WAKE_HPA_MAX_WINDOW];    /**< the two window buffers */
+} wake_hpa_t;
+
+/**
+ * @brief Fill @p cfg with wake.WakeConfig's defaults (100 Hz, L = 500, J = 5, p = 17,
+ *        tremor band 2.5..15 Hz, cut-off 0.5..6 Hz, default 2 Hz, 3 dB, ridge 1e-6,
+ *        warm-up at 200, 300 and 400 samples).
+ * @return WAKE_HPA_OK or WAKE_HPA_E_NULL.
+ */
+wake_hpa_status_t wake_hpa_default_config(wake_hpa_config_t *cfg);
+
+/**
+ * @brief Initialise one channel's HPA.
+ * @param[out] h        instance (any content)
+ * @param[in]  cfg      configuration (copied); every field is checked
+ * @param[in]  taps     the RTP's J x 2^J Q15 filter bank, kept by pointer
+ * @param[in]  weights  the J start weights (kept by a silent first window); finite, |w| <= 32
+ * @return WAKE_HPA_OK, WAKE_HPA_E_NULL or WAKE_HPA_E_CONFIG (then @p h is left
+ *         uninitialised: every other call refuses it).
+ */
+wake_hpa_status_t wake_hpa_init(wake_hpa_t *h, const wake_hpa_config_t *cfg, const wake_q15_t *taps,
+                                const float *weights);
+
+/**
+ * @brief Store one sample; start an HPA when a window is complete.
+ * @return WAKE_HPA_OK, WAKE_HPA_STARTED, or WAKE_HPA_E_NULL / _UNINIT / _CORRUPT.
+ *         A full window that finds the previous HPA still running abandons
+ *         it (wake_hpa_t::overruns); a warm-up point that finds one running
+ *         is skipped (wake_hpa_t::skipped).
+ * @par Scaling and overflow
+ * Q15 in; nothing is computed here.
+ */
+wake_hpa_status_t wake_hpa_push(wake_hpa_t *h, wake_q15_t sample);
+
+/**
+ * @brief Start an HPA on a caller-owned window (oldest first), which must stay
+ *        unchanged until the result is ready.
+ * @return WAKE_HPA_OK, WAKE_HPA_E_NULL / _UNINIT / _CORRUPT, _WINDOW (n outside
+ *         [2 * 2^J, L]) or _BUSY.
+ */
+wake_hpa_status_t wake_hpa_start(wake_hpa_t *h, const wake_q15_t *window, uint16_t n, uint32_t index);
+
+/**
+ * @brief Do one bounded piece of the running HPA.
+ * @return WAKE_HPA_OK (idle), WAKE_HPA_RUNNING, WAKE_HPA_DONE, or an error.
+ * @par Scaling and overflow
+ * Sums of samples and of products of centred samples are exact in int64
+ * (n <= 1024, |x| <= 2^15: |n x - S| < 2^26, every partial sum < 2^62);
+ * everything after them is IEEE single precision.
+ */
+wake_hpa_status_t wake_hpa_slice(wake_hpa_t *h);
+
+/**
+ * @brief Run the current HPA to the end.
+ * @return WAKE_HPA_DONE, WAKE_HPA_OK (nothing was running) or an error.
+ */
+wake_hpa_status_t wake_hpa_run(wake_hpa_t *h);
+
+/**
+ * @brief Take the newest result (once).
+ * @return WAKE_HPA_OK, WAKE_HPA_E_NULL / _UNINIT / _CORRUPT, or _IDLE (no new result).
+ */
+wake_hpa_status_t wake_hpa_take(wake_hpa_t *h, wake_hpa_result_t *out);
+
+/**
+ * @brief Convert a result into the RTP's formats.
+ * @param[in]  res       a result
+ * @param[in]  level     J
+ * @param[in]  process_noise_ratio  q = ratio * R
+ * @param[out] weights   J weights, Q24
+ * @param[out] r, q      R and q, Q(WAKE_RTP_P_FRAC) of FS^2; R at least 1 LSB
+ * @return WAKE_HPA_OK or WAKE_HPA_E_NULL.
+ * @par Scaling and overflow
+ * R is in LSB^2 of Q15, so R / FS^2 = R 2^-30 and the Q(P_FRAC) value is
+ * R 2^(P_FRAC - 30), rounded and clamped to [1, INT32_MAX]; q likewise
+ * clamped to [0, INT32_MAX]; weights rounded to Q24 and clamped to +-64.
+ */
+wake_hpa_status_t wake_hpa_to_rtp(const wake_hpa_result_t *res, int level, float process_noise_ratio,
+                                  wake_q24_t *weights, wake_cov_t *r, wake_cov_t *q);
+
+/**
+ * @brief Install the newest result in the RTP between two samples.
+ * @return WAKE_HPA_OK, WAKE_HPA_E_IDLE (no new result: the RTP is untouched),
+ *         WAKE_HPA_E_NULL / _UNINIT / _CORRUPT, or WAKE_HPA_E_RTP (the RTP
+ *         refused: it is unchanged and the result stays ready).
+ */
+wake_hpa_status_t wake_hpa_apply(wake_hpa_t *h, wake_rtp_t *rtp);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* WAKE_HPA_H */

@@ -1,0 +1,167 @@
+"""The single-precision C port of the HPA (``csrc/wake_hpa.c``), run from Python.
+
+The Python HPA (:func:`wake.hpa.run_hpa`) stays the reference; this module
+only exists so that the C port can be tested against it and so that
+``WakeFilter(hpa_backend="c")`` runs the whole pipeline a standalone device
+runs.  The C HPA reads the window as the RTP does: int16 Q15 of a full
+scale.  docs/hpa_c.md records how closely it agrees.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from wake.config import WakeConfig
+from wake.hpa.cutoff import CUTOFF_RULES
+from wake.hpa.run import HPAUpdate
+
+__all__ = ["C_FLAGS", "hpa_config", "run_hpa_c", "check_c_hpa_config", "window_full_scale"]
+
+#: wake_hpa_flag_t -> the keys of :data:`wake.hpa.CUTOFF_FLAGS`
+C_FLAGS = ("valley", "no_tremor_peak", "no_valley", "silent", "shallow_valley")
+#: 10^(-3 dB / 10): the valley depth of :func:`wake.hpa.find_cutoff` as a ratio of PSD values
+MIN_DEPTH_RATIO = 10.0 ** (-3.0 / 10.0)
+_Q15 = 32768.0
+
+
+def _core():
+    from wake.rtp import load_fixed_point
+
+    load_fixed_point()  # CoreUnavailable with how to build it
+    from wake._rtp import ffi, lib
+
+    return ffi, lib
+
+
+def check_c_hpa_config(config: WakeConfig) -> None:
+    """Raise ``ValueError`` naming the limit when the compiled C HPA cannot run ``config``."""
+    _, lib = _core()
+    problems = []
+    if config.window_samples > lib.WAKE_HPA_MAX_WINDOW:
+        problems.append(f"the window L = {config.window_samples} samples exceeds WAKE_HPA_MAX_WINDOW = "
+                        f"{lib.WAKE_HPA_MAX_WINDOW} (shorten window_s)")
+    if config.ar_order > lib.WAKE_HPA_MAX_ORDER:
+        problems.append(f"ar_order = {config.ar_order} exceeds WAKE_HPA_MAX_ORDER = {lib.WAKE_HPA_MAX_ORDER}")
+    if config.level > lib.WAKE_HPA_MAX_LEVEL:
+        problems.append(f"level = {config.level} exceeds WAKE_HPA_MAX_LEVEL = {lib.WAKE_HPA_MAX_LEVEL}")
+    if config.cutoff_range[1] >= config.fs / 2:
+        problems.append(f"cutoff_range[1] = {config.cutoff_range[1]:g} Hz must lie below fs/2 = {config.fs / 2:g} Hz")
+    if config.cutoff_range[1] * lib.WAKE_HPA_PSD_GRID / config.fs >= lib.WAKE_HPA_MAX_PSD_BINS - 1:
+        problems.append(f"cutoff_range[1] = {config.cutoff_range[1]:g} Hz at fs = {config.fs:g} Hz needs more than "
+                        f"WAKE_HPA_MAX_PSD_BINS = {lib.WAKE_HPA_MAX_PSD_BINS} spectrum bins")
+    if problems:
+        raise ValueError("hpa_backend='c' cannot run this configuration: " + "; ".join(problems)
+                         + "; use hpa_backend='python'")
+
+
+def hpa_config(config: WakeConfig):
+    """The ``wake_hpa_config_t`` of a :class:`~wake.WakeConfig` (what ``wake export-c`` writes)."""
+    ffi, _ = _core()
+    c = ffi.new("wake_hpa_config_t *")
+    c.fs = config.fs
+    c.tremor_low, c.tremor_high = config.tremor_band
+    c.cutoff_low, c.cutoff_high = config.cutoff_range
+    c.default_cutoff = config.default_cutoff
+    c.min_depth_ratio = MIN_DEPTH_RATIO
+    c.ridge = config.ridge
+    c.process_noise_ratio = config.process_noise_ratio
+    c.window = config.window_samples
+    c.level = config.level
+    c.ar_order = config.ar_order
+    c.rule = CUTOFF_RULES.index(config.cutoff_rule)
+    points = config.hpa_points()
+    for k, p in enumerate(points[: len(c.warmup)]):
+        c.warmup[k] = p
+    return c
+
+
+def window_full_scale(window) -> float:
+    """The smallest power of two that holds every sample of ``window`` (1.0 for a zero window)."""
+    peak = float(np.max(np.abs(window))) if len(window) else 0.0
+    if not peak > 0:
+        return 1.0
+    return float(2.0 ** np.ceil(np.log2(peak * (1 + 2**-14))))
+
+
+def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index: int = 0,
+              full_scale: float | None = None) -> HPAUpdate:
+    """One HPA run by the C port: what :func:`wake.hpa.run_hpa` returns, computed in single precision.
+
+    Parameters
+    ----------
+    window : array_like, shape (n,)
+        Finite samples, oldest first, ``2 * 2**level <= n <= L``.
+    config : WakeConfig
+    taps : numpy.ndarray, shape (J, 2**J)
+        The filter bank; the C HPA reads it as int16 Q15, as the RTP does.
+    previous_weights : array_like, optional
+        Kept when the window is silent (default: the deepest approximation alone).
+    index : int
+        Recorded in the result.
+    full_scale : float, optional
+        The physical value of Q15 1.0 the window is quantised with (the
+        RTP's full scale).  Default: :func:`window_full_scale`.
+
+    Returns
+    -------
+    HPAUpdate
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wake import WakeConfig
+    >>> from wake.hpa.c_port import run_hpa_c
+    >>> from wake.wavelets import filter_bank_taps
+    >>> t = np.arange(500) / 100.0
+    >>> x = np.sin(2 * np.pi * 0.3 * t) + 0.2 * np.sin(2 * np.pi * 8 * t)
+    >>> upd = run_hpa_c(x, WakeConfig(), taps=filter_bank_taps("sym3", 5))   # doctest: +SKIP
+    >>> upd.cutoff_flag                                                       # doctest: +SKIP
+    'valley'
+    """
+    ffi, lib = _core()
+    from wake.rtp.fixed import quantize_taps
+
+    check_c_hpa_config(config)
+    x = np.asarray(window, dtype=float)
+    J, N = config.level, 2**config.level
+    if x.ndim != 1 or not N * 2 <= x.size <= config.window_samples:
+        raise ValueError(f"window must be 1-D with {2 * N}..{config.window_samples} samples, got shape {x.shape}")
+    if not np.isfinite(x).all():
+        raise ValueError("window holds NaN or inf; interpolate gaps first (WakeFilter does)")
+    fs_scale = window_full_scale(x) if full_scale is None else float(full_scale)
+    if not (np.isfinite(fs_scale) and fs_scale > 0):
+        raise ValueError(f"full_scale must be finite and > 0, got {full_scale!r}")
+    q = np.clip(np.rint(x * (_Q15 / fs_scale)), -32768, 32767).astype(np.int16)
+    taps_q = np.ascontiguousarray(quantize_taps(taps), dtype=np.int16)
+    if previous_weights is None:
+        previous_weights = np.zeros(J)
+        previous_weights[-1] = 1.0
+    w0 = np.clip(np.asarray(previous_weights, dtype=np.float32), -lib.WAKE_HPA_WEIGHT_LIMIT,
+                 lib.WAKE_HPA_WEIGHT_LIMIT)
+    if w0.shape != (J,) or not np.isfinite(w0).all():
+        raise ValueError(f"previous_weights must be {J} finite numbers, got {previous_weights!r}")
+    h = ffi.new("wake_hpa_t *")
+    taps_c = ffi.from_buffer("int16_t[]", taps_q)
+    status = lib.wake_hpa_init(h, hpa_config(config), taps_c, ffi.from_buffer("float[]", w0))
+    if status != lib.WAKE_HPA_OK:
+        raise ValueError(f"wake_hpa_init refused the configuration (status {status})")
+    q_c = ffi.from_buffer("int16_t[]", q)
+    status = lib.wake_hpa_start(h, q_c, q.size, int(index) & 0xFFFFFFFF)
+    if status != lib.WAKE_HPA_OK:
+        raise ValueError(f"wake_hpa_start refused the window (status {status})")
+    status = lib.wake_hpa_run(h)
+    res = ffi.new("wake_hpa_result_t *")
+    if status != lib.WAKE_HPA_DONE or lib.wake_hpa_take(h, res) != lib.WAKE_HPA_OK:
+        raise RuntimeError(f"the C HPA did not finish (status {status})")
+    lsb = fs_scale / _Q15
+    notes = []
+    if res.notes & lib.WAKE_HPA_NOTE_REGULARISED:
+        notes.append("regularised")
+    if res.notes & lib.WAKE_HPA_NOTE_WEIGHTS_KEPT:
+        notes.append("weights_kept")
+    if res.notes & lib.WAKE_HPA_NOTE_CLIPPED:
+        notes.append("weights_clipped")
+    weights = np.array([res.weights[j] for j in range(J)], dtype=float)
+    return HPAUpdate(int(index), float(res.cutoff), C_FLAGS[res.flag], weights,
+                     float(res.measurement_noise) * lsb * lsb, float(np.sqrt(res.fit_mse)) * lsb,
+                     float(res.ridge), tuple(notes))
