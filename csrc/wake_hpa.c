@@ -111,6 +111,27 @@ static inline unsigned chunk_end(unsigned t, unsigned step, unsigned limit)
     return t + step < limit ? t + step : limit;
 }
 
+/*
+ * Cost model of the slicing, in Cortex-M4F instructions (measured by
+ * `wake profile`, docs/hpa_c.md): a slice spends at most
+ * WAKE_HPA_SLICE_BUDGET on loop items, and starts an indivisible step only
+ * if it fits in what is left (or is the slice's first piece of work).
+ */
+#define COST_SUM 9
+#define COST_TABLE 75
+#define COST_LAG 6
+#define COST_DFT 22
+
+static inline unsigned items(int32_t budget, int32_t cost)
+{
+    return budget > cost ? (unsigned)(budget / cost) : 1u;
+}
+
+static inline int32_t cost_psd_bin(const wake_hpa_t *h)
+{
+    return 70 + 9 * (int32_t)h->order;
+}
+
 /** Tap B[j][i] as a float (exact: Q15 / 2^15). */
 static inline float tap(const wake_hpa_t *h, unsigned j, unsigned i)
 {
@@ -330,8 +351,11 @@ wake_hpa_status_t wake_hpa_push(wake_hpa_t *h, wake_q15_t sample)
     h->count = h->count == UINT32_MAX ? h->count : h->count + 1u;
     if (h->fill_len == h->cfg.window) {
         /* a full window: the HPA reads this buffer, the next samples go to the other */
-        if (h->phase != STEP_IDLE) {
+        if (h->phase != STEP_IDLE && h->n == h->cfg.window) {
             h->overruns = h->overruns == UINT32_MAX ? h->overruns : h->overruns + 1u;
+        } else if (h->phase != STEP_IDLE) {
+            /* a warm-up HPA still running: the full window supersedes it */
+            h->skipped = h->skipped == UINT32_MAX ? h->skipped : h->skipped + 1u;
         }
         h->fill = (uint16_t)(1u - h->fill);
         h->fill_len = 0;
@@ -381,11 +405,12 @@ static void finish(wake_hpa_t *h, const float *w, float r, float mse, float ridg
 }
 
 /** S, min, max over one chunk; a constant window ends the run (weights kept). */
-static void step_sums(wake_hpa_t *h)
+static int32_t step_sums(wake_hpa_t *h, int32_t budget)
 {
-    const unsigned end = chunk_end(h->t, WAKE_HPA_CHUNK, h->n);
+    const unsigned start = h->t;
+    const unsigned end = chunk_end(h->t, items(budget, COST_SUM), h->n);
     unsigned t;
-    for (t = h->t; t < end; ++t) { /* wcet-loop: WAKE_HPA_CHUNK */
+    for (t = h->t; t < end; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_SUM */
         const wake_q15_t x = h->work[t];
         h->sum += x;
         if (t < h->rows) {
@@ -396,7 +421,7 @@ static void step_sums(wake_hpa_t *h)
     }
     h->t = (uint16_t)end;
     if (end < h->n) {
-        return;
+        return (int32_t)(end - start) * (COST_SUM);
     }
     if (h->lo == h->hi) {
         /* silent: R = (1e-6 max|x|)^2, default cut-off, weights kept */
@@ -405,7 +430,7 @@ static void step_sums(wake_hpa_t *h)
         h->flag = WAKE_HPA_SILENT;
         finish(h, h->weights, max_f(1e-6f * peak * (1e-6f * peak), 1.0f), 0.0f, h->cfg.ridge,
                WAKE_HPA_NOTE_WEIGHTS_KEPT);
-        return;
+        return (int32_t)(end - start) * (COST_SUM);
     }
     h->mean = (float)h->sum / (float)h->n;
     h->t = 0;
@@ -417,16 +442,18 @@ static void step_sums(wake_hpa_t *h)
     h->prefix_hi = h->prefix_rows;
     h->suffix = 0;
     memset(h->bank_rxx, 0, sizeof h->bank_rxx);
+    return (int32_t)(end - start) * (COST_SUM);
 }
 
 /** cos/sin(2 pi k / n) = phasor(pi 2k / n) for k = 0..n/2, one chunk. */
-static void step_table(wake_hpa_t *h)
+static int32_t step_table(wake_hpa_t *h, int32_t budget)
 {
+    const unsigned start = h->t;
     const unsigned half = h->n / 2u;
-    const unsigned end = chunk_end(h->t, WAKE_HPA_CHUNK, half + 1u);
+    const unsigned end = chunk_end(h->t, items(budget, COST_TABLE), half + 1u);
     unsigned k;
     h->tw_n = 0; /* invalid until complete */
-    for (k = h->t; k < end; ++k) { /* wcet-loop: WAKE_HPA_CHUNK */
+    for (k = h->t; k < end; ++k) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_TABLE */
         unit_phasor(2u * k, h->n, &h->tw_cos[k], &h->tw_sin[k]);
     }
     h->t = (uint16_t)end;
@@ -435,21 +462,23 @@ static void step_table(wake_hpa_t *h)
         h->t = 0;
         h->phase = STEP_LAGS;
     }
+    return (int32_t)(end - start) * (COST_TABLE);
 }
 
 /** One chunk of the raw lag sum sum x(t) x(t+d): t < rows into acc_head, the rest into acc_tail. */
-static void step_lags(wake_hpa_t *h)
+static int32_t step_lags(wake_hpa_t *h, int32_t budget)
 {
+    const unsigned start = h->t;
     const unsigned d = h->d;
     const unsigned last = h->n - d;                  /* t < n - d */
-    const unsigned end = chunk_end(h->t, WAKE_HPA_CHUNK, last);
+    const unsigned end = chunk_end(h->t, items(budget, COST_LAG), last);
     const wake_q15_t *x = h->work;
     unsigned t = h->t;
     int64_t head = h->acc_head, tail = h->acc_tail;
-    for (; t < end && t < h->rows; ++t) { /* wcet-loop: WAKE_HPA_CHUNK */
+    for (; t < end && t < h->rows; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_LAG */
         head += (int32_t)x[t] * (int32_t)x[t + d];
     }
-    for (; t < end; ++t) { /* wcet-loop: WAKE_HPA_CHUNK */
+    for (; t < end; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_LAG */
         tail += (int32_t)x[t] * (int32_t)x[t + d];
     }
     h->acc_head = head;
@@ -458,6 +487,7 @@ static void step_lags(wake_hpa_t *h)
     if (end == last) {
         h->phase = STEP_LAG_END;
     }
+    return (int32_t)(end - start) * (COST_LAG);
 }
 
 /**
@@ -572,12 +602,13 @@ static void step_levinson(wake_hpa_t *h)
  *   Re = a_0 + cos(theta) b_1 - b_2,  Im = sin(theta) b_1.
  * A local PSD maximum is a local minimum of D.
  */
-static void step_psd(wake_hpa_t *h)
+static int32_t step_psd(wake_hpa_t *h, int32_t budget)
 {
-    const unsigned end = chunk_end(h->t, WAKE_HPA_CHUNK / 4u + 1u, h->psd_end + 1u);
+    const unsigned start = h->t;
+    const unsigned end = chunk_end(h->t, items(budget, cost_psd_bin(h)), h->psd_end + 1u);
     const unsigned k_lo = h->psd_lo, k_hi = h->psd_hi;
     unsigned k, m;
-    for (k = h->t; k < end; ++k) { /* wcet-loop: WAKE_HPA_CHUNK / 4 + 1 */
+    for (k = h->t; k < end; ++k) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_PSD_BIN */
         float c, s, b1 = 0.0f, b2 = 0.0f, re, im, dk;
         unit_phasor(k, WAKE_HPA_PSD_GRID / 2u, &c, &s);
         for (m = h->order; m >= 1u; --m) { /* wcet-loop: WAKE_HPA_MAX_ORDER */
@@ -605,6 +636,7 @@ static void step_psd(wake_hpa_t *h)
     if (end == h->psd_end + 1u) {
         h->phase = STEP_CUTOFF;
     }
+    return (int32_t)(end - start) * (cost_psd_bin(h));
 }
 
 /** The valley rule (wake.hpa.cutoff.find_cutoff) on D = sigma^2 / PSD; then the DFT bins below f_d. */
@@ -660,18 +692,20 @@ static void step_cutoff(wake_hpa_t *h)
     h->power = 0.0f;
     memset(h->cxy, 0, sizeof h->cxy);
     memset(h->vhead, 0, sizeof h->vhead);
+    h->d = 0;
     h->phase = h->bins >= 1u ? STEP_DFT : STEP_GRAM;
 }
 
 /** One chunk of X_m = sum x_c(t) e^{-j 2 pi m t / n}; Q_m(0) is the partial sum at t = rows. */
-static void step_dft(wake_hpa_t *h)
+static int32_t step_dft(wake_hpa_t *h, int32_t budget)
 {
+    const unsigned start = h->t;
     const unsigned n = h->n, m = h->m, rows = h->rows;
-    const unsigned end = chunk_end(h->t, WAKE_HPA_CHUNK, n);
+    const unsigned end = chunk_end(h->t, items(budget, COST_DFT), n);
     const float mean = h->mean;
     float xr = h->xr, xi = h->xi;
     unsigned t, idx = h->idx;
-    for (t = h->t; t < end; ++t) { /* wcet-loop: WAKE_HPA_CHUNK */
+    for (t = h->t; t < end; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_DFT */
         const float xc = (float)h->work[t] - mean;
         float c, s;
         twiddle(h, idx, &c, &s);
@@ -693,6 +727,7 @@ static void step_dft(wake_hpa_t *h)
     if (end == n) {
         h->phase = STEP_BIN_END;
     }
+    return (int32_t)(end - start) * (COST_DFT);
 }
 
 /**
@@ -735,6 +770,7 @@ static void step_bin_end(wake_hpa_t *h)
     h->idx = 0;
     h->xr = 0.0f;
     h->xi = 0.0f;
+    h->d = 0;
     h->phase = h->m <= h->bins ? STEP_DFT : STEP_GRAM;
 }
 
@@ -748,48 +784,54 @@ static void step_bin_end(wake_hpa_t *h)
  */
 static void step_gram(wake_hpa_t *h)
 {
-    const unsigned J = h->cfg.level, N = 1u << J, n = h->n, rows = h->rows;
-    const float mu = h->mean, fr = (float)rows, fn = (float)n;
-    float s[WAKE_HPA_MAX_LEVEL], c[WAKE_HPA_MAX_LEVEL];
-    float sy = 0.0f, vv = 0.0f, sum_sq, var, tr = 0.0f;
-    unsigned i, l, k;
-    for (i = 0; i < N; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
-        sy -= h->vhead[i];
-        vv += h->vhead[i] * h->vhead[i];
-    }
-    for (l = 0; l < J; ++l) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
-        float sl = 0.0f, cl = 0.0f, bl = 0.0f;
+    const unsigned J = h->cfg.level, N = 1u << J, l = h->d;
+    const float mu = h->mean, fr = (float)h->rows;
+    float sl = 0.0f, cl = 0.0f, bl = 0.0f;
+    unsigned i, k;
+    if (l == 0u) {
+        h->sy = 0.0f;
+        h->vv = 0.0f;
+        h->trace = 0.0f;
         for (i = 0; i < N; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
-            const float b = tap(h, l, i);
-            sl += b;
-            cl += b * h->wsum[i];
-            bl += b * h->cxy[i];
+            h->sy -= h->vhead[i];
+            h->vv += h->vhead[i] * h->vhead[i];
         }
-        s[l] = sl;
-        c[l] = cl;
-        h->rhs[l] = bl;
     }
-    for (l = 0; l < J; ++l) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
-        for (k = 0; k <= l; ++k) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
-            float g = 0.0f;
-            for (i = 0; i < N; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
-                g += tap(h, l, i) * h->bank_rxx[i * J + k];
-            }
-            g += mu * (c[l] * s[k] + s[l] * c[k]) + fr * mu * mu * s[l] * s[k];
-            h->gram[l * J + k] = g;
-            h->gram[k * J + l] = g;
+    /* row l: s_l, c_l = (B wsum)_l, (B Cxy)_l, then G[l][k] for k <= l */
+    for (i = 0; i < N; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
+        const float b = tap(h, l, i);
+        sl += b;
+        cl += b * h->wsum[i];
+        bl += b * h->cxy[i];
+    }
+    h->rowsum[l] = sl;
+    h->colsum[l] = cl;
+    h->rhs[l] = bl + mu * cl + mu * h->sy * sl + fr * mu * mu * sl;
+    for (k = 0; k <= l; ++k) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
+        float g = 0.0f;
+        for (i = 0; i < N; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
+            g += tap(h, l, i) * h->bank_rxx[i * J + k];
         }
-        h->rhs[l] += mu * c[l] + mu * sy * s[l] + fr * mu * mu * s[l];
-        tr += h->gram[l * J + l];
+        g += mu * (cl * h->rowsum[k] + sl * h->colsum[k]) + fr * mu * mu * sl * h->rowsum[k];
+        h->gram[l * J + k] = g;
+        h->gram[k * J + l] = g;
     }
-    h->yy = h->power * (2.0f / fn) - vv + 2.0f * mu * sy + fr * mu * mu;
-    sum_sq = h->r[0] / (fn * fn);                       /* sum x_c^2 */
-    var = sum_sq / fn;
-    h->noise = max_f((sum_sq - h->power * (2.0f / fn)) / fn, 1e-6f * var);
-    h->scale = tr / (float)J;
-    h->factor = h->cfg.ridge;
-    h->attempts = 0;
-    h->phase = STEP_SOLVE;
+    h->trace += h->gram[l * J + l];
+    h->d = (uint16_t)(l + 1u);
+    if (h->d < J) {
+        return;
+    }
+    {
+        const float fn = (float)h->n;
+        const float sum_sq = h->r[0] / (fn * fn);             /* sum x_c^2 */
+        const float var = sum_sq / fn;
+        h->yy = h->power * (2.0f / fn) - h->vv + 2.0f * mu * h->sy + fr * mu * mu;
+        h->noise = max_f((sum_sq - h->power * (2.0f / fn)) / fn, 1e-6f * var);
+        h->scale = h->trace / (float)J;
+        h->factor = h->cfg.ridge;
+        h->attempts = 0;
+        h->phase = STEP_SOLVE;
+    }
 }
 
 /** e_L^2 = (w'Gw - 2 w'b + y'y) / rows, at least 0. */
@@ -892,39 +934,51 @@ static void step_solve(wake_hpa_t *h)
 /* Public: running, results                                                 */
 /* ------------------------------------------------------------------------ */
 
-wake_hpa_status_t wake_hpa_slice(wake_hpa_t *h)
+/** Cost of the next indivisible step (0: the step is a loop that takes any budget). */
+static int32_t indivisible_cost(const wake_hpa_t *h)
 {
-    wake_hpa_status_t st = check_instance(h);
-    if (st != WAKE_HPA_OK) {
-        return st;
-    }
+    const int32_t J = (int32_t)h->cfg.level, N = (int32_t)1 << J, d = (int32_t)h->d;
     switch (h->phase) {
-    case STEP_IDLE:
-        return WAKE_HPA_OK;
+    case STEP_LAG_END:
+        return d < N ? (N - d) * (12 * J + 30) + 80 : 80;
+    case STEP_LEVINSON:
+        return 5 * (int32_t)h->order * (int32_t)h->order + 150;
+    case STEP_CUTOFF:
+        return 8 * (int32_t)h->cut_hi + 400;
+    case STEP_BIN_END:
+        return 60 * N + 80;
+    case STEP_GRAM:
+        return N * (4 + d) * 6 + (d == 0 ? 6 * N : 0) + 100;
+    case STEP_SOLVE:
+        return 4 * J * J * J + 10 * J * J + 200;
+    default:
+        return 0;
+    }
+}
+
+/** Run the current step within @p budget; returns what it spent (by the cost model). */
+static int32_t run_step(wake_hpa_t *h, int32_t budget)
+{
+    const int32_t fixed = indivisible_cost(h);
+    switch (h->phase) {
     case STEP_SUMS:
-        h->flag = WAKE_HPA_VALLEY;
-        step_sums(h);
-        break;
+        return step_sums(h, budget);
     case STEP_TABLE:
-        step_table(h);
-        break;
+        return step_table(h, budget);
     case STEP_LAGS:
-        step_lags(h);
-        break;
+        return step_lags(h, budget);
+    case STEP_PSD:
+        return step_psd(h, budget);
+    case STEP_DFT:
+        return step_dft(h, budget);
     case STEP_LAG_END:
         step_lag_end(h);
         break;
     case STEP_LEVINSON:
         step_levinson(h);
         break;
-    case STEP_PSD:
-        step_psd(h);
-        break;
     case STEP_CUTOFF:
         step_cutoff(h);
-        break;
-    case STEP_DFT:
-        step_dft(h);
         break;
     case STEP_BIN_END:
         step_bin_end(h);
@@ -935,6 +989,32 @@ wake_hpa_status_t wake_hpa_slice(wake_hpa_t *h)
     default:
         step_solve(h);
         break;
+    }
+    return fixed;
+}
+
+wake_hpa_status_t wake_hpa_slice(wake_hpa_t *h)
+{
+    int32_t left = WAKE_HPA_SLICE_BUDGET;
+    int first = 1;
+    wake_hpa_status_t st = check_instance(h);
+    if (st != WAKE_HPA_OK) {
+        return st;
+    }
+    if (h->phase == STEP_IDLE) {
+        return WAKE_HPA_OK;
+    }
+    if (h->phase == STEP_SUMS && h->t == 0u) {
+        h->flag = WAKE_HPA_VALLEY;
+    }
+    /* pieces of work until the budget is spent; an indivisible step only if it fits (or comes first) */
+    while (h->phase != STEP_IDLE && left > 0) { /* wcet-loop: a few steps */
+        const int32_t fixed = indivisible_cost(h);
+        if (!first && fixed > left) {
+            break;
+        }
+        left -= run_step(h, left);
+        first = 0;
     }
     return h->phase == STEP_IDLE ? WAKE_HPA_DONE : WAKE_HPA_RUNNING;
 }

@@ -32,9 +32,9 @@
  * - RTOS task or main loop: wake_hpa_start() (or wake_hpa_push() when a window
  *   fills) then wake_hpa_run(), which returns when the result is ready.
  * - Bare-metal super-loop: one wake_hpa_slice() after each wake_rtp_step().
- *   A slice does a bounded amount of work (at most #WAKE_HPA_CHUNK samples of
- *   one inner loop); `wake profile` reports the largest slice in
- *   instructions.  wake_hpa_apply() hands the result to the RTP between two
+ *   A slice does a bounded amount of work (#WAKE_HPA_SLICE_BUDGET by a cost
+ *   model, or one indivisible step); `wake profile` reports the largest slice
+ *   in instructions.  wake_hpa_apply() hands the result to the RTP between two
  *   samples.
  *
  * @par Double buffering
@@ -80,9 +80,9 @@ extern "C" {
 #ifndef WAKE_HPA_MAX_PSD_BINS
 #define WAKE_HPA_MAX_PSD_BINS 128
 #endif
-/** Samples (or PSD bins, or table entries) one slice handles in one inner loop. */
-#ifndef WAKE_HPA_CHUNK
-#define WAKE_HPA_CHUNK 64
+/** Work one wake_hpa_slice() may do, in Cortex-M4F instructions of the cost model in wake_hpa.c. */
+#ifndef WAKE_HPA_SLICE_BUDGET
+#define WAKE_HPA_SLICE_BUDGET 1800
 #endif
 
 #if WAKE_HPA_MAX_WINDOW < 4 || WAKE_HPA_MAX_WINDOW > 1024
@@ -97,8 +97,8 @@ extern "C" {
 #if WAKE_HPA_MAX_PSD_BINS < 4 || WAKE_HPA_MAX_PSD_BINS > 512
 #error "WAKE_HPA_MAX_PSD_BINS must lie in 4..512"
 #endif
-#if WAKE_HPA_CHUNK < 1 || WAKE_HPA_CHUNK > 1024
-#error "WAKE_HPA_CHUNK must lie in 1..1024"
+#if WAKE_HPA_SLICE_BUDGET < 100 || WAKE_HPA_SLICE_BUDGET > 1000000
+#error "WAKE_HPA_SLICE_BUDGET must lie in 100..1000000"
 #endif
 
 /** Filter-bank taps for the largest level. */
@@ -196,8 +196,9 @@ typedef struct {
     /* feeding */
     uint32_t count;               /**< samples pushed (sticks at UINT32_MAX) */
     uint32_t runs;                /**< HPAs started */
-    uint32_t overruns;            /**< HPAs abandoned because their buffer was needed again */
-    uint32_t skipped;             /**< warm-up points skipped because an HPA was running */
+    uint32_t overruns;            /**< full-window HPAs abandoned unfinished after L more samples */
+    uint32_t skipped;             /**< warm-up HPAs not run or not finished: a warm-up point that found an
+                                       HPA running, or a warm-up HPA superseded by the full window */
     uint16_t fill_len;            /**< samples in the buffer being filled */
     uint16_t fill;                /**< which buffer is being filled (0 or 1) */
     uint16_t warmup_next;         /**< next warm-up point to check */
@@ -242,6 +243,9 @@ typedef struct {
     float rhs[WAKE_HPA_MAX_LEVEL];              /**< b = A'v(+1) */
     float chol[WAKE_HPA_MAX_LEVEL * WAKE_HPA_MAX_LEVEL]; /**< L of (G + lambda I) = L D L' */
     float trial[WAKE_HPA_MAX_LEVEL];            /**< the weights of the current ridge */
+    float rowsum[WAKE_HPA_MAX_LEVEL];           /**< s = B 1 */
+    float colsum[WAKE_HPA_MAX_LEVEL];           /**< c = B wsum = A_c' 1 */
+    float sy, vv, trace;                        /**< sum of the centred targets, of v_c(t < 2^J)^2, trace G */
     float weights[WAKE_HPA_MAX_LEVEL];          /**< the newest weights (a silent window keeps them) */
     float r[WAKE_HPA_MAX_ORDER + 1];            /**< autocorrelation (scaled by n^3) */
     float a[WAKE_HPA_MAX_ORDER + 1];            /**< AR polynomial, a[0] = 1 */
@@ -279,9 +283,10 @@ wake_hpa_status_t wake_hpa_init(wake_hpa_t *h, const wake_hpa_config_t *cfg, con
 /**
  * @brief Store one sample; start an HPA when a window is complete.
  * @return WAKE_HPA_OK, WAKE_HPA_STARTED, or WAKE_HPA_E_NULL / _UNINIT / _CORRUPT.
- *         A full window that finds the previous HPA still running abandons
- *         it (wake_hpa_t::overruns); a warm-up point that finds one running
- *         is skipped (wake_hpa_t::skipped).
+ *         A full window abandons an HPA still running (a full-window one
+ *         counts in wake_hpa_t::overruns, a warm-up one in
+ *         wake_hpa_t::skipped); a warm-up point that finds one running is
+ *         skipped (wake_hpa_t::skipped).
  * @par Scaling and overflow
  * Q15 in; nothing is computed here.
  */

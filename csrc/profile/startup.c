@@ -30,6 +30,11 @@ void Reset_Handler(void)
 {
     uint32_t *src = &_sidata;
     uint32_t *dst = &_sdata;
+#if defined(__ARM_FP)
+    /* hard-float image: give CP10 and CP11 (the FPU) full access before any float instruction */
+    *(volatile uint32_t *)0xE000ED88u |= 0xFu << 20;
+    __asm volatile("dsb\n\tisb" ::: "memory");
+#endif
     while (dst < &_edata) {
         *dst++ = *src++;
     }

@@ -39,20 +39,24 @@ int main(void)
 def compile_folder(cc, folder, extra):
     """Compile every .c of the folder plus a unit that uses the configuration header."""
     use = folder / "use_config.c"
-    use.write_text('#include "wake_config.h"\n'
-                   "int start(void) { static wake_rtp_t r; return wake_config_init(&r) == WAKE_RTP_OK; }\n")
-    for src in ("wake_rtp.c", "use_config.c"):
-        subprocess.run([cc, "-std=c99", "-Wall", "-Wextra", "-Werror", *extra, "-c", str(folder / src),
+    use.write_text('#include "wake_hpa.h"\n#include "wake_config.h"\n'
+                   "int start(void) { static wake_rtp_t r; static wake_hpa_t h;\n"
+                   "  return wake_config_init(&r) == WAKE_RTP_OK && wake_config_hpa_init(&h) == WAKE_HPA_OK; }\n")
+    for src in ("wake_rtp.c", "wake_hpa.c", "use_config.c"):
+        subprocess.run([cc, "-std=c99", "-Wall", "-Wextra", "-Werror", "-Wdouble-promotion", "-ffp-contract=off",
+                        *extra, "-c", str(folder / src),
                         "-o", str(folder / (src + ".o"))], check=True, capture_output=True, text=True)
 
 
 def test_folder_holds_the_core_unchanged_and_the_configuration(tmp_path):
     files = export_folder(tmp_path / "fw", sources=CSRC, **CONFIG)
-    assert [f.name for f in files] == ["wake_rtp.c", "wake_rtp.h", "wake_config.h", "README.md"]
-    for name in ("wake_rtp.c", "wake_rtp.h"):
+    assert [f.name for f in files] == ["wake_rtp.c", "wake_rtp.h", "wake_hpa.c", "wake_hpa.h", "wake_config.h",
+                                       "README.md"]
+    for name in ("wake_rtp.c", "wake_rtp.h", "wake_hpa.c", "wake_hpa.h"):
         assert (tmp_path / "fw" / name).read_bytes() == (CSRC / name).read_bytes()
     header = (tmp_path / "fw" / "wake_config.h").read_text()
     assert "static inline wake_rtp_status_t wake_config_init(wake_rtp_t *rtp)" in header
+    assert "static inline wake_hpa_status_t wake_config_hpa_init(wake_hpa_t *hpa)" in header
     readme = (tmp_path / "fw" / "README.md").read_text()
     assert "add_library(wake_rtp STATIC" in readme and "wake_config_init(&rtp)" in readme
 

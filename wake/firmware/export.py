@@ -48,6 +48,7 @@ def export_header(
     full_scale,
     name="wake_config",
     sample_rate=100.0,
+    window_s=5.0,
 ):
     """Write ``name.h``-style C header with a quantised configuration.
 
@@ -70,6 +71,9 @@ def export_header(
         (:func:`wake.hpa.prior.prior_weights` with the default cut-off),
         written as ``name_start_weights``: what firmware installs after
         init or reset, before its first HPA.
+    window_s : float
+        HPA window in seconds, for ``name_hpa_init`` (the on-device HPA,
+        compiled when ``wake_hpa.h`` is included before this header).
 
     Returns
     -------
@@ -87,7 +91,8 @@ def export_header(
     taps = filter_bank_taps(wavelet, level)
     taps_q = quantize_taps(taps)
     J, N = taps_q.shape
-    start = prior_weights(WakeConfig(fs=sample_rate, wavelet=wavelet, level=J), taps)
+    hpa_cfg = WakeConfig(fs=sample_rate, wavelet=wavelet, level=J, window_s=window_s, backend="reference")
+    start = prior_weights(hpa_cfg, taps)
     start_q = quantize_weights(start, J)
     if weights is None:
         weights = start
@@ -145,6 +150,7 @@ static inline wake_rtp_status_t {name}_init(wake_rtp_t *rtp)
     return wake_rtp_init(rtp, {macro}_LEVEL, {name}_taps, {name}_weights, {macro}_R, {macro}_Q, {macro}_P0);
 }}
 
+{_hpa_section(name, hpa_cfg, start)}
 #endif /* {macro}_H */
 """
     if isinstance(path_or_file, (str, os.PathLike)):
@@ -154,6 +160,46 @@ static inline wake_rtp_status_t {name}_init(wake_rtp_t *rtp)
     else:
         raise TypeError("path_or_file must be a path or a writable text file")
     return text
+
+
+def _float_literal(v) -> str:
+    """A C float literal that rounds to the same single-precision value (no double promotion)."""
+    text = f"{float(np.float32(v)):.9g}"
+    return text + ("f" if any(ch in text for ch in ".en") else ".0f")
+
+
+def _hpa_section(name: str, cfg: WakeConfig, start) -> str:
+    """``name_hpa_init``: the on-device HPA (wake_hpa.c) with ``cfg``'s settings, if wake_hpa.h is included."""
+    from wake.hpa.c_port import MIN_DEPTH_RATIO
+    from wake.hpa.cutoff import CUTOFF_RULES
+
+    warm = list(cfg.hpa_points())[:4]
+    warm += [0] * (4 - len(warm))
+    f = _float_literal
+    fields = [("fs", f(cfg.fs)), ("tremor_low", f(cfg.tremor_band[0])), ("tremor_high", f(cfg.tremor_band[1])),
+              ("cutoff_low", f(cfg.cutoff_range[0])), ("cutoff_high", f(cfg.cutoff_range[1])),
+              ("default_cutoff", f(cfg.default_cutoff)), ("min_depth_ratio", f(MIN_DEPTH_RATIO)),
+              ("ridge", f(cfg.ridge)), ("process_noise_ratio", f(cfg.process_noise_ratio)),
+              ("window", str(cfg.window_samples)), ("level", str(cfg.level)), ("ar_order", str(cfg.ar_order)),
+              ("rule", str(CUTOFF_RULES.index(cfg.cutoff_rule)))]
+    body = "\n".join(f"    c.{k} = {v};" for k, v in fields)
+    body += "\n" + "\n".join(f"    c.warmup[{k}] = {v};" for k, v in enumerate(warm))
+    return f"""
+/* The on-device HPA (wake_hpa.c) with WakeConfig's settings at {cfg.fs:g} Hz, L = {cfg.window_samples} samples,
+ * p = {cfg.ar_order}, starting from the start-up weights.  Include "wake_hpa.h" before this header:
+ *     static wake_hpa_t hpa;
+ *     if ({name}_hpa_init(&hpa) != WAKE_HPA_OK) {{ ... }}                          */
+#ifdef WAKE_HPA_H
+static inline wake_hpa_status_t {name}_hpa_init(wake_hpa_t *hpa)
+{{
+    static const float start[{cfg.level}] = {{{", ".join(f(v) for v in start)}}};
+    wake_hpa_config_t c;
+    (void)wake_hpa_default_config(&c);
+{body}
+    return wake_hpa_init(hpa, &c, {name}_taps, start);
+}}
+#endif
+"""
 
 
 def _checked_full_scale(full_scale) -> float:
@@ -217,7 +263,7 @@ def resolve_config(args) -> dict:
     r = 1e-3 * fs_value**2 if r is None else r
     return dict(wavelet=args.wavelet, level=args.level, weights=weights, measurement_noise=r,
                 process_noise=args.process_noise, initial_covariance=args.initial_covariance,
-                full_scale=fs_value, name=args.name, sample_rate=args.fs)
+                full_scale=fs_value, name=args.name, sample_rate=args.fs, window_s=args.window)
 
 
 def cli(argv=None) -> int:

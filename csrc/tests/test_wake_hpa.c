@@ -1,0 +1,273 @@
+/*
+ * Host unit tests of the single-precision HPA (wake_hpa.c), built with
+ * AddressSanitizer and UBSan by `make test`.  Agreement with the Python HPA
+ * is tested from Python (tests/hpa/test_c_port.py); here: every status path,
+ * degenerate windows give finite results, push + slices equal start + run,
+ * and the RTP is never touched by a refused call.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "wake_hpa.h"
+#include "wake_rtp.h"
+
+static int failures;
+#define CHECK(cond)                                                                   \
+    do {                                                                              \
+        if (!(cond)) {                                                                \
+            printf("FAIL %s:%d: %s\n", __FILE__, __LINE__, #cond);                    \
+            ++failures;                                                               \
+        }                                                                             \
+    } while (0)
+
+#define J 5
+#define N 32
+#define L 500
+static const double TWO_PI = 6.283185307179586;
+
+/* A crude but valid Q15 bank: row j averages the newest 2^(j+1) samples. */
+static int16_t taps[J * N];
+static const float start_w[J] = {0.0f, 0.0f, 0.0f, 0.0f, 1.0f};
+
+static void make_taps(void)
+{
+    int j, i;
+    for (j = 0; j < J; ++j) {
+        const int width = 2 << j;
+        for (i = 0; i < N; ++i) {
+            taps[j * N + i] = (int16_t)(i >= N - width ? 32768 / width : 0);
+        }
+    }
+}
+
+static wake_hpa_t hpa, other;
+static int16_t window[L];
+
+static void init_default(wake_hpa_t *h)
+{
+    wake_hpa_config_t c;
+    CHECK(wake_hpa_default_config(&c) == WAKE_HPA_OK);
+    CHECK(wake_hpa_init(h, &c, taps, start_w) == WAKE_HPA_OK);
+}
+
+static int result_is_sane(const wake_hpa_result_t *r)
+{
+    int j, ok = r->flag <= WAKE_HPA_SHALLOW_VALLEY && isfinite(r->cutoff) && r->cutoff > 0.0f &&
+                isfinite(r->measurement_noise) && r->measurement_noise > 0.0f && isfinite(r->fit_mse) &&
+                r->fit_mse >= 0.0f;
+    for (j = 0; j < J; ++j) {
+        ok = ok && isfinite(r->weights[j]) && fabsf(r->weights[j]) <= (float)WAKE_HPA_WEIGHT_LIMIT;
+    }
+    return ok;
+}
+
+static wake_hpa_result_t analyse(const int16_t *x, uint16_t n)
+{
+    wake_hpa_result_t r;
+    memset(&r, 0, sizeof r);
+    init_default(&hpa);
+    CHECK(wake_hpa_start(&hpa, x, n, n) == WAKE_HPA_OK);
+    CHECK(wake_hpa_run(&hpa) == WAKE_HPA_DONE);
+    CHECK(wake_hpa_take(&hpa, &r) == WAKE_HPA_OK);
+    return r;
+}
+
+static void test_bad_input(void)
+{
+    wake_hpa_config_t c;
+    wake_hpa_result_t r;
+    wake_rtp_t rtp, rtp_copy;
+    const int32_t w0[J] = {0, 0, 0, 0, 1 << 24};
+    static int16_t taps3[3 * 8];
+
+    CHECK(wake_hpa_default_config(NULL) == WAKE_HPA_E_NULL);
+    wake_hpa_default_config(&c);
+    CHECK(wake_hpa_init(NULL, &c, taps, start_w) == WAKE_HPA_E_NULL);
+    CHECK(wake_hpa_init(&hpa, NULL, taps, start_w) == WAKE_HPA_E_NULL);
+    CHECK(wake_hpa_init(&hpa, &c, NULL, start_w) == WAKE_HPA_E_NULL);
+    CHECK(wake_hpa_init(&hpa, &c, taps, NULL) == WAKE_HPA_E_NULL);
+
+    /* each bad field alone: refused, and the instance left unusable */
+    {
+        wake_hpa_config_t bad;
+        int k;
+        for (k = 0; k < 12; ++k) {
+            bad = c;
+            switch (k) {
+            case 0: bad.level = 0; break;
+            case 1: bad.level = WAKE_HPA_MAX_LEVEL + 1; break;
+            case 2: bad.window = 63; break;
+            case 3: bad.window = WAKE_HPA_MAX_WINDOW + 1; break;
+            case 4: bad.fs = NAN; break;
+            case 5: bad.cutoff_high = 50.0f; break;
+            case 6: bad.default_cutoff = 7.0f; break;
+            case 7: bad.warmup[1] = 150; break;            /* not increasing */
+            case 8: bad.warmup[3] = 450; bad.warmup[2] = 0; break; /* a gap in the list */
+            case 9: bad.min_depth_ratio = 1.5f; break;
+            case 10: bad.ar_order = 250; break;            /* L <= 2p */
+            default: bad.rule = 7; break;
+            }
+            init_default(&hpa);
+            CHECK(wake_hpa_init(&hpa, &bad, taps, start_w) == WAKE_HPA_E_CONFIG);
+            CHECK(wake_hpa_push(&hpa, 1) == WAKE_HPA_E_UNINIT);
+        }
+    }
+    {
+        float big[J] = {0.0f, 0.0f, 0.0f, 0.0f, 33.0f};
+        CHECK(wake_hpa_init(&hpa, &c, taps, big) == WAKE_HPA_E_CONFIG);
+        big[4] = NAN;
+        CHECK(wake_hpa_init(&hpa, &c, taps, big) == WAKE_HPA_E_CONFIG);
+    }
+
+    /* never initialised */
+    memset(&other, 0, sizeof other);
+    CHECK(wake_hpa_push(&other, 1) == WAKE_HPA_E_UNINIT);
+    CHECK(wake_hpa_slice(&other) == WAKE_HPA_E_UNINIT);
+    CHECK(wake_hpa_run(&other) == WAKE_HPA_E_UNINIT);
+    CHECK(wake_hpa_start(&other, window, 100, 0) == WAKE_HPA_E_UNINIT);
+    CHECK(wake_hpa_take(&other, &r) == WAKE_HPA_E_UNINIT);
+    CHECK(wake_hpa_slice(NULL) == WAKE_HPA_E_NULL);
+
+    /* corrupted fields */
+    init_default(&hpa);
+    hpa.phase = 99;
+    CHECK(wake_hpa_slice(&hpa) == WAKE_HPA_E_CORRUPT);
+    init_default(&hpa);
+    hpa.fill_len = 1000;
+    CHECK(wake_hpa_push(&hpa, 1) == WAKE_HPA_E_CORRUPT);
+
+    /* window sizes, busy, idle */
+    init_default(&hpa);
+    CHECK(wake_hpa_start(&hpa, NULL, 100, 0) == WAKE_HPA_E_NULL);
+    CHECK(wake_hpa_start(&hpa, window, 2 * N - 1, 0) == WAKE_HPA_E_WINDOW);
+    CHECK(wake_hpa_start(&hpa, window, L + 1, 0) == WAKE_HPA_E_WINDOW);
+    CHECK(wake_hpa_take(&hpa, &r) == WAKE_HPA_E_IDLE);
+    CHECK(wake_hpa_take(&hpa, NULL) == WAKE_HPA_E_NULL);
+    CHECK(wake_hpa_slice(&hpa) == WAKE_HPA_OK);           /* idle */
+    CHECK(wake_hpa_start(&hpa, window, 100, 0) == WAKE_HPA_OK);
+    CHECK(wake_hpa_start(&hpa, window, 100, 0) == WAKE_HPA_E_BUSY);
+
+    /* apply: refused calls leave the RTP byte for byte unchanged */
+    CHECK(wake_rtp_init(&rtp, J, taps, w0, 4000, 0, 0) == WAKE_RTP_OK);
+    memcpy(&rtp_copy, &rtp, sizeof rtp);
+    init_default(&hpa);
+    CHECK(wake_hpa_apply(&hpa, &rtp) == WAKE_HPA_E_IDLE);
+    CHECK(wake_hpa_apply(&hpa, NULL) == WAKE_HPA_E_NULL);
+    CHECK(memcmp(&rtp, &rtp_copy, sizeof rtp) == 0);
+    {
+        int i;
+        for (i = 0; i < L; ++i) {
+            window[i] = (int16_t)(1000.0 * sin(0.02 * i) + 300.0 * sin(0.5 * i));
+        }
+    }
+    CHECK(wake_hpa_start(&hpa, window, L, L) == WAKE_HPA_OK);
+    CHECK(wake_hpa_run(&hpa) == WAKE_HPA_DONE);
+    {
+        wake_rtp_t rtp3, rtp3_copy;
+        const int32_t w3[3] = {0, 0, 1 << 24};
+        CHECK(wake_rtp_init(&rtp3, 3, taps3, w3, 4000, 0, 0) == WAKE_RTP_OK);
+        memcpy(&rtp3_copy, &rtp3, sizeof rtp3);
+        CHECK(wake_hpa_apply(&hpa, &rtp3) == WAKE_HPA_E_RTP);  /* level 3 != 5 */
+        CHECK(memcmp(&rtp3, &rtp3_copy, sizeof rtp3) == 0);
+    }
+    memset(&rtp_copy, 0, sizeof rtp_copy);
+    CHECK(wake_hpa_apply(&hpa, &rtp_copy) == WAKE_HPA_E_RTP);  /* uninitialised RTP */
+    CHECK(wake_hpa_apply(&hpa, &rtp) == WAKE_HPA_OK);          /* the result stayed ready until now */
+    CHECK(wake_hpa_apply(&hpa, &rtp) == WAKE_HPA_E_IDLE);
+    CHECK(memcmp(rtp.weights, w0, sizeof w0) != 0);
+}
+
+static void test_degenerate_windows(void)
+{
+    int kind, i;
+    uint32_t lcg = 12345u;
+    for (kind = 0; kind < 8; ++kind) {
+        wake_hpa_result_t r;
+        for (i = 0; i < L; ++i) {
+            double v;
+            lcg = lcg * 1664525u + 1013904223u;
+            switch (kind) {
+            case 0: v = 123.0; break;                                       /* silent (constant) */
+            case 1: v = 0.0; break;                                         /* zero */
+            case 2: v = 8000.0 * sin(TWO_PI * 8.0 * i / 100.0); break;    /* pure tremor */
+            case 3: v = 8000.0 * sin(TWO_PI * 0.3 * i / 100.0); break;    /* pure voluntary */
+            case 4: v = (double)(int32_t)(lcg >> 16) - 32768.0; break;      /* white noise, full range */
+            case 5: v = 90000.0 * sin(TWO_PI * 0.5 * i / 100.0); break;   /* clipped */
+            case 6: v = (i & 1) ? 32767.0 : -32768.0; break;                /* Nyquist at full scale */
+            default: v = 32000.0 + 20.0 * sin(TWO_PI * 6.0 * i / 100.0); break; /* huge offset */
+            }
+            v = v > 32767.0 ? 32767.0 : (v < -32768.0 ? -32768.0 : v);
+            window[i] = (int16_t)v;
+        }
+        r = analyse(window, L);
+        CHECK(result_is_sane(&r));
+        if (kind <= 1) {
+            CHECK(r.flag == WAKE_HPA_SILENT);
+            CHECK(r.notes & WAKE_HPA_NOTE_WEIGHTS_KEPT);
+            CHECK(memcmp(r.weights, start_w, sizeof start_w) == 0);
+        }
+        if (kind == 3) {
+            CHECK(r.flag != WAKE_HPA_VALLEY);
+        }
+    }
+    /* shortest window */
+    {
+        wake_hpa_result_t r = analyse(window, 2 * N);
+        CHECK(result_is_sane(&r) && r.n == 2 * N);
+    }
+}
+
+static void test_push_and_slices_equal_start_and_run(void)
+{
+    wake_hpa_result_t a, b;
+    uint32_t i, slices = 0, starts = 0;
+    int got = 0;
+    init_default(&hpa);
+    for (i = 0; i < 2u * L && !got; ++i) {
+        const int16_t x = (int16_t)(6000.0 * sin(0.013 * i) + 900.0 * sin(0.47 * i) + (double)(i % 7) * 11.0);
+        int st;
+        if (i < L) {
+            window[i] = x;
+        }
+        st = wake_hpa_push(&hpa, x);
+        starts += st == WAKE_HPA_STARTED;
+        st = wake_hpa_slice(&hpa);
+        slices += st == WAKE_HPA_RUNNING || st == WAKE_HPA_DONE;
+        if (hpa.ready && hpa.result.n == L) {
+            CHECK(wake_hpa_take(&hpa, &a) == WAKE_HPA_OK);
+            got = 1;
+        }
+    }
+    CHECK(got);
+    CHECK(starts >= 2u);             /* warm-up points and the full window */
+    CHECK(hpa.overruns == 0u);
+    b = analyse(window, L);
+    CHECK(memcmp(a.weights, b.weights, sizeof a.weights) == 0);
+    CHECK(a.cutoff == b.cutoff && a.measurement_noise == b.measurement_noise && a.flag == b.flag);
+    /* one full-window HPA finishes well within L slices */
+    {
+        uint32_t k = 0;
+        init_default(&hpa);
+        CHECK(wake_hpa_start(&hpa, window, L, 0) == WAKE_HPA_OK);
+        while (wake_hpa_slice(&hpa) == WAKE_HPA_RUNNING) {
+            ++k;
+        }
+        printf("full-window HPA: %u slices (L = %d)\n", (unsigned)(k + 1u), L);
+        CHECK(k + 1u < (uint32_t)L);
+    }
+}
+
+int main(void)
+{
+    make_taps();
+    test_bad_input();
+    test_degenerate_windows();
+    test_push_and_slices_equal_start_and_run();
+    if (failures) {
+        printf("%d failure(s)\n", failures);
+        return 1;
+    }
+    printf("test_wake_hpa: all passed\n");
+    return 0;
+}
