@@ -1,0 +1,141 @@
+"""The single-precision C HPA (csrc/wake_hpa.c) against the Python HPA, the reference."""
+
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+from wake import WakeConfig, WakeFilter
+from wake.eval.metrics import nrmse
+from wake.eval.synthetic import make_signal, paper_dataset
+from wake.hpa import run_hpa
+from wake.rtp import c_backend_available
+from wake.wavelets import filter_bank_taps
+
+pytestmark = pytest.mark.skipif(not c_backend_available(), reason="the compiled C core (wake._rtp) is not built")
+
+CONFIG = WakeConfig(backend="reference")
+TAPS = filter_bank_taps("sym3", 5)
+GRID = CONFIG.fs / 1022  # one step of the AR-spectrum grid, Hz
+CSRC = Path(__file__).resolve().parents[2] / "csrc"
+
+
+def both(x, **kw):
+    """Both HPAs on the window the C one reads: x quantised to int16 with its full scale."""
+    from wake.hpa.c_port import run_hpa_c, window_full_scale
+
+    fs = window_full_scale(x)
+    seen = np.clip(np.rint(np.asarray(x) * (32768 / fs)), -32768, 32767) * (fs / 32768)
+    return run_hpa(seen, CONFIG, taps=TAPS, **kw), run_hpa_c(x, CONFIG, taps=TAPS, **kw)
+
+
+def windows():
+    t = np.arange(500) / 100.0
+    rng = np.random.default_rng(3)
+    out = {f"synthetic {i}": s.measurement[1000:1500] for i, s in enumerate(paper_dataset()[:4])}
+    out["offset 1000x the tremor"] = 50.0 + np.sin(2 * np.pi * 0.4 * t) + 0.05 * np.sin(2 * np.pi * 6 * t)
+    out["pure tremor"] = np.sin(2 * np.pi * 8 * t)
+    out["pure voluntary"] = np.sin(2 * np.pi * 0.3 * t)
+    out["white noise"] = rng.normal(size=500)
+    out["warm-up length 200"] = paper_dataset()[0].measurement[:200]
+    return out
+
+
+@pytest.mark.parametrize("name", list(windows()))
+def test_c_hpa_agrees_with_the_python_hpa(name):
+    x = windows()[name]
+    py, c = both(x)
+    assert c.cutoff_flag == py.cutoff_flag
+    assert abs(c.cutoff - py.cutoff) <= GRID
+    assert c.measurement_noise == pytest.approx(py.measurement_noise, rel=2e-3)
+    # the weights of a nearly collinear fit may differ along directions the data barely excite;
+    # what the RTP feels is the fit they give
+    assert c.fit_error <= 1.05 * py.fit_error + 1e-6 * np.std(x)
+    assert np.isfinite(c.weights).all() and np.abs(c.weights).max() <= 32
+
+
+def test_a_silent_window_keeps_the_previous_weights_like_the_python_hpa():
+    prev = np.array([0.1, 0.2, 0.3, 0.2, 0.2])
+    py, c = both(np.full(300, 0.7), previous_weights=prev)
+    assert c.cutoff_flag == py.cutoff_flag == "silent"
+    assert "weights_kept" in c.flags
+    np.testing.assert_allclose(c.weights, prev, rtol=1e-7)
+
+
+def test_the_pipeline_on_the_c_hpa_scores_within_one_percent_of_the_python_hpa():
+    s = make_signal(5.0, seed=7, duration=30.0)
+    res = {b: WakeFilter(backend="c", hpa_backend=b).run(s.measurement) for b in ("python", "c")}
+    scores = {b: nrmse(s.voluntary, r.voluntary, 500) for b, r in res.items()}
+    assert abs(scores["c"] / scores["python"] - 1) < 0.01
+    assert [u.cutoff_flag for u in res["c"].hpa[0]] == [u.cutoff_flag for u in res["python"].hpa[0]]
+
+
+def test_streaming_on_the_c_hpa_equals_the_batch_run():
+    x = make_signal(5.0, seed=8, duration=14.0).measurement
+    batch = WakeFilter(backend="c", hpa_backend="c").run(x).prediction
+    filt = WakeFilter(backend="c", hpa_backend="c")
+    stream = np.concatenate([filt.update_block(x[:777]), filt.update_block(x[777:])])
+    np.testing.assert_array_equal(stream, batch)
+
+
+def test_bad_settings_are_refused_with_the_fix():
+    with pytest.raises(ValueError, match="unknown hpa_backend 'fortran'; valid choices: python, c"):
+        WakeConfig(hpa_backend="fortran")
+    with pytest.raises(ValueError, match="WAKE_HPA_MAX_WINDOW = 1024.*hpa_backend='python'"):
+        WakeFilter(window_s=20.0, hpa_backend="c")
+
+
+def test_run_hpa_c_refuses_bad_windows():
+    from wake.hpa.c_port import run_hpa_c
+
+    with pytest.raises(ValueError, match="NaN or inf"):
+        run_hpa_c(np.r_[np.ones(99), np.nan], CONFIG, taps=TAPS)
+    with pytest.raises(ValueError, match="64..500 samples"):
+        run_hpa_c(np.ones(10), CONFIG, taps=TAPS)
+    with pytest.raises(ValueError, match="full_scale must be finite"):
+        run_hpa_c(np.ones(100), CONFIG, taps=TAPS, full_scale=-1.0)
+
+
+@settings(max_examples=60, deadline=None)
+@given(n=st.integers(64, 500), seed=st.integers(0, 2**32 - 1), scale=st.sampled_from([1, 30, 3000, 32767]),
+       offset=st.integers(-30000, 30000), rule=st.sampled_from(["paper", "shallow"]))
+def test_any_int16_window_gives_a_finite_result(n, seed, scale, offset, rule):
+    from wake._rtp import ffi, lib
+    from wake.hpa.c_port import hpa_config
+    from wake.rtp.fixed import quantize_taps
+
+    rng = np.random.default_rng(seed)
+    x = np.clip(offset + scale * rng.standard_normal(n).cumsum() / np.sqrt(n), -32768, 32767).astype(np.int16)
+    taps = np.ascontiguousarray(quantize_taps(TAPS), dtype=np.int16)
+    h = ffi.new("wake_hpa_t *")
+    w0 = np.array([0, 0, 0, 0, 1], dtype=np.float32)
+    tc = ffi.from_buffer("int16_t[]", taps)
+    assert lib.wake_hpa_init(h, hpa_config(WakeConfig(cutoff_rule=rule, backend="reference")), tc,
+                             ffi.from_buffer("float[]", w0)) == lib.WAKE_HPA_OK
+    xb = ffi.from_buffer("int16_t[]", x)
+    assert lib.wake_hpa_start(h, xb, n, n) == lib.WAKE_HPA_OK
+    assert lib.wake_hpa_run(h) == lib.WAKE_HPA_DONE
+    r = ffi.new("wake_hpa_result_t *")
+    assert lib.wake_hpa_take(h, r) == lib.WAKE_HPA_OK
+    w = np.array([r.weights[j] for j in range(5)])
+    assert np.isfinite(w).all() and np.abs(w).max() <= 32
+    assert 0 <= r.flag <= 4 and 0.5 <= r.cutoff <= 6.0
+    assert np.isfinite(r.measurement_noise) and r.measurement_noise > 0 and r.fit_mse >= 0
+
+
+@pytest.mark.skipif(not (shutil.which("arm-none-eabi-gcc") and shutil.which("qemu-system-arm") and shutil.which("make")),
+                    reason="needs make, arm-none-eabi-gcc and qemu-system-arm")
+def test_standalone_firmware_on_a_cortex_m4f_under_qemu_equals_the_host_build_bit_for_bit(tmp_path):
+    import sys
+
+    proc = subprocess.run(["make", "-C", str(CSRC), "standalone-check", f"BUILD={tmp_path}", f"PYTHON={sys.executable}"],
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    assert "predictions and weights identical" in proc.stdout
+    pred = np.fromfile(tmp_path / "run_qemu" / "predictions.q15", dtype="<i2")
+    weights = np.fromfile(tmp_path / "run_qemu" / "weights.bin", dtype="<i4").reshape(-1, 8)
+    assert pred.size == 5000 and np.abs(pred).max() > 0
+    assert len(weights) >= 9 and (np.diff(weights[:, 0]) > 0).all()  # an HPA installed every L samples
