@@ -466,23 +466,26 @@ static int32_t step_table(wake_hpa_t *h, int32_t budget)
 }
 
 /** One chunk of the raw lag sum sum x(t) x(t+d): t < rows into acc_head, the rest into acc_tail. */
+/** sum_{t0 <= t < t1} x(t) x(t + d), exact (|x(t) x(t+d)| <= 2^30, at most 1024 terms). */
+static inline int64_t lag_run(const wake_q15_t *x, unsigned d, unsigned t0, unsigned t1)
+{
+    int64_t acc = 0;
+    unsigned t;
+    for (t = t0; t < t1; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_LAG */
+        acc += (int32_t)x[t] * (int32_t)x[t + d];
+    }
+    return acc;
+}
+
+/** One chunk of the raw lag sum sum x(t) x(t+d): t < rows into acc_head, the rest into acc_tail. */
 static int32_t step_lags(wake_hpa_t *h, int32_t budget)
 {
-    const unsigned start = h->t;
-    const unsigned d = h->d;
+    const unsigned start = h->t, d = h->d, rows = h->rows;
     const unsigned last = h->n - d;                  /* t < n - d */
-    const unsigned end = chunk_end(h->t, items(budget, COST_LAG), last);
-    const wake_q15_t *x = h->work;
-    unsigned t = h->t;
-    int64_t head = h->acc_head, tail = h->acc_tail;
-    for (; t < end && t < h->rows; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_LAG */
-        head += (int32_t)x[t] * (int32_t)x[t + d];
-    }
-    for (; t < end; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_LAG */
-        tail += (int32_t)x[t] * (int32_t)x[t + d];
-    }
-    h->acc_head = head;
-    h->acc_tail = tail;
+    const unsigned end = chunk_end(start, items(budget, COST_LAG), last);
+    const unsigned split = end < rows ? end : (start > rows ? start : rows);
+    h->acc_head += lag_run(h->work, d, start, split);
+    h->acc_tail += lag_run(h->work, d, split, end);
     h->t = (uint16_t)end;
     if (end == last) {
         h->phase = STEP_LAG_END;
@@ -518,16 +521,22 @@ static void step_lag_end(wake_hpa_t *h)
         int64_t z = nn * h->acc_head - (int64_t)n * S * (h->prefix_rows + (h->prefix_hi - h->prefix_lo)) +
                     (int64_t)rows * S * S;
         unsigned i, l;
+        float *br = h->bank_rxx;
+        const wake_q15_t *tp = h->taps;
         h->wsum[d] = (float)((int64_t)n * (h->prefix_hi - h->prefix_lo) - (int64_t)rows * S) / (float)n;
         for (i = 0; i + d < N; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
             const float rxx = (float)z * inv_nn;
             const int64_t y0 = (int64_t)n * x[i] - S, y1 = (int64_t)n * x[i + d] - S;
             const int64_t y2 = (int64_t)n * x[i + rows] - S, y3 = (int64_t)n * x[i + rows + d] - S;
             /* (Rxx B')[i][l] += Rxx(i, i+d) B[l][i+d]; and the mirror entry */
+            float *row_i = br + i * J, *row_id = br + (i + d) * J;
+            const wake_q15_t *col = tp + i;
             for (l = 0; l < J; ++l) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
-                h->bank_rxx[i * J + l] += rxx * tap(h, l, i + d);
-                if (d != 0u) {
-                    h->bank_rxx[(i + d) * J + l] += rxx * tap(h, l, i);
+                row_i[l] += rxx * ((float)col[l * N + d] * (1.0f / 32768.0f));
+            }
+            if (d != 0u) {
+                for (l = 0; l < J; ++l) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
+                    row_id[l] += rxx * ((float)col[l * N] * (1.0f / 32768.0f));
                 }
             }
             if (i + d + 1u < N) {
@@ -697,29 +706,49 @@ static void step_cutoff(wake_hpa_t *h)
 }
 
 /** One chunk of X_m = sum x_c(t) e^{-j 2 pi m t / n}; Q_m(0) is the partial sum at t = rows. */
+/** sum_{t0 <= t < t1} x_c(t) e^{-j 2 pi idx(t) / n} into (xr, xi); idx advances by m mod n.  Locals only:
+ *  nothing in the loop can alias the struct, so the compiler keeps every value in a register. */
+static inline unsigned dft_run(const wake_q15_t *x, unsigned t0, unsigned t1, unsigned n, unsigned m,
+                               const float *tc, const float *ts, float mean, unsigned idx, float *xr_io,
+                               float *xi_io)
+{
+    float xr = *xr_io, xi = *xi_io;
+    unsigned t;
+    for (t = t0; t < t1; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_DFT */
+        const float xc = (float)x[t] - mean;
+        float c, s;
+        if (2u * idx <= n) {
+            c = tc[idx];
+            s = ts[idx];
+        } else {
+            c = tc[n - idx];
+            s = -ts[n - idx];
+        }
+        xr += xc * c;
+        xi -= xc * s;
+        idx += m;
+        idx = idx >= n ? idx - n : idx;
+    }
+    *xr_io = xr;
+    *xi_io = xi;
+    return idx;
+}
+
+/** One chunk of X_m = sum x_c(t) e^{-j 2 pi m t / n}; Q_m(0) is the partial sum at t = rows. */
 static int32_t step_dft(wake_hpa_t *h, int32_t budget)
 {
     const unsigned start = h->t;
     const unsigned n = h->n, m = h->m, rows = h->rows;
     const unsigned end = chunk_end(h->t, items(budget, COST_DFT), n);
-    const float mean = h->mean;
+    const unsigned split = end < rows ? end : (start > rows ? start : rows);
     float xr = h->xr, xi = h->xi;
-    unsigned t, idx = h->idx;
-    for (t = h->t; t < end; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_DFT */
-        const float xc = (float)h->work[t] - mean;
-        float c, s;
-        twiddle(h, idx, &c, &s);
-        xr += xc * c;
-        xi -= xc * s;
-        idx += m;
-        if (idx >= n) {
-            idx -= n;
-        }
-        if (t + 1u == rows) {
-            h->qr = xr;
-            h->qi = xi;
-        }
+    unsigned idx = h->idx;
+    idx = dft_run(h->work, start, split, n, m, h->tw_cos, h->tw_sin, h->mean, idx, &xr, &xi);
+    if (split == rows && start <= rows && end >= rows) {
+        h->qr = xr;   /* Q_m(0) = sum over t < rows */
+        h->qi = xi;
     }
+    idx = dft_run(h->work, split, end, n, m, h->tw_cos, h->tw_sin, h->mean, idx, &xr, &xi);
     h->xr = xr;
     h->xi = xi;
     h->idx = (uint16_t)idx;

@@ -68,6 +68,9 @@ def build_parser():
     p.add_argument("--hotspots", action="store_true",
                    help="instructions per (inlined) source function for the worst step of the default configuration")
     p.add_argument("--qemu", action="store_true", help="cross-check the unicorn count against QEMU (mps2-an386)")
+    p.add_argument("--hpa", action="store_true",
+                   help="also the on-device HPA (wake_hpa.c): instructions of one whole HPA and of the largest "
+                        "slice on Cortex-M4F (hard float) and Cortex-M0+ (soft float), RAM, stack (about a minute)")
     p.add_argument("--json", metavar="PATH", help="write every number as JSON")
     p.add_argument("--markdown", metavar="PATH", help="write the tables as Markdown")
     p.add_argument("--build-dir", metavar="DIR", help="keep the objects and images here (default: a temp dir)")
@@ -113,6 +116,11 @@ def cli(argv: list[str] | None = None) -> int:
         qemu = None
         if args.qemu:
             qemu = qemu_crosscheck(DEFAULT_LEVEL, DEFAULT_WAVELET, build_dir=build_root, csrc=args.csrc)
+        hpa = None
+        if args.hpa:
+            from wake.firmware.hpa_cost import HPA_TARGETS, measure_hpa
+
+            hpa = {t: measure_hpa(t, build_dir=build_root, csrc=args.csrc) for t in HPA_TARGETS}
     except ProfileUnavailable as exc:
         print(f"wake profile: {exc}", file=sys.stderr)
         return 3
@@ -144,6 +152,21 @@ def cli(argv: list[str] | None = None) -> int:
         text += [f"QEMU cross-check ({qemu['n']} steps, J={qemu['level']}, {qemu['wavelet']}, input "
                  f"{qemu['input']}): unicorn total {sum(qemu['unicorn']):,}, QEMU total {sum(qemu['qemu']):,}, "
                  f"{'identical per step' if qemu['agree'] else 'DIFFERENT'}.", ""]
+    if hpa:
+        from wake.firmware.hpa_cost import HPA_GOALS
+        from wake.firmware.hpa_cost import report as hpa_report
+
+        m4_bound = max((p.bound.instructions for p in profiles
+                        if p.target == DEFAULT_TARGET and p.level == DEFAULT_LEVEL), default=None)
+        m4f = hpa["m4f-O2"]
+        text += ["## On-device HPA (wake_hpa.c; L = 500, p = 17, J = 5; 5 s windows: the paper's 10 synthetic "
+                 "signals, white noise, a 14 Hz full-range tremor)", ""] + hpa_report(hpa) + [""]
+        if m4_bound:
+            text += [f"RTP step static bound (Cortex-M4 -O2) + largest measured slice (Cortex-M4F): "
+                     f"{m4_bound:,} + {m4f['max_slice']:,} = {m4_bound + m4f['max_slice']:,} instructions "
+                     f"(goal {HPA_GOALS['step_plus_slice']:,}).", ""]
+        text += [f"HPA goals (Cortex-M4F): whole HPA {m4f['whole_max']:,} (goal {HPA_GOALS['whole']:,}); "
+                 f"RAM {m4f['ram_hpa']:,} B (goal {HPA_GOALS['ram']:,} B).", ""]
     fails = check_targets(profiles, footprints)
     regressions = check_targets(profiles, footprints, CEILING_LIMITS)
     if any(p.target == DEFAULT_TARGET and p.level == DEFAULT_LEVEL and p.wavelet == DEFAULT_WAVELET
@@ -164,6 +187,7 @@ def cli(argv: list[str] | None = None) -> int:
                           for t, f in footprints.items()},
             "hotspots": hot,
             "qemu": qemu,
+            "hpa": hpa,
             "clocks_mhz": CLOCKS_MHZ, "targets": TARGET_LIMITS, "failed": fails,
             "ceilings": CEILING_LIMITS, "regressions": regressions,
         }, indent=2))

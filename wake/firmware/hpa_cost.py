@@ -1,0 +1,182 @@
+"""What the on-device HPA (csrc/wake_hpa.c) costs on a Cortex-M: instructions, RAM, stack.
+
+The HPA and a small harness (``csrc/profile/hpa_harness.c``) are built for
+a Cortex-M4F (hard float, ``-mfpu=fpv4-sp-d16``) and a Cortex-M0+ (soft
+float) at ``-O2`` with the struct sized for WakeConfig's defaults
+(``-DWAKE_HPA_MAX_WINDOW=500 -DWAKE_HPA_MAX_LEVEL=5 -DWAKE_HPA_MAX_ORDER=17
+-DWAKE_HPA_MAX_PSD_BINS=64``), and run in unicorn with the block-hook
+counter of :mod:`wake.firmware.profile` on a set of 5 s windows: one whole
+HPA (``wake_hpa_run``), and every ``wake_hpa_slice`` call of a sliced run.
+The largest slice is a measured maximum over those windows; the slicing's
+cost model bounds it by design (docs/hpa_c.md).
+
+    python -m wake.firmware.hpa_cost [--json OUT]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["HPA_TARGETS", "HPA_DEFS", "HPA_GOALS", "build_hpa_image", "profile_windows", "measure_hpa"]
+
+HPA_TARGETS = {
+    "m4f-O2": ("Cortex-M4F, -O2, hard float", ["-mcpu=cortex-m4", "-mthumb", "-mfloat-abi=hard",
+                                                "-mfpu=fpv4-sp-d16", "-O2"]),
+    "m0plus-O2": ("Cortex-M0+, -O2, soft float", ["-mcpu=cortex-m0plus", "-mthumb", "-O2"]),
+}
+HPA_DEFS = ["-DWAKE_HPA_MAX_WINDOW=500", "-DWAKE_HPA_MAX_LEVEL=5", "-DWAKE_HPA_MAX_ORDER=17",
+            "-DWAKE_HPA_MAX_PSD_BINS=64", "-DWAKE_RTP_MAX_LEVEL=5"]
+#: Targets of the issue at L = 500, p = 17, J = 5 (Cortex-M4F): one whole HPA, RTP step + largest slice, RAM.
+HPA_GOALS = {"whole": 400_000, "step_plus_slice": 3_000, "ram": 6 * 1024}
+
+
+def build_hpa_image(target="m4f-O2", *, build_dir=None, csrc=None):
+    """Cross-compile wake_hpa.c, wake_rtp.c and the harness; an :class:`~wake.firmware.profile.build.Image`."""
+    from wake.firmware.profile.build import WARN_FLAGS, Image, toolchain
+    from wake.firmware.sources import csrc_dir
+
+    if target not in HPA_TARGETS:
+        raise ValueError(f"unknown target {target!r}; valid choices: {', '.join(HPA_TARGETS)}")
+    src = csrc_dir(csrc, need=("wake_hpa.c", "profile/hpa_harness.c"))
+    prof = src / "profile"
+    gcc = toolchain()["gcc"]
+    out = Path(build_dir) if build_dir else Path(tempfile.mkdtemp(prefix="wake-hpa-"))
+    out = out / f"hpa-{target}"
+    out.mkdir(parents=True, exist_ok=True)
+    flags = HPA_TARGETS[target][1] + ["-ffreestanding", "-g", *HPA_DEFS]
+
+    def run(cmd):
+        proc = subprocess.run(cmd, cwd=out, capture_output=True, text=True)
+        if proc.returncode != 0:
+            raise RuntimeError(f"command failed: {' '.join(map(str, cmd))}\n{proc.stdout}{proc.stderr}")
+
+    run([gcc, *WARN_FLAGS, "-Wdouble-promotion", "-ffp-contract=off", *flags, "-fstack-usage",
+         "-c", str(src / "wake_hpa.c"), "-o", "wake_hpa.o"])
+    run([gcc, *WARN_FLAGS, *flags, "-c", str(src / "wake_rtp.c"), "-o", "wake_rtp.o"])
+    hflags = ["-std=c99", "-Wall", "-Wextra", *flags, "-I", str(src)]
+    run([gcc, *hflags, "-c", str(prof / "hpa_harness.c"), "-o", "harness.o"])
+    run([gcc, *hflags, "-c", str(prof / "startup.c"), "-o", "startup.o"])
+    elf = out / "hpa.elf"
+    run([gcc, *HPA_TARGETS[target][1], "-nostdlib", "-ffreestanding", "-T", str(prof / "generic_m.ld"),
+         "-L", str(prof), "startup.o", "harness.o", "wake_hpa.o", "wake_rtp.o", "-lc", "-lgcc", "-o", str(elf)])
+    # the RTP's cycle model stands in for the integer part; the HPA is reported in instructions
+    img = Image.read(elf, out / "wake_hpa.o", "m4-O2" if target.startswith("m4") else "m0plus-O2")
+    img.hpa_target = target
+    return img
+
+
+def profile_windows(n_synthetic=10):
+    """Named 5 s windows at 100 Hz, int16 Q15: the paper's synthetic signals and two degenerate ones."""
+    from wake.eval.synthetic import paper_dataset
+    from wake.rtp.full_scale import power_of_two_at_least, robust_peak
+
+    def q15(x):
+        scale = power_of_two_at_least(16 * robust_peak(x))
+        return np.clip(np.rint(x / scale * 32768), -32768, 32767).astype(np.int16)
+
+    out = {}
+    for i, s in enumerate(paper_dataset()[:n_synthetic]):
+        out[f"synthetic {i + 1}"] = q15(s.measurement[2000:2500])
+    rng = np.random.default_rng(0)
+    out["white noise, full range"] = rng.integers(-32768, 32768, 500).astype(np.int16)
+    t = np.arange(500) / 100.0
+    out["tremor at 14 Hz, full range"] = np.rint(32000 * np.sin(2 * np.pi * 14 * t)).astype(np.int16)
+    return out
+
+
+def measure_hpa(target="m4f-O2", *, windows=None, build_dir=None, csrc=None) -> dict:
+    """Instructions of one whole HPA and of every slice, RAM and stack, on ``target``."""
+    from wake.firmware.profile.emulator import Emulator
+    from wake.rtp.fixed import quantize_taps
+    from wake.wavelets import filter_bank_taps
+
+    img = build_hpa_image(target, build_dir=build_dir, csrc=csrc)
+    emu = Emulator(img)
+    taps = quantize_taps(filter_bank_taps("sym3", 5)).astype("<i2")
+    emu.uc.mem_write(img.addr("g_taps"), taps.tobytes())
+    windows = profile_windows() if windows is None else windows
+    hpa = img.addr("g_hpa")
+    rows = []
+    stack = 0
+    for name, x in windows.items():
+        emu.uc.mem_write(img.addr("g_window"), np.asarray(x, dtype="<i2").tobytes())
+        st, _, _ = emu.call("hpa_profile_init", count=False)
+        if st != 0:
+            raise RuntimeError(f"hpa_profile_init failed in the image (status {st})")
+        emu.call("hpa_profile_start", len(x), count=False)
+        st, whole, depth = emu.call("wake_hpa_run", hpa, stack=True, limit=50_000_000)
+        stack = max(stack, depth)
+        # the same window in slices, after a fresh init (the twiddle table is rebuilt, as on a first run)
+        emu.call("hpa_profile_init", count=False)
+        emu.call("hpa_profile_start", len(x), count=False)
+        slices = []
+        while True:
+            st, n, depth = emu.call("wake_hpa_slice", hpa, stack=True)
+            stack = max(stack, depth)
+            slices.append(n)
+            if st != 1:  # WAKE_HPA_RUNNING
+                break
+        _, apply_n, _ = emu.call("wake_hpa_apply", hpa, img.addr("g_rtp"))
+        rows.append({"window": name, "whole": whole, "slices": len(slices), "max_slice": max(slices),
+                     "sliced_total": sum(slices), "apply": apply_n})
+    size = img.symbols
+    return {
+        "target": target, "label": HPA_TARGETS[target][0], "rows": rows,
+        "whole_max": max(r["whole"] for r in rows), "whole_median": float(np.median([r["whole"] for r in rows])),
+        "max_slice": max(r["max_slice"] for r in rows), "slices_max": max(r["slices"] for r in rows),
+        "apply_max": max(r["apply"] for r in rows),
+        "ram_hpa": size["g_hpa"][1], "ram_rtp": size["g_rtp"][1], "stack": stack,
+        "code_hpa": _text_size(img, "wake_hpa.o"),
+    }
+
+
+def _text_size(img, obj):
+    from wake.firmware.profile.build import toolchain
+
+    size = toolchain().get("size")
+    if not size:
+        return None
+    out = subprocess.run([size, "-A", str(Path(img.elf).parent / obj)], capture_output=True, text=True).stdout
+    total = 0
+    for line in out.splitlines():
+        parts = line.split()
+        if len(parts) >= 2 and parts[0].startswith((".text", ".rodata")):
+            total += int(parts[1])
+    return total
+
+
+def report(results: dict, rtp_step_bound: int | None = None) -> list[str]:
+    lines = ["| target | whole HPA (max / median) | slices | largest slice | apply | HPA RAM | RTP RAM | stack | HPA code |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for r in results.values():
+        lines.append(f"| {r['label']} | {r['whole_max']:,} / {r['whole_median']:,.0f} | {r['slices_max']} | "
+                     f"{r['max_slice']:,} | {r['apply_max']:,} | {r['ram_hpa']:,} B | {r['ram_rtp']:,} B | "
+                     f"{r['stack']} B | {r['code_hpa']:,} B |")
+    return lines
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description="Cortex-M cost of the on-device HPA")
+    ap.add_argument("--json", help="write the figures here")
+    ap.add_argument("--check", action="store_true", help="exit 1 when a Cortex-M4F target is missed")
+    args = ap.parse_args(argv)
+    res = {t: measure_hpa(t) for t in HPA_TARGETS}
+    print("\n".join(report(res)))
+    m4 = res["m4f-O2"]
+    print(f"\nCortex-M4F targets: whole HPA {m4['whole_max']:,} <= {HPA_GOALS['whole']:,}; "
+          f"HPA RAM {m4['ram_hpa']:,} B <= {HPA_GOALS['ram']:,} B; largest slice {m4['max_slice']:,} "
+          f"(+ the RTP step's bound, see wake profile) vs {HPA_GOALS['step_plus_slice']:,}")
+    if args.json:
+        Path(args.json).write_text(json.dumps(res, indent=1))
+    ok = m4["whole_max"] <= HPA_GOALS["whole"] and m4["ram_hpa"] <= HPA_GOALS["ram"]
+    return 0 if ok or not args.check else 1
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
