@@ -132,10 +132,16 @@ static inline int32_t cost_psd_bin(const wake_hpa_t *h)
     return 70 + 9 * (int32_t)h->order;
 }
 
-/** Tap B[j][i] as a float (exact: Q15 / 2^15). */
+/** A Q15 tap as a float (exact: q / 2^15). */
+static inline float q15_to_float(wake_q15_t q)
+{
+    return (float)q * (1.0f / 32768.0f);
+}
+
+/** Tap B[j][i] as a float. */
 static inline float tap(const wake_hpa_t *h, unsigned j, unsigned i)
 {
-    return (float)h->taps[j * (1u << h->cfg.level) + i] * (1.0f / 32768.0f);
+    return q15_to_float(h->taps[j * (1u << h->cfg.level) + i]);
 }
 
 /** Frequency of AR-spectrum bin k, Hz. */
@@ -315,6 +321,7 @@ static void begin(wake_hpa_t *h, const wake_q15_t *window, uint16_t n, uint32_t 
     h->prefix_rows = 0;
     h->lo = INT16_MAX;
     h->hi = INT16_MIN;
+    h->flag = WAKE_HPA_VALLEY;
     h->phase = STEP_SUMS;
     h->runs = h->runs == UINT32_MAX ? h->runs : h->runs + 1u;
 }
@@ -532,11 +539,11 @@ static void step_lag_end(wake_hpa_t *h)
             float *row_i = br + i * J, *row_id = br + (i + d) * J;
             const wake_q15_t *col = tp + i;
             for (l = 0; l < J; ++l) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
-                row_i[l] += rxx * ((float)col[l * N + d] * (1.0f / 32768.0f));
+                row_i[l] += rxx * q15_to_float(col[l * N + d]);
             }
             if (d != 0u) {
                 for (l = 0; l < J; ++l) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
-                    row_id[l] += rxx * ((float)col[l * N] * (1.0f / 32768.0f));
+                    row_id[l] += rxx * q15_to_float(col[l * N]);
                 }
             }
             if (i + d + 1u < N) {
@@ -985,10 +992,9 @@ static int32_t indivisible_cost(const wake_hpa_t *h)
     }
 }
 
-/** Run the current step within @p budget; returns what it spent (by the cost model). */
-static int32_t run_step(wake_hpa_t *h, int32_t budget)
+/** Run the current step within @p budget (@p fixed: its indivisible_cost); returns what it spent. */
+static int32_t run_step(wake_hpa_t *h, int32_t budget, int32_t fixed)
 {
-    const int32_t fixed = indivisible_cost(h);
     switch (h->phase) {
     case STEP_SUMS:
         return step_sums(h, budget);
@@ -1033,16 +1039,13 @@ wake_hpa_status_t wake_hpa_slice(wake_hpa_t *h)
     if (h->phase == STEP_IDLE) {
         return WAKE_HPA_OK;
     }
-    if (h->phase == STEP_SUMS && h->t == 0u) {
-        h->flag = WAKE_HPA_VALLEY;
-    }
     /* pieces of work until the budget is spent; an indivisible step only if it fits (or comes first) */
     while (h->phase != STEP_IDLE && left > 0) { /* wcet-loop: a few steps */
         const int32_t fixed = indivisible_cost(h);
         if (!first && fixed > left) {
             break;
         }
-        left -= run_step(h, left);
+        left -= run_step(h, left, fixed);
         first = 0;
     }
     return h->phase == STEP_IDLE ? WAKE_HPA_DONE : WAKE_HPA_RUNNING;
