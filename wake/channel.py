@@ -86,10 +86,11 @@ class Channel:
             window = _fill_gaps(window)
         if self.config.hpa_backend == "c":
             # the C HPA reads the int16 samples the RTP reads (its full scale once on the C path)
-            return partial(run_hpa_c, window, self.config, taps=self.taps, previous_weights=self.weights.copy(),
-                           index=self.count, full_scale=self.full_scale if self.on_c else None)
-        return partial(run_hpa, window, self.config, taps=self.taps, previous_weights=self.weights.copy(),
-                       index=self.count, start_weights=self.start_weights)
+            hpa, extra = run_hpa_c, dict(full_scale=self.full_scale if self.on_c else None)
+        else:
+            hpa, extra = run_hpa, dict(start_weights=self.start_weights)
+        return partial(hpa, window, self.config, taps=self.taps, previous_weights=self.weights.copy(),
+                       index=self.count, **extra)
 
     def hpa(self, window):
         self.apply(self.hpa_job(window)(), window, first_sample=self.count)

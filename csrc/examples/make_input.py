@@ -20,6 +20,7 @@ def main(argv=None):
     ap.add_argument("--axis", type=int, default=0)
     ap.add_argument("--seconds", type=float, default=50.0)
     args = ap.parse_args(argv)
+    from wake.hpa.c_port import quantize_window
     from wake.rtp.full_scale import power_of_two_at_least, robust_peak
 
     if args.pads:
@@ -32,7 +33,7 @@ def main(argv=None):
         x = paper_dataset(duration=args.seconds)[0].measurement
     x = np.asarray(x[: int(round(args.seconds * 100))], dtype=float)
     scale = power_of_two_at_least(16 * robust_peak(x))
-    q = np.clip(np.rint(x / scale * 32768), -32768, 32767).astype("<i2")
+    q = quantize_window(x, scale).astype("<i2")
     q.tofile(args.out)
     print(f"wrote {q.size} samples to {args.out} (full scale {scale:g})", file=sys.stderr)
     return 0

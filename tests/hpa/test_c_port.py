@@ -25,10 +25,10 @@ CSRC = Path(__file__).resolve().parents[2] / "csrc"
 
 def both(x, **kw):
     """Both HPAs on the window the C one reads: x quantised to int16 with its full scale."""
-    from wake.hpa.c_port import run_hpa_c, window_full_scale
+    from wake.hpa.c_port import quantize_window, run_hpa_c, window_full_scale
 
     fs = window_full_scale(x)
-    seen = np.clip(np.rint(np.asarray(x) * (32768 / fs)), -32768, 32767) * (fs / 32768)
+    seen = quantize_window(x, fs) * (fs / 32768)
     return run_hpa(seen, CONFIG, taps=TAPS, **kw), run_hpa_c(x, CONFIG, taps=TAPS, **kw)
 
 

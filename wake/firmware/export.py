@@ -170,19 +170,11 @@ def _float_literal(v) -> str:
 
 def _hpa_section(name: str, cfg: WakeConfig, start) -> str:
     """``name_hpa_init``: the on-device HPA (wake_hpa.c) with ``cfg``'s settings, if wake_hpa.h is included."""
-    from wake.hpa.c_port import MIN_DEPTH_RATIO
-    from wake.hpa.cutoff import CUTOFF_RULES
+    from wake.hpa.c_port import hpa_config_fields
 
-    warm = list(cfg.hpa_points())[:4]
-    warm += [0] * (4 - len(warm))
-    f = _float_literal
-    fields = [("fs", f(cfg.fs)), ("tremor_low", f(cfg.tremor_band[0])), ("tremor_high", f(cfg.tremor_band[1])),
-              ("cutoff_low", f(cfg.cutoff_range[0])), ("cutoff_high", f(cfg.cutoff_range[1])),
-              ("default_cutoff", f(cfg.default_cutoff)), ("min_depth_ratio", f(MIN_DEPTH_RATIO)),
-              ("ridge", f(cfg.ridge)), ("process_noise_ratio", f(cfg.process_noise_ratio)),
-              ("window", str(cfg.window_samples)), ("level", str(cfg.level)), ("ar_order", str(cfg.ar_order)),
-              ("rule", str(CUTOFF_RULES.index(cfg.cutoff_rule)))]
-    body = "\n".join(f"    c.{k} = {v};" for k, v in fields)
+    fields = hpa_config_fields(cfg)
+    warm = fields.pop("warmup")
+    body = "\n".join(f"    c.{k} = {_float_literal(v) if isinstance(v, float) else v};" for k, v in fields.items())
     body += "\n" + "\n".join(f"    c.warmup[{k}] = {v};" for k, v in enumerate(warm))
     return f"""
 /* The on-device HPA (wake_hpa.c) with WakeConfig's settings at {cfg.fs:g} Hz, L = {cfg.window_samples} samples,
@@ -192,7 +184,7 @@ def _hpa_section(name: str, cfg: WakeConfig, start) -> str:
 #ifdef WAKE_HPA_H
 static inline wake_hpa_status_t {name}_hpa_init(wake_hpa_t *hpa)
 {{
-    static const float start[{cfg.level}] = {{{", ".join(f(v) for v in start)}}};
+    static const float start[{cfg.level}] = {{{", ".join(_float_literal(v) for v in start)}}};
     wake_hpa_config_t c;
     (void)wake_hpa_default_config(&c);
 {body}

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import subprocess
 import tempfile
 from pathlib import Path
 
@@ -38,7 +37,7 @@ HPA_GOALS = {"whole": 400_000, "step_plus_slice": 3_000, "ram": 6 * 1024}
 
 def build_hpa_image(target="m4f-O2", *, build_dir=None, csrc=None):
     """Cross-compile wake_hpa.c, wake_rtp.c and the harness; an :class:`~wake.firmware.profile.build.Image`."""
-    from wake.firmware.profile.build import WARN_FLAGS, Image, toolchain
+    from wake.firmware.profile.build import WARN_FLAGS, Image, run_tool, toolchain
     from wake.firmware.sources import csrc_dir
 
     if target not in HPA_TARGETS:
@@ -52,9 +51,7 @@ def build_hpa_image(target="m4f-O2", *, build_dir=None, csrc=None):
     flags = HPA_TARGETS[target][1] + ["-ffreestanding", "-g", *HPA_DEFS]
 
     def run(cmd):
-        proc = subprocess.run(cmd, cwd=out, capture_output=True, text=True)
-        if proc.returncode != 0:
-            raise RuntimeError(f"command failed: {' '.join(map(str, cmd))}\n{proc.stdout}{proc.stderr}")
+        run_tool(cmd, out)
 
     run([gcc, *WARN_FLAGS, "-Wdouble-promotion", "-ffp-contract=off", *flags, "-fstack-usage",
          "-c", str(src / "wake_hpa.c"), "-o", "wake_hpa.o"])
@@ -66,19 +63,17 @@ def build_hpa_image(target="m4f-O2", *, build_dir=None, csrc=None):
     run([gcc, *HPA_TARGETS[target][1], "-nostdlib", "-ffreestanding", "-T", str(prof / "generic_m.ld"),
          "-L", str(prof), "startup.o", "harness.o", "wake_hpa.o", "wake_rtp.o", "-lc", "-lgcc", "-o", str(elf)])
     # the RTP's cycle model stands in for the integer part; the HPA is reported in instructions
-    img = Image.read(elf, out / "wake_hpa.o", "m4-O2" if target.startswith("m4") else "m0plus-O2")
-    img.hpa_target = target
-    return img
+    return Image.read(elf, out / "wake_hpa.o", "m4-O2" if target.startswith("m4") else "m0plus-O2")
 
 
 def profile_windows(n_synthetic=10):
     """Named 5 s windows at 100 Hz, int16 Q15: the paper's synthetic signals and two degenerate ones."""
     from wake.eval.synthetic import paper_dataset
+    from wake.hpa.c_port import quantize_window
     from wake.rtp.full_scale import power_of_two_at_least, robust_peak
 
     def q15(x):
-        scale = power_of_two_at_least(16 * robust_peak(x))
-        return np.clip(np.rint(x / scale * 32768), -32768, 32767).astype(np.int16)
+        return quantize_window(x, power_of_two_at_least(16 * robust_peak(x)))
 
     out = {}
     for i, s in enumerate(paper_dataset()[:n_synthetic]):
@@ -132,23 +127,15 @@ def measure_hpa(target="m4f-O2", *, windows=None, build_dir=None, csrc=None) -> 
         "max_slice": max(r["max_slice"] for r in rows), "slices_max": max(r["slices"] for r in rows),
         "apply_max": max(r["apply"] for r in rows),
         "ram_hpa": size["g_hpa"][1], "ram_rtp": size["g_rtp"][1], "stack": stack,
-        "code_hpa": _text_size(img, "wake_hpa.o"),
+        "code_hpa": _code_size(img),
     }
 
 
-def _text_size(img, obj):
-    from wake.firmware.profile.build import toolchain
+def _code_size(img):
+    from wake.firmware.profile.report import section_sizes
 
-    size = toolchain().get("size")
-    if not size:
-        return None
-    out = subprocess.run([size, "-A", str(Path(img.elf).parent / obj)], capture_output=True, text=True).stdout
-    total = 0
-    for line in out.splitlines():
-        parts = line.split()
-        if len(parts) >= 2 and parts[0].startswith((".text", ".rodata")):
-            total += int(parts[1])
-    return total
+    sizes = section_sizes(img.core_object)
+    return None if sizes is None else sizes[".text"] + sizes[".rodata"]
 
 
 def report(results: dict, rtp_step_bound: int | None = None) -> list[str]:

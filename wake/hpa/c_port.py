@@ -14,13 +14,17 @@ import numpy as np
 from wake.config import WakeConfig
 from wake.hpa.cutoff import CUTOFF_RULES
 from wake.hpa.run import HPAUpdate
+from wake.rtp.full_scale import power_of_two_at_least
 
-__all__ = ["C_FLAGS", "hpa_config", "run_hpa_c", "check_c_hpa_config", "window_full_scale"]
+__all__ = ["C_FLAGS", "hpa_config", "hpa_config_fields", "quantize_window", "run_hpa_c", "check_c_hpa_config",
+           "window_full_scale"]
 
 #: wake_hpa_flag_t -> the keys of :data:`wake.hpa.CUTOFF_FLAGS`
 C_FLAGS = ("valley", "no_tremor_peak", "no_valley", "silent", "shallow_valley")
 #: 10^(-3 dB / 10): the valley depth of :func:`wake.hpa.find_cutoff` as a ratio of PSD values
 MIN_DEPTH_RATIO = 10.0 ** (-3.0 / 10.0)
+#: Warm-up points wake_hpa_config_t holds (WAKE_HPA_MAX_WARMUP)
+MAX_WARMUP = 4
 _Q15 = 32768.0
 
 
@@ -54,33 +58,36 @@ def check_c_hpa_config(config: WakeConfig) -> None:
                          + "; use hpa_backend='python'")
 
 
+def hpa_config_fields(config: WakeConfig) -> dict:
+    """The fields of ``wake_hpa_config_t`` for ``config``, by name (floats for float fields, ints for
+    integer ones, ``warmup`` padded with zeros); no compiled core needed (``wake export-header`` renders them)."""
+    points = list(config.hpa_points())[:MAX_WARMUP]
+    return {"fs": config.fs, "tremor_low": config.tremor_band[0], "tremor_high": config.tremor_band[1],
+            "cutoff_low": config.cutoff_range[0], "cutoff_high": config.cutoff_range[1],
+            "default_cutoff": config.default_cutoff, "min_depth_ratio": MIN_DEPTH_RATIO, "ridge": config.ridge,
+            "process_noise_ratio": config.process_noise_ratio, "window": config.window_samples,
+            "level": config.level, "ar_order": config.ar_order, "rule": CUTOFF_RULES.index(config.cutoff_rule),
+            "warmup": points + [0] * (MAX_WARMUP - len(points))}
+
+
 def hpa_config(config: WakeConfig):
     """The ``wake_hpa_config_t`` of a :class:`~wake.WakeConfig` (what ``wake export-c`` writes)."""
     ffi, _ = _core()
     c = ffi.new("wake_hpa_config_t *")
-    c.fs = config.fs
-    c.tremor_low, c.tremor_high = config.tremor_band
-    c.cutoff_low, c.cutoff_high = config.cutoff_range
-    c.default_cutoff = config.default_cutoff
-    c.min_depth_ratio = MIN_DEPTH_RATIO
-    c.ridge = config.ridge
-    c.process_noise_ratio = config.process_noise_ratio
-    c.window = config.window_samples
-    c.level = config.level
-    c.ar_order = config.ar_order
-    c.rule = CUTOFF_RULES.index(config.cutoff_rule)
-    points = config.hpa_points()
-    for k, p in enumerate(points[: len(c.warmup)]):
-        c.warmup[k] = p
+    for name, value in hpa_config_fields(config).items():
+        setattr(c, name, value)
     return c
 
 
 def window_full_scale(window) -> float:
     """The smallest power of two that holds every sample of ``window`` (1.0 for a zero window)."""
     peak = float(np.max(np.abs(window))) if len(window) else 0.0
-    if not peak > 0:
-        return 1.0
-    return float(2.0 ** np.ceil(np.log2(peak * (1 + 2**-14))))
+    return power_of_two_at_least(peak * (1 + 2**-14)) if peak > 0 else 1.0
+
+
+def quantize_window(x, full_scale: float) -> np.ndarray:
+    """``x`` as the int16 Q15 samples of ``full_scale`` the C HPA reads: rounded half to even, clipped."""
+    return np.clip(np.rint(np.asarray(x, dtype=float) * (_Q15 / full_scale)), -32768, 32767).astype(np.int16)
 
 
 def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index: int = 0,
@@ -131,7 +138,7 @@ def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index:
     fs_scale = window_full_scale(x) if full_scale is None else float(full_scale)
     if not (np.isfinite(fs_scale) and fs_scale > 0):
         raise ValueError(f"full_scale must be finite and > 0, got {full_scale!r}")
-    q = np.clip(np.rint(x * (_Q15 / fs_scale)), -32768, 32767).astype(np.int16)
+    q = quantize_window(x, fs_scale)
     taps_q = np.ascontiguousarray(quantize_taps(taps), dtype=np.int16)
     if previous_weights is None:
         previous_weights = np.zeros(J)

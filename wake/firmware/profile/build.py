@@ -150,6 +150,13 @@ def _core_flags(target):
     return TARGETS[target][1] + ["-ffreestanding"]
 
 
+def run_tool(cmd, cwd) -> None:
+    """Run one compiler or linker command in ``cwd``; ``RuntimeError`` with its output when it fails."""
+    proc = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True)
+    if proc.returncode != 0:
+        raise RuntimeError(f"command failed: {' '.join(map(str, cmd))}\n{proc.stdout}{proc.stderr}")
+
+
 def build_image(target="m4-O2", *, board="generic", build_dir=None, csrc=None, defs=(), debug=True) -> Image:
     """Cross-compile the core and the harness for ``target`` and link an ELF image.
 
@@ -172,9 +179,7 @@ def build_image(target="m4-O2", *, board="generic", build_dir=None, csrc=None, d
     core_o = out / "wake_rtp.o"
 
     def run(cmd):
-        proc = subprocess.run(cmd, cwd=out, capture_output=True, text=True)
-        if proc.returncode != 0:
-            raise RuntimeError(f"command failed: {' '.join(map(str, cmd))}\n{proc.stdout}{proc.stderr}")
+        run_tool(cmd, out)
 
     # The core alone, with the Makefile's warnings, stack usage and call graph.
     run([tools["gcc"], *WARN_FLAGS, *flags, "-fstack-usage", "-fcallgraph-info=su",

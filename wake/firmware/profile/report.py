@@ -28,21 +28,26 @@ from .scenarios import adversarial_inputs, fitted_parameters
 # Footprint
 # ---------------------------------------------------------------------------
 
+def section_sizes(obj) -> dict | None:
+    """Bytes of ``.text``, ``.rodata``, ``.data`` and ``.bss`` of an object file (subsections summed);
+    None without ``arm-none-eabi-size``."""
+    tools = toolchain()
+    if not tools["size"]:
+        return None
+    sizes = dict.fromkeys((".text", ".rodata", ".data", ".bss"), 0)
+    proc = subprocess.run([tools["size"], "-A", str(obj)], capture_output=True, text=True, check=True)
+    for line in proc.stdout.splitlines():
+        parts = line.split()
+        if len(parts) >= 2 and parts[0].startswith(".") and parts[1].isdigit():
+            base = "." + parts[0].split(".")[1]
+            if base in sizes:
+                sizes[base] += int(parts[1])
+    return sizes
+
+
 def footprint(image: Image, emu: Emulator | None = None):
     """Sizes of the core object and the worst-case stack of ``wake_rtp_step``."""
-    tools = toolchain()
-    sizes = {}
-    if tools["size"]:
-        proc = subprocess.run([tools["size"], "-A", str(image.core_object)], capture_output=True, text=True,
-                              check=True)
-        for line in proc.stdout.splitlines():
-            parts = line.split()
-            if len(parts) >= 2 and parts[0].startswith(".") and parts[1].isdigit():
-                base = "." + parts[0].split(".")[1]
-                if base in (".text", ".rodata", ".data", ".bss"):
-                    sizes[base] = sizes.get(base, 0) + int(parts[1])
-    for sec in (".text", ".rodata", ".data", ".bss"):
-        sizes.setdefault(sec, 0)
+    sizes = section_sizes(image.core_object) or dict.fromkeys((".text", ".rodata", ".data", ".bss"), 0)
     emu = emu or Emulator(image)
     stack = stack_depth(image.callgraph, "wake_rtp_step") if image.callgraph else None
     return {
