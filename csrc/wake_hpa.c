@@ -6,15 +6,16 @@
  * bounded piece of one step and records where it stopped:
  *
  *   STEP_SUMS      S = sum x, min and max                  (chunks of the window)
- *   STEP_TABLE     cos/sin(2 pi k / n), k <= n/2            (chunks of entries; once per n)
  *   STEP_LAGS      sum x(t) x(t+d), d < lags                (chunks of one lag)
- *   STEP_LAG_END   centre lag d exactly; slide its diagonal of Rxx into Rxx B'
- *   STEP_LEVINSON  AR(p) by Levinson-Durbin                 (one slice)
+ *   STEP_LAG_END   centre lag d exactly                     (one slice per lag)
+ *   STEP_DIAG      slide lag d's diagonal of Rxx into Rxx B' (chunks of the diagonal)
+ *   STEP_LEVINSON  AR(p) by Levinson-Durbin                 (one order per slice)
  *   STEP_PSD       D(f_k) of the AR spectrum and the tremor peak (chunks of bins)
  *   STEP_CUTOFF    the valley rule                          (one slice)
- *   STEP_DFT       X_m = sum x_c(t) e^{-j 2 pi m t / n}     (chunks of one bin)
- *   STEP_BIN_END   slide bin m over the fit rows into Cxy   (one slice per bin)
- *   STEP_GRAM      G = B (Rxx B') + mean terms, b            (one slice)
+ *   STEP_BINS      count the DFT bins at or below f_d       (one slice)
+ *   STEP_DFT       X_m = sum x_c(t) e^{-j 2 pi m t / n}, two bins per pass (chunks of the window)
+ *   STEP_BIN_END   slide bin m over the fit rows into Cxy   (chunks of the 2^J rows)
+ *   STEP_GRAM      G = B (Rxx B') + mean terms, b            (one entry G[l][k] per slice)
  *   STEP_SOLVE     (G + lambda I) w = b, raising lambda      (one attempt per slice)
  *
  * Conventions: float only (no double), no libm, no division instruction in
@@ -28,13 +29,15 @@
 enum {
     STEP_IDLE = 0,
     STEP_SUMS,
-    STEP_TABLE,
     STEP_LAGS,
     STEP_LAG_END,
+    STEP_DIAG,
     STEP_LEVINSON,
     STEP_PSD,
     STEP_CUTOFF,
+    STEP_BINS,
     STEP_DFT,
+    STEP_BIN_START,
     STEP_BIN_END,
     STEP_GRAM,
     STEP_SOLVE
@@ -93,15 +96,14 @@ static void unit_phasor(uint32_t num, uint32_t den, float *c, float *s)
     *s = swap ? cv : sv;
 }
 
-/** e^{+j 2 pi idx / n} from the half table, 0 <= idx < n. */
-static inline void twiddle(const wake_hpa_t *h, uint32_t idx, float *c, float *s)
+/** e^{+j 2 pi k / n} for 0 <= k < n. */
+static void turn(uint32_t k, uint32_t n, float *c, float *s)
 {
-    if (2u * idx <= h->n) {
-        *c = h->tw_cos[idx];
-        *s = h->tw_sin[idx];
+    if (2u * k <= n) {
+        unit_phasor(2u * k, n, c, s);
     } else {
-        *c = h->tw_cos[h->n - idx];
-        *s = -h->tw_sin[h->n - idx];
+        unit_phasor(2u * (n - k), n, c, s);
+        *s = -*s;
     }
 }
 
@@ -112,24 +114,38 @@ static inline unsigned chunk_end(unsigned t, unsigned step, unsigned limit)
 }
 
 /*
- * Cost model of the slicing, in Cortex-M4F instructions (measured by
- * `wake profile`, docs/hpa_c.md): a slice spends at most
- * WAKE_HPA_SLICE_BUDGET on loop items, and starts an indivisible step only
- * if it fits in what is left (or is the slice's first piece of work).
+ * Cost model of the slicing, in Cortex-M4F instructions at -O2, calibrated
+ * with `python -m wake.firmware.hpa_cost --calibrate` (a build with a slice
+ * budget of 1 runs one loop item or one indivisible step per slice, and the
+ * profiler counts each; docs/hpa_c.md).  A slice spends at most
+ * WAKE_HPA_SLICE_BUDGET on pieces of work (each charged COST_PIECE for its
+ * set-up plus its items) and starts an indivisible step only if it fits in
+ * what is left, or is the slice's first piece.  What a slice costs beyond
+ * its budget is its fixed entry cost (the instance check, about 250).
  */
-#define COST_SUM 9
-#define COST_TABLE 75
-#define COST_LAG 6
-#define COST_DFT 22
+#define COST_PIECE 60
+#define COST_SUM 15
+#define COST_LAG 5
+#define COST_DFT1 11
+#define COST_DFT2 16
+#define COST_SLIDE 60
 
 static inline unsigned items(int32_t budget, int32_t cost)
 {
     return budget > cost ? (unsigned)(budget / cost) : 1u;
 }
 
+/** One bin of the AR spectrum (Clenshaw over p coefficients). */
 static inline int32_t cost_psd_bin(const wake_hpa_t *h)
 {
-    return 70 + 9 * (int32_t)h->order;
+    return 100 + 10 * (int32_t)h->order;
+}
+
+/** One entry of a diagonal of Rxx into Rxx B' (the tap loops run WAKE_HPA_MAX_LEVEL times). */
+static inline int32_t cost_diag(const wake_hpa_t *h)
+{
+    (void)h;
+    return 50 + 16 * WAKE_HPA_MAX_LEVEL;
 }
 
 /** A Q15 tap as a float (exact: q / 2^15). */
@@ -138,10 +154,17 @@ static inline float q15_to_float(wake_q15_t q)
     return (float)q * (1.0f / 32768.0f);
 }
 
-/** Tap B[j][i] as a float. */
-static inline float tap(const wake_hpa_t *h, unsigned j, unsigned i)
+/**
+ * An int64 as a float without libgcc's __aeabi_l2f (about 30 instructions
+ * on a Cortex-M4F): |z| split in two uint32 halves, each converted by the
+ * FPU.  Two roundings instead of one (error within 1 ulp of the exact
+ * value), the same on every IEEE machine.
+ */
+static inline float int64_to_float(int64_t z)
 {
-    return q15_to_float(h->taps[j * (1u << h->cfg.level) + i]);
+    const uint64_t m = z < 0 ? (uint64_t)0 - (uint64_t)z : (uint64_t)z;
+    const float f = (float)(uint32_t)(m >> 32) * 4294967296.0f + (float)(uint32_t)m;
+    return z < 0 ? -f : f;
 }
 
 /** Frequency of AR-spectrum bin k, Hz. */
@@ -234,18 +257,77 @@ static int config_ok(const wake_hpa_config_t *c)
     return 1;
 }
 
+/** The bits of a float (a union: C99 defines reading the other member). */
+static inline uint32_t float_bits(float f)
+{
+    union {
+        float f;
+        uint32_t u;
+    } v;
+    v.f = f;
+    return v.u;
+}
+
+/** One FNV-1a step on a 32-bit word. */
+static inline uint32_t mix(uint32_t v, uint32_t w)
+{
+    return (v ^ w) * UINT32_C(16777619);
+}
+
+/**
+ * FNV-1a over the configuration's fields and the bins init derived from
+ * them: init validates the configuration once and seals it; every later
+ * call checks the seal (about 60 instructions on a Cortex-M4, where
+ * re-validating cost 280).  Each step is a bijection of the running value,
+ * so a change of any one field is always detected.
+ */
+#if WAKE_HPA_MAX_WARMUP != 4
+#error "seal_of() hashes four warm-up points"
+#endif
+static uint32_t seal_of(const wake_hpa_t *h)
+{
+    const wake_hpa_config_t *c = &h->cfg;
+    uint32_t v = UINT32_C(2166136261);
+    v = mix(v, float_bits(c->fs));
+    v = mix(v, float_bits(c->tremor_low));
+    v = mix(v, float_bits(c->tremor_high));
+    v = mix(v, float_bits(c->cutoff_low));
+    v = mix(v, float_bits(c->cutoff_high));
+    v = mix(v, float_bits(c->default_cutoff));
+    v = mix(v, float_bits(c->min_depth_ratio));
+    v = mix(v, float_bits(c->ridge));
+    v = mix(v, float_bits(c->process_noise_ratio));
+    v = mix(v, (uint32_t)c->window | (uint32_t)c->level << 16);
+    v = mix(v, (uint32_t)c->ar_order | (uint32_t)c->rule << 16);
+    v = mix(v, (uint32_t)c->warmup[0] | (uint32_t)c->warmup[1] << 16);
+    v = mix(v, (uint32_t)c->warmup[2] | (uint32_t)c->warmup[3] << 16);
+    v = mix(v, (uint32_t)h->psd_lo | (uint32_t)h->psd_hi << 16);
+    return mix(v, (uint32_t)h->cut_lo | (uint32_t)h->cut_hi << 16);
+}
+
 static wake_hpa_status_t check_instance(const wake_hpa_t *h)
 {
+    unsigned N;
     if (h == NULL) {
         return WAKE_HPA_E_NULL;
     }
     if (h->magic != WAKE_HPA_MAGIC) {
         return WAKE_HPA_E_UNINIT;
     }
-    if (h->taps == NULL || !config_ok(&h->cfg) || h->fill > 1u || h->fill_len > h->cfg.window ||
-        h->phase > STEP_SOLVE || (h->phase != STEP_IDLE && (h->work == NULL || h->n > h->cfg.window ||
-                                                             h->n < 2u * (1u << h->cfg.level))) ||
-        h->tw_n > h->cfg.window) {
+    if (h->seal != seal_of(h) || h->fill > 1u || h->fill_len > h->cfg.window || h->phase > STEP_SOLVE) {
+        return WAKE_HPA_E_CORRUPT;
+    }
+    if (h->phase == STEP_IDLE) {
+        return WAKE_HPA_OK;
+    }
+    /* a run in progress: every counter that indexes an array within its range */
+    N = 1u << h->cfg.level;
+    if (h->work == NULL || h->n > h->cfg.window || h->n < 2u * N || h->rows != h->n - N ||
+        h->order > h->cfg.ar_order || h->lags > (h->order + 1u > N ? h->order + 1u : N) || h->t > h->n ||
+        h->d > h->lags || h->bins > h->n / 2u || h->m > h->bins + 1u || h->pair > 2u ||
+        h->psd_end > h->psd_hi + 1u || h->attempts >= WAKE_HPA_RIDGE_STEPS ||
+        ((h->phase == STEP_BIN_START || h->phase == STEP_BIN_END) && h->d >= h->pair) ||
+        (h->phase == STEP_GRAM && (h->d >= h->cfg.level || h->t > h->d))) {
         return WAKE_HPA_E_CORRUPT;
     }
     return WAKE_HPA_OK;
@@ -292,7 +374,17 @@ wake_hpa_status_t wake_hpa_init(wake_hpa_t *h, const wake_hpa_config_t *cfg, con
     }
     memset(h, 0, sizeof *h);
     h->cfg = *cfg;
-    h->taps = taps;
+    {
+        /* the bank as floats, tap-major with a stride of WAKE_HPA_MAX_LEVEL (B[l][i] at
+           tapf[i MAX_LEVEL + l], zero for l >= J): the inner loops walk l a constant number of times */
+        const unsigned J = cfg->level, N = 1u << J;
+        unsigned i, l;
+        for (i = 0; i < N; ++i) {
+            for (l = 0; l < J; ++l) {
+                h->tapf[i * WAKE_HPA_MAX_LEVEL + l] = q15_to_float(taps[l * N + i]);
+            }
+        }
+    }
     memcpy(h->weights, weights, cfg->level * sizeof weights[0]);
     h->psd_lo = (uint16_t)first_bin_at_or_above(h, cfg->tremor_low);
     h->psd_hi = (uint16_t)last_bin_at_or_below(h, cfg->tremor_high);
@@ -301,6 +393,7 @@ wake_hpa_status_t wake_hpa_init(wake_hpa_t *h, const wake_hpa_config_t *cfg, con
     }
     h->cut_lo = (uint16_t)first_bin_at_or_above(h, cfg->cutoff_low);
     h->cut_hi = (uint16_t)last_bin_at_or_below(h, cfg->cutoff_high);
+    h->seal = seal_of(h);
     h->magic = WAKE_HPA_MAGIC;
     return WAKE_HPA_OK;
 }
@@ -387,6 +480,9 @@ wake_hpa_status_t wake_hpa_push(wake_hpa_t *h, wake_q15_t sample)
 /* The steps                                                                */
 /* ------------------------------------------------------------------------ */
 
+static void start_pass(wake_hpa_t *h);
+static void next_bin(wake_hpa_t *h);
+
 static void finish(wake_hpa_t *h, const float *w, float r, float mse, float ridge, uint16_t notes)
 {
     unsigned j;
@@ -414,18 +510,27 @@ static void finish(wake_hpa_t *h, const float *w, float r, float mse, float ridg
 /** S, min, max over one chunk; a constant window ends the run (weights kept). */
 static int32_t step_sums(wake_hpa_t *h, int32_t budget)
 {
-    const unsigned start = h->t;
+    const unsigned start = h->t, rows = h->rows;
     const unsigned end = chunk_end(h->t, items(budget, COST_SUM), h->n);
+    const unsigned split = end < rows ? end : (start > rows ? start : rows);
+    const wake_q15_t *x = h->work;
+    /* n <= 1024 samples of |x| <= 2^15: the chunk's sums fit an int32 */
+    int32_t head = 0, all = 0;
+    int16_t lo = h->lo, hi = h->hi;
     unsigned t;
-    for (t = h->t; t < end; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_SUM */
-        const wake_q15_t x = h->work[t];
-        h->sum += x;
-        if (t < h->rows) {
-            h->prefix_rows += x;
-        }
-        h->lo = x < h->lo ? x : h->lo;
-        h->hi = x > h->hi ? x : h->hi;
+    for (t = start; t < split; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_SUM */
+        head += x[t];
     }
+    for (t = start; t < end; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_SUM */
+        const wake_q15_t v = x[t];
+        all += v;
+        lo = v < lo ? v : lo;
+        hi = v > hi ? v : hi;
+    }
+    h->sum += all;
+    h->prefix_rows += head;
+    h->lo = lo;
+    h->hi = hi;
     h->t = (uint16_t)end;
     if (end < h->n) {
         return (int32_t)(end - start) * (COST_SUM);
@@ -441,7 +546,7 @@ static int32_t step_sums(wake_hpa_t *h, int32_t budget)
     }
     h->mean = (float)h->sum / (float)h->n;
     h->t = 0;
-    h->phase = h->tw_n == h->n ? STEP_LAGS : STEP_TABLE;
+    h->phase = STEP_LAGS;
     h->d = 0;
     h->acc_head = 0;
     h->acc_tail = 0;
@@ -452,34 +557,20 @@ static int32_t step_sums(wake_hpa_t *h, int32_t budget)
     return (int32_t)(end - start) * (COST_SUM);
 }
 
-/** cos/sin(2 pi k / n) = phasor(pi 2k / n) for k = 0..n/2, one chunk. */
-static int32_t step_table(wake_hpa_t *h, int32_t budget)
-{
-    const unsigned start = h->t;
-    const unsigned half = h->n / 2u;
-    const unsigned end = chunk_end(h->t, items(budget, COST_TABLE), half + 1u);
-    unsigned k;
-    h->tw_n = 0; /* invalid until complete */
-    for (k = h->t; k < end; ++k) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_TABLE */
-        unit_phasor(2u * k, h->n, &h->tw_cos[k], &h->tw_sin[k]);
-    }
-    h->t = (uint16_t)end;
-    if (end == half + 1u) {
-        h->tw_n = h->n;
-        h->t = 0;
-        h->phase = STEP_LAGS;
-    }
-    return (int32_t)(end - start) * (COST_TABLE);
-}
-
-/** One chunk of the raw lag sum sum x(t) x(t+d): t < rows into acc_head, the rest into acc_tail. */
-/** sum_{t0 <= t < t1} x(t) x(t + d), exact (|x(t) x(t+d)| <= 2^30, at most 1024 terms). */
+/** sum_{t0 <= t < t1} x(t) x(t + d), exact (|x(t) x(t+d)| <= 2^30, at most 1024 terms); four per turn. */
 static inline int64_t lag_run(const wake_q15_t *x, unsigned d, unsigned t0, unsigned t1)
 {
     int64_t acc = 0;
-    unsigned t;
-    for (t = t0; t < t1; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_LAG */
-        acc += (int32_t)x[t] * (int32_t)x[t + d];
+    const wake_q15_t *y = x + d;
+    unsigned t = t0;
+    for (; t + 4u <= t1; t += 4u) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_LAG / 4 */
+        acc += (int32_t)x[t] * (int32_t)y[t];
+        acc += (int32_t)x[t + 1u] * (int32_t)y[t + 1u];
+        acc += (int32_t)x[t + 2u] * (int32_t)y[t + 2u];
+        acc += (int32_t)x[t + 3u] * (int32_t)y[t + 3u];
+    }
+    for (; t < t1; ++t) { /* wcet-loop: 3 */
+        acc += (int32_t)x[t] * (int32_t)y[t];
     }
     return acc;
 }
@@ -500,58 +591,11 @@ static int32_t step_lags(wake_hpa_t *h, int32_t budget)
     return (int32_t)(end - start) * (COST_LAG);
 }
 
-/**
- * Lag d is summed: centre it exactly, keep r(d) for the AR fit and, for
- * d < 2^J, walk the diagonal Rxx(i, i + d) (i = 0..2^J-1-d) of the fit's
- * window correlation and add it into Rxx B'.
- *
- * With y(t) = n x(t) - S (exact, |y| < 2^26):
- *   n^2 sum_{t in T} x_c(t) x_c(t+d) = sum_{t in T} y(t) y(t+d)
- *     = n^2 sum x(t)x(t+d) - n S (sum_{t in T} x(t) + sum_{t in T} x(t+d)) + |T| S^2
- * and Rxx(i+1, i+1+d) = Rxx(i, i+d) - x_c(i) x_c(i+d) + x_c(i+rows) x_c(i+rows+d).
- */
-static void step_lag_end(wake_hpa_t *h)
+/** Lag d is done: advance the prefix sums to d + 1 and go on to the next lag. */
+static void next_lag(wake_hpa_t *h)
 {
-    const unsigned d = h->d, n = h->n, rows = h->rows, J = h->cfg.level, N = 1u << J;
-    const int64_t S = h->sum, nn = (int64_t)n * (int64_t)n;
+    const unsigned d = h->d, n = h->n, rows = h->rows;
     const wake_q15_t *x = h->work;
-    const float inv_nn = 1.0f / ((float)n * (float)n);
-    if (d <= h->order) {
-        /* full range t < n - d: sum x(t) = P(n-d) = S - suffix(d), sum x(t+d) = S - P(d) */
-        const int64_t raw = h->acc_head + h->acc_tail;
-        const int64_t z = nn * raw - (int64_t)n * S * ((S - h->suffix) + (S - h->prefix_lo)) +
-                          (int64_t)(n - d) * S * S;
-        h->r[d] = (float)z;
-    }
-    if (d < N) {
-        /* rows t < rows: sum x(t) = P(rows), sum x(t+d) = P(rows+d) - P(d) */
-        int64_t z = nn * h->acc_head - (int64_t)n * S * (h->prefix_rows + (h->prefix_hi - h->prefix_lo)) +
-                    (int64_t)rows * S * S;
-        unsigned i, l;
-        float *br = h->bank_rxx;
-        const wake_q15_t *tp = h->taps;
-        h->wsum[d] = (float)((int64_t)n * (h->prefix_hi - h->prefix_lo) - (int64_t)rows * S) / (float)n;
-        for (i = 0; i + d < N; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
-            const float rxx = (float)z * inv_nn;
-            const int64_t y0 = (int64_t)n * x[i] - S, y1 = (int64_t)n * x[i + d] - S;
-            const int64_t y2 = (int64_t)n * x[i + rows] - S, y3 = (int64_t)n * x[i + rows + d] - S;
-            /* (Rxx B')[i][l] += Rxx(i, i+d) B[l][i+d]; and the mirror entry */
-            float *row_i = br + i * J, *row_id = br + (i + d) * J;
-            const wake_q15_t *col = tp + i;
-            for (l = 0; l < J; ++l) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
-                row_i[l] += rxx * q15_to_float(col[l * N + d]);
-            }
-            if (d != 0u) {
-                for (l = 0; l < J; ++l) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
-                    row_id[l] += rxx * q15_to_float(col[l * N]);
-                }
-            }
-            if (i + d + 1u < N) {
-                z += y2 * y3 - y0 * y1;
-            }
-        }
-    }
-    /* advance the prefix sums to d + 1 */
     h->prefix_lo += x[d];
     if (rows + d < n) {
         h->prefix_hi += x[rows + d];
@@ -564,27 +608,106 @@ static void step_lag_end(wake_hpa_t *h)
     h->phase = h->d < h->lags ? STEP_LAGS : STEP_LEVINSON;
 }
 
-/** Levinson-Durbin on r[0..order] (wake.hpa.spectrum.levinson_durbin), in a[]. */
+/**
+ * Lag d is summed: centre it exactly and keep r(d) for the AR fit; for
+ * d < 2^J, start the walk along the diagonal Rxx(i, i + d), i = 0..2^J-1-d,
+ * of the fit's window correlation (STEP_DIAG).
+ *
+ * With y(t) = n x(t) - S (exact, |y| < 2^26):
+ *   n^2 sum_{t in T} x_c(t) x_c(t+d) = sum_{t in T} y(t) y(t+d)
+ *     = n^2 sum x(t)x(t+d) - n S (sum_{t in T} x(t) + sum_{t in T} x(t+d)) + |T| S^2
+ */
+static void step_lag_end(wake_hpa_t *h)
+{
+    const unsigned d = h->d, n = h->n, rows = h->rows, N = 1u << h->cfg.level;
+    const int64_t S = h->sum, nn = (int64_t)n * (int64_t)n;
+    if (d <= h->order) {
+        /* full range t < n - d: sum x(t) = P(n-d) = S - suffix(d), sum x(t+d) = S - P(d) */
+        const int64_t raw = h->acc_head + h->acc_tail;
+        const int64_t z = nn * raw - (int64_t)n * S * ((S - h->suffix) + (S - h->prefix_lo)) +
+                          (int64_t)(n - d) * S * S;
+        h->r[d] = (float)z;
+    }
+    if (d >= N) {
+        next_lag(h);
+        return;
+    }
+    /* rows t < rows: sum x(t) = P(rows), sum x(t+d) = P(rows+d) - P(d) */
+    h->diag = nn * h->acc_head - (int64_t)n * S * (h->prefix_rows + (h->prefix_hi - h->prefix_lo)) +
+              (int64_t)rows * S * S;
+    h->wsum[d] = (float)((int64_t)n * (h->prefix_hi - h->prefix_lo) - (int64_t)rows * S) / (float)n;
+    h->t = 0;
+    h->phase = STEP_DIAG;
+}
+
+/**
+ * One chunk of lag d's diagonal: (Rxx B')[i][l] += Rxx(i, i+d) B[l][i+d] and
+ * the mirror entry, with n^2 Rxx(i, i+d) = diag slid exactly along the rows:
+ *   n^2 Rxx(i+1, i+1+d) = n^2 Rxx(i, i+d) - y(i) y(i+d) + y(i+rows) y(i+rows+d).
+ */
+static int32_t step_diag(wake_hpa_t *h, int32_t budget)
+{
+    const unsigned d = h->d, rows = h->rows, J = h->cfg.level, N = 1u << J;
+    const unsigned start = h->t, end = chunk_end(start, items(budget, cost_diag(h)), N - d);
+    /* |n x| <= 2^25 and |S| <= 2^25 (n <= 1024): y = n x - S fits an int32, y y' an int64 */
+    const int32_t n = (int32_t)h->n, S = (int32_t)h->sum;
+    const wake_q15_t *x = h->work;
+    const float inv_nn = 1.0f / ((float)n * (float)n);
+    const float *tapf = h->tapf;
+    float *bank = h->bank_rxx;
+    int64_t z = h->diag;
+    unsigned i, l;
+    for (i = start; i < end; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
+        const float rxx = int64_to_float(z) * inv_nn;
+        const float *col_d = tapf + (i + d) * WAKE_HPA_MAX_LEVEL, *col_i = tapf + i * WAKE_HPA_MAX_LEVEL;
+        float *row_i = bank + i * WAKE_HPA_MAX_LEVEL, *row_id = bank + (i + d) * WAKE_HPA_MAX_LEVEL;
+        for (l = 0; l < WAKE_HPA_MAX_LEVEL; ++l) { /* wcet-loop: WAKE_HPA_MAX_LEVEL (unrolled) */
+            row_i[l] += rxx * col_d[l];
+        }
+        if (d != 0u) {
+            for (l = 0; l < WAKE_HPA_MAX_LEVEL; ++l) { /* wcet-loop: WAKE_HPA_MAX_LEVEL (unrolled) */
+                row_id[l] += rxx * col_i[l];
+            }
+        }
+        if (i + d + 1u < N) {
+            const int32_t y0 = n * x[i] - S, y1 = n * x[i + d] - S;
+            const int32_t y2 = n * x[i + rows] - S, y3 = n * x[i + rows + d] - S;
+            z += (int64_t)y2 * y3 - (int64_t)y0 * y1;
+        }
+    }
+    h->diag = z;
+    h->t = (uint16_t)end;
+    if (end == N - d) {
+        next_lag(h);
+    }
+    return (int32_t)(end - start) * cost_diag(h);
+}
+
+/**
+ * One order of Levinson-Durbin on r[0..order] (wake.hpa.spectrum.levinson_durbin),
+ * in a[]; h->t is the order reached, h->err its prediction error.
+ */
 static void step_levinson(wake_hpa_t *h)
 {
-    const unsigned p = h->order;
-    float err = h->r[0];
-    unsigned m, i;
-    for (i = 0; i <= WAKE_HPA_MAX_ORDER; ++i) {
-        h->a[i] = 0.0f;
-    }
-    h->a[0] = 1.0f;
-    for (m = 1; m <= p; ++m) { /* wcet-loop: WAKE_HPA_MAX_ORDER */
-        float acc = h->r[m], k;
-        if (!(err > 0.0f)) {
-            break; /* a perfectly predictable window: higher orders add nothing */
+    const unsigned p = h->order, m = h->t + 1u;
+    float err, acc, k;
+    unsigned i;
+    if (h->t == 0u) {
+        for (i = 0; i <= WAKE_HPA_MAX_ORDER; ++i) { /* wcet-loop: WAKE_HPA_MAX_ORDER + 1 */
+            h->a[i] = 0.0f;
         }
+        h->a[0] = 1.0f;
+        h->err = h->r[0];
+    }
+    err = h->err;
+    if (m <= p && err > 0.0f) {
+        acc = h->r[m];
         for (i = 1; i < m; ++i) { /* wcet-loop: WAKE_HPA_MAX_ORDER */
             acc += h->a[i] * h->r[m - i];
         }
         k = -acc / err;
         /* a[i] += k a[m - i] for i = 1..m, all from the old a: pairs (i, m - i) swap together */
-        for (i = 1; 2u * i < m; ++i) { /* wcet-loop: WAKE_HPA_MAX_ORDER */
+        for (i = 1; 2u * i < m; ++i) { /* wcet-loop: WAKE_HPA_MAX_ORDER / 2 */
             const float ai = h->a[i], aj = h->a[m - i];
             h->a[i] = ai + k * aj;
             h->a[m - i] = aj + k * ai;
@@ -594,8 +717,13 @@ static void step_levinson(wake_hpa_t *h)
         }
         h->a[m] = k; /* k * a[0] */
         err *= 1.0f - k * k;
+        h->err = err;
+        h->t = (uint16_t)m;
+        if (m < p && err > 0.0f) {
+            return; /* the next order in the next piece */
+        }
     }
-    h->err = err;
+    /* all orders, or a perfectly predictable window (higher orders add nothing) */
     h->t = 0;
     h->peak = NO_PEAK;
     h->prev1 = 0.0f;
@@ -658,7 +786,6 @@ static int32_t step_psd(wake_hpa_t *h, int32_t budget)
 /** The valley rule (wake.hpa.cutoff.find_cutoff) on D = sigma^2 / PSD; then the DFT bins below f_d. */
 static void step_cutoff(wake_hpa_t *h)
 {
-    unsigned m;
     if (h->flag != WAKE_HPA_SILENT) {
         h->cutoff = h->cfg.default_cutoff;
         if (h->peak == NO_PEAK) {
@@ -696,118 +823,233 @@ static void step_cutoff(wake_hpa_t *h)
             }
         }
     }
-    /* DFT bins m >= 1 with m fs / n <= f_d form the voluntary ground truth */
+    h->phase = STEP_BINS;
+}
+
+/** The DFT bins m >= 1 with m fs / n <= f_d form the voluntary ground truth: count them, start the first pass. */
+static void step_bins(wake_hpa_t *h)
+{
+    unsigned m;
     for (m = 1; 2u * m < h->n && (float)m * (h->cfg.fs / (float)h->n) <= h->cutoff; ++m) { /* wcet-loop: WAKE_HPA_MAX_WINDOW / 2 */
     }
     h->bins = (uint16_t)(m - 1u);
-    h->m = 1;
-    h->t = 0;
-    h->idx = 0;
-    h->xr = 0.0f;
-    h->xi = 0.0f;
     h->power = 0.0f;
     memset(h->cxy, 0, sizeof h->cxy);
     memset(h->vhead, 0, sizeof h->vhead);
     h->d = 0;
-    h->phase = h->bins >= 1u ? STEP_DFT : STEP_GRAM;
-}
-
-/** One chunk of X_m = sum x_c(t) e^{-j 2 pi m t / n}; Q_m(0) is the partial sum at t = rows. */
-/** sum_{t0 <= t < t1} x_c(t) e^{-j 2 pi idx(t) / n} into (xr, xi); idx advances by m mod n.  Locals only:
- *  nothing in the loop can alias the struct, so the compiler keeps every value in a register. */
-static inline unsigned dft_run(const wake_q15_t *x, unsigned t0, unsigned t1, unsigned n, unsigned m,
-                               const float *tc, const float *ts, float mean, unsigned idx, float *xr_io,
-                               float *xi_io)
-{
-    float xr = *xr_io, xi = *xi_io;
-    unsigned t;
-    for (t = t0; t < t1; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_DFT */
-        const float xc = (float)x[t] - mean;
-        float c, s;
-        if (2u * idx <= n) {
-            c = tc[idx];
-            s = ts[idx];
-        } else {
-            c = tc[n - idx];
-            s = -ts[n - idx];
-        }
-        xr += xc * c;
-        xi -= xc * s;
-        idx += m;
-        idx = idx >= n ? idx - n : idx;
+    h->t = 0;
+    h->m = 1;
+    if (h->bins >= 1u) {
+        start_pass(h);
+    } else {
+        h->phase = STEP_GRAM;
     }
-    *xr_io = xr;
-    *xi_io = xi;
-    return idx;
 }
 
-/** One chunk of X_m = sum x_c(t) e^{-j 2 pi m t / n}; Q_m(0) is the partial sum at t = rows. */
+/** Set up a DFT pass over bins m and m + 1 (or m alone if it is the last): lambda = -4 sin^2(w/2). */
+static void start_pass(wake_hpa_t *h)
+{
+    unsigned b;
+    h->pair = (uint16_t)(h->m + 1u <= h->bins ? 2u : 1u);
+    for (b = 0; b < 2u; ++b) {
+        float c, s = 0.0f;
+        if (b < h->pair) {
+            unit_phasor(h->m + b, h->n, &c, &s);   /* angle pi m / n = w / 2 */
+        }
+        h->lam[b] = -4.0f * s * s;
+        h->gs[b] = 0.0f;
+        h->gd[b] = 0.0f;
+        h->hs[b] = 0.0f;
+        h->hd[b] = 0.0f;
+    }
+    h->t = 0;
+    h->phase = STEP_DFT;
+}
+
+/*
+ * The DFT of one bin by Reinsch's form of the Goertzel recursion over x_c(t):
+ *   s(t) = x_c(t) + 2 cos(w) s(t-1) - s(t-2) is run as d(t) = s(t) - s(t-1):
+ *   d(t) = d(t-1) + x_c(t) + lambda s(t-1),  s(t) = s(t-1) + d(t),  lambda = 2 cos w - 2 = -4 sin^2(w/2)
+ * (the difference form keeps the precision of the low bins, where 2 cos w is
+ * close to 2).  Two bins share one read of the window.  Locals only: nothing
+ * in the loop can alias the struct.
+ */
+static inline void reinsch_run1(const wake_q15_t *x, unsigned t0, unsigned t1, float mean, float lam, float *s_io,
+                                float *d_io)
+{
+    float s = *s_io, d = *d_io;
+    unsigned t;
+    for (t = t0; t < t1; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_DFT1 */
+        const float xc = (float)x[t] - mean;
+        d = d + xc + lam * s;
+        s = s + d;
+    }
+    *s_io = s;
+    *d_io = d;
+}
+
+static inline void reinsch_run2(const wake_q15_t *x, unsigned t0, unsigned t1, float mean, const float *lam,
+                                float *s_io, float *d_io)
+{
+    const float lam0 = lam[0], lam1 = lam[1];
+    float s0 = s_io[0], d0 = d_io[0], s1 = s_io[1], d1 = d_io[1];
+    unsigned t;
+    for (t = t0; t < t1; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_DFT2 */
+        const float xc = (float)x[t] - mean;
+        d0 = d0 + xc + lam0 * s0;
+        s0 = s0 + d0;
+        d1 = d1 + xc + lam1 * s1;
+        s1 = s1 + d1;
+    }
+    s_io[0] = s0;
+    d_io[0] = d0;
+    s_io[1] = s1;
+    d_io[1] = d1;
+}
+
+/** One chunk of the pass; the states at t = rows are kept for Q_m(0). */
 static int32_t step_dft(wake_hpa_t *h, int32_t budget)
 {
-    const unsigned start = h->t;
-    const unsigned n = h->n, m = h->m, rows = h->rows;
-    const unsigned end = chunk_end(h->t, items(budget, COST_DFT), n);
+    const unsigned start = h->t, n = h->n, rows = h->rows, two = h->pair == 2u;
+    const int32_t cost = two ? COST_DFT2 : COST_DFT1;
+    const unsigned end = chunk_end(start, items(budget, cost), n);
     const unsigned split = end < rows ? end : (start > rows ? start : rows);
-    float xr = h->xr, xi = h->xi;
-    unsigned idx = h->idx;
-    idx = dft_run(h->work, start, split, n, m, h->tw_cos, h->tw_sin, h->mean, idx, &xr, &xi);
-    if (split == rows && start <= rows && end >= rows) {
-        h->qr = xr;   /* Q_m(0) = sum over t < rows */
-        h->qi = xi;
+    if (two) {
+        reinsch_run2(h->work, start, split, h->mean, h->lam, h->gs, h->gd);
+    } else {
+        reinsch_run1(h->work, start, split, h->mean, h->lam[0], &h->gs[0], &h->gd[0]);
     }
-    idx = dft_run(h->work, split, end, n, m, h->tw_cos, h->tw_sin, h->mean, idx, &xr, &xi);
-    h->xr = xr;
-    h->xi = xi;
-    h->idx = (uint16_t)idx;
+    if (split == rows && start <= rows && end >= rows) {
+        h->hs[0] = h->gs[0];
+        h->hd[0] = h->gd[0];
+        h->hs[1] = h->gs[1];
+        h->hd[1] = h->gd[1];
+    }
+    if (two) {
+        reinsch_run2(h->work, split, end, h->mean, h->lam, h->gs, h->gd);
+    } else {
+        reinsch_run1(h->work, split, end, h->mean, h->lam[0], &h->gs[0], &h->gd[0]);
+    }
     h->t = (uint16_t)end;
     if (end == n) {
-        h->phase = STEP_BIN_END;
+        h->t = 0;
+        h->d = 0;
+        h->phase = STEP_BIN_START;
     }
-    return (int32_t)(end - start) * (COST_DFT);
+    return (int32_t)(end - start) * cost;
 }
 
 /**
- * Bin m is summed.  With v_c(t) = (2/n) Re sum_m X_m e^{j w t} (w = 2 pi m / n)
- * and Q_m(i) = sum_{s=i}^{i+rows-1} x_c(s) e^{-j w s}:
+ * sum_{t < T} x_c(t) e^{-j w t} from the Reinsch states after x_c(T - 1)
+ * (k = m (T - 1) mod n):
+ *   y = s(T-1) - e^{-j w} s(T-2) = sum_{t < T} x_c(t) e^{j w (T-1-t)},  s(T-2) = s - d,
+ *   Re y = -lambda/2 s + cos(w) d,  Im y = sin(w) (s - d),  and the sum is e^{-j w (T-1)} y.
+ */
+static void reinsch_value(float s, float d, float lam, float cw, float sw, uint32_t k, uint32_t n, float *re,
+                          float *im)
+{
+    const float yr = -0.5f * lam * s + cw * d, yi = sw * (s - d);
+    float c, sn;
+    turn(k, n, &c, &sn);
+    *re = yr * c + yi * sn;
+    *im = yi * c - yr * sn;
+}
+
+/**
+ * One chunk of bin m's slide along the fit rows.  With v_c(t) = (2/n) Re
+ * sum_m X_m e^{j w t} (w = 2 pi m / n) and Q_m(i) = sum_{s=i}^{i+rows-1}
+ * x_c(s) e^{-j w s}:
  *   Cxy(i) = sum_s x_c(s) v_c(s + N - i) = (2/n) Re sum_m X_m e^{j w (N - i)} conj(Q_m(i))
  *   Q_m(i+1) = Q_m(i) - x_c(i) e^{-j w i} + x_c(i + rows) e^{-j w (i + rows)}
- * and v_c(t) for t < N (the targets the fit does not use) into vhead.
+ * and v_c(t) for t < N (the targets the fit does not use) into vhead.  The
+ * phasors e^{j w (N - i)}, e^{j w i}, e^{j w (rows + i)} advance by one
+ * rotation each row (32 rotations drift by a few ulp).
  */
-static void step_bin_end(wake_hpa_t *h)
+static int32_t step_bin_end(wake_hpa_t *h, int32_t budget)
 {
-    const unsigned n = h->n, m = h->m, rows = h->rows, N = 1u << h->cfg.level;
+    const unsigned n = h->n, rows = h->rows, N = 1u << h->cfg.level;
+    const unsigned start = h->t, end = chunk_end(start, items(budget, COST_SLIDE), N);
     const float scale = 2.0f / (float)n, mean = h->mean, xr = h->xr, xi = h->xi;
-    float qr = h->qr, qi = h->qi;
-    unsigned i, idx_i = 0, idx_r = (rows * m) % n, idx_a = (N * m) % n;
-    h->power += xr * xr + xi * xi;
-    for (i = 0; i < N; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
-        float ca, sa, ci, si, cr, sr, pr, pi, xc;
-        twiddle(h, idx_a, &ca, &sa);
-        pr = xr * ca - xi * sa;       /* P = X e^{j w (N - i)} */
-        pi = xr * sa + xi * ca;
+    const float cw = h->rot[0], sw = h->rot[1];
+    float qr = h->qr, qi = h->qi, ac = h->ph[0], as = h->ph[1], ic = h->ph[2], is = h->ph[3];
+    float rc = h->ph[4], rs = h->ph[5], t0, t1;
+    unsigned i;
+    for (i = start; i < end; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
+        float xc;
+        const float pr = xr * ac - xi * as;       /* P = X e^{j w (N - i)} */
+        const float pi = xr * as + xi * ac;
         h->cxy[i] += scale * (pr * qr + pi * qi);
-        twiddle(h, idx_i, &ci, &si);
-        h->vhead[i] += scale * (xr * ci - xi * si);
+        h->vhead[i] += scale * (xr * ic - xi * is);
         xc = (float)h->work[i] - mean;
-        qr -= xc * ci;
-        qi += xc * si;
-        twiddle(h, idx_r, &cr, &sr);
+        qr -= xc * ic;
+        qi += xc * is;
         xc = (float)h->work[i + rows] - mean;
-        qr += xc * cr;
-        qi -= xc * sr;
-        idx_a = idx_a >= m ? idx_a - m : idx_a + n - m;
-        idx_i += m;
-        idx_i = idx_i >= n ? idx_i - n : idx_i;
-        idx_r += m;
-        idx_r = idx_r >= n ? idx_r - n : idx_r;
+        qr += xc * rc;
+        qi -= xc * rs;
+        /* e^{j w (N - i - 1)} = e^{j w (N - i)} e^{-j w};  the others times e^{j w} */
+        t0 = ac * cw + as * sw;
+        t1 = as * cw - ac * sw;
+        ac = t0;
+        as = t1;
+        t0 = ic * cw - is * sw;
+        t1 = is * cw + ic * sw;
+        ic = t0;
+        is = t1;
+        t0 = rc * cw - rs * sw;
+        t1 = rs * cw + rc * sw;
+        rc = t0;
+        rs = t1;
     }
-    h->m = (uint16_t)(m + 1u);
+    h->qr = qr;
+    h->qi = qi;
+    h->ph[0] = ac;
+    h->ph[1] = as;
+    h->ph[2] = ic;
+    h->ph[3] = is;
+    h->ph[4] = rc;
+    h->ph[5] = rs;
+    h->t = (uint16_t)end;
+    if (end == N) {
+        next_bin(h);
+    }
+    return (int32_t)(end - start) * COST_SLIDE;
+}
+
+/** X_m and Q_m(0) of the pass's bin h->d from its Reinsch states; the slide's start phasors. */
+static void step_bin_start(wake_hpa_t *h)
+{
+    const unsigned n = h->n, rows = h->rows, N = 1u << h->cfg.level, b = h->d, m = h->m + b;
+    float cw, sw;
+    unit_phasor(2u * m, n, &cw, &sw);   /* e^{j w}, w = 2 pi m / n <= pi */
+    reinsch_value(h->gs[b], h->gd[b], h->lam[b], cw, sw, (m * (n - 1u)) % n, n, &h->xr, &h->xi);
+    reinsch_value(h->hs[b], h->hd[b], h->lam[b], cw, sw, (m * (rows - 1u)) % n, n, &h->qr, &h->qi);
+    h->power += h->xr * h->xr + h->xi * h->xi;
+    h->rot[0] = cw;
+    h->rot[1] = sw;
+    turn((N * m) % n, n, &h->ph[0], &h->ph[1]);
+    h->ph[2] = 1.0f;
+    h->ph[3] = 0.0f;
+    turn((rows * m) % n, n, &h->ph[4], &h->ph[5]);
     h->t = 0;
-    h->idx = 0;
-    h->xr = 0.0f;
-    h->xi = 0.0f;
+    h->phase = STEP_BIN_END;
+}
+
+/** The pass's bin h->d is slid: its next bin, the next pass, or the Gram step. */
+static void next_bin(wake_hpa_t *h)
+{
+    h->t = 0;
+    if (h->d + 1u < h->pair) {
+        h->d = (uint16_t)(h->d + 1u);
+        h->phase = STEP_BIN_START;
+        return;
+    }
     h->d = 0;
-    h->phase = h->m <= h->bins ? STEP_DFT : STEP_GRAM;
+    h->m = (uint16_t)(h->m + h->pair);
+    if (h->m <= h->bins) {
+        start_pass(h);
+    } else {
+        h->phase = STEP_GRAM;
+    }
 }
 
 /**
@@ -820,39 +1062,46 @@ static void step_bin_end(wake_hpa_t *h)
  */
 static void step_gram(wake_hpa_t *h)
 {
-    const unsigned J = h->cfg.level, N = 1u << J, l = h->d;
+    const unsigned J = h->cfg.level, N = 1u << J, l = h->d, k = h->t;
     const float mu = h->mean, fr = (float)h->rows;
-    float sl = 0.0f, cl = 0.0f, bl = 0.0f;
-    unsigned i, k;
-    if (l == 0u) {
-        h->sy = 0.0f;
-        h->vv = 0.0f;
-        h->trace = 0.0f;
-        for (i = 0; i < N; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
-            h->sy -= h->vhead[i];
-            h->vv += h->vhead[i] * h->vhead[i];
+    float g = 0.0f;
+    unsigned i;
+    if (k == 0u) {
+        /* row l's first piece: s_l, c_l = (B wsum)_l, (B Cxy)_l */
+        float sl = 0.0f, cl = 0.0f, bl = 0.0f;
+        if (l == 0u) {
+            h->sy = 0.0f;
+            h->vv = 0.0f;
+            h->trace = 0.0f;
+            for (i = 0; i < N; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
+                h->sy -= h->vhead[i];
+                h->vv += h->vhead[i] * h->vhead[i];
+            }
         }
+        for (i = 0; i < N; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
+            const float b = h->tapf[i * WAKE_HPA_MAX_LEVEL + l];
+            sl += b;
+            cl += b * h->wsum[i];
+            bl += b * h->cxy[i];
+        }
+        h->rowsum[l] = sl;
+        h->colsum[l] = cl;
+        h->rhs[l] = bl + mu * cl + mu * h->sy * sl + fr * mu * mu * sl;
     }
-    /* row l: s_l, c_l = (B wsum)_l, (B Cxy)_l, then G[l][k] for k <= l */
+    /* one entry G[l][k], k <= l, per piece */
     for (i = 0; i < N; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
-        const float b = tap(h, l, i);
-        sl += b;
-        cl += b * h->wsum[i];
-        bl += b * h->cxy[i];
+        g += h->tapf[i * WAKE_HPA_MAX_LEVEL + l] * h->bank_rxx[i * WAKE_HPA_MAX_LEVEL + k];
     }
-    h->rowsum[l] = sl;
-    h->colsum[l] = cl;
-    h->rhs[l] = bl + mu * cl + mu * h->sy * sl + fr * mu * mu * sl;
-    for (k = 0; k <= l; ++k) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
-        float g = 0.0f;
-        for (i = 0; i < N; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
-            g += tap(h, l, i) * h->bank_rxx[i * J + k];
-        }
-        g += mu * (cl * h->rowsum[k] + sl * h->colsum[k]) + fr * mu * mu * sl * h->rowsum[k];
-        h->gram[l * J + k] = g;
-        h->gram[k * J + l] = g;
+    g += mu * (h->colsum[l] * h->rowsum[k] + h->rowsum[l] * h->colsum[k]) +
+         fr * mu * mu * h->rowsum[l] * h->rowsum[k];
+    h->gram[l * J + k] = g;
+    h->gram[k * J + l] = g;
+    if (k < l) {
+        h->t = (uint16_t)(k + 1u);
+        return;
     }
-    h->trace += h->gram[l * J + l];
+    h->trace += g;
+    h->t = 0;
     h->d = (uint16_t)(l + 1u);
     if (h->d < J) {
         return;
@@ -970,42 +1219,60 @@ static void step_solve(wake_hpa_t *h)
 /* Public: running, results                                                 */
 /* ------------------------------------------------------------------------ */
 
-/** Cost of the next indivisible step (0: the step is a loop that takes any budget). */
-static int32_t indivisible_cost(const wake_hpa_t *h)
+/** Cost of the next indivisible step, or of one item of a loop step (without COST_PIECE). */
+static int32_t piece_cost(const wake_hpa_t *h)
 {
-    const int32_t J = (int32_t)h->cfg.level, N = (int32_t)1 << J, d = (int32_t)h->d;
+    const int32_t J = (int32_t)h->cfg.level, N = (int32_t)1 << J;
     switch (h->phase) {
     case STEP_LAG_END:
-        return d < N ? (N - d) * (12 * J + 30) + 80 : 80;
+        return 150;
     case STEP_LEVINSON:
-        return 5 * (int32_t)h->order * (int32_t)h->order + 150;
+        /* order t + 1 (the first piece also clears a[]) */
+        return 80 + 12 * ((int32_t)h->t + 1) + (h->t == 0u ? 2 * WAKE_HPA_MAX_ORDER : 0);
     case STEP_CUTOFF:
-        return 8 * (int32_t)h->cut_hi + 400;
-    case STEP_BIN_END:
-        return 60 * N + 80;
+        return 400 + 12 * (int32_t)h->cut_hi;
+    case STEP_BINS:
+        /* the count stops at f_d <= cutoff_high: at most cutoff_high n / fs bins */
+        return 450 + 10 * (int32_t)(h->cfg.cutoff_high * ((float)h->n / h->cfg.fs));
+    case STEP_BIN_START:
+        return 450;
     case STEP_GRAM:
-        return N * (4 + d) * 6 + (d == 0 ? 6 * N : 0) + 100;
+        /* one entry; a row's first also sums the row, and the first row the targets */
+        return 60 + 8 * N + (h->t == 0u ? 12 * N : 0) + (h->t == 0u && h->d == 0u ? 8 * N : 0) +
+               (h->t == h->d && h->d + 1u == h->cfg.level ? 100 : 0);
     case STEP_SOLVE:
-        return 4 * J * J * J + 10 * J * J + 200;
-    default:
-        return 0;
+        return 6 * J * J * J + 12 * J * J + 200;
+    case STEP_SUMS:
+        return COST_SUM;
+    case STEP_LAGS:
+        return COST_LAG;
+    case STEP_DIAG:
+        return cost_diag(h);
+    case STEP_PSD:
+        return cost_psd_bin(h);
+    case STEP_DFT:
+        return h->pair == 2u ? COST_DFT2 : COST_DFT1;
+    default: /* STEP_BIN_END */
+        return COST_SLIDE;
     }
 }
 
-/** Run the current step within @p budget (@p fixed: its indivisible_cost); returns what it spent. */
+/** Run the current step within @p budget (@p fixed: an indivisible step's piece_cost); returns what it spent. */
 static int32_t run_step(wake_hpa_t *h, int32_t budget, int32_t fixed)
 {
     switch (h->phase) {
     case STEP_SUMS:
         return step_sums(h, budget);
-    case STEP_TABLE:
-        return step_table(h, budget);
     case STEP_LAGS:
         return step_lags(h, budget);
+    case STEP_DIAG:
+        return step_diag(h, budget);
     case STEP_PSD:
         return step_psd(h, budget);
     case STEP_DFT:
         return step_dft(h, budget);
+    case STEP_BIN_END:
+        return step_bin_end(h, budget);
     case STEP_LAG_END:
         step_lag_end(h);
         break;
@@ -1015,8 +1282,11 @@ static int32_t run_step(wake_hpa_t *h, int32_t budget, int32_t fixed)
     case STEP_CUTOFF:
         step_cutoff(h);
         break;
-    case STEP_BIN_END:
-        step_bin_end(h);
+    case STEP_BINS:
+        step_bins(h);
+        break;
+    case STEP_BIN_START:
+        step_bin_start(h);
         break;
     case STEP_GRAM:
         step_gram(h);
@@ -1028,10 +1298,23 @@ static int32_t run_step(wake_hpa_t *h, int32_t budget, int32_t fixed)
     return fixed;
 }
 
+/** Pieces of work until @p budget is spent; the next piece only if it fits (or comes first). */
+static void run_pieces(wake_hpa_t *h, int32_t budget)
+{
+    int32_t left = budget;
+    int first = 1;
+    while (h->phase != STEP_IDLE) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_PIECE */
+        const int32_t need = piece_cost(h) + COST_PIECE;
+        if (!first && need > left) {
+            break;
+        }
+        left -= run_step(h, left - COST_PIECE, need - COST_PIECE) + COST_PIECE;
+        first = 0;
+    }
+}
+
 wake_hpa_status_t wake_hpa_slice(wake_hpa_t *h)
 {
-    int32_t left = WAKE_HPA_SLICE_BUDGET;
-    int first = 1;
     wake_hpa_status_t st = check_instance(h);
     if (st != WAKE_HPA_OK) {
         return st;
@@ -1039,25 +1322,24 @@ wake_hpa_status_t wake_hpa_slice(wake_hpa_t *h)
     if (h->phase == STEP_IDLE) {
         return WAKE_HPA_OK;
     }
-    /* pieces of work until the budget is spent; an indivisible step only if it fits (or comes first) */
-    while (h->phase != STEP_IDLE && left > 0) { /* wcet-loop: a few steps */
-        const int32_t fixed = indivisible_cost(h);
-        if (!first && fixed > left) {
-            break;
-        }
-        left -= run_step(h, left, fixed);
-        first = 0;
-    }
+    run_pieces(h, WAKE_HPA_SLICE_BUDGET);
     return h->phase == STEP_IDLE ? WAKE_HPA_DONE : WAKE_HPA_RUNNING;
 }
 
 wake_hpa_status_t wake_hpa_run(wake_hpa_t *h)
 {
-    wake_hpa_status_t st = wake_hpa_slice(h);
-    while (st == WAKE_HPA_RUNNING) {
-        st = wake_hpa_slice(h);
+    /* no time limit: every loop step runs to its end in one piece (the same arithmetic as slices) */
+    wake_hpa_status_t st = check_instance(h);
+    if (st != WAKE_HPA_OK) {
+        return st;
     }
-    return st;
+    if (h->phase == STEP_IDLE) {
+        return WAKE_HPA_OK;
+    }
+    while (h->phase != STEP_IDLE) { /* wcet-loop: the number of steps of one HPA */
+        run_pieces(h, INT32_MAX / 2);
+    }
+    return WAKE_HPA_DONE;
 }
 
 wake_hpa_status_t wake_hpa_take(wake_hpa_t *h, wake_hpa_result_t *out)

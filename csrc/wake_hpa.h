@@ -80,9 +80,13 @@ extern "C" {
 #ifndef WAKE_HPA_MAX_PSD_BINS
 #define WAKE_HPA_MAX_PSD_BINS 128
 #endif
-/** Work one wake_hpa_slice() may do, in Cortex-M4F instructions of the cost model in wake_hpa.c. */
+/**
+ * Work one wake_hpa_slice() may do, in Cortex-M4F instructions of the cost
+ * model in wake_hpa.c (1: one loop item or one indivisible step per slice,
+ * which is how `python -m wake.firmware.hpa_cost --calibrate` measures the model).
+ */
 #ifndef WAKE_HPA_SLICE_BUDGET
-#define WAKE_HPA_SLICE_BUDGET 1800
+#define WAKE_HPA_SLICE_BUDGET 1600
 #endif
 
 #if WAKE_HPA_MAX_WINDOW < 4 || WAKE_HPA_MAX_WINDOW > 1024
@@ -97,8 +101,8 @@ extern "C" {
 #if WAKE_HPA_MAX_PSD_BINS < 4 || WAKE_HPA_MAX_PSD_BINS > 512
 #error "WAKE_HPA_MAX_PSD_BINS must lie in 4..512"
 #endif
-#if WAKE_HPA_SLICE_BUDGET < 100 || WAKE_HPA_SLICE_BUDGET > 1000000
-#error "WAKE_HPA_SLICE_BUDGET must lie in 100..1000000"
+#if WAKE_HPA_SLICE_BUDGET < 1 || WAKE_HPA_SLICE_BUDGET > 1000000
+#error "WAKE_HPA_SLICE_BUDGET must lie in 1..1000000"
 #endif
 
 /** Filter-bank taps for the largest level. */
@@ -191,8 +195,8 @@ typedef struct {
  */
 typedef struct {
     uint32_t magic;               /**< WAKE_HPA_MAGIC once initialised */
+    uint32_t seal;                /**< hash of cfg and the bins derived from it (a changed field: _E_CORRUPT) */
     wake_hpa_config_t cfg;        /**< validated copy */
-    const wake_q15_t *taps;       /**< J x 2^J filter bank, Q15 (the RTP's; caller-owned) */
     /* feeding */
     uint32_t count;               /**< samples pushed (sticks at UINT32_MAX) */
     uint32_t runs;                /**< HPAs started */
@@ -215,11 +219,10 @@ typedef struct {
     uint16_t bins;                /**< DFT bins at or below f_d */
     uint16_t psd_end;             /**< last PSD bin evaluated */
     uint16_t peak;                /**< tremor peak bin (0xFFFF: none yet) */
-    uint16_t tw_n;                /**< window length the twiddle table was built for (0: none) */
+    uint16_t pair;                /**< bins in the current DFT pass (1 or 2) */
     uint16_t flag;                /**< cut-off flag of this run */
     uint16_t psd_lo, psd_hi;      /**< PSD bins of the tremor band (set by init) */
     uint16_t cut_lo, cut_hi;      /**< PSD bins of the cut-off range (set by init) */
-    uint16_t idx;                 /**< (m t) mod n of the DFT step */
     uint16_t attempts;            /**< ridge rises so far */
     int16_t lo, hi;               /**< smallest and largest sample */
     int64_t sum;                  /**< S = sum x */
@@ -228,9 +231,15 @@ typedef struct {
     int64_t prefix_hi;            /**< P(rows + d) */
     int64_t suffix;               /**< sum x[n-d .. n-1] */
     int64_t acc_head, acc_tail;   /**< the lag sum being accumulated (t < rows, t >= rows) */
+    int64_t diag;                 /**< n^2 Rxx(i, i + d) on the diagonal being walked */
     float mean;                   /**< S / n */
     float cutoff;                 /**< f_d of this run */
-    float xr, xi, qr, qi;         /**< the DFT bin being accumulated; its value at t = rows */
+    float xr, xi, qr, qi;         /**< X_m of the bin being slid, and Q_m(i) */
+    float lam[2];                 /**< Reinsch's -4 sin^2(w/2) of the pass's bins */
+    float gs[2], gd[2];           /**< their Reinsch states s, d */
+    float hs[2], hd[2];           /**< the states at t = rows */
+    float rot[2];                 /**< cos w, sin w of the bin being slid */
+    float ph[6];                  /**< its phasors e^{j w (N - i)}, e^{j w i}, e^{j w (rows + i)} */
     float power;                  /**< sum over bins of |X_m|^2 */
     float prev1, prev2;           /**< D of the two previous PSD bins */
     float err;                    /**< Levinson prediction error */
@@ -250,9 +259,8 @@ typedef struct {
     float r[WAKE_HPA_MAX_ORDER + 1];            /**< autocorrelation (scaled by n^3) */
     float a[WAKE_HPA_MAX_ORDER + 1];            /**< AR polynomial, a[0] = 1 */
     float den[WAKE_HPA_MAX_PSD_BINS];           /**< D(f_k) for the valley search */
-    float tw_cos[WAKE_HPA_MAX_WINDOW / 2 + 1];  /**< cos(2 pi k / n), k = 0..n/2 */
-    float tw_sin[WAKE_HPA_MAX_WINDOW / 2 + 1];  /**< sin(2 pi k / n) */
-    float bank_rxx[WAKE_HPA_MAX_TAPS * WAKE_HPA_MAX_LEVEL]; /**< Rxx B', 2^J x J row-major */
+    float tapf[WAKE_HPA_MAX_TAPS * WAKE_HPA_MAX_LEVEL]; /**< the bank B as floats, B[l][i] at [i MAX_LEVEL + l] */
+    float bank_rxx[WAKE_HPA_MAX_TAPS * WAKE_HPA_MAX_LEVEL]; /**< Rxx B', 2^J rows of stride WAKE_HPA_MAX_LEVEL */
     float cxy[WAKE_HPA_MAX_TAPS];               /**< sum x_c(t + i) v_c(t + 2^J) over the fit rows */
     float wsum[WAKE_HPA_MAX_TAPS];              /**< sum x_c(t + i) over the fit rows */
     float vhead[WAKE_HPA_MAX_TAPS];             /**< v_c(t), t < 2^J */
@@ -272,7 +280,7 @@ wake_hpa_status_t wake_hpa_default_config(wake_hpa_config_t *cfg);
  * @brief Initialise one channel's HPA.
  * @param[out] h        instance (any content)
  * @param[in]  cfg      configuration (copied); every field is checked
- * @param[in]  taps     the RTP's J x 2^J Q15 filter bank, kept by pointer
+ * @param[in]  taps     the RTP's J x 2^J Q15 filter bank (copied, as floats)
  * @param[in]  weights  the J start weights (kept by a silent first window); finite, |w| <= 32
  * @return WAKE_HPA_OK, WAKE_HPA_E_NULL or WAKE_HPA_E_CONFIG (then @p h is left
  *         uninitialised: every other call refuses it).

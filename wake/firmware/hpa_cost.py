@@ -35,8 +35,11 @@ HPA_DEFS = ["-DWAKE_HPA_MAX_WINDOW=500", "-DWAKE_HPA_MAX_LEVEL=5", "-DWAKE_HPA_M
 HPA_GOALS = {"whole": 400_000, "step_plus_slice": 3_000, "ram": 6 * 1024}
 
 
-def build_hpa_image(target="m4f-O2", *, build_dir=None, csrc=None):
-    """Cross-compile wake_hpa.c, wake_rtp.c and the harness; an :class:`~wake.firmware.profile.build.Image`."""
+def build_hpa_image(target="m4f-O2", *, build_dir=None, csrc=None, defs=()):
+    """Cross-compile wake_hpa.c, wake_rtp.c and the harness; an :class:`~wake.firmware.profile.build.Image`.
+
+    ``defs`` are extra ``-D`` options (the calibration builds with a slice budget of 1).
+    """
     from wake.firmware.profile.build import WARN_FLAGS, Image, run_tool, toolchain
     from wake.firmware.sources import csrc_dir
 
@@ -48,7 +51,7 @@ def build_hpa_image(target="m4f-O2", *, build_dir=None, csrc=None):
     out = Path(build_dir) if build_dir else Path(tempfile.mkdtemp(prefix="wake-hpa-"))
     out = out / f"hpa-{target}"
     out.mkdir(parents=True, exist_ok=True)
-    flags = HPA_TARGETS[target][1] + ["-ffreestanding", "-g", *HPA_DEFS]
+    flags = HPA_TARGETS[target][1] + ["-ffreestanding", "-g", *HPA_DEFS, *defs]
 
     def run(cmd):
         run_tool(cmd, out)
