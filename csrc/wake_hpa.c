@@ -14,9 +14,13 @@
  *   STEP_CUTOFF    the valley rule                          (one slice)
  *   STEP_BINS      count the DFT bins at or below f_d       (one slice)
  *   STEP_DFT       X_m = sum x_c(t) e^{-j 2 pi m t / n}, two bins per pass (chunks of the window)
+ *   STEP_BIN_START X_m and Q_m(0) from the pass's states    (one slice per bin)
  *   STEP_BIN_END   slide bin m over the fit rows into Cxy   (chunks of the 2^J rows)
  *   STEP_GRAM      G = B (Rxx B') + mean terms, b            (one entry G[l][k] per slice)
  *   STEP_SOLVE     (G + lambda I) w = b, raising lambda      (one attempt per slice)
+ *
+ * Each step is one piece of work or a loop whose items a slice may share
+ * out (wake.firmware.hpa_cost.STEP_NAMES lists them in this order).
  *
  * Conventions: float only (no double), no libm, no division instruction in
  * an inner loop, fixed evaluation order (build with -ffp-contract=off).

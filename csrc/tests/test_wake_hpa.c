@@ -136,6 +136,35 @@ static void test_bad_input(void)
     init_default(&hpa);
     hpa.fill_len = 1000;
     CHECK(wake_hpa_push(&hpa, 1) == WAKE_HPA_E_CORRUPT);
+    /* any configuration field changed after init breaks the seal */
+    init_default(&hpa);
+    hpa.cfg.fs = 50.0f;
+    CHECK(wake_hpa_slice(&hpa) == WAKE_HPA_E_CORRUPT);
+    init_default(&hpa);
+    hpa.cfg.warmup[3] = 7;
+    CHECK(wake_hpa_push(&hpa, 1) == WAKE_HPA_E_CORRUPT);
+    init_default(&hpa);
+    hpa.psd_hi = 500;
+    CHECK(wake_hpa_run(&hpa) == WAKE_HPA_E_CORRUPT);
+    /* a loop counter out of its range in the middle of a run */
+    {
+        int k;
+        for (k = 0; k < 4; ++k) {
+            init_default(&hpa);
+            CHECK(wake_hpa_start(&hpa, window, L, 0) == WAKE_HPA_OK);
+            CHECK(wake_hpa_slice(&hpa) == WAKE_HPA_RUNNING);
+            if (k == 0) {
+                hpa.t = (uint16_t)(L + 1);
+            } else if (k == 1) {
+                hpa.d = 999;
+            } else if (k == 2) {
+                hpa.rows = 3;
+            } else {
+                hpa.bins = 400;
+            }
+            CHECK(wake_hpa_slice(&hpa) == WAKE_HPA_E_CORRUPT);
+        }
+    }
 
     /* window sizes, busy, idle */
     init_default(&hpa);

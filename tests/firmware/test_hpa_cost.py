@@ -23,3 +23,36 @@ def test_one_window_on_cortex_m4f_finishes_within_the_next_window_and_fits_6_kib
     assert r["ram_hpa"] <= HPA_GOALS["ram"]             # both window buffers included
     assert 0 < r["stack"] <= 400
     assert np.isfinite(r["whole_median"])
+
+
+def test_step_names_follow_the_c_enum():
+    """The profiler names wake_hpa_t::phase values by position; a step added in C must be named here too."""
+    import re
+
+    from wake.firmware.hpa_cost import STEP_NAMES
+    from wake.firmware.sources import csrc_dir
+
+    text = (csrc_dir(None, need=("wake_hpa.c",)) / "wake_hpa.c").read_text()
+    body = re.search(r"enum \{\s*(STEP_IDLE = 0,.*?)\};", text, re.S).group(1)
+    steps = re.findall(r"STEP_[A-Z_]+", body)
+    assert len(steps) == len(STEP_NAMES)
+    assert steps[0] == "STEP_IDLE" and steps[-1] == "STEP_SOLVE"
+
+
+def test_a_slice_stays_within_its_budget_plus_the_entry_check(tmp_path):
+    """The slice cost model is calibrated in Cortex-M4F instructions: no slice may exceed the budget by more
+    than the fixed entry cost (the instance check, about 250 instructions), or the cost model is stale."""
+    pytest.importorskip("unicorn")
+    pytest.importorskip("capstone")
+    import re
+
+    from wake.firmware.hpa_cost import step_breakdown
+    from wake.firmware.sources import csrc_dir
+
+    header = (csrc_dir(None, need=("wake_hpa.h",)) / "wake_hpa.h").read_text()
+    budget = int(re.search(r"#define WAKE_HPA_SLICE_BUDGET (\d+)", header).group(1))
+    rows = step_breakdown("m4f-O2", "synthetic 1", build_dir=tmp_path)
+    assert {"lags", "Rxx diagonal", "AR spectrum", "DFT passes", "bin slide", "Gram", "solve"} <= set(rows)
+    largest = max(r["max_slice"] for r in rows.values())
+    assert budget // 2 < largest <= budget + 400
+    assert sum(r["slices"] for r in rows.values()) < 500      # done within the next L = 500 samples

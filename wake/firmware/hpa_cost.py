@@ -22,7 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["HPA_TARGETS", "HPA_DEFS", "HPA_GOALS", "build_hpa_image", "profile_windows", "measure_hpa"]
+__all__ = ["HPA_TARGETS", "HPA_DEFS", "HPA_GOALS", "STEP_NAMES", "build_hpa_image", "profile_windows", "measure_hpa",
+           "step_breakdown", "calibrate"]
 
 HPA_TARGETS = {
     "m4f-O2": ("Cortex-M4F, -O2, hard float", ["-mcpu=cortex-m4", "-mthumb", "-mfloat-abi=hard",
@@ -33,6 +34,9 @@ HPA_DEFS = ["-DWAKE_HPA_MAX_WINDOW=500", "-DWAKE_HPA_MAX_LEVEL=5", "-DWAKE_HPA_M
             "-DWAKE_HPA_MAX_PSD_BINS=64", "-DWAKE_RTP_MAX_LEVEL=5"]
 #: Targets of the issue at L = 500, p = 17, J = 5 (Cortex-M4F): one whole HPA, RTP step + largest slice, RAM.
 HPA_GOALS = {"whole": 400_000, "step_plus_slice": 3_000, "ram": 6 * 1024}
+#: The steps of csrc/wake_hpa.c, in the order of its enum (wake_hpa_t::phase indexes this).
+STEP_NAMES = ("idle", "sums", "lags", "lag end", "Rxx diagonal", "Levinson", "AR spectrum", "cut-off",
+              "bin count", "DFT passes", "bin start", "bin slide", "Gram", "solve")
 
 
 def build_hpa_image(target="m4f-O2", *, build_dir=None, csrc=None, defs=()):
@@ -110,7 +114,7 @@ def measure_hpa(target="m4f-O2", *, windows=None, build_dir=None, csrc=None) -> 
         emu.call("hpa_profile_start", len(x), count=False)
         st, whole, depth = emu.call("wake_hpa_run", hpa, stack=True, limit=50_000_000)
         stack = max(stack, depth)
-        # the same window in slices, after a fresh init (the twiddle table is rebuilt, as on a first run)
+        # the same window in slices, after a fresh init
         emu.call("hpa_profile_init", count=False)
         emu.call("hpa_profile_start", len(x), count=False)
         slices = []
@@ -134,6 +138,70 @@ def measure_hpa(target="m4f-O2", *, windows=None, build_dir=None, csrc=None) -> 
     }
 
 
+def _sliced_run(emu, img, x, record):
+    """Init, start on ``x`` and slice to the end; ``record(step, instructions, t_before, t_after)`` per slice."""
+    import struct
+
+    hpa = img.addr("g_hpa")
+    phase_at = hpa + emu.read_words(img.addr("g_hpa_phase_offset"), 1)[0]
+    t_at = hpa + emu.read_words(img.addr("g_hpa_t_offset"), 1)[0]
+
+    def u16(addr):
+        return struct.unpack("<H", bytes(emu.uc.mem_read(addr, 2)))[0]
+
+    emu.uc.mem_write(img.addr("g_window"), np.asarray(x, dtype="<i2").tobytes())
+    emu.call("hpa_profile_init", count=False)
+    emu.call("hpa_profile_start", len(x), count=False)
+    while True:
+        step, t0 = u16(phase_at), u16(t_at)
+        st, n, _ = emu.call("wake_hpa_slice", hpa)
+        record(STEP_NAMES[step], n, step == u16(phase_at) and u16(t_at) > t0)
+        if st != 1:  # WAKE_HPA_RUNNING
+            return
+
+
+def _loaded(img):
+    from wake.firmware.profile.emulator import Emulator
+    from wake.rtp.fixed import quantize_taps
+    from wake.wavelets import filter_bank_taps
+
+    emu = Emulator(img)
+    emu.uc.mem_write(img.addr("g_taps"), quantize_taps(filter_bank_taps("sym3", 5)).astype("<i2").tobytes())
+    return emu
+
+
+def step_breakdown(target="m4f-O2", window="synthetic 1", *, build_dir=None, csrc=None) -> dict:
+    """Where one sliced HPA goes: instructions and largest slice per step (a slice counts for the step it starts in)."""
+    img = build_hpa_image(target, build_dir=build_dir, csrc=csrc)
+    emu = _loaded(img)
+    out = {}
+
+    def record(step, n, _same):
+        row = out.setdefault(step, {"slices": 0, "instructions": 0, "max_slice": 0})
+        row["slices"] += 1
+        row["instructions"] += n
+        row["max_slice"] = max(row["max_slice"], n)
+
+    _sliced_run(emu, img, profile_windows()[window], record)
+    return out
+
+
+def calibrate(target="m4f-O2", *, windows=None, build_dir=None, csrc=None) -> dict:
+    """Instructions of single pieces of work, per step, for the slice cost model in wake_hpa.c.
+
+    The HPA is built with a slice budget of 1, so each wake_hpa_slice() call
+    does one loop item or one indivisible step; every count includes the
+    slice's fixed entry cost (the instance check).
+    """
+    img = build_hpa_image(target, build_dir=build_dir, csrc=csrc, defs=["-DWAKE_HPA_SLICE_BUDGET=1"])
+    emu = _loaded(img)
+    counts = {}
+    windows = profile_windows() if windows is None else windows
+    for x in windows.values():
+        _sliced_run(emu, img, x, lambda step, n, _same: counts.setdefault(step, []).append(n))
+    return {step: {"pieces": len(v), "median": float(np.median(v)), "max": int(max(v))} for step, v in counts.items()}
+
+
 def _code_size(img):
     from wake.firmware.profile.report import section_sizes
 
@@ -155,7 +223,28 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description="Cortex-M cost of the on-device HPA")
     ap.add_argument("--json", help="write the figures here")
     ap.add_argument("--check", action="store_true", help="exit 1 when a Cortex-M4F target is missed")
+    ap.add_argument("--breakdown", metavar="WINDOW", nargs="?", const="synthetic 1",
+                    help="print where one sliced HPA goes, per step, on Cortex-M4F (default window: synthetic 1)")
+    ap.add_argument("--calibrate", action="store_true",
+                    help="print the instructions of single pieces of work per step (budget-1 build), Cortex-M4F")
     args = ap.parse_args(argv)
+    if args.breakdown or args.calibrate:
+        if args.breakdown:
+            rows = step_breakdown(window=args.breakdown)
+            total = sum(r["instructions"] for r in rows.values())
+            print(f"| step ({args.breakdown}, Cortex-M4F, sliced) | slices | instructions | share | largest slice |")
+            print("|---|---:|---:|---:|---:|")
+            for step, r in rows.items():
+                print(f"| {step} | {r['slices']} | {r['instructions']:,} | {100 * r['instructions'] / total:.0f} % | "
+                      f"{r['max_slice']:,} |")
+            print(f"| all | {sum(r['slices'] for r in rows.values())} | {total:,} | 100 % | "
+                  f"{max(r['max_slice'] for r in rows.values()):,} |")
+        if args.calibrate:
+            print("| step (one piece per slice, Cortex-M4F) | pieces | median | max |")
+            print("|---|---:|---:|---:|")
+            for step, r in calibrate().items():
+                print(f"| {step} | {r['pieces']:,} | {r['median']:,.0f} | {r['max']:,} |")
+        return 0
     res = {t: measure_hpa(t) for t in HPA_TARGETS}
     print("\n".join(report(res)))
     m4 = res["m4f-O2"]
