@@ -153,3 +153,22 @@ def test_export_header_carries_the_start_up_weights(tmp_path):
     assert start == list(quantize_weights(prior_weights(WakeConfig()), 5))
     # the fitted (here: given) weights stay separate
     assert re.search(r"wake_config_weights\[5\] = \{\s*0, 0, 0, 0, 16777216", text)
+
+
+def test_error_curve_is_the_binned_rms_over_one_range():
+    from wake.eval.warmup import error_curve, mean_curve
+
+    fs = 100.0
+    truth = np.sin(2 * np.pi * np.arange(1000) / fs)          # range 2 after 0.5 s
+    est = truth.copy()
+    est[:100] += 0.5                                          # first second off by 0.5
+    t, err = error_curve(truth, est, fs)
+    assert t.tolist()[:3] == [0.25, 0.75, 1.25] and t.size == 20
+    np.testing.assert_allclose(err[:2], 0.5 / np.ptp(truth[50:]))
+    assert np.all(err[2:] == 0)
+    tm, em = mean_curve([(t, err), (t[:10], 3 * err[:10])])
+    assert tm.size == 10 and em[0] == pytest.approx(2 * err[0])
+    with pytest.raises(ValueError, match="one length"):
+        error_curve(truth, est[:-1], fs)
+    with pytest.raises(ValueError, match="shorter than one sample"):
+        error_curve(truth, est, fs, bin_s=0.001)

@@ -73,6 +73,36 @@ def test_quick_run_figures(quick_report):
     assert (out / "fig_nrmse_synthetic.png").stat().st_size > 1000
     assert (out / "fig_nrmse_real.png").stat().st_size > 1000
     assert list(out.glob("fig_tremor_*.png"))
+    assert (out / "fig_error_vs_time.png").stat().st_size > 1000
+    assert (out / "fig_spectra_by_flag.png").stat().st_size > 1000
+
+
+def test_quick_run_scores_time_since_start_and_the_flags(quick_report):
+    import json
+
+    _, out = quick_report
+    text = (out / "report.md").read_text()
+    section = text.split("## Time since start")[1].split("\n## ")[0]
+    header = "| method | 0.5-1 s | 1-2 s | 2-5 s | after 5 s | whole (from 0.5 s) |"
+    assert section.count(header) == 2                       # synthetic and PADS
+    for method in ("BMFLC", "E-BMFLC", "WFLC", "WAKE-ref", "zero estimate"):
+        assert section.count(f"| {method} |") == 2
+    # one lowest entry in bold per slice and table
+    for table in section.split(header)[1:]:
+        rows = [ln for ln in table.splitlines() if ln.startswith("| ")]
+        bold = [[c.strip().startswith("**") for c in r.strip("|").split("|")[1:]] for r in rows]
+        assert [sum(col) for col in zip(*bold)] == [1] * 5
+    res = json.loads((out / "results.json").read_text())
+    # the whole-recording figure sits beside the after-warm-up one, for every method
+    for part in ("synthetic", "real"):
+        for scores in res[part]["slices"].values():
+            assert 0 < scores["whole (from 0.5 s)"] < 2 and 0 < scores["after 5 s"] < 2
+        t, err = res[part]["curves"]["WAKE-ref"]
+        assert t[0] == 0.25 and len(t) == len(err) >= 20
+    flags = res["real"]["flags"]
+    assert sum(flags.values()) == 2 * 6 * 5                  # 12 s recordings: HPAs at 2, 3, 4, 5 and 10 s
+    assert "| flag | windows | share |" in text.split("## The cut-off on PADS")[1]
+    assert all("x" not in w for ws in res["real"]["flag_windows"].values() for w in ws)
 
 
 def test_synthetic_only(tmp_path):

@@ -16,9 +16,15 @@ protocol):
     and true tremor, per method.
   - Ablation: the paper's literal RTP (:mod:`wake.rtp.literal`) against
     WAKE's per-sample RTP: NRMSE, time and operations per sample.
+  - Time since start: NRMSE per slice of time since switch-on and over the
+    whole recording from 0.5 s (:mod:`wake.eval.warmup`), for WAKE, every
+    baseline and the zero estimate; PADS against a truth independent of WAKE.
+  - The cut-off's flags: their shares over the HPA windows, and (figure) the
+    AR spectrum of sample windows of each flag with the chosen ``f_d``.
 * ``results.json``: every number of the report.
 * ``fig_tremor_<recording>.png``, ``fig_nrmse_synthetic.png``,
-  ``fig_nrmse_real.png`` when matplotlib is installed.
+  ``fig_nrmse_real.png``, ``fig_error_vs_time.png`` (error against time since
+  start) and ``fig_spectra_by_flag.png`` when matplotlib is installed.
 """
 
 from __future__ import annotations
@@ -39,6 +45,8 @@ from wake.rtp import c_backend_available
 from wake.rtp.literal import hpa_schedule, literal_rtp_predict, literal_rtp_run, operation_counts
 from wake.eval.metrics import best_lag, nrmse, offline_ground_truth, prf, snr_out
 from wake.eval.synthetic import PAPER_BMFLC, PAPER_EBMFLC, PAPER_SNR_DB, PAPER_WAKE, paper_dataset
+from wake.eval.warmup import SLICES, error_curve, independent_ground_truth, mean_curve, mean_slices, slice_nrmse
+from wake.hpa.spectrum import ar_psd
 
 __all__ = ["cli", "c_backend_available", "baseline_methods", "evaluate_synthetic", "evaluate_real",
            "ablation_literal_rtp"]
@@ -49,6 +57,10 @@ PAPER_COLUMNS = {"BMFLC": PAPER_BMFLC, "E-BMFLC": PAPER_EBMFLC, "WAKE": PAPER_WA
 METRICS = ("nrmse", "prf", "snr_out")
 METRIC_TITLES = {"nrmse": "NRMSE (lower is better)", "prf": "PRF % (lower is better)",
                  "snr_out": "SNR_out dB (higher is better)"}
+
+
+#: The trivial estimate every method must beat: no tremor (voluntary = x).
+ZERO = "zero estimate"
 
 
 def baseline_methods(fs):
@@ -80,9 +92,13 @@ def evaluate_synthetic(backends, quick=False):
         data = data[:2]
     rows = []
     lags = {}
+    slices, curves = {}, {}
     for i, s in enumerate(data):
         start = int(round(WAKE_PARAMS["window_s"] * s.fs))
         vols, _ = _run_all(s.measurement, s.fs, backends)
+        for name, v in {**vols, ZERO: s.measurement}.items():
+            slices.setdefault(name, []).append(slice_nrmse(s.voluntary, v, s.fs))
+            curves.setdefault(name, []).append(error_curve(s.voluntary, v, s.fs))
         row = {"signal": i + 1, "snr_in": s.snr_db, "methods": {}}
         for name, v in vols.items():
             row["methods"][name] = {
@@ -94,7 +110,8 @@ def evaluate_synthetic(backends, quick=False):
             # high-frequency content), so the synthetic delay is the voluntary one.
             lags.setdefault(name, []).append(best_lag(s.voluntary[start:], v[start:]))
         rows.append(row)
-    return {"rows": rows, "lags": lags}
+    return {"rows": rows, "lags": lags, "slices": {n: mean_slices(v) for n, v in slices.items()},
+            "curves": {n: mean_curve(v) for n, v in curves.items()}}
 
 
 # --------------------------------------------------------------------------- real
@@ -103,6 +120,9 @@ def evaluate_real(recordings, backends):
     lags = {}
     vlags = {}
     traces = {}
+    slices, curves = {}, {}
+    windows = {}   # cut-off flag -> HPA windows (for the spectra figure)
+    flags = {}
     for rec in recordings:
         x = rec.samples
         start = int(round(WAKE_PARAMS["window_s"] * rec.fs))
@@ -112,6 +132,16 @@ def evaluate_real(recordings, backends):
         ref = wake.get("reference") or next(iter(wake.values()))
         cutoffs = ref.mean_cutoff
         for c, axis in enumerate(rec.channels):
+            _, independent, _ = independent_ground_truth(x[:, c], rec.fs)
+            for name, v in {**vols, ZERO: x}.items():
+                slices.setdefault(name, []).append(slice_nrmse(independent, x[:, c] - v[:, c], rec.fs))
+                curves.setdefault(name, []).append(error_curve(independent, x[:, c] - v[:, c], rec.fs))
+            for u in ref.hpa[c]:
+                flags[u.cutoff_flag] = flags.get(u.cutoff_flag, 0) + 1
+                lo = max(0, u.index - int(round(WAKE_PARAMS["window_s"] * rec.fs)))
+                windows.setdefault(u.cutoff_flag, []).append(
+                    {"label": f"{rec.name} {axis} @ {u.index / rec.fs:g} s", "x": x[lo:u.index, c],
+                     "fs": rec.fs, "cutoff": u.cutoff})
             _, gt = offline_ground_truth(x[:, c], rec.fs, float(cutoffs[c]))
             row = {"recording": rec.name, "axis": axis, "cutoff": float(cutoffs[c]), "methods": {}}
             for name, v in vols.items():
@@ -121,7 +151,12 @@ def evaluate_real(recordings, backends):
                 vlags.setdefault(name, []).append(best_lag((x[:, c] - gt)[start:], v[start:, c]))
             rows.append(row)
             traces[(rec.name, axis)] = (gt, {name: x[:, c] - v[:, c] for name, v in vols.items()})
-    return {"rows": rows, "lags": lags, "voluntary_lags": vlags}, traces
+    # three windows per flag, spread over the run (deterministic: every k-th)
+    samples = {f: [w[int(k)] for k in np.linspace(0, len(w) - 1, min(3, len(w)))] for f, w in windows.items()}
+    return {"rows": rows, "lags": lags, "voluntary_lags": vlags,
+            "slices": {n: mean_slices(v) for n, v in slices.items()},
+            "curves": {n: mean_curve(v) for n, v in curves.items()},
+            "flags": flags, "flag_windows": samples}, traces
 
 
 # --------------------------------------------------------------------------- ablation
@@ -382,12 +417,95 @@ def _figures(out_dir, syn, real, traces, fs):
         fig.savefig(out_dir / fname, dpi=120)
         plt.close(fig)
         made.append(fname)
+        made.append(_spectra_figure(plt, out_dir / "fig_spectra_by_flag.png", real["flag_windows"]))
+    made.append(_error_time_figure(plt, out_dir / "fig_error_vs_time.png", syn, real))
     return made, ""
 
 
+def _time_section(syn, real):
+    names = list(SLICES)
+    out = ["## Time since start", "",
+           "What a wearer lives through: mean NRMSE per slice of time since switch-on, and over the whole "
+           "recording from 0.5 s (the tables above leave the first 5 s out, as the paper does). Each slice "
+           "is normalised by the range of the truth within it. Synthetic: voluntary NRMSE against the known "
+           "voluntary motion. PADS: tremor NRMSE against a truth independent of WAKE (sharp high-pass at the "
+           "Welch-spectrum valley between 1.5 and 5 Hz of each whole recording, `wake.eval.warmup`). "
+           f"\"{ZERO}\" predicts no tremor (voluntary = measurement). `fig_error_vs_time.png` draws the error "
+           "against time since start.", ""]
+    for title, part in (("Synthetic set (voluntary NRMSE)", syn), ("PADS (tremor NRMSE, independent truth)", real)):
+        if not part:
+            continue
+        methods = [m for m in _method_order(part["slices"]) if m != ZERO] + [ZERO]
+        best = {n: min(methods, key=lambda m: part["slices"][m][n]) for n in names}
+        rows = [[m] + [("**" if best[n] == m else "") + _fmt(part["slices"][m][n], 3) + ("**" if best[n] == m else "")
+                       for n in names] for m in methods]
+        out += [f"**{title}** (lowest per slice in bold)", "", _table(["method"] + names, rows), ""]
+    return "\n".join(out)
+
+
+def _flag_section(real):
+    total = sum(real["flags"].values())
+    rows = [[f, str(k), f"{100 * k / total:.0f} %"] for f, k in sorted(real["flags"].items(), key=lambda kv: -kv[1])]
+    return "\n".join(["## The cut-off on PADS", "",
+                      f"Flags of WAKE's {total} HPA windows on PADS (warm-up windows included; docs/design.md, "
+                      "\"Cut-off\"). `fig_spectra_by_flag.png` draws the AR spectrum of three windows of each flag "
+                      "with the `f_d` the HPA took.", "", _table(["flag", "windows", "share"], rows)])
+
+
+def _error_time_figure(plt, path, syn, real):
+    parts = [("Synthetic set: voluntary error", syn)] + ([("PADS: tremor error (independent truth)", real)]
+                                                          if real else [])
+    fig, axes = plt.subplots(1, len(parts), figsize=(6 * len(parts), 4), squeeze=False)
+    for ax, (title, part) in zip(axes[0], parts):
+        for name in _method_order(part["curves"]) + [ZERO]:
+            t, e = part["curves"][name]
+            ax.plot(t, e, lw=2 if name.startswith("WAKE") else 1, ls="--" if name == ZERO else "-", label=name)
+        ax.axvline(WAKE_PARAMS["window_s"], color="0.6", lw=0.8)
+        ax.set_xlabel("time since start (s)")
+        ax.set_yscale("log")
+        ax.set_ylabel("RMS error per 0.5 s / range of truth")
+        ax.set_title(title)
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path.name
+
+
+def _spectra_figure(plt, path, samples):
+    flags = sorted(samples)
+    cols = max(len(v) for v in samples.values())
+    fig, axes = plt.subplots(len(flags), cols, figsize=(4 * cols, 2.6 * len(flags)), squeeze=False)
+    for r, flag in enumerate(flags):
+        for c in range(cols):
+            ax = axes[r][c]
+            if c >= len(samples[flag]):
+                ax.axis("off")
+                continue
+            w = samples[flag][c]
+            order = min(WAKE_PARAMS["ar_order"], (w["x"].size - 1) // 2)
+            f, p = ar_psd(w["x"], w["fs"], order)
+            ax.plot(f, 10 * np.log10(np.maximum(p, 1e-300)), lw=1)
+            ax.axvline(w["cutoff"], color="r", lw=1)
+            ax.set_xlim(0, 15)
+            ax.set_title(f"{flag}: {w['label']}", fontsize=8)
+            ax.tick_params(labelsize=7)
+            if c == 0:
+                ax.set_ylabel("AR PSD (dB)", fontsize=8)
+            if r == len(flags) - 1:
+                ax.set_xlabel("Hz (red: f_d)", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path.name
+
+
 def _jsonable(obj):
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
     if isinstance(obj, dict):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
+        # the sample windows of the spectra figure are kept by their labels only
+        return {str(k): _jsonable(v) for k, v in obj.items() if k != "x"}
     if isinstance(obj, (list, tuple)):
         return [_jsonable(v) for v in obj]
     if isinstance(obj, (np.integer,)):
@@ -468,6 +586,9 @@ def cli(argv: list[str] | None = None) -> int:
     if real:
         parts += [_real_section(real, pads_dir), ""]
     parts += [_lag_section(syn, real), _ablation_section(abl)]
+    parts += [_time_section(syn, real), ""]
+    if real:
+        parts += [_flag_section(real), ""]
     if figs:
         parts += ["## Figures", ""] + [f"![{f}]({f})" for f in figs] + [""]
     parts.append(f"_Run time: {time.perf_counter() - t0:.0f} s._")

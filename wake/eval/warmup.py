@@ -14,7 +14,8 @@ import scipy.signal
 
 from wake.hpa.sharp import sharp_highpass
 
-__all__ = ["SLICES", "independent_cutoff", "independent_ground_truth", "slice_nrmse"]
+__all__ = ["SLICES", "independent_cutoff", "independent_ground_truth", "slice_nrmse", "error_curve", "mean_slices",
+           "mean_curve"]
 
 #: Slices of time since start, in seconds (None: to the end).  "whole" starts
 #: at 0.5 s: before that no causal method has seen a tremor period.
@@ -74,3 +75,50 @@ def slice_nrmse(truth, estimate, fs, slices=None):
         span = t.max() - t.min()
         out[name] = float(np.sqrt(np.mean((t - e) ** 2)) / span) if span > 0 else float("nan")
     return out
+
+
+def error_curve(truth, estimate, fs, bin_s=0.5, start_s=0.5):
+    """RMS error per ``bin_s`` of time since start, over the range of the truth from ``start_s`` on.
+
+    One normalisation for the whole recording (unlike :func:`slice_nrmse`),
+    so the curve shows how the error itself falls as the filter warms up.
+
+    Returns
+    -------
+    t : numpy.ndarray
+        Bin centres, seconds since start.
+    err : numpy.ndarray
+        RMS error in the bin divided by ``max(truth) - min(truth)`` after ``start_s``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wake.eval.warmup import error_curve
+    >>> t, e = error_curve(np.sin(np.arange(1000) / 10.0), np.zeros(1000), 100.0)
+    >>> t[:2].tolist(), bool(np.all(e > 0))
+    ([0.25, 0.75], True)
+    """
+    truth = np.asarray(truth, dtype=float)
+    estimate = np.asarray(estimate, dtype=float)
+    if truth.shape != estimate.shape or truth.ndim != 1:
+        raise ValueError(f"truth and estimate must be 1-D of one length, got {truth.shape} and {estimate.shape}")
+    width = int(round(bin_s * fs))
+    if width < 1:
+        raise ValueError(f"bin_s = {bin_s} s is shorter than one sample at fs = {fs} Hz")
+    lo = int(round(start_s * fs))
+    span = np.ptp(truth[lo:]) if truth.size > lo + 1 else 0.0
+    n = truth.size // width
+    sq = ((truth[: n * width] - estimate[: n * width]) ** 2).reshape(n, width)
+    err = np.sqrt(sq.mean(axis=1)) / span if span > 0 else np.full(n, np.nan)
+    return (np.arange(n) + 0.5) * bin_s, err
+
+
+def mean_slices(rows):
+    """Mean over signals of :func:`slice_nrmse` dictionaries (NaN slices left out)."""
+    return {name: float(np.nanmean([r[name] for r in rows])) for name in rows[0]}
+
+
+def mean_curve(curves):
+    """Mean of :func:`error_curve` outputs over signals, on the shortest common time axis."""
+    n = min(len(t) for t, _ in curves)
+    return curves[0][0][:n], np.nanmean([e[:n] for _, e in curves], axis=0)
