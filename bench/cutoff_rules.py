@@ -16,6 +16,7 @@ whole recording from 0.5 s and after 5 s, and the synthetic voluntary NRMSE
   only if it lies at least D dB below the peak);
 * ``default F`` - the shipped rule with the fallback at F Hz instead of 2 Hz
   (is a gain only a higher cut-off?);
+* ``shallow floor`` - as ``shallow``, but never below ``default_cutoff``;
 * ``flank`` - as ``paper``, and when that finds no valley but there is a
   tremor peak, the frequency on the peak's left flank where the PSD is 3 dB
   below the peak.
@@ -80,12 +81,16 @@ def make_rule(kind):
         if kind == "no left test":
             valley = search[np.argmin(db[search])]
             return (float(freqs[valley]), "valley") if db[valley] <= db[peak] - 3.0 else (fd, flag)
+        if kind == "shallow floor":  # the shallow minimum, never below the default cut-off
+            valley = search[np.argmin(db[search])]
+            return max(float(freqs[valley]), float(default_cutoff)), "shallow_valley"
         if kind.startswith("shallow "):
             valley = search[np.argmin(db[search])]
-            need = float(kind.split()[1]) if " " in kind else None  # "shallow 1" : 1 dB below the peak
-            if need is not None and db[valley] > db[peak] - need:
+            need = float(kind.split()[1])  # "shallow 1": 1 dB below the peak ("shallow 1 floor": >= default)
+            if db[valley] > db[peak] - need:
                 return fd, flag
-            return float(freqs[valley]), "shallow_valley"
+            f = float(freqs[valley])
+            return (max(f, float(default_cutoff)) if kind.endswith(" floor") else f), "shallow_valley"
         if kind == "flank":
             below = search[db[search] <= db[peak] - 3.0]
             if below.size == 0:
@@ -96,7 +101,7 @@ def make_rule(kind):
 
 
 RULES = ("paper", "default 2.5", "default 3", "default 3.5", "depth 1 dB", "no left test", "shallow", "shallow 0",
-         "shallow 1", "flank", "shallow+default 2.5", "shallow+default 3")
+         "shallow 1", "shallow floor", "shallow 1 floor", "shallow 2 floor", "flank", "shallow+default 2.5", "shallow+default 3")
 
 
 def evaluate(kind, pads, synthetic):
@@ -118,7 +123,16 @@ def evaluate(kind, pads, synthetic):
         hpa_run.find_cutoff = SHIPPED
 
 
-def main():
+def main(argv=None):
+    import argparse
+
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--rules", help=f"comma-separated subset of: {', '.join(RULES)}")
+    args = ap.parse_args(argv)
+    rules = RULES if not args.rules else [r.strip() for r in args.rules.split(",")]
+    unknown = [r for r in rules if r not in RULES]
+    if unknown:
+        ap.error(f"unknown rule(s) {unknown}; valid choices: {', '.join(RULES)}")
     folder = default_pads_dir(cwd=Path(__file__).resolve().parents[1])
     pads = load_pads_folder(folder) if folder is not None and folder.is_dir() else []
     synthetic = paper_dataset()
@@ -126,7 +140,7 @@ def main():
     print("| rule | PADS windows on the default | PADS flags | PADS tremor NRMSE whole / after 5 s "
           "| synthetic voluntary NRMSE whole / after 5 s |")
     print("|---|---:|---|---:|---:|")
-    for kind in RULES:
+    for kind in rules:
         flags, ps, ss = evaluate(kind, pads, synthetic)
         share = {f: flags.count(f) / max(len(flags), 1) for f in sorted(set(flags))}
         default = sum(v for f, v in share.items() if f in ("no_valley", "no_tremor_peak", "silent"))

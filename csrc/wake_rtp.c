@@ -784,12 +784,23 @@ static inline wake_q15_t predict(wake_rtp_t *s, uint32_t *events)
 static wake_q15_t step_validated(wake_rtp_t *s, wake_q15_t sample)
 {
     uint32_t ev = 0u;
-    wake_q23_t e;
     wake_q15_t y;
-    push(s, sample);
-    e = innovation(s, sample, &ev);   /* always: its saturation is counted even when inert */
-    if (!s->inert) {
-        ev += kalman_update(s, e);
+    if (!s->primed) {
+        /* The first sample of a stream had no prediction before it, so it has no
+         * innovation (e would be 0 by construction: the window is primed with it):
+         * no measurement update, only the time update P = P + q I (as for a missing
+         * sample).  It also keeps the priming off the Kalman update's path: the
+         * step's static bound is the longer of the two, not their sum. */
+        push(s, sample);
+        if (!s->inert) {
+            s->s = clamp_cov_wide(s->s + s->q_omega, &ev);
+        }
+    } else {
+        const wake_q23_t e = innovation(s, sample, &ev); /* its saturation is counted even when inert */
+        push(s, sample);
+        if (!s->inert) {
+            ev += kalman_update(s, e);
+        }
     }
     s->steps += (uint32_t)(s->steps != UINT32_MAX);      /* P gains q I per sample */
     y = predict(s, &ev);

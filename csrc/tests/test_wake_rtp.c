@@ -127,8 +127,11 @@ static double ref_predict(ref_t *f)
 
 static double ref_step(ref_t *f, double m)
 {
+    const int first = !f->primed;
     ref_push(f, m);
-    ref_measure(f, m);
+    if (!first) {
+        ref_measure(f, m);                             /* the first sample had no prediction before it */
+    }
     ref_time(f);
     return ref_predict(f);
 }

@@ -85,7 +85,8 @@ def test_quick_run_scores_time_since_start_and_the_flags(quick_report):
     section = text.split("## Time since start")[1].split("\n## ")[0]
     header = "| method | 0.5-1 s | 1-2 s | 2-5 s | after 5 s | whole (from 0.5 s) |"
     assert section.count(header) == 2                       # synthetic and PADS
-    for method in ("BMFLC", "E-BMFLC", "WFLC", "WAKE-ref", "zero estimate"):
+    for method in ("BMFLC", "E-BMFLC", "WFLC", "WAKE-ref", "zero tremor (voluntary = x)",
+                   "zero prediction (voluntary = 0)"):
         assert section.count(f"| {method} |") == 2
     # one lowest entry in bold per slice and table
     for table in section.split(header)[1:]:

@@ -413,3 +413,24 @@ def test_highest_level_is_defined_once():
     from wake.config import MAX_LEVEL
 
     assert _c.MAX_LEVEL == MAX_LEVEL
+
+
+def test_first_sample_gets_only_the_time_update():
+    """The first sample primes the window and had no prediction before it: no measurement update, so P
+    grows from p0 I to (p0 + q) I and d stays 0, in the C core and the float reference alike (the
+    choice keeps the priming off the Kalman path of wake_rtp_step's static bound; docs/design.md)."""
+    rng = np.random.default_rng(4)
+    level, fs = 4, 2.0
+    w = make_weights(rng, level, 0.3)
+    r, q, p0 = 0.02, 2e-4, 0.02
+    c = FixedPointRTP(filter_bank_taps("sym3", level), w, r, q, p0, full_scale=fs)
+    ref = ReferenceRTP(filter_bank_taps("sym3", level), w, r, q, p0)
+    c.step(0.7)
+    ref.step(0.7)
+    np.testing.assert_allclose(ref.covariance.reshape(level, level), (p0 + q) * np.eye(level), rtol=1e-12)
+    np.testing.assert_allclose(c.covariance.reshape(level, level), (p0 + q) * np.eye(level), rtol=1e-3, atol=1e-9)
+    assert not np.any(ref.correction) and not np.any(c.correction)
+    c.step(0.9)                                     # the second sample is measured: P shrinks along w
+    ref.step(0.9)
+    assert np.trace(ref.covariance.reshape(level, level)) < level * (p0 + 2 * q)
+    np.testing.assert_allclose(c.covariance, ref.covariance, rtol=2e-3, atol=1e-8)

@@ -17,13 +17,15 @@ def textbook_kalman(x, taps, w, r, q, p0):
     state = a_prev.copy()
     P = p0 * np.eye(J)
     out = []
-    for m in x:
+    for k, m in enumerate(x):
         # r(k) = z(k) - w' x(k|k-1);  S = w' P w + R;  K = P w / S
-        innov = m - w @ state
-        S = w @ P @ w + r
-        K = P @ w / S
-        state = state + K * innov
-        P = P - np.outer(K, w) @ P
+        # (from the second sample on: the first one initialises the window and had no prediction before it)
+        if k > 0:
+            innov = m - w @ state
+            S = w @ P @ w + r
+            K = P @ w / S
+            state = state + K * innov
+            P = P - np.outer(K, w) @ P
         # x(k+1|k) = F x(k|k) + (a(k+1) - a(k)),  P(k+1|k) = F P F' + Q
         buf = np.append(buf[1:], m)
         a = taps @ buf

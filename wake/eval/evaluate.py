@@ -59,8 +59,11 @@ METRIC_TITLES = {"nrmse": "NRMSE (lower is better)", "prf": "PRF % (lower is bet
                  "snr_out": "SNR_out dB (higher is better)"}
 
 
-#: The trivial estimate every method must beat: no tremor (voluntary = x).
-ZERO = "zero estimate"
+#: Two trivial estimates: no tremor at all (voluntary = x), and a prediction of 0
+#: for the next sample (voluntary = 0, so the tremor estimate is x itself).
+ZERO = "zero tremor (voluntary = x)"
+ZERO_PREDICTION = "zero prediction (voluntary = 0)"
+TRIVIAL = (ZERO, ZERO_PREDICTION)
 
 
 def baseline_methods(fs):
@@ -96,7 +99,7 @@ def evaluate_synthetic(backends, quick=False):
     for i, s in enumerate(data):
         start = int(round(WAKE_PARAMS["window_s"] * s.fs))
         vols, _ = _run_all(s.measurement, s.fs, backends)
-        for name, v in {**vols, ZERO: s.measurement}.items():
+        for name, v in {**vols, ZERO: s.measurement, ZERO_PREDICTION: np.zeros_like(s.measurement)}.items():
             slices.setdefault(name, []).append(slice_nrmse(s.voluntary, v, s.fs))
             curves.setdefault(name, []).append(error_curve(s.voluntary, v, s.fs))
         row = {"signal": i + 1, "snr_in": s.snr_db, "methods": {}}
@@ -133,7 +136,7 @@ def evaluate_real(recordings, backends):
         cutoffs = ref.mean_cutoff
         for c, axis in enumerate(rec.channels):
             _, independent, _ = independent_ground_truth(x[:, c], rec.fs)
-            for name, v in {**vols, ZERO: x}.items():
+            for name, v in {**vols, ZERO: x, ZERO_PREDICTION: np.zeros_like(x)}.items():
                 slices.setdefault(name, []).append(slice_nrmse(independent, x[:, c] - v[:, c], rec.fs))
                 curves.setdefault(name, []).append(error_curve(independent, x[:, c] - v[:, c], rec.fs))
             for u in ref.hpa[c]:
@@ -430,12 +433,13 @@ def _time_section(syn, real):
            "is normalised by the range of the truth within it. Synthetic: voluntary NRMSE against the known "
            "voluntary motion. PADS: tremor NRMSE against a truth independent of WAKE (sharp high-pass at the "
            "Welch-spectrum valley between 1.5 and 5 Hz of each whole recording, `wake.eval.warmup`). "
-           f"\"{ZERO}\" predicts no tremor (voluntary = measurement). `fig_error_vs_time.png` draws the error "
+           f"Two trivial estimates: \"{ZERO}\" says there is no tremor; \"{ZERO_PREDICTION}\" predicts 0 for "
+           "the next sample, so all of the measurement counts as tremor. `fig_error_vs_time.png` draws the error "
            "against time since start.", ""]
     for title, part in (("Synthetic set (voluntary NRMSE)", syn), ("PADS (tremor NRMSE, independent truth)", real)):
         if not part:
             continue
-        methods = [m for m in _method_order(part["slices"]) if m != ZERO] + [ZERO]
+        methods = _method_order(part["slices"]) + list(TRIVIAL)
         best = {n: min(methods, key=lambda m: part["slices"][m][n]) for n in names}
         rows = [[m] + [("**" if best[n] == m else "") + _fmt(part["slices"][m][n], 3) + ("**" if best[n] == m else "")
                        for n in names] for m in methods]
@@ -457,9 +461,9 @@ def _error_time_figure(plt, path, syn, real):
                                                           if real else [])
     fig, axes = plt.subplots(1, len(parts), figsize=(6 * len(parts), 4), squeeze=False)
     for ax, (title, part) in zip(axes[0], parts):
-        for name in _method_order(part["curves"]) + [ZERO]:
+        for name in _method_order(part["curves"]) + list(TRIVIAL):
             t, e = part["curves"][name]
-            ax.plot(t, e, lw=2 if name.startswith("WAKE") else 1, ls="--" if name == ZERO else "-", label=name)
+            ax.plot(t, e, lw=2 if name.startswith("WAKE") else 1, ls="--" if name in TRIVIAL else "-", label=name)
         ax.axvline(WAKE_PARAMS["window_s"], color="0.6", lw=0.8)
         ax.set_xlabel("time since start (s)")
         ax.set_yscale("log")

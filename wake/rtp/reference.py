@@ -158,8 +158,12 @@ class ReferenceRTP:
 
     def step(self, sample):
         """Take sample ``m(n)``; return the predicted voluntary motion at ``n + 1``."""
+        first = not self.primed
         self._push(sample)
-        self._measurement_update(sample)
+        if not first:
+            # the first sample had no prediction before it: no innovation, no
+            # measurement update (docs/design.md, "What the Kalman state observes")
+            self._measurement_update(sample)
         self._time_update()
         return self._predict()
 

@@ -26,7 +26,7 @@ TARGET_LIMITS = {"bound_m4_active": 800, "bound_m4_inert": 450, "bound_gap": 0.0
 #: M4 -O2 831 active / 402 inert, M0+ -O2 2,915 active, 5,432 B at M4 -Os, 496 B state, 104 B stack) plus
 #: a little room for compiler versions. The goals above are reported as met or missed beside them and
 #: fail the run only with ``--check-goals`` (several are not met yet; see docs/profiling.md).
-CEILING_LIMITS = {"bound_m4_active": 880, "bound_m4_inert": 430, "bound_gap": 0.15, "bound_m0plus_active": 3100,
+CEILING_LIMITS = {"bound_m4_active": 800, "bound_m4_inert": 430, "bound_gap": 0.15, "bound_m0plus_active": 2900,
                   "state_bytes": 512, "code_bytes": 5800, "stack_bytes": 200}
 
 #: Warning flags of csrc/Makefile: the core must build clean with them.
