@@ -12,7 +12,8 @@
  *       D(f) = |1 + sum a_k e^{-j 2 pi f k / fs}|^2 on f = k fs / 1022
  *   S2  f_d = the valley rule on PSD = sigma^2 / D (dB tests as ratios of D)
  *   GT  v(t) = mean + (2/n) Re sum_{m: m fs/n <= f_d} X_m e^{j 2 pi m t / n}
- *       (the sharp FFT high-pass's voluntary part, from the bins below f_d only)
+ *       (the sharp FFT high-pass's voluntary part, from the bins below f_d only,
+ *       each X_m by Reinsch's form of the Goertzel recursion, two bins per pass)
  *   S4  w = argmin |A w - v(+1)|^2 + lambda |w|^2 over the causal bank outputs A
  *       G = A'A = B Rxx B' + mean terms,  b = A'v(+1) = B Cxy + mean terms
  *       R = var(x - v), floored at 1e-6 var(x)
