@@ -146,11 +146,7 @@ static inline int32_t cost_psd_bin(const wake_hpa_t *h)
 }
 
 /** One entry of a diagonal of Rxx into Rxx B' (the tap loops run WAKE_HPA_MAX_LEVEL times). */
-static inline int32_t cost_diag(const wake_hpa_t *h)
-{
-    (void)h;
-    return 50 + 16 * WAKE_HPA_MAX_LEVEL;
-}
+#define COST_DIAG (50 + 16 * WAKE_HPA_MAX_LEVEL)
 
 /** A Q15 tap as a float (exact: q / 2^15). */
 static inline float q15_to_float(wake_q15_t q)
@@ -652,7 +648,7 @@ static void step_lag_end(wake_hpa_t *h)
 static int32_t step_diag(wake_hpa_t *h, int32_t budget)
 {
     const unsigned d = h->d, rows = h->rows, J = h->cfg.level, N = 1u << J;
-    const unsigned start = h->t, end = chunk_end(start, items(budget, cost_diag(h)), N - d);
+    const unsigned start = h->t, end = chunk_end(start, items(budget, COST_DIAG), N - d);
     /* |n x| <= 2^25 and |S| <= 2^25 (n <= 1024): y = n x - S fits an int32, y y' an int64 */
     const int32_t n = (int32_t)h->n, S = (int32_t)h->sum;
     const wake_q15_t *x = h->work;
@@ -684,7 +680,7 @@ static int32_t step_diag(wake_hpa_t *h, int32_t budget)
     if (end == N - d) {
         next_lag(h);
     }
-    return (int32_t)(end - start) * cost_diag(h);
+    return (int32_t)(end - start) * COST_DIAG;
 }
 
 /**
@@ -1251,7 +1247,7 @@ static int32_t piece_cost(const wake_hpa_t *h)
     case STEP_LAGS:
         return COST_LAG;
     case STEP_DIAG:
-        return cost_diag(h);
+        return COST_DIAG;
     case STEP_PSD:
         return cost_psd_bin(h);
     case STEP_DFT:

@@ -68,5 +68,3 @@ int main(void)
 
 /** Where the step number lives in the struct on this target (the profiler's per-step breakdown). */
 __attribute__((used)) const uint32_t g_hpa_phase_offset = (uint32_t)offsetof(wake_hpa_t, phase);
-/** Where the loop counter of the current step lives (the profiler's calibration of the slice cost model). */
-__attribute__((used)) const uint32_t g_hpa_t_offset = (uint32_t)offsetof(wake_hpa_t, t);

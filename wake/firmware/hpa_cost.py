@@ -94,36 +94,20 @@ def profile_windows(n_synthetic=10):
 
 def measure_hpa(target="m4f-O2", *, windows=None, build_dir=None, csrc=None) -> dict:
     """Instructions of one whole HPA and of every slice, RAM and stack, on ``target``."""
-    from wake.firmware.profile.emulator import Emulator
-    from wake.rtp.fixed import quantize_taps
-    from wake.wavelets import filter_bank_taps
-
     img = build_hpa_image(target, build_dir=build_dir, csrc=csrc)
-    emu = Emulator(img)
-    taps = quantize_taps(filter_bank_taps("sym3", 5)).astype("<i2")
-    emu.uc.mem_write(img.addr("g_taps"), taps.tobytes())
+    emu = _loaded(img)
     windows = profile_windows() if windows is None else windows
     hpa = img.addr("g_hpa")
     rows = []
     stack = 0
     for name, x in windows.items():
-        emu.uc.mem_write(img.addr("g_window"), np.asarray(x, dtype="<i2").tobytes())
-        st, _, _ = emu.call("hpa_profile_init", count=False)
-        if st != 0:
-            raise RuntimeError(f"hpa_profile_init failed in the image (status {st})")
-        emu.call("hpa_profile_start", len(x), count=False)
-        st, whole, depth = emu.call("wake_hpa_run", hpa, stack=True, limit=50_000_000)
+        _start(emu, img, x)
+        _, whole, depth = emu.call("wake_hpa_run", hpa, stack=True, limit=50_000_000)
         stack = max(stack, depth)
         # the same window in slices, after a fresh init
-        emu.call("hpa_profile_init", count=False)
-        emu.call("hpa_profile_start", len(x), count=False)
-        slices = []
-        while True:
-            st, n, depth = emu.call("wake_hpa_slice", hpa, stack=True)
-            stack = max(stack, depth)
-            slices.append(n)
-            if st != 1:  # WAKE_HPA_RUNNING
-                break
+        slices, depths = [], []
+        _sliced_run(emu, img, x, lambda _step, n, d: (slices.append(n), depths.append(d)), stack=True)
+        stack = max(stack, *depths)
         _, apply_n, _ = emu.call("wake_hpa_apply", hpa, img.addr("g_rtp"))
         rows.append({"window": name, "whole": whole, "slices": len(slices), "max_slice": max(slices),
                      "sliced_total": sum(slices), "apply": apply_n})
@@ -138,29 +122,8 @@ def measure_hpa(target="m4f-O2", *, windows=None, build_dir=None, csrc=None) -> 
     }
 
 
-def _sliced_run(emu, img, x, record):
-    """Init, start on ``x`` and slice to the end; ``record(step, instructions, t_before, t_after)`` per slice."""
-    import struct
-
-    hpa = img.addr("g_hpa")
-    phase_at = hpa + emu.read_words(img.addr("g_hpa_phase_offset"), 1)[0]
-    t_at = hpa + emu.read_words(img.addr("g_hpa_t_offset"), 1)[0]
-
-    def u16(addr):
-        return struct.unpack("<H", bytes(emu.uc.mem_read(addr, 2)))[0]
-
-    emu.uc.mem_write(img.addr("g_window"), np.asarray(x, dtype="<i2").tobytes())
-    emu.call("hpa_profile_init", count=False)
-    emu.call("hpa_profile_start", len(x), count=False)
-    while True:
-        step, t0 = u16(phase_at), u16(t_at)
-        st, n, _ = emu.call("wake_hpa_slice", hpa)
-        record(STEP_NAMES[step], n, step == u16(phase_at) and u16(t_at) > t0)
-        if st != 1:  # WAKE_HPA_RUNNING
-            return
-
-
 def _loaded(img):
+    """An emulator on ``img`` with the default filter bank (sym3, J = 5) in ``g_taps``."""
     from wake.firmware.profile.emulator import Emulator
     from wake.rtp.fixed import quantize_taps
     from wake.wavelets import filter_bank_taps
@@ -170,13 +133,37 @@ def _loaded(img):
     return emu
 
 
+def _start(emu, img, x):
+    """A fresh instance (default configuration) started on the window ``x``."""
+    emu.uc.mem_write(img.addr("g_window"), np.asarray(x, dtype="<i2").tobytes())
+    st, _, _ = emu.call("hpa_profile_init", count=False)
+    if st != 0:
+        raise RuntimeError(f"hpa_profile_init failed in the image (status {st})")
+    emu.call("hpa_profile_start", len(x), count=False)
+
+
+def _sliced_run(emu, img, x, record, *, stack=False):
+    """Start on ``x`` and slice to the end; ``record(step, instructions, stack_bytes)`` per slice."""
+    import struct
+
+    hpa = img.addr("g_hpa")
+    phase_at = hpa + emu.read_words(img.addr("g_hpa_phase_offset"), 1)[0]
+    _start(emu, img, x)
+    while True:
+        step = struct.unpack("<H", bytes(emu.uc.mem_read(phase_at, 2)))[0]
+        st, n, depth = emu.call("wake_hpa_slice", hpa, stack=stack)
+        record(STEP_NAMES[step], n, depth)
+        if st != 1:  # WAKE_HPA_RUNNING
+            return
+
+
 def step_breakdown(target="m4f-O2", window="synthetic 1", *, build_dir=None, csrc=None) -> dict:
     """Where one sliced HPA goes: instructions and largest slice per step (a slice counts for the step it starts in)."""
     img = build_hpa_image(target, build_dir=build_dir, csrc=csrc)
     emu = _loaded(img)
     out = {}
 
-    def record(step, n, _same):
+    def record(step, n, _stack):
         row = out.setdefault(step, {"slices": 0, "instructions": 0, "max_slice": 0})
         row["slices"] += 1
         row["instructions"] += n
@@ -198,7 +185,7 @@ def calibrate(target="m4f-O2", *, windows=None, build_dir=None, csrc=None) -> di
     counts = {}
     windows = profile_windows() if windows is None else windows
     for x in windows.values():
-        _sliced_run(emu, img, x, lambda step, n, _same: counts.setdefault(step, []).append(n))
+        _sliced_run(emu, img, x, lambda step, n, _stack: counts.setdefault(step, []).append(n))
     return {step: {"pieces": len(v), "median": float(np.median(v)), "max": int(max(v))} for step, v in counts.items()}
 
 
