@@ -29,7 +29,7 @@ from wake import WakeFilter  # noqa: E402
 from wake.eval.datasets import default_pads_dir, load_pads_folder  # noqa: E402
 from wake.eval.evaluate import baseline_methods  # noqa: E402
 from wake.eval.synthetic import paper_dataset  # noqa: E402
-from wake.eval.warmup import SLICES, independent_ground_truth, slice_nrmse  # noqa: E402
+from wake.eval.warmup import SLICES, independent_ground_truth, mean_slices, slice_nrmse  # noqa: E402
 from wake.rtp import c_backend_available  # noqa: E402
 
 #: WAKE variants compared in docs/design.md ("Warm-up"): settings passed to WakeFilter.
@@ -82,8 +82,8 @@ def print_table(scores, title):
     print("| method | " + " | ".join(names) + " |")
     print("|---|" + "---:|" * len(names))
     for method, rows in scores.items():
-        means = [np.nanmean([r[n] for r in rows]) for n in names]
-        print(f"| {method} | " + " | ".join(f"{m:.3f}" for m in means) + " |")
+        means = mean_slices(rows)
+        print(f"| {method} | " + " | ".join(f"{means[n]:.3f}" for n in names) + " |")
 
 
 def main(argv=None):

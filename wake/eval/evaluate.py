@@ -46,7 +46,7 @@ from wake.rtp.literal import hpa_schedule, literal_rtp_predict, literal_rtp_run,
 from wake.eval.metrics import best_lag, nrmse, offline_ground_truth, prf, snr_out
 from wake.eval.synthetic import PAPER_BMFLC, PAPER_EBMFLC, PAPER_SNR_DB, PAPER_WAKE, paper_dataset
 from wake.eval.warmup import SLICES, error_curve, independent_ground_truth, mean_curve, mean_slices, slice_nrmse
-from wake.hpa.spectrum import ar_psd
+from wake.hpa.spectrum import ar_psd, window_order
 
 __all__ = ["cli", "c_backend_available", "baseline_methods", "evaluate_synthetic", "evaluate_real",
            "ablation_literal_rtp"]
@@ -487,8 +487,7 @@ def _spectra_figure(plt, path, samples):
                 ax.axis("off")
                 continue
             w = samples[flag][c]
-            order = min(WAKE_PARAMS["ar_order"], (w["x"].size - 1) // 2)
-            f, p = ar_psd(w["x"], w["fs"], order)
+            f, p = ar_psd(w["x"], w["fs"], window_order(w["x"].size, WAKE_PARAMS["ar_order"]))
             ax.plot(f, 10 * np.log10(np.maximum(p, 1e-300)), lw=1)
             ax.axvline(w["cutoff"], color="r", lw=1)
             ax.set_xlim(0, 15)

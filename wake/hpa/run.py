@@ -29,7 +29,7 @@ from wake.config import WakeConfig
 from wake.hpa.cutoff import find_cutoff
 from wake.hpa.fit import default_weights, fit_weights
 from wake.hpa.sharp import sharp_highpass
-from wake.hpa.spectrum import ar_psd
+from wake.hpa.spectrum import ar_psd, window_order
 from wake.wavelets import filter_bank_outputs, filter_bank_taps, wavelet_approximations
 
 __all__ = ["HPAUpdate", "run_hpa"]
@@ -105,10 +105,8 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
         floor = max(1e-12, (1e-6 * np.max(np.abs(x))) ** 2)
         return HPAUpdate(index, float(default_cutoff), "silent", w, float(floor), 0.0, float(ridge),
                          ("weights_kept",))
-    # A warm-up window (docs/design.md, "Warm-up") may be shorter than L: the AR order
-    # keeps the Yule-Walker system over-determined (n > 2p, as WakeConfig asks of L).
-    order = min(config.ar_order, (x.size - 1) // 2)
-    freqs, psd = ar_psd(x, fs, order)
+    # a warm-up window may be shorter than L: its AR order is capped (window_order)
+    freqs, psd = ar_psd(x, fs, window_order(x.size, config.ar_order))
     cutoff, flag = find_cutoff(freqs, psd, tremor_band=config.tremor_band, cutoff_range=config.cutoff_range,
                                default_cutoff=default_cutoff, rule=config.cutoff_rule)
     tremor_gt = sharp_highpass(x, fs, cutoff)

@@ -6,7 +6,23 @@ import numpy as np
 
 from wake._validation import check_positive
 
-__all__ = ["autocorrelation", "levinson_durbin", "yule_walker", "ar_psd"]
+__all__ = ["autocorrelation", "levinson_durbin", "yule_walker", "ar_psd", "window_order"]
+
+
+def window_order(n, order):
+    """The AR order a window of ``n`` samples is fitted with: ``min(order, (n - 1) // 2)``.
+
+    A warm-up window (docs/design.md, "Warm-up") may be shorter than ``L``;
+    the cap keeps the Yule-Walker system over-determined (``n > 2 p``, as
+    WakeConfig asks of ``L``).
+
+    Examples
+    --------
+    >>> from wake.hpa.spectrum import window_order
+    >>> window_order(500, 17), window_order(20, 17)
+    (17, 9)
+    """
+    return min(int(order), (int(n) - 1) // 2)
 
 
 def autocorrelation(x, max_lag):
