@@ -781,6 +781,15 @@ static inline wake_q15_t predict(wake_rtp_t *s, uint32_t *events)
     return narrow_saturate16((int32_t)shift_right_round(y, SIGNAL_GUARD_BITS), events);
 }
 
+/** A sample without a measurement update (the first of a stream, or a missing one): P = P + q I only. */
+static inline void time_update_only(wake_rtp_t *s, uint32_t *events)
+{
+    if (!s->inert) {
+        /* s gains q|w|^2 (steps counts the q I) */
+        s->s = clamp_cov_wide(s->s + s->q_omega, events);
+    }
+}
+
 static wake_q15_t step_validated(wake_rtp_t *s, wake_q15_t sample)
 {
     uint32_t ev = 0u;
@@ -792,9 +801,7 @@ static wake_q15_t step_validated(wake_rtp_t *s, wake_q15_t sample)
          * sample).  It also keeps the priming off the Kalman update's path: the
          * step's static bound is the longer of the two, not their sum. */
         push(s, sample);
-        if (!s->inert) {
-            s->s = clamp_cov_wide(s->s + s->q_omega, &ev);
-        }
+        time_update_only(s, &ev);
     } else {
         const wake_q23_t e = innovation(s, sample, &ev); /* its saturation is counted even when inert */
         push(s, sample);
@@ -837,10 +844,7 @@ wake_rtp_status_t wake_rtp_step_missing(wake_rtp_t *s, wake_q15_t *prediction)
     }
     /* the last prediction stands in for the sample; no measurement update */
     push(s, narrow_saturate16((int32_t)shift_right_round(s->last_output, SIGNAL_GUARD_BITS), &ev));
-    if (!s->inert) {
-        /* P = P + q I:  s gains q|w|^2 (steps counts the q I) */
-        s->s = clamp_cov_wide(s->s + s->q_omega, &ev);
-    }
+    time_update_only(s, &ev);
     s->steps += (uint32_t)(s->steps != UINT32_MAX);
     *prediction = predict(s, &ev);
     count_events(&s->saturations, ev);
