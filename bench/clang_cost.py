@@ -3,9 +3,9 @@
     python bench/clang_cost.py            # needs clang, arm-none-eabi-gcc (harness, link, newlib headers), unicorn
 
 The core (csrc/wake_rtp.c) is compiled by ``clang --target=arm-none-eabi``
-with the Makefile's warnings and the same target flags as ``wake profile``;
-the harness, the start-up code and the link stay with arm-none-eabi-gcc (one
-EABI).  Instructions are counted with the profiler's block-hook counter over
+with the Makefile's warnings and the same target flags as ``wake profile``
+(``build_image(..., compiler="clang")``); the harness, the start-up code and
+the link stay with arm-none-eabi-gcc (one EABI).  Instructions are counted with the profiler's block-hook counter over
 the same adversarial inputs (80 samples per kind, J = 5, sym3), beside the
 gcc figures of the same run.  The static bound is not computed for clang
 images: the control-flow reconstruction of wake.firmware.wcet follows gcc's
@@ -26,27 +26,6 @@ from wake.firmware.profile.emulator import Emulator  # noqa: E402
 from wake.firmware.profile.report import section_sizes  # noqa: E402
 from wake.firmware.profile.scenarios import profile_configuration  # noqa: E402
 
-NEWLIB_INCLUDE = "/usr/lib/arm-none-eabi/include"
-
-
-def clang_image(target, out):
-    opt = B.TARGETS[target][1]
-    out = Path(out) / f"clang-{target}"
-    out.mkdir(parents=True, exist_ok=True)
-    src = B.csrc_dir(None)
-    prof = src / "profile"
-    gcc = B.toolchain()["gcc"]
-    flags = opt + ["-ffreestanding", "-DWAKE_RTP_MAX_LEVEL=5", "-g"]
-    B.run_tool(["clang", "--target=arm-none-eabi", *flags, *B.WARN_FLAGS, "-isystem", NEWLIB_INCLUDE,
-                "-c", str(src / "wake_rtp.c"), "-o", "wake_rtp.o"], out)
-    hflags = ["-std=c99", *flags, "-fno-tree-loop-distribute-patterns", "-I", str(src)]
-    B.run_tool([gcc, *hflags, "-c", str(prof / "harness.c"), "-o", "harness.o"], out)
-    B.run_tool([gcc, *hflags, "-c", str(prof / "startup.c"), "-o", "startup.o"], out)
-    B.run_tool([gcc, *opt, "-nostdlib", "-ffreestanding", "-T", str(prof / "generic_m.ld"), "-L", str(prof),
-                "startup.o", "harness.o", "wake_rtp.o", "-lgcc", "-o", "profile.elf"], out)
-    return B.Image.read(out / "profile.elf", out / "wake_rtp.o", target, None)
-
-
 def measure(image):
     emu = Emulator(image)
     maxima = {k: profile_configuration(emu, "sym3", 5, kalman=k, n=80).max for k in (True, False)}
@@ -55,7 +34,7 @@ def measure(image):
 
 
 def main():
-    if shutil.which("clang") is None or not Path(NEWLIB_INCLUDE).is_dir():
+    if shutil.which("clang") is None or not Path(B.NEWLIB_INCLUDE).is_dir():
         print("clang or the newlib headers (gcc-arm-none-eabi, libnewlib-arm-none-eabi) are missing")
         return 3
     out = Path(tempfile.mkdtemp(prefix="wake-clang-"))
@@ -63,7 +42,7 @@ def main():
     print("|---|---|---:|---:|---:|---:|---:|---:|")
     for target in B.TARGETS:
         g, gcode = measure(B.build_image(target, build_dir=out / "gcc", defs=["-DWAKE_RTP_MAX_LEVEL=5"]))
-        c, ccode = measure(clang_image(target, out))
+        c, ccode = measure(B.build_image(target, build_dir=out, defs=["-DWAKE_RTP_MAX_LEVEL=5"], compiler="clang"))
         for k in (True, False):
             print(f"| {target} | {'active' if k else 'inert'} | {g[k]:,} | {c[k]:,} | {c[k] / g[k]:.2f} | "
                   f"{gcode:,} B | {ccode:,} B | {ccode / gcode:.2f} |")
