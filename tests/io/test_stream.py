@@ -133,6 +133,33 @@ def test_processor_aligns_like_run_and_passes_missing_samples(signal3):
         sp.process([1.0, 2.0])
 
 
+def samples_in(filt) -> int:
+    channels = filt.get_state().channels
+    return channels[0]["count"] if channels else 0
+
+
+def test_answer_goes_out_before_the_filter_takes_the_sample_in(signal3):
+    # The latency path holds no filtering: answer() returns the prediction made
+    # from the samples before, and the filter's update() runs in advance().
+    x = signal3[:620, :2]
+    sp = StreamProcessor(WakeFilter(fs=FS, backend="reference", hpa_mode="inline"), ["a", "b"])
+    vol = []
+    for i, v in enumerate(x):
+        out, trem = sp.answer(v)
+        assert samples_in(sp.filt) == i  # the sample is not in the filter yet
+        np.testing.assert_array_equal(trem, v - out)
+        vol.append(out)
+        sp.advance()
+        sp.advance()  # a second call has nothing left to feed
+        assert samples_in(sp.filt) == i + 1
+    ref = WakeFilter(fs=FS, backend="reference").run(x)
+    np.testing.assert_array_equal(np.array(vol), ref.voluntary)
+    # answer() twice in a row still feeds both samples, in order
+    sp2 = StreamProcessor(WakeFilter(fs=FS, backend="reference", hpa_mode="inline"), ["a", "b"])
+    got = [sp2.answer(v)[0] for v in x]
+    np.testing.assert_array_equal(np.array(got), ref.voluntary)
+
+
 def test_lsl_without_pylsl_says_how_to_install(monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "pylsl", None)
     assert cli(["--lsl-in", "x", "--lsl-out", "y"]) == 2

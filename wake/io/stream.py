@@ -18,6 +18,11 @@ first, then all tremor values.  With ``--hpa-mode inline`` the output equals
 the HPA off the sample path, so its weights take effect a few samples later
 (``docs/design.md``, "Streaming").
 
+Since ``v(n)`` is known before ``x(n)`` arrives, a sample's output line is
+written first and the filter takes the sample in afterwards, while the stream
+waits for the next one: the filter's work is not on the sample-in ->
+result-out path.
+
 Ctrl-C, SIGTERM or the end of the input stop the stream cleanly: every sample
 read has its output written, and a summary goes to stderr.
 """
@@ -68,19 +73,40 @@ class StreamProcessor:
         self.filt = filt
         self.channels = tuple(channels)
         self._next = np.zeros(len(self.channels))
+        self._pending = None  # the answered sample whose update() is still to run
         self.samples = 0
         self.bad = 0
         self.latencies = deque(maxlen=200_000)
 
-    def process(self, values):
-        """``values`` (one per channel, NaN = missing) -> (voluntary, tremor) of this sample."""
+    def answer(self, values):
+        """``values`` (one per channel, NaN = missing) -> (voluntary, tremor) of this sample, at once.
+
+        The voluntary motion of a sample was predicted from the samples before
+        it, so the answer needs no filtering: the stream writes it first and
+        calls :meth:`advance` (the filter's ``update()``) while it waits for the
+        next sample.  The filter's work is then off the sample-in -> result-out
+        path (README, "Live streams": the end-to-end latency).
+        """
         x = np.asarray(values, dtype=float).reshape(-1)
         if x.size != len(self.channels):
             raise ValueError(f"{x.size} values where the stream has {len(self.channels)} channel(s)")
+        self.advance()  # a sample answered but not yet taken in goes first: the order is kept
         voluntary = self._next
-        self._next = np.atleast_1d(self.filt.update(x)).astype(float)
+        self._pending = x
         self.samples += 1
         return voluntary, x - voluntary
+
+    def advance(self):
+        """Feed the last answered sample to the filter (no-op when there is none)."""
+        if self._pending is not None:
+            x, self._pending = self._pending, None
+            self._next = np.atleast_1d(self.filt.update(x)).astype(float)
+
+    def process(self, values):
+        """:meth:`answer` and :meth:`advance` in one call."""
+        out = self.answer(values)
+        self.advance()
+        return out
 
     def latency_summary(self) -> str:
         if not self.latencies:
@@ -213,7 +239,7 @@ def _pipe_loop(args, stop, log, filt, fin, fout) -> int:
                         [f"{c}_tremor" for c in names]
                     fout.write(",".join(head) + "\n")
             stamp = values[:1] if args.timestamps else []
-            vol, trem = proc.process(values[1:] if args.timestamps else values)
+            vol, trem = proc.answer(values[1:] if args.timestamps else values)
             fout.write(_fmt([*stamp, *vol, *trem]) + "\n")
             fout.flush()
             done, last_status = _after_sample(proc, args, log, t_in, last_status)
@@ -231,6 +257,7 @@ def _pipe_loop(args, stop, log, filt, fin, fout) -> int:
 def _after_sample(proc, args, log, t_in, last_status):
     """Record the sample's latency, print the status line when due; (stop now?, time of the last status)."""
     proc.latencies.append(time.perf_counter() - t_in)
+    proc.advance()  # the filter's update() runs now, after the answer went out
     if args.status and time.monotonic() - last_status >= args.status:
         last_status = time.monotonic()
         log(f"wake stream: {proc.status()}")
@@ -324,7 +351,7 @@ def _run_lsl(args, stop, log) -> int:
                 continue
             t_in = time.perf_counter()
             values = [math.nan if (v is None or math.isinf(v)) else float(v) for v in sample]
-            vol, trem = proc.process(values)
+            vol, trem = proc.answer(values)
             outlet.push_sample([*vol.tolist(), *trem.tolist()], stamp)
             done, last_status = _after_sample(proc, args, log, t_in, last_status)
             if done:
