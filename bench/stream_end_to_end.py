@@ -19,6 +19,10 @@ run it by hand on a quiet machine::
     python bench/stream_end_to_end.py                    # 5 minutes over pipes
     python bench/stream_end_to_end.py --transport lsl    # 5 minutes over LSL (needs pylsl)
     python bench/stream_end_to_end.py --duration 30      # a quick look
+
+``--echo-baseline`` then times a process that only passes every sample
+back (over the same transport): the floor of the machine and the transport.
+Shared machines vary from run to run; compare the two rows of one run.
 """
 
 from __future__ import annotations
@@ -105,16 +109,35 @@ def run_pipe(x: np.ndarray, extra, echo=False) -> np.ndarray:
     return got - sent
 
 
-def run_lsl(x: np.ndarray, extra) -> np.ndarray:
+#: The floor over LSL: an inlet whose every sample goes straight to an outlet, as ``wake stream`` would send it.
+LSL_ECHO = """import sys, pylsl
+inlet = pylsl.StreamInlet(pylsl.resolve_byprop("name", sys.argv[1], timeout=30)[0], max_buflen=360, recover=False)
+inlet.open_stream(timeout=10)
+n = inlet.info().channel_count()
+outlet = pylsl.StreamOutlet(pylsl.StreamInfo(sys.argv[2], "echo", 2 * n, 100.0, pylsl.cf_double64, "echo"))
+try:
+    while True:
+        sample, stamp = inlet.pull_sample(timeout=0.2)
+        if sample is not None:
+            outlet.push_sample(sample + sample, stamp)
+except Exception:
+    pass
+print("echo: end of input", file=sys.stderr)
+"""
+
+
+def run_lsl(x: np.ndarray, extra, echo=False) -> np.ndarray:
     import pylsl
 
-    tag = f"{os.getpid()}"
+    tag = f"{os.getpid()}-{'echo' if echo else 'wake'}"
     info = pylsl.StreamInfo(f"wake-bench-in-{tag}", "IMU", x.shape[1], FS, pylsl.cf_double64, f"bench-{tag}")
     outlet = pylsl.StreamOutlet(info)
-    p = subprocess.Popen([sys.executable, "-m", "wake", "stream", "--lsl-in", f"wake-bench-in-{tag}", "--lsl-out",
-                          f"wake-bench-out-{tag}", "--status", "0", *extra], stderr=subprocess.PIPE, text=True,
-                         env=_env())
-    found = pylsl.resolve_byprop("name", f"wake-bench-out-{tag}", timeout=30)
+    names = [f"wake-bench-in-{tag}", f"wake-bench-out-{tag}"]
+    cmd = ([sys.executable, "-c", LSL_ECHO, *names] if echo else
+           [sys.executable, "-m", "wake", "stream", "--lsl-in", names[0], "--lsl-out", names[1], "--status", "0",
+            *extra])
+    p = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True, env=_env())
+    found = pylsl.resolve_byprop("name", names[1], timeout=30)
     inlet = pylsl.StreamInlet(found[0], max_buflen=360)
     inlet.open_stream(timeout=10)
     outlet.wait_for_consumers(10)
@@ -158,7 +181,8 @@ def main(argv=None) -> int:
     lat = (run_pipe if args.transport == "pipe" else run_lsl)(x, extra)
     report(lat, n, f"wake stream, {args.transport}, hpa_mode={args.hpa_mode}", args.duration, source)
     if args.echo_baseline:
-        report(run_pipe(x, extra, echo=True), n, "echo baseline, pipe (no filtering)", args.duration, source)
+        run = run_pipe if args.transport == "pipe" else run_lsl
+        report(run(x, extra, echo=True), n, f"echo baseline, {args.transport} (no filtering)", args.duration, source)
     return 0
 
 
