@@ -20,9 +20,10 @@ run it by hand on a quiet machine::
     python bench/stream_end_to_end.py --transport lsl    # 5 minutes over LSL (needs pylsl)
     python bench/stream_end_to_end.py --duration 30      # a quick look
 
-``--echo-baseline`` then times a process that only passes every sample
-back (over the same transport): the floor of the machine and the transport.
-Shared machines vary from run to run; compare the two rows of one run.
+``--echo-baseline`` also times, side by side and fed by the same clock, a
+process that only passes every sample back over the same transport: the
+floor of the machine and the transport at that moment.  Shared machines
+vary from run to run; compare the two rows of one run.
 """
 
 from __future__ import annotations
@@ -69,44 +70,65 @@ def _env():
 
 
 #: The floor of the machine and the pipes: a Python process that echoes every line, doing nothing else.
-ECHO = ("import sys\nfor line in sys.stdin:\n    sys.stdout.write(line)\n    sys.stdout.flush()\n"
+ECHO = ("import sys\nprint('echo: ready', file=sys.stderr, flush=True)\nfor line in sys.stdin:\n    sys.stdout.write(line)\n    sys.stdout.flush()\n"
         "print('echo: end of input', file=sys.stderr)")
 
 
-def run_pipe(x: np.ndarray, extra, echo=False) -> np.ndarray:
-    cmd = ([sys.executable, "-c", ECHO] if echo else
-           [sys.executable, "-m", "wake", "stream", "--stdin", "--stdout", "--fs", str(FS), "--status", "0", *extra])
-    p = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE, text=True, bufsize=1, env=_env())
-    sent = np.zeros(len(x))
-    got = np.full(len(x), np.nan)
-
-    def reader():
-        for i in range(len(x)):
-            line = p.stdout.readline()
-            if not line:
-                return
-            got[i] = time.perf_counter()
-
-    th = threading.Thread(target=reader, daemon=True)
-    th.start()
-    lines = [",".join(repr(v) for v in row) + "\n" for row in x.tolist()]
+def _paced(n, send):
+    """Call ``send(i)`` for i = 0 .. n-1 at 100 Hz by the clock (sleeping in between)."""
     start = time.perf_counter() + 0.5
-    for i, line in enumerate(lines):
+    for i in range(n):
         due = start + i / FS
         while (now := time.perf_counter()) < due:
             time.sleep(min(due - now, 0.002))
-        sent[i] = time.perf_counter()
-        p.stdin.write(line)
-        p.stdin.flush()
-    p.stdin.close()
-    th.join(timeout=30)
-    p.wait(timeout=30)
-    err = p.stderr.read()
-    if p.returncode != 0:
-        raise SystemExit(f"wake stream failed ({p.returncode}):\n{err}")
-    print(err.strip().splitlines()[-1], file=sys.stderr)
-    return got - sent
+        send(i)
+
+
+def run_pipe(x: np.ndarray, extra, echo=False) -> list:
+    """Latencies (s) of ``wake stream`` and, with ``echo``, of the echo process fed side by side."""
+    cmds = [[sys.executable, "-m", "wake", "stream", "--stdin", "--stdout", "--fs", str(FS), "--status", "0", *extra]]
+    if echo:
+        cmds.append([sys.executable, "-c", ECHO])
+    procs = [subprocess.Popen(c, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                              bufsize=1, env=_env()) for c in cmds]
+    for p in procs:  # the clock starts when every process is ready for its first sample
+        first = p.stderr.readline()
+        if "ready" not in first:
+            raise SystemExit(f"{p.args[1:3]} did not start: {first}{p.stderr.read()}")
+    sent = np.zeros((len(procs), len(x)))
+    got = np.full((len(procs), len(x)), np.nan)
+
+    def reader(k):
+        for i in range(len(x)):
+            line = procs[k].stdout.readline()
+            if not line:
+                return
+            got[k, i] = time.perf_counter()
+
+    threads = [threading.Thread(target=reader, args=(k,), daemon=True) for k in range(len(procs))]
+    for th in threads:
+        th.start()
+    lines = [",".join(repr(v) for v in row) + "\n" for row in x.tolist()]
+
+    def send(i):
+        order = range(len(procs)) if i % 2 == 0 else reversed(range(len(procs)))  # neither always goes first
+        for k in order:
+            sent[k, i] = time.perf_counter()
+            procs[k].stdin.write(lines[i])
+            procs[k].stdin.flush()
+
+    _paced(len(x), send)
+    for p in procs:
+        p.stdin.close()
+    for th in threads:
+        th.join(timeout=30)
+    for p in procs:
+        p.wait(timeout=30)
+        err = p.stderr.read()
+        if p.returncode != 0:
+            raise SystemExit(f"{p.args[1:3]} failed ({p.returncode}):\n{err}")
+        print(err.strip().splitlines()[-1], file=sys.stderr)
+    return list(got - sent)
 
 
 #: The floor over LSL: an inlet whose every sample goes straight to an outlet, as ``wake stream`` would send it.
@@ -126,45 +148,47 @@ print("echo: end of input", file=sys.stderr)
 """
 
 
-def run_lsl(x: np.ndarray, extra, echo=False) -> np.ndarray:
+def run_lsl(x: np.ndarray, extra, echo=False) -> list:
+    """Latencies (s) over LSL: one outlet read by ``wake stream`` and, with ``echo``, by the echo process."""
     import pylsl
 
-    tag = f"{os.getpid()}-{'echo' if echo else 'wake'}"
+    tag = f"{os.getpid()}"
     info = pylsl.StreamInfo(f"wake-bench-in-{tag}", "IMU", x.shape[1], FS, pylsl.cf_double64, f"bench-{tag}")
     outlet = pylsl.StreamOutlet(info)
-    names = [f"wake-bench-in-{tag}", f"wake-bench-out-{tag}"]
-    cmd = ([sys.executable, "-c", LSL_ECHO, *names] if echo else
-           [sys.executable, "-m", "wake", "stream", "--lsl-in", names[0], "--lsl-out", names[1], "--status", "0",
-            *extra])
-    p = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True, env=_env())
-    found = pylsl.resolve_byprop("name", names[1], timeout=30)
-    inlet = pylsl.StreamInlet(found[0], max_buflen=360)
-    inlet.open_stream(timeout=10)
+    source = f"wake-bench-in-{tag}"
+    cmds = {f"wake-bench-out-{tag}": [sys.executable, "-m", "wake", "stream", "--lsl-in", source, "--lsl-out",
+                                      f"wake-bench-out-{tag}", "--status", "0", *extra]}
+    if echo:
+        cmds[f"wake-bench-echo-{tag}"] = [sys.executable, "-c", LSL_ECHO, source, f"wake-bench-echo-{tag}"]
+    procs = [subprocess.Popen(c, stderr=subprocess.PIPE, text=True, env=_env()) for c in cmds.values()]
+    inlets = []
+    for name in cmds:
+        inlet = pylsl.StreamInlet(pylsl.resolve_byprop("name", name, timeout=30)[0], max_buflen=360)
+        inlet.open_stream(timeout=10)
+        inlets.append(inlet)
     outlet.wait_for_consumers(10)
-    lat = np.full(len(x), np.nan)
-    count = [0]
+    time.sleep(2.0)  # LSL tells whether an outlet has consumers, not how many: let the second one connect
+    lat = np.full((len(procs), len(x)), np.nan)
 
-    def reader():
-        while count[0] < len(x):
-            sample, stamp = inlet.pull_sample(timeout=2.0)
+    def reader(k):
+        for i in range(len(x)):
+            sample, stamp = inlets[k].pull_sample(timeout=2.0)
             if sample is None:
                 return
-            lat[count[0]] = pylsl.local_clock() - stamp
-            count[0] += 1
+            lat[k, i] = pylsl.local_clock() - stamp
 
-    th = threading.Thread(target=reader, daemon=True)
-    th.start()
-    start = time.perf_counter() + 0.5
-    for i, row in enumerate(x.tolist()):
-        due = start + i / FS
-        while (now := time.perf_counter()) < due:
-            time.sleep(min(due - now, 0.002))
-        outlet.push_sample(row, pylsl.local_clock())
-    th.join(timeout=30)
-    del outlet
-    err = p.communicate(timeout=30)[1]
-    print(err.strip().splitlines()[-1] if err.strip() else "", file=sys.stderr)
-    return lat
+    threads = [threading.Thread(target=reader, args=(k,), daemon=True) for k in range(len(procs))]
+    for th in threads:
+        th.start()
+    rows = x.tolist()
+    _paced(len(x), lambda i: outlet.push_sample(rows[i], pylsl.local_clock()))
+    for th in threads:
+        th.join(timeout=30)
+    outlet = None  # closes the stream: the readers of wake stream and the echo see its end
+    for p in procs:
+        err = p.communicate(timeout=30)[1]
+        print(err.strip().splitlines()[-1] if err.strip() else "", file=sys.stderr)
+    return list(lat)
 
 
 def main(argv=None) -> int:
@@ -178,11 +202,10 @@ def main(argv=None) -> int:
     n = int(args.duration * FS)
     x, source = six_channels(n)
     extra = ["--hpa-mode", args.hpa_mode]
-    lat = (run_pipe if args.transport == "pipe" else run_lsl)(x, extra)
-    report(lat, n, f"wake stream, {args.transport}, hpa_mode={args.hpa_mode}", args.duration, source)
+    lat = (run_pipe if args.transport == "pipe" else run_lsl)(x, extra, echo=args.echo_baseline)
+    report(lat[0], n, f"wake stream, {args.transport}, hpa_mode={args.hpa_mode}", args.duration, source)
     if args.echo_baseline:
-        run = run_pipe if args.transport == "pipe" else run_lsl
-        report(run(x, extra, echo=True), n, f"echo baseline, {args.transport} (no filtering)", args.duration, source)
+        report(lat[1], n, f"echo baseline, {args.transport} (no filtering), fed side by side", args.duration, source)
     return 0
 
 

@@ -63,6 +63,8 @@ def test_pipes_inline_equal_run_bit_for_bit_with_header_and_timestamps(signal3):
     np.testing.assert_array_equal(got[:, 1:4], ref.voluntary)
     np.testing.assert_array_equal(got[:, 4:], ref.tremor)
     assert "end of input: 1200 samples" in res.stderr and "f_d [Hz]: gx" in res.stderr
+    # the first stderr line says when the filter is ready, so a producer can start its clock then
+    assert res.stderr.splitlines()[0] == "wake stream: ready, reading stdin at 100 Hz"
 
 
 def test_thread_mode_answers_every_sample_and_matches_run_until_the_first_swap(signal3):

@@ -180,6 +180,7 @@ def _run_pipes(args, stop, log) -> int:
     filt = _make_filter(args, args.fs)
     try:
         _ready(filt)
+        log(f"wake stream: ready, reading stdin at {args.fs:g} Hz")
         return _pipe_loop(args, stop, log, filt, fin, fout)
     finally:
         filt.close()  # also on an early error return: the worker never outlives the command
@@ -332,9 +333,9 @@ def _run_lsl(args, stop, log) -> int:
             c.append_child_value("unit", unit)
             c.append_child_value("type", kind)
     out_info.desc().append_child_value("source", f"wake stream from {args.lsl_in}")
-    outlet = pylsl.StreamOutlet(out_info)
     proc = StreamProcessor(_make_filter(args, fs), labels)
     _ready(proc.filt)
+    outlet = pylsl.StreamOutlet(out_info)  # visible only once the filter is ready for the first sample
     log(f"wake stream: {args.lsl_in} ({n_ch} channels at {fs:g} Hz) -> {args.lsl_out}")
     last_status = time.monotonic()
     why = "end of stream"
