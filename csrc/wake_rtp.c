@@ -25,10 +25,20 @@
 /* Cores without a 32 x 32 -> 64-bit multiply instruction (ARMv6-M, ARMv8-M
  * baseline): 64-bit products are assembled from 16 x 16-bit ones, so no
  * __aeabi_lmul call is made. */
+#ifndef WAKE_RTP_NO_LONG_MULTIPLY /* the host tests also build it with 1, to run the Cortex-M0+ arithmetic */
 #if defined(__ARM_ARCH_6M__) || defined(__ARM_ARCH_8M_BASE__)
 #define WAKE_RTP_NO_LONG_MULTIPLY 1
 #else
 #define WAKE_RTP_NO_LONG_MULTIPLY 0
+#endif
+#endif
+
+/* The FIR reads its taps split in parts (wake_fir_t) where that avoids 64-bit
+ * sums; its 32-bit sums hold up to 64 taps. */
+#if WAKE_RTP_NO_LONG_MULTIPLY && WAKE_RTP_MAX_LEVEL <= 6
+#define WAKE_RTP_SPLIT_FIR 1
+#else
+#define WAKE_RTP_SPLIT_FIR 0
 #endif
 
 /* Functions kept out of line so that `wake profile` can bound the step with
@@ -80,8 +90,10 @@ static inline int64_t shift_right_round(int64_t v, unsigned sh)
 /** Narrow int64 to int32, saturating; adds 1 to *events when it saturates. */
 static inline int32_t narrow_saturate(int64_t v, uint32_t *events)
 {
-    *events += (uint32_t)((v > INT32_MAX) | (v < INT32_MIN));
-    return (v > INT32_MAX) ? INT32_MAX : (v < INT32_MIN) ? INT32_MIN : (int32_t)v;
+    /* v + 2^31 in [0, 2^32) exactly when v fits: one 64-bit add and a test of the top word */
+    const uint32_t over = (uint32_t)(((uint64_t)v + UINT64_C(0x80000000)) >> 32) != 0u;
+    *events += over;
+    return over ? ((v < 0) ? INT32_MIN : INT32_MAX) : (int32_t)v;
 }
 
 /** Narrow int32 to int16, saturating; adds 1 to *events when it saturates. */
@@ -174,18 +186,31 @@ static inline unsigned bit_length64(uint64_t v)
 
 uint32_t wake_rtp_reciprocal(uint32_t x)
 {
-    /* x in [2^30, 2^31) is X = x / 2^31 in [0.5, 1); r is 1/X in Q30.
-     * Start: r0 = 48/17 - 32/17 X (max relative error 1/17), then
-     * r <- r (2 - X r): 1/17 -> 3.5e-3 -> 1.2e-5 -> 1.4e-10 -> rounding.
+    /* x in [2^30, 2^31) is X = x / 2^31 in [0.5, 1); the result is 1/X in Q30.
+     * The first steps need few bits, so they run on the top 16 bits of x with
+     * 32-bit products (one MULS each on a Cortex-M0+); only the last two need
+     * 32 x 32 -> 64-bit ones.
+     * Start: r0 = 48/17 - 32/17 X (max relative error 1/17), r in Q15.
+     * Two steps r <- r (2 - X r) in 32 bits: 1/17 -> 3.5e-3 -> 1.2e-5, plus
+     * the truncation of X and r to 16 bits (< 2^-14 in all).
+     * Two steps in 64 bits, r in Q30: -> 1e-9 -> rounding.
      * The result is within 2^-29 relative of 2^61 / x (csrc/tests). */
-    uint32_t r = (uint32_t)(UINT32_C(3031741621)
-                            - (uint32_t)(multiply_wide_unsigned(x, UINT32_C(2021161081)) >> 31));
-    int it;
-    for (it = 0; it < 4; ++it) {                                          /* wcet-loop: 4 */
-        uint64_t xr = multiply_wide_unsigned(x, r) >> 31;                 /* X r, Q30, about 2^30 */
-        uint32_t two_minus = (uint32_t)((UINT64_C(1) << 31) - xr);       /* 2 - X r, Q30, < 2^31 */
-        r = (uint32_t)(multiply_wide_unsigned(r, two_minus) >> 30);
-    }
+    const uint32_t x16 = x >> 15;                                        /* X, Q16, in [2^15, 2^16) */
+    /* 48/17 in Q15 = 92521.4, 32/17 in Q16 = 123362.6: r0 = 92521 - (32/17 X), Q15 */
+    uint32_t r = UINT32_C(92521) - ((UINT32_C(123363) * (x16 >> 1)) >> 16);  /* 123363 x16/2 < 2^32 */
+    uint64_t xr;
+    uint32_t two_minus;
+    /* X r in Q31 = x16 r (Q16 x Q15) is about 2^31 (< 1.07 2^31 from the start on):
+     * 2 - X r in Q31 is 2^32 - X r, as a uint32 (mod 2^32); in Q15 it is that / 2^16. */
+    r = (r * ((UINT32_C(0) - x16 * r) >> 16)) >> 15;                    /* step 1; r <= 2^16.1: < 2^32 */
+    r = (r * ((UINT32_C(0) - x16 * r) >> 16)) >> 15;                    /* step 2 */
+    r <<= 15;                                                             /* Q15 -> Q30 */
+    xr = multiply_wide_unsigned(x, r) >> 31;                              /* X r, Q30, about 2^30 */
+    two_minus = (uint32_t)((UINT64_C(1) << 31) - xr);                    /* 2 - X r, Q30, < 2^31 */
+    r = (uint32_t)(multiply_wide_unsigned(r, two_minus) >> 30);          /* step 3 */
+    xr = multiply_wide_unsigned(x, r) >> 31;
+    two_minus = (uint32_t)((UINT64_C(1) << 31) - xr);
+    r = (uint32_t)(multiply_wide_unsigned(r, two_minus) >> 30);          /* step 4 */
     return r;
 }
 
@@ -497,6 +522,21 @@ static void materialise(const wake_rtp_t *s, wake_q23_t *d, wake_cov_t *P, uint3
  * Also rebuilds the FIR taps h = B'w.  P (J x J, stride J) and d are read
  * before anything is written, so they may be the struct's own snapshot.
  */
+/** A tap as fir_window reads it (see wake_fir_t). */
+static inline wake_fir_t fir_tap(int32_t h)
+{
+    wake_fir_t t;
+#if WAKE_RTP_SPLIT_FIR
+    const uint32_t bits = (uint32_t)h;
+    t.parts.biased_hi = (uint16_t)((bits >> 16) ^ 0x8000u);   /* top half, top bit flipped: floor(h/2^16) + 2^15 */
+    t.parts.mid = (uint8_t)((bits >> 8) & 0xFFu);
+    t.parts.lo = (uint8_t)(bits & 0xFFu);
+#else
+    t.value = h;
+#endif
+    return t;
+}
+
 static void rebuild(wake_rtp_t *s, const wake_q23_t *d, const wake_cov_t *P)
 {
     unsigned i, j, J = s->level, N = s->n_taps;
@@ -527,7 +567,8 @@ static void rebuild(wake_rtp_t *s, const wake_q23_t *d, const wake_cov_t *P)
         for (j = 0; j < J; ++j) {
             acc += (int64_t)s->taps[j * N + i] * w[j];
         }
-        s->fir[i] = narrow_saturate(shift_right_round(acc, 15u + WAKE_RTP_WEIGHT_FRAC - WAKE_RTP_FIR_FRAC), ev);
+        s->fir[i] = fir_tap(narrow_saturate(shift_right_round(acc, 15u + WAKE_RTP_WEIGHT_FRAC - WAKE_RTP_FIR_FRAC),
+                                            ev));
     }
     s->inert = (s->q == 0 && s->s == 0 && s->b == 0) ? 1u : 0u;
 }
@@ -691,35 +732,40 @@ static inline void push(wake_rtp_t *s, wake_q15_t sample)
  */
 static inline int64_t fir_window(const wake_fir_t *h, const wake_q15_t *x, unsigned n)
 {
-#if WAKE_RTP_NO_LONG_MULTIPLY
-    /* h = hi 2^16 + lo, lo in [0, 2^16): hi x and lo x are 16 x 16-bit products.
-     * sum |hi x| < (sum |h| / 2^16 + n) 2^15 < 2^31 for J <= 6 (sum |h| < 2^32,
-     * see WAKE_RTP_FIR_FRAC); sum lo x needs int64. */
-#if WAKE_RTP_MAX_LEVEL <= 6
-    int32_t acc_hi = 0;
-#else
-    int64_t acc_hi = 0;
-#endif
-    int64_t acc_lo = 0;
-    unsigned i;
-    for (i = 0; i < n; ++i) {                                             /* wcet-loop: N */
-        int32_t hi = (int32_t)shift_right_floor(h[i], 16u);
-        int32_t lo = (int32_t)((uint32_t)h[i] & 0xFFFFu);
-        acc_hi += hi * x[i];
-        acc_lo += lo * x[i];
-    }
-    return (int64_t)acc_hi * 65536 + acc_lo;
+#if WAKE_RTP_SPLIT_FIR
+    /* No 32 x 32 -> 64-bit multiply (Cortex-M0+): with h = hi 2^16 + mid 2^8 + lo
+     * (wake_fir_t parts), every product is one 32-bit MULS and every sum stays in
+     * 32 bits, so the loop has no 64-bit add (gcc keeps it in r0-r7: 16
+     * instructions per tap against 31 for a 64-bit accumulator):
+     *   sum mid x, sum lo x: |.| < n 2^8 2^15 <= 2^29 (n <= 64), int32;
+     *   sum hi x: |.| < (sum |h| / 2^16 + n) 2^15 < 2^31 for J <= 6 (sum |h| < 2^32,
+     *   see WAKE_RTP_FIR_FRAC), summed as sum (hi + 2^15) x - 2^15 sum x in uint32
+     *   (exact mod 2^32) and read back as int32.
+     * The result equals the 64-bit sum exactly. */
+    const wake_fir_t *end = h + n;
+    uint32_t acc_hi = 0u, hi_sum;
+    int32_t acc_mid = 0, acc_lo = 0, acc_x = 0;
+    do {
+        const int32_t xi = *x++;
+        acc_x += xi;
+        acc_hi += (uint32_t)h->parts.biased_hi * (uint32_t)xi;           /* (hi + 2^15) x mod 2^32 */
+        acc_mid += (int32_t)h->parts.mid * xi;
+        acc_lo += (int32_t)h->parts.lo * xi;
+        ++h;
+    } while (h != end);                                                   /* wcet-loop: N */
+    hi_sum = acc_hi - ((uint32_t)acc_x << 15);                            /* sum hi x mod 2^32 */
+    return ((int64_t)hi_sum - (int64_t)(hi_sum >> 31) * 4294967296) * 65536 + (int64_t)acc_mid * 256 + acc_lo;
 #else
     int64_t acc0 = 0, acc1 = 0;
     unsigned i = 0;
     if (n == 2u) {
-        return (int64_t)h[0] * x[0] + (int64_t)h[1] * x[1];
+        return (int64_t)h[0].value * x[0] + (int64_t)h[1].value * x[1];
     }
     for (; i < n; i += 4u) {                                              /* wcet-loop: N / 4 */
-        acc0 += (int64_t)h[i] * x[i];
-        acc1 += (int64_t)h[i + 1u] * x[i + 1u];
-        acc0 += (int64_t)h[i + 2u] * x[i + 2u];
-        acc1 += (int64_t)h[i + 3u] * x[i + 3u];
+        acc0 += (int64_t)h[i].value * x[i];
+        acc1 += (int64_t)h[i + 1u].value * x[i + 1u];
+        acc0 += (int64_t)h[i + 2u].value * x[i + 2u];
+        acc1 += (int64_t)h[i + 3u].value * x[i + 3u];
     }
     return acc0 + acc1;
 #endif

@@ -126,8 +126,20 @@ typedef int16_t wake_q15_t;
 typedef int32_t wake_q23_t;
 /** An HPA weight or the direction v: Q24, |w| <= 64. */
 typedef int32_t wake_q24_t;
-/** A FIR tap h = B'w: Q(WAKE_RTP_FIR_FRAC). */
-typedef int32_t wake_fir_t;
+/**
+ * A FIR tap h = B'w, Q(WAKE_RTP_FIR_FRAC): `value`, or on cores without a
+ * 32 x 32 -> 64-bit multiply (Cortex-M0+) `parts`, the same 32 bits split so
+ * that every product of the FIR is one 32-bit multiply:
+ * h = (biased_hi - 2^15) 2^16 + mid 2^8 + lo.  A build uses one of the two.
+ */
+typedef union {
+    int32_t value;
+    struct {
+        uint16_t biased_hi;   /**< floor(h / 2^16) + 2^15 */
+        uint8_t mid;          /**< bits 8..15 of h */
+        uint8_t lo;           /**< bits 0..7 of h */
+    } parts;
+} wake_fir_t;
 /** A covariance-like value (P, R, q, p0, s, b): Q(WAKE_RTP_P_FRAC) of FS^2. */
 typedef int32_t wake_cov_t;
 /** A dimensionless ratio (s/S, R/S): Q30. */

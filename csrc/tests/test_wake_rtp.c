@@ -297,6 +297,15 @@ static void test_reciprocal(void)
         rel = fabs(got - exact) / exact;
         if (rel > worst) worst = rel;
     }
+    /* every top 16 bits (the first steps run on them alone), with the low bits all 0 and all 1 */
+    for (k = 0; k < 2 * 32768; ++k) {
+        double exact, got, rel;
+        x = ((UINT32_C(32768) + (uint32_t)(k >> 1)) << 15) | ((k & 1) ? UINT32_C(0x7FFF) : 0u);
+        exact = ldexp(1.0, 61) / (double)x;
+        got = (double)wake_rtp_reciprocal(x);
+        rel = fabs(got - exact) / exact;
+        if (rel > worst) worst = rel;
+    }
     printf("reciprocal: worst relative error %.3g (%.2f units of 2^-30)\n", worst, worst * ldexp(1.0, 30));
     CHECK(worst <= ldexp(1.0, -29), "reciprocal relative error %.3g", worst);
 }
