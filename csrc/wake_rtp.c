@@ -214,6 +214,7 @@ uint32_t wake_rtp_reciprocal(uint32_t x)
     return r;
 }
 
+#if WAKE_RTP_KALMAN
 /**
  * A positive divisor as a reciprocal: 1/x = recip 2^-(61 + exponent), with
  * x = mantissa 2^exponent, mantissa in [2^30, 2^31).
@@ -266,6 +267,7 @@ static int32_t divide_scaled(int64_t a, inverse_t inv, int frac, uint32_t *event
 {
     return narrow_saturate(divide_wide(a, inv, frac, events), events);
 }
+#endif /* WAKE_RTP_KALMAN */
 
 /* ---------------------------------------------------------------------- */
 /* Validation                                                              */
@@ -294,7 +296,8 @@ static wake_rtp_status_t check_structure(const wake_rtp_t *s)
     if (s->level < 1u || s->level > (unsigned)WAKE_RTP_MAX_LEVEL
         || s->n_taps != (uint16_t)(1u << s->level) || s->head >= s->n_taps
         || s->primed > 1u || s->taps == NULL || s->r <= 0 || s->q < 0 || s->p0 < 0
-        || s->inert > 1u || (s->inert != 0u && (s->q != 0 || s->s != 0 || s->b != 0))) {
+        || s->inert > 1u || (s->inert != 0u && (s->q != 0 || s->s != 0 || s->b != 0))
+        || (!WAKE_RTP_KALMAN && s->inert != 1u)) {
         return WAKE_RTP_E_CORRUPT;
     }
     return WAKE_RTP_OK;
@@ -321,6 +324,9 @@ static wake_rtp_status_t check_weights(const wake_q24_t *weights, unsigned level
     if (r <= 0 || q < 0) {
         return WAKE_RTP_E_NOISE;
     }
+    if (!WAKE_RTP_KALMAN && q != 0) {
+        return WAKE_RTP_E_NO_KALMAN;
+    }
     return WAKE_RTP_OK;
 }
 
@@ -328,6 +334,7 @@ static wake_rtp_status_t check_weights(const wake_q24_t *weights, unsigned level
 /* Rebuild: the affine form <-> P and d                                    */
 /* ---------------------------------------------------------------------- */
 
+#if WAKE_RTP_KALMAN /* the covariance code: left out of WAKE_RTP_KALMAN 0 builds */
 /** |w|^2 in Q24 (exact sum of Q48 squares, rounded once): < 2^40. */
 static uint64_t weight_norm2(const wake_q24_t *w, unsigned J)
 {
@@ -515,6 +522,7 @@ static void materialise(const wake_rtp_t *s, wake_q23_t *d, wake_cov_t *P, uint3
         d[i] = narrow_saturate((int64_t)s->correction[i] + t, events);
     }
 }
+#endif /* WAKE_RTP_KALMAN */
 
 /**
  * Make (P, d) the snapshot for the current weights and restart the affine
@@ -541,9 +549,11 @@ static void rebuild(wake_rtp_t *s, const wake_q23_t *d, const wake_cov_t *P)
 {
     unsigned i, j, J = s->level, N = s->n_taps;
     const wake_q24_t *w = s->weights;
+    uint32_t *ev = &s->saturations;
+#if WAKE_RTP_KALMAN
     uint64_t omega = weight_norm2(w, J);
     snapshot_t snap;
-    uint32_t *ev = &s->saturations;
+#endif
 
     if (d != s->correction) {
         memcpy(s->correction, d, (size_t)J * sizeof(wake_q23_t));
@@ -551,16 +561,24 @@ static void rebuild(wake_rtp_t *s, const wake_q23_t *d, const wake_cov_t *P)
     if (P != s->covariance) {
         memcpy(s->covariance, P, (size_t)J * J * sizeof(wake_cov_t));
     }
+    s->d_dir = 0;
+    s->acc_vv = 0;
+    s->steps = 0u;
+#if WAKE_RTP_KALMAN
     snapshot_terms(s, &snap, ev);
     s->s = snap.s;
     s->b = snap.b;
     s->z = snap.z;
-    s->d_dir = 0;
-    s->acc_vv = 0;
-    s->steps = 0u;
     /* q |w|^2 = q (hi + lo / 2^24) with |w|^2 = hi 2^24 + lo in Q24: hi < 2^16, lo < 2^24 */
     s->q_omega = (int64_t)s->q * (int64_t)(omega >> 24)                   /* < 2^47 */
                  + shift_right_round((int64_t)s->q * (int64_t)(omega & 0xFFFFFFu), 24u);
+#else
+    /* no Kalman: d = 0 and P = 0 (init and load_state see to it), so s = b = z = 0 */
+    s->s = 0;
+    s->b = 0;
+    s->z = 0;
+    s->q_omega = 0;
+#endif
     /* h_i = sum_j B_ji w_j: exact in int64 (Q39), rounded once to Q(FIR) */
     for (i = 0; i < N; ++i) {
         int64_t acc = 0;
@@ -611,6 +629,9 @@ wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const wake_q15_t *taps
     if (p0 < 0) {
         return WAKE_RTP_E_NOISE;
     }
+    if (!WAKE_RTP_KALMAN && p0 != 0) {
+        return WAKE_RTP_E_NO_KALMAN;
+    }
     memset(s, 0, sizeof(*s));
     s->level = (uint16_t)level;
     s->n_taps = (uint16_t)n;
@@ -619,14 +640,17 @@ wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const wake_q15_t *taps
     s->r = r;
     s->q = q;
     s->p0 = p0;
+    s->inert = (q == 0) ? 1u : 0u;   /* consistent before reset's check (s = b = 0); rebuild sets it */
     s->magic = WAKE_RTP_MAGIC;
     return wake_rtp_reset(s);
 }
 
 wake_rtp_status_t wake_rtp_set_weights(wake_rtp_t *s, const wake_q24_t *weights, wake_cov_t r, wake_cov_t q)
 {
+#if WAKE_RTP_KALMAN
     wake_q23_t d[WAKE_RTP_MAX_LEVEL];
     wake_cov_t P[WAKE_RTP_MAX_LEVEL * WAKE_RTP_MAX_LEVEL];
+#endif
     wake_rtp_status_t st = check_instance(s);
     if (st != WAKE_RTP_OK) {
         return st;
@@ -635,11 +659,17 @@ wake_rtp_status_t wake_rtp_set_weights(wake_rtp_t *s, const wake_q24_t *weights,
     if (st != WAKE_RTP_OK) {
         return st;
     }
+#if WAKE_RTP_KALMAN
     materialise(s, d, P, &s->saturations, &s->guard_events);   /* P, d under the old weights */
+#endif
     memcpy(s->weights, weights, (size_t)s->level * sizeof(wake_q24_t));
     s->r = r;
     s->q = q;
+#if WAKE_RTP_KALMAN
     rebuild(s, d, P);
+#else
+    rebuild(s, s->correction, s->covariance);                  /* both stay 0 */
+#endif
     return WAKE_RTP_OK;
 }
 
@@ -676,7 +706,13 @@ wake_rtp_status_t wake_rtp_get_state(const wake_rtp_t *s, wake_q23_t *correction
     if (correction == NULL || covariance == NULL) {
         return WAKE_RTP_E_NULL;
     }
+#if WAKE_RTP_KALMAN
     materialise(s, correction, covariance, &ignored, &ignored);
+#else
+    (void)ignored;
+    memset(correction, 0, (size_t)s->level * sizeof(wake_q23_t));
+    memset(covariance, 0, (size_t)s->level * s->level * sizeof(wake_cov_t));
+#endif
     return WAKE_RTP_OK;
 }
 
@@ -777,6 +813,7 @@ static inline wake_q23_t innovation(const wake_rtp_t *s, wake_q15_t sample, uint
     return narrow_saturate((int64_t)sample * (INT64_C(1) << SIGNAL_GUARD_BITS) - s->last_output, events);
 }
 
+#if WAKE_RTP_KALMAN
 /**
  * Kalman measurement and time update in the affine form, for the innovation
  * e (Q23).  Constant time: one reciprocal, eight 32 x 32 -> 64-bit products.
@@ -815,6 +852,7 @@ WAKE_RTP_NOINLINE static uint32_t kalman_update(wake_rtp_t *s, wake_q23_t e)
     s->b = clamp_cov_wide(multiply_wide_by32(s->b, tau, 30u, 0), &ev);
     return ev;
 }
+#endif
 
 /** a = h' window + z = w'(B window + d), rounded to Q23 (stored as y(n)) and to Q15 (returned). */
 static inline wake_q15_t predict(wake_rtp_t *s, uint32_t *events)
@@ -830,7 +868,7 @@ static inline wake_q15_t predict(wake_rtp_t *s, uint32_t *events)
 /** A sample without a measurement update (the first of a stream, or a missing one): P = P + q I only. */
 static inline void time_update_only(wake_rtp_t *s, uint32_t *events)
 {
-    if (!s->inert) {
+    if (WAKE_RTP_KALMAN && !s->inert) {
         /* s gains q|w|^2 (steps counts the q I) */
         s->s = clamp_cov_wide(s->s + s->q_omega, events);
     }
@@ -851,9 +889,13 @@ static wake_q15_t step_validated(wake_rtp_t *s, wake_q15_t sample)
     } else {
         const wake_q23_t e = innovation(s, sample, &ev); /* its saturation is counted even when inert */
         push(s, sample);
+#if WAKE_RTP_KALMAN
         if (!s->inert) {
             ev += kalman_update(s, e);
         }
+#else
+        (void)e;
+#endif
     }
     s->steps += (uint32_t)(s->steps != UINT32_MAX);      /* P gains q I per sample */
     y = predict(s, &ev);
@@ -935,6 +977,18 @@ wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q15_t *window,
             return WAKE_RTP_E_STATE;
         }
     }
+#if !WAKE_RTP_KALMAN
+    for (i = 0; i < J; ++i) {
+        if (correction[i] != 0) {
+            return WAKE_RTP_E_NO_KALMAN;
+        }
+        for (j = 0; j < J; ++j) {
+            if (covariance[i * J + j] != 0) {
+                return WAKE_RTP_E_NO_KALMAN;
+            }
+        }
+    }
+#endif
     memcpy(s->ring, window, (size_t)s->n_taps * sizeof(wake_q15_t));
     memcpy(s->ring + s->n_taps, window, (size_t)s->n_taps * sizeof(wake_q15_t));
     s->head = 0u;
@@ -944,7 +998,9 @@ wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q15_t *window,
             P[j * J + i] = covariance[i * J + j];
         }
     }
+#if WAKE_RTP_KALMAN
     covariance_guard(P, J, &s->guard_events);
+#endif
     rebuild(s, correction, P);
     s->last_output = last_output;
     s->primed = 1u;

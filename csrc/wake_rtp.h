@@ -68,6 +68,18 @@ extern "C" {
 #error "WAKE_RTP_MAX_LEVEL must lie in 1..8"
 #endif
 
+/**
+ * 1 (default): the Kalman update is compiled in.  0: a build for firmware
+ * whose Kalman stays inert (q = 0 and p0 = 0, the WakeFilter default) leaves
+ * the covariance code out (more than half of the code); init, set_weights and
+ * load_state then refuse q > 0, p0 > 0 or a non-zero d or P with
+ * WAKE_RTP_E_NO_KALMAN.  The predictions of an inert configuration are the
+ * same, bit for bit, in both builds.
+ */
+#ifndef WAKE_RTP_KALMAN
+#define WAKE_RTP_KALMAN 1
+#endif
+
 /** Ring length for the largest level: 2^WAKE_RTP_MAX_LEVEL samples. */
 #define WAKE_RTP_MAX_TAPS (1 << WAKE_RTP_MAX_LEVEL)
 
@@ -155,7 +167,8 @@ typedef enum {
     WAKE_RTP_E_NOISE = -5,        /**< R <= 0, q < 0 or p0 < 0 */
     WAKE_RTP_E_UNINIT = -6,       /**< the struct was never initialised (bad magic) */
     WAKE_RTP_E_CORRUPT = -7,      /**< magic present but fields inconsistent (weights included) */
-    WAKE_RTP_E_STATE = -8         /**< load_state: covariance diagonal negative */
+    WAKE_RTP_E_STATE = -8,        /**< load_state: covariance diagonal negative */
+    WAKE_RTP_E_NO_KALMAN = -9     /**< a Kalman setting (q, p0, d or P non-zero) in a WAKE_RTP_KALMAN 0 build */
 } wake_rtp_status_t;
 
 /**

@@ -52,6 +52,7 @@ _STATUS_TEXT = {
     int(lib.WAKE_RTP_E_UNINIT): "uninitialised state",
     int(lib.WAKE_RTP_E_CORRUPT): "corrupted state",
     int(lib.WAKE_RTP_E_STATE): "bad state values",
+    int(lib.WAKE_RTP_E_NO_KALMAN): "a Kalman setting in a core built without the Kalman update (WAKE_RTP_KALMAN 0)",
 }
 
 

@@ -15,6 +15,11 @@ TARGETS = {
     "m4-Os": ("Cortex-M4, -Os", ["-mcpu=cortex-m4", "-mthumb", "-Os"]),
     "m0plus-O2": ("Cortex-M0+, -O2", ["-mcpu=cortex-m0plus", "-mthumb", "-O2"]),
 }
+#: Builds whose memory is reported beside the targets': key -> (label, target, extra defines).
+#: Firmware whose Kalman stays inert (the default) can leave the covariance code out.
+FOOTPRINT_VARIANTS = {
+    "m4-Os-no-kalman": ("Cortex-M4, -Os, WAKE_RTP_KALMAN=0", "m4-Os", ["-DWAKE_RTP_KALMAN=0"]),
+}
 #: The configuration the targets apply to.
 DEFAULT_TARGET, DEFAULT_LEVEL, DEFAULT_WAVELET = "m4-O2", 5, "sym3"
 #: Targets for the default configuration (J = 5, sym3): static bounds (instructions) of wake_rtp_step

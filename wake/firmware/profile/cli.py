@@ -13,6 +13,7 @@ from .build import (
     DEFAULT_LEVEL,
     DEFAULT_TARGET,
     DEFAULT_WAVELET,
+    FOOTPRINT_VARIANTS,
     SAMPLE_RATE_HZ,
     CEILING_LIMITS,
     TARGET_LIMITS,
@@ -100,6 +101,11 @@ def cli(argv: list[str] | None = None) -> int:
                 emu = Emulator(image)
                 if level == DEFAULT_LEVEL or t not in footprints:
                     footprints[t] = footprint(image, emu)
+                    for key, (_label, base, defs) in FOOTPRINT_VARIANTS.items():
+                        if base == t:  # the same target with some code left out: memory only
+                            lean = build_image(t, build_dir=Path(build_root) / f"J{level}-{key}", csrc=args.csrc,
+                                               defs=[f"-DWAKE_RTP_MAX_LEVEL={level}", *defs])
+                            footprints[key] = footprint(lean)
                 n = args.samples or ((2 * 2**level + 16) if args.quick else None)
                 for w in wavelets:
                     for kalman in (True, False):
