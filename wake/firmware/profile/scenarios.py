@@ -212,6 +212,10 @@ class StepProfile:
         }
 
 
+#: What an inert Kalman never calls (both behind ``if (!s->inert)`` in wake_rtp.c): the inert bound leaves them out.
+INERT_EXCLUDED = ("kalman_update", "time_update")
+
+
 def profile_configuration(emu: Emulator, wavelet="sym3", level=5, *, kalman=True, n=None, kinds=None,
                           seed=0) -> StepProfile:
     """Run every input kind through ``wake_rtp_step`` and count each step.
@@ -244,7 +248,7 @@ def profile_configuration(emu: Emulator, wavelet="sym3", level=5, *, kalman=True
         cycles[kind] = cy
     from wake.firmware.wcet import static_bound
 
-    bound = static_bound(emu.image, level, exclude=() if kalman else ("kalman_update",))
+    bound = static_bound(emu.image, level, exclude=() if kalman else INERT_EXCLUDED)
     return StepProfile(emu.image.target, int(level), wavelet, bool(kalman), counts, sw, stack, update_at,
                        cycles, bound)
 
