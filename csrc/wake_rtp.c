@@ -198,7 +198,7 @@ uint32_t wake_rtp_reciprocal(uint32_t x)
      * Start: r0 = 48/17 - 32/17 X (max relative error 1/17), r in Q15.
      * Two steps r <- r (2 - X r) in 32 bits: 1/17 -> 3.5e-3 -> 1.2e-5, plus
      * the truncation of X and r to 16 bits (< 2^-14 in all).
-     * Two steps in 64 bits, r in Q30: -> 1e-9 -> rounding.
+     * Two steps in 64 bits, r in Q30: -> 1e-8 -> rounding.
      * The result is within 2^-29 relative of 2^61 / x (csrc/tests). */
     const uint32_t x16 = x >> 15;                                        /* X, Q16, in [2^15, 2^16) */
     /* 48/17 in Q15 = 92521.4, 32/17 in Q16 = 123362.6: r0 = 92521 - (32/17 X), Q15 */

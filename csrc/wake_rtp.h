@@ -294,10 +294,12 @@ wake_rtp_status_t wake_rtp_reset(wake_rtp_t *s);
  *
  * @par Scaling and overflow
  * FIR: h' window, int32 x int16 products into an int64 accumulator (exact,
- * < 2^47), rounded once to Q23.  e = m - y(n-1) in Q23, saturated.  S =
- * s + R in [1, 2^32) (clamped to >= 1); 1/S from a 31-bit mantissa by four
- * Newton-Raphson steps (32 x 32 -> 64-bit products only, relative error
- * <= 2^-29).  rho = s/S and tau = 1 - rho in Q30, b/S in Q24: one product
+ * < 2^47; on cores without a 64-bit multiply the same sum from split taps in
+ * 32-bit parts, see wake_fir_t), rounded once to Q23.  e = m - y(n-1) in
+ * Q23, saturated.  S = s + R in [1, 2^32) (clamped to >= 1); 1/S from a
+ * 31-bit mantissa by four Newton-Raphson steps (the first two on its top 16
+ * bits with 32-bit products, the last two with 32 x 32 -> 64-bit products;
+ * relative error <= 2^-29).  rho = s/S and tau = 1 - rho in Q30, b/S in Q24: one product
  * with the reciprocal each, rounded once and saturated.  Every update
  * (z, d_dir, acc_vv, s, b) is one 32 x 32 -> 64-bit product
  * rounded once and added with int32 saturation.  y(n) = FIR + z, saturated
