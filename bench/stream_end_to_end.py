@@ -167,7 +167,8 @@ def run_lsl(x: np.ndarray, extra, echo=False) -> list:
         inlet.open_stream(timeout=10)
         inlets.append(inlet)
     outlet.wait_for_consumers(10)
-    time.sleep(2.0)  # LSL tells whether an outlet has consumers, not how many: let the second one connect
+    if len(procs) > 1:
+        time.sleep(2.0)  # LSL tells whether an outlet has consumers, not how many: let the second one connect
     lat = np.full((len(procs), len(x)), np.nan)
 
     def reader(k):
