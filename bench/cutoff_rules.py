@@ -5,15 +5,18 @@
 For each rule: the share of HPA windows per cut-off flag, the PADS tremor
 NRMSE against the independent ground truth (``wake.eval.warmup``) over the
 whole recording from 0.5 s and after 5 s, and the synthetic voluntary NRMSE
-(whole and after 5 s).  The rules (``wake.hpa.cutoff``):
+(whole and after 5 s).  The rules (``wake.hpa.cutoff``; every WAKE run uses the C core):
 
 * ``paper`` - the valley counts only if it lies ``min_depth_db`` = 3 dB below
   both the tremor peak and the largest PSD value to its left (the shipped rule);
 * ``depth 1 dB`` - the same with a 1 dB depth;
 * ``no left test`` - 3 dB below the tremor peak only;
-* ``shallow`` - whenever the window has a tremor peak, the PSD minimum
-  between ``cutoff_range[0]`` and the peak, however shallow (``shallow D``:
-  only if it lies at least D dB below the peak);
+* ``shallow`` - the shipped default: where ``paper`` finds a tremor peak
+  but no valley, the PSD minimum between ``cutoff_range[0]`` and the lower
+  of the peak and ``shallow_max`` = 4 Hz, however shallow (``shallow max F``:
+  the cap at F Hz; 6 Hz, the top of ``cutoff_range``, is no cap);
+* ``shallow D`` - the uncapped minimum, only if it lies at least D dB below
+  the peak;
 * ``default F`` - the shipped rule with the fallback at F Hz instead of 2 Hz
   (is a gain only a higher cut-off?);
 * ``shallow floor`` - as ``shallow``, but never below ``default_cutoff``;
@@ -50,25 +53,28 @@ def _peak(freqs, db, band):
 
 def make_rule(kind):
     def find(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0), default_cutoff=2.0,
-             min_depth_db=3.0, rule=None):
+             min_depth_db=3.0, rule=None, shallow_max=None):
         if "+default" in kind:  # "shallow+default 3": the shallow rule with the fallback at 3 Hz
             base, fallback = kind.split("+default")
             return make_rule(base)(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
                               default_cutoff=float(fallback))
         if kind == "paper":
             return SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
-                           default_cutoff=default_cutoff)
+                           default_cutoff=default_cutoff, rule="paper")
         if kind.startswith("default "):
             return SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
-                           default_cutoff=float(kind.split()[1]))
-        if kind == "shallow":  # the library's rule (WakeConfig(cutoff_rule="shallow"))
+                           default_cutoff=float(kind.split()[1]), rule="paper")
+        if kind == "shallow":  # the library's default rule (WakeConfig(), shallow_max = 4 Hz)
             return SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
                            default_cutoff=default_cutoff, rule="shallow")
+        if kind.startswith("shallow max "):  # the library's rule with another shallow_max
+            return SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
+                           default_cutoff=default_cutoff, rule="shallow", shallow_max=float(kind.split()[2]))
         if kind == "depth 1 dB":
             return SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
-                           default_cutoff=default_cutoff, min_depth_db=1.0)
+                           default_cutoff=default_cutoff, min_depth_db=1.0, rule="paper")
         fd, flag = SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
-                           default_cutoff=default_cutoff)
+                           default_cutoff=default_cutoff, rule="paper")
         if flag != "no_valley":
             return fd, flag
         freqs = np.asarray(freqs, float)
@@ -100,8 +106,9 @@ def make_rule(kind):
     return find
 
 
-RULES = ("paper", "default 2.5", "default 3", "default 3.5", "depth 1 dB", "no left test", "shallow", "shallow 0",
-         "shallow 1", "shallow floor", "shallow 1 floor", "shallow 2 floor", "flank", "shallow+default 2.5", "shallow+default 3")
+RULES = ("paper", "default 2.5", "default 3", "default 3.5", "depth 1 dB", "no left test", "shallow", "shallow max 3",
+         "shallow max 3.5", "shallow max 4.5", "shallow max 5", "shallow max 6", "shallow 0", "shallow 1",
+         "shallow floor", "shallow 1 floor", "shallow 2 floor", "flank", "shallow+default 2.5", "shallow+default 3")
 
 
 def evaluate(kind, pads, synthetic):

@@ -211,7 +211,7 @@ static int weights_ok(const float *w, unsigned J)
 static int config_ok(const wake_hpa_config_t *c)
 {
     unsigned J, N, k, prev;
-    const float f[] = {c->fs, c->tremor_low, c->tremor_high, c->cutoff_low, c->cutoff_high,
+    const float f[] = {c->fs, c->tremor_low, c->tremor_high, c->cutoff_low, c->cutoff_high, c->shallow_high,
                        c->default_cutoff, c->min_depth_ratio, c->ridge, c->process_noise_ratio};
     for (k = 0; k < sizeof f / sizeof f[0]; ++k) {
         if (!is_finite(f[k])) {
@@ -231,7 +231,7 @@ static int config_ok(const wake_hpa_config_t *c)
         return 0;
     }
     if (!(c->cutoff_low > 0.0f) || !(c->cutoff_low <= c->default_cutoff) || !(c->default_cutoff <= c->cutoff_high) ||
-        !(c->cutoff_high < c->fs / 2.0f)) {
+        !(c->cutoff_high < c->fs / 2.0f) || !(c->shallow_high >= c->cutoff_low)) {
         return 0;
     }
     if (!(c->min_depth_ratio > 0.0f) || !(c->min_depth_ratio < 1.0f) || !(c->ridge >= 0.0f) ||
@@ -293,6 +293,7 @@ static uint32_t seal_of(const wake_hpa_t *h)
     v = mix(v, float_bits(c->tremor_high));
     v = mix(v, float_bits(c->cutoff_low));
     v = mix(v, float_bits(c->cutoff_high));
+    v = mix(v, float_bits(c->shallow_high));
     v = mix(v, float_bits(c->default_cutoff));
     v = mix(v, float_bits(c->min_depth_ratio));
     v = mix(v, float_bits(c->ridge));
@@ -302,7 +303,8 @@ static uint32_t seal_of(const wake_hpa_t *h)
     v = mix(v, (uint32_t)c->warmup[0] | (uint32_t)c->warmup[1] << 16);
     v = mix(v, (uint32_t)c->warmup[2] | (uint32_t)c->warmup[3] << 16);
     v = mix(v, (uint32_t)h->psd_lo | (uint32_t)h->psd_hi << 16);
-    return mix(v, (uint32_t)h->cut_lo | (uint32_t)h->cut_hi << 16);
+    v = mix(v, (uint32_t)h->cut_lo | (uint32_t)h->cut_hi << 16);
+    return mix(v, (uint32_t)h->cut_shallow);
 }
 
 static wake_hpa_status_t check_instance(const wake_hpa_t *h)
@@ -348,6 +350,7 @@ wake_hpa_status_t wake_hpa_default_config(wake_hpa_config_t *cfg)
     cfg->tremor_high = 15.0f;
     cfg->cutoff_low = 0.5f;
     cfg->cutoff_high = 6.0f;
+    cfg->shallow_high = 4.0f;
     cfg->default_cutoff = 2.0f;
     cfg->min_depth_ratio = 0.50118723f;   /* 10^(-3/10) */
     cfg->ridge = 1e-6f;
@@ -355,7 +358,7 @@ wake_hpa_status_t wake_hpa_default_config(wake_hpa_config_t *cfg)
     cfg->window = 500;
     cfg->level = 5;
     cfg->ar_order = 17;
-    cfg->rule = WAKE_HPA_RULE_PAPER;
+    cfg->rule = WAKE_HPA_RULE_SHALLOW;
     cfg->warmup[0] = 200;
     cfg->warmup[1] = 300;
     cfg->warmup[2] = 400;
@@ -393,6 +396,8 @@ wake_hpa_status_t wake_hpa_init(wake_hpa_t *h, const wake_hpa_config_t *cfg, con
     }
     h->cut_lo = (uint16_t)first_bin_at_or_above(h, cfg->cutoff_low);
     h->cut_hi = (uint16_t)last_bin_at_or_below(h, cfg->cutoff_high);
+    h->cut_shallow = (uint16_t)last_bin_at_or_below(h, cfg->shallow_high < cfg->cutoff_high ? cfg->shallow_high
+                                                                                            : cfg->cutoff_high);
     h->seal = seal_of(h);
     h->magic = WAKE_HPA_MAGIC;
     return WAKE_HPA_OK;
@@ -814,11 +819,20 @@ static void step_cutoff(wake_hpa_t *h)
                 if (!shallow) {
                     h->flag = WAKE_HPA_VALLEY;
                     h->cutoff = psd_freq(h, valley);
-                } else if (h->cfg.rule == WAKE_HPA_RULE_SHALLOW) {
-                    h->flag = WAKE_HPA_SHALLOW_VALLEY;
-                    h->cutoff = psd_freq(h, valley);
                 } else {
+                    /* rule shallow: the PSD minimum at or below min(shallow_high, peak), if 3 bins or more */
+                    const unsigned top = h->cut_shallow < h->peak ? h->cut_shallow : h->peak;
                     h->flag = WAKE_HPA_NO_VALLEY;
+                    if (h->cfg.rule == WAKE_HPA_RULE_SHALLOW && top >= h->cut_lo && top - h->cut_lo + 1u >= 3u) {
+                        valley = h->cut_lo;
+                        for (k = h->cut_lo + 1u; k <= top; ++k) { /* wcet-loop: WAKE_HPA_MAX_PSD_BINS */
+                            if (h->den[k] > h->den[valley]) {
+                                valley = k;
+                            }
+                        }
+                        h->flag = WAKE_HPA_SHALLOW_VALLEY;
+                        h->cutoff = psd_freq(h, valley);
+                    }
                 }
             }
         }
@@ -1230,7 +1244,7 @@ static int32_t piece_cost(const wake_hpa_t *h)
         /* order t + 1 (the first piece also clears a[]) */
         return 80 + 12 * ((int32_t)h->t + 1) + (h->t == 0u ? 2 * WAKE_HPA_MAX_ORDER : 0);
     case STEP_CUTOFF:
-        return 400 + 12 * (int32_t)h->cut_hi;
+        return 400 + 12 * (int32_t)h->cut_hi + 6 * (int32_t)h->cut_shallow;
     case STEP_BINS:
         /* the count stops at f_d <= cutoff_high: at most cutoff_high n / fs bins */
         return 450 + 10 * (int32_t)(h->cfg.cutoff_high * ((float)h->n / h->cfg.fs));

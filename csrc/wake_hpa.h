@@ -149,7 +149,7 @@ typedef enum {
     WAKE_HPA_NO_TREMOR_PEAK = 1,  /**< no local PSD maximum in the tremor band: default cut-off */
     WAKE_HPA_NO_VALLEY = 2,       /**< no dip min_depth below both sides: default cut-off */
     WAKE_HPA_SILENT = 3,          /**< constant window (or zero AR error): default cut-off */
-    WAKE_HPA_SHALLOW_VALLEY = 4   /**< rule "shallow": the PSD minimum below the peak */
+    WAKE_HPA_SHALLOW_VALLEY = 4   /**< rule "shallow": the PSD minimum below the peak and shallow_high */
 } wake_hpa_flag_t;
 
 /** Cut-off rules (wake.hpa.CUTOFF_RULES). */
@@ -165,6 +165,8 @@ typedef struct {
     float tremor_high;
     float cutoff_low;           /**< where f_d may lie, Hz: 0 < low <= default <= high < fs/2 */
     float cutoff_high;
+    float shallow_high;         /**< rule shallow: the highest f_d it takes, Hz, >= cutoff_low (4; capped
+                                     at cutoff_high) */
     float default_cutoff;       /**< the fallback f_d, Hz */
     float min_depth_ratio;      /**< 10^(-min_depth_db / 10), in (0, 1): 0.5011872 for 3 dB */
     float ridge;                /**< relative ridge, >= 0 (1e-6) */
@@ -225,6 +227,7 @@ typedef struct {
     uint16_t flag;                /**< cut-off flag of this run */
     uint16_t psd_lo, psd_hi;      /**< PSD bins of the tremor band (set by init) */
     uint16_t cut_lo, cut_hi;      /**< PSD bins of the cut-off range (set by init) */
+    uint16_t cut_shallow;         /**< last PSD bin rule shallow may take, <= cut_hi (set by init) */
     uint16_t attempts;            /**< ridge rises so far */
     int16_t lo, hi;               /**< smallest and largest sample */
     int64_t sum;                  /**< S = sum x */

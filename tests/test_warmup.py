@@ -172,3 +172,38 @@ def test_error_curve_is_the_binned_rms_over_one_range():
         error_curve(truth, est[:-1], fs)
     with pytest.raises(ValueError, match="shorter than one sample"):
         error_curve(truth, est, fs, bin_s=0.001)
+
+
+def test_default_cutoff_rule_lowers_the_synthetic_error(paper_signals):
+    """docs/design.md, "Cut-off on real wear": the condition for the 'shallow' default (whole recording and
+    after 5 s); on this set the gain is small (0.07424 -> 0.07423 whole with the C core)."""
+    now = _slices(paper_signals)
+    paper = _slices(paper_signals, cutoff_rule="paper")
+    uncapped = _slices(paper_signals, shallow_max=6.0)
+    for k in ("whole (from 0.5 s)", "after 5 s"):
+        assert now[k] < paper[k], (k, now[k], paper[k])
+    # the cap is what keeps the synthetic set from losing: without it the rule raises the error
+    assert uncapped["whole (from 0.5 s)"] > paper["whole (from 0.5 s)"]
+
+
+@pytest.mark.skipif(pads_dir() is None, reason=NO_PADS)
+def test_default_cutoff_rule_lowers_the_pads_error_and_leaves_few_windows_on_the_default():
+    from wake.eval.datasets import load_pads_folder
+
+    now, paper, flags = [], [], []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for rec in load_pads_folder(pads_dir()):
+            res = WakeFilter(fs=rec.fs, backend="reference").run(rec.samples)
+            v_paper = WakeFilter(fs=rec.fs, backend="reference", cutoff_rule="paper").run(rec.samples).voluntary
+            flags += [u.cutoff_flag for ch in res.hpa for u in ch]
+            for c in range(rec.samples.shape[1]):
+                _, tremor, _ = independent_ground_truth(rec.samples[:, c], rec.fs)
+                now.append(slice_nrmse(tremor, res.tremor[:, c], rec.fs))
+                paper.append(slice_nrmse(tremor, rec.samples[:, c] - v_paper[:, c], rec.fs))
+    mean = lambda rows, k: float(np.mean([r[k] for r in rows]))  # noqa: E731
+    # the issue's target: at most 30 % of windows on the constant default cut-off (paper rule: 81 %)
+    on_default = sum(f in ("no_valley", "no_tremor_peak", "silent") for f in flags) / len(flags)
+    assert on_default <= 0.30, on_default
+    for k in ("whole (from 0.5 s)", "after 5 s"):
+        assert mean(now, k) < 0.95 * mean(paper, k), k

@@ -48,6 +48,7 @@ LIMITS = {
     "full_scale": (0.0, 1e100),       # exclusive low
     "headroom": (1.0, 1e4),
     "hpa_history_limit": (1, 10**9),
+    "shallow_max": (0.0, 1e5),        # Hz, exclusive low; at least cutoff_range[0] (checked beside it)
 }
 
 
@@ -148,12 +149,16 @@ class WakeConfig:
         Relative ridge of the weight fit.
     tremor_band, cutoff_range, default_cutoff
         Cut-off search, see :func:`wake.hpa.find_cutoff`.
-    cutoff_rule : {"paper", "shallow"}
-        ``"paper"`` (default): a valley 3 dB deep or the default cut-off;
-        ``"shallow"``: the PSD minimum below the tremor peak whenever there
-        is a peak (docs/design.md, "Cut-off on real wear": 23 % instead of
-        81 % of PADS windows on the default, PADS tremor NRMSE 0.104 instead
-        of 0.113, synthetic 0.07427 instead of 0.07424).
+    cutoff_rule : {"shallow", "paper"}
+        ``"paper"``: a valley 3 dB deep or the default cut-off.
+        ``"shallow"`` (default): the same, and where the window has a tremor
+        peak but no 3 dB valley, the PSD minimum below the peak and at or
+        below ``shallow_max`` (docs/design.md, "Cut-off on real wear": 23 %
+        instead of 81 % of PADS windows on the default; whole-recording
+        NRMSE lower on PADS and on the synthetic set).
+    shallow_max : float
+        Highest cut-off the ``"shallow"`` rule takes, Hz (default 4, the
+        lower edge of pathological tremor); at least ``cutoff_range[0]``.
     full_scale : float or None
         C backend: the physical value mapped to the int16 full scale;
         ``None`` chooses it from the signal (see :class:`~wake.WakeFilter`).
@@ -210,7 +215,8 @@ class WakeConfig:
     tremor_band: tuple = (2.5, 15.0)
     cutoff_range: tuple = (0.5, 6.0)
     default_cutoff: float = 2.0
-    cutoff_rule: str = "paper"
+    cutoff_rule: str = "shallow"
+    shallow_max: float = 4.0
     full_scale: float | None = None
     headroom: float = 16.0
     hpa_mode: str = "inline"
@@ -258,6 +264,9 @@ class WakeConfig:
                 or not clo <= float(self.default_cutoff) <= chi:
             raise ValueError(f"default_cutoff must lie in cutoff_range {self.cutoff_range}, got {self.default_cutoff!r}")
         put("default_cutoff", float(self.default_cutoff))
+        put("shallow_max", _number("shallow_max", self.shallow_max, low_open=True))
+        if self.shallow_max < clo:
+            raise ValueError(f"shallow_max must be at least cutoff_range[0] = {clo:g} Hz, got {self.shallow_max!r}")
         if self.full_scale is not None:
             put("full_scale", _number("full_scale", self.full_scale, low_open=True))
         put("headroom", _number("headroom", self.headroom))

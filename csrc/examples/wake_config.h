@@ -82,6 +82,7 @@ static inline wake_hpa_status_t wake_config_hpa_init(wake_hpa_t *hpa)
     c.tremor_high = 15.0f;
     c.cutoff_low = 0.5f;
     c.cutoff_high = 6.0f;
+    c.shallow_high = 4.0f;
     c.default_cutoff = 2.0f;
     c.min_depth_ratio = 0.501187205f;
     c.ridge = 9.99999997e-07f;
@@ -89,7 +90,7 @@ static inline wake_hpa_status_t wake_config_hpa_init(wake_hpa_t *hpa)
     c.window = 500;
     c.level = 5;
     c.ar_order = 17;
-    c.rule = 0;
+    c.rule = 1;
     c.warmup[0] = 200;
     c.warmup[1] = 300;
     c.warmup[2] = 400;

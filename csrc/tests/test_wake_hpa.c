@@ -92,7 +92,7 @@ static void test_bad_input(void)
     {
         wake_hpa_config_t bad;
         int k;
-        for (k = 0; k < 12; ++k) {
+        for (k = 0; k < 14; ++k) {
             bad = c;
             switch (k) {
             case 0: bad.level = 0; break;
@@ -106,6 +106,8 @@ static void test_bad_input(void)
             case 8: bad.warmup[3] = 450; bad.warmup[2] = 0; break; /* a gap in the list */
             case 9: bad.min_depth_ratio = 1.5f; break;
             case 10: bad.ar_order = 250; break;            /* L <= 2p */
+            case 11: bad.shallow_high = 0.25f; break;      /* below cutoff_low */
+            case 12: bad.shallow_high = NAN; break;
             default: bad.rule = 7; break;
             }
             init_default(&hpa);
@@ -146,6 +148,12 @@ static void test_bad_input(void)
     init_default(&hpa);
     hpa.psd_hi = 500;
     CHECK(wake_hpa_run(&hpa) == WAKE_HPA_E_CORRUPT);
+    init_default(&hpa);
+    hpa.cut_shallow = 600;          /* a derived bin: past the PSD the valley search keeps */
+    CHECK(wake_hpa_run(&hpa) == WAKE_HPA_E_CORRUPT);
+    init_default(&hpa);
+    hpa.cfg.shallow_high = 5.0f;
+    CHECK(wake_hpa_slice(&hpa) == WAKE_HPA_E_CORRUPT);
     /* a loop counter out of its range in the middle of a run */
     {
         int k;

@@ -64,6 +64,7 @@ def hpa_config_fields(config: WakeConfig) -> dict:
     points = list(config.hpa_points())[:MAX_WARMUP]
     return {"fs": config.fs, "tremor_low": config.tremor_band[0], "tremor_high": config.tremor_band[1],
             "cutoff_low": config.cutoff_range[0], "cutoff_high": config.cutoff_range[1],
+            "shallow_high": config.shallow_max,
             "default_cutoff": config.default_cutoff, "min_depth_ratio": MIN_DEPTH_RATIO, "ridge": config.ridge,
             "process_noise_ratio": config.process_noise_ratio, "window": config.window_samples,
             "level": config.level, "ar_order": config.ar_order, "rule": CUTOFF_RULES.index(config.cutoff_rule),

@@ -108,7 +108,8 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
     # a warm-up window may be shorter than L: its AR order is capped (window_order)
     freqs, psd = ar_psd(x, fs, window_order(x.size, config.ar_order))
     cutoff, flag = find_cutoff(freqs, psd, tremor_band=config.tremor_band, cutoff_range=config.cutoff_range,
-                               default_cutoff=default_cutoff, rule=config.cutoff_rule)
+                               default_cutoff=default_cutoff, rule=config.cutoff_rule,
+                               shallow_max=config.shallow_max)
     tremor_gt = sharp_highpass(x, fs, cutoff)
     voluntary_gt = x - tremor_gt
     # R: variance of the tremor ground truth, floored at 1e-6 of the window's
