@@ -2,6 +2,7 @@
 
     python bench/warmup_slices.py                  # PADS (if found) and the synthetic set
     python bench/warmup_slices.py --variants       # also WAKE's warm-up variants (docs/design.md)
+    python bench/warmup_slices.py --cutoff-rule shallow   # WAKE with another cut-off rule
 
 PADS: tremor NRMSE of each method against a ground truth independent of
 WAKE (sharp FFT high-pass at the Welch-spectrum valley between 1.5 and 5 Hz
@@ -30,6 +31,7 @@ from wake.eval.datasets import default_pads_dir, load_pads_folder  # noqa: E402
 from wake.eval.evaluate import baseline_methods  # noqa: E402
 from wake.eval.synthetic import paper_dataset  # noqa: E402
 from wake.eval.warmup import SLICES, independent_ground_truth, mean_slices, slice_nrmse  # noqa: E402
+from wake.hpa.cutoff import CUTOFF_RULES  # noqa: E402
 from wake.rtp import c_backend_available  # noqa: E402
 
 #: WAKE variants compared in docs/design.md ("Warm-up"): settings passed to WakeFilter.
@@ -40,24 +42,25 @@ VARIANTS = {
 }
 
 
-def _methods(fs, variants):
+def _methods(fs, variants, rule="paper"):
     backend = "c" if c_backend_available() else "reference"
-    out = {f"WAKE ({backend})": lambda x: WakeFilter(fs=fs, backend=backend).run(x).voluntary}
+    out = {f"WAKE ({backend})": lambda x: WakeFilter(fs=fs, backend=backend, cutoff_rule=rule).run(x).voluntary}
     if variants:
         for name, settings in VARIANTS.items():
-            out[name] = (lambda s: lambda x: WakeFilter(fs=fs, backend=backend, **s).run(x).voluntary)(settings)
+            out[name] = (lambda s: lambda x: WakeFilter(fs=fs, backend=backend, cutoff_rule=rule,
+                                                        **s).run(x).voluntary)(settings)
     for name, m in baseline_methods(fs).items():
         out[name] = (lambda m: lambda x: m.run(x).voluntary)(m)
     out["zero tremor estimate (voluntary = x)"] = lambda x: np.asarray(x, dtype=float)
     return out
 
 
-def pads_table(folder, variants=False):
+def pads_table(folder, variants=False, rule="paper"):
     recs = load_pads_folder(folder)
     scores = {}
     for rec in recs:
         x = rec.samples
-        methods = _methods(rec.fs, variants)
+        methods = _methods(rec.fs, variants, rule)
         vols = {name: f(x) for name, f in methods.items()}
         for c in range(x.shape[1]):
             _, tremor, _ = independent_ground_truth(x[:, c], rec.fs)
@@ -67,11 +70,11 @@ def pads_table(folder, variants=False):
     return scores, f"PADS, {sum(r.samples.shape[1] for r in recs)} recording-axes (tremor NRMSE)"
 
 
-def synthetic_table(variants=False):
+def synthetic_table(variants=False, rule="paper"):
     data = paper_dataset()
     scores = {}
     for s in data:
-        for name, f in _methods(s.fs, variants).items():
+        for name, f in _methods(s.fs, variants, rule).items():
             scores.setdefault(name, []).append(slice_nrmse(s.voluntary, f(s.measurement), s.fs))
     return scores, f"synthetic, {len(data)} signals (voluntary NRMSE)"
 
@@ -90,15 +93,16 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--variants", action="store_true", help="also WAKE's warm-up variants")
     ap.add_argument("--pads", help="PADS folder (default: next to the checkout or $WAKE_PADS_DIR)")
+    ap.add_argument("--cutoff-rule", default="paper", choices=CUTOFF_RULES, help="WAKE's cut-off rule (default: paper)")
     args = ap.parse_args(argv)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         folder = default_pads_dir(args.pads, cwd=ROOT)
         if folder is not None and Path(folder).is_dir():
-            print_table(*pads_table(folder, args.variants))
+            print_table(*pads_table(folder, args.variants, args.cutoff_rule))
         else:
             print("PADS not found (../shared/data/pads or $WAKE_PADS_DIR): real-recording table skipped")
-        print_table(*synthetic_table(args.variants))
+        print_table(*synthetic_table(args.variants, args.cutoff_rule))
 
 
 if __name__ == "__main__":

@@ -5,7 +5,7 @@
  * The run is a sequence of steps; each call of wake_hpa_slice() does one
  * bounded piece of one step and records where it stopped:
  *
- *   STEP_SUMS      S = sum x, min and max                  (chunks of the window)
+ *   STEP_SUMS      S = sum x, T = sum t x, min and max     (chunks of the window)
  *   STEP_LAGS      sum x(t) x(t+d), d < lags                (chunks of one lag)
  *   STEP_LAG_END   centre lag d exactly                     (one slice per lag)
  *   STEP_DIAG      slide lag d's diagonal of Rxx into Rxx B' (chunks of the diagonal)
@@ -16,6 +16,7 @@
  *   STEP_DFT       X_m = sum x_c(t) e^{-j 2 pi m t / n}, two bins per pass (chunks of the window)
  *   STEP_BIN_START X_m and Q_m(0) from the pass's states    (one slice per bin)
  *   STEP_BIN_END   slide bin m over the fit rows into Cxy   (chunks of the 2^J rows)
+ *   STEP_RAMP      the end-point line's ramp into Cxy        (chunks of the 2^J rows)
  *   STEP_GRAM      G = B (Rxx B') + mean terms, b            (one entry G[l][k] per slice)
  *   STEP_SOLVE     (G + lambda I) w = b, raising lambda      (one attempt per slice)
  *
@@ -43,6 +44,7 @@ enum {
     STEP_DFT,
     STEP_BIN_START,
     STEP_BIN_END,
+    STEP_RAMP,
     STEP_GRAM,
     STEP_SOLVE
 };
@@ -128,11 +130,12 @@ static inline unsigned chunk_end(unsigned t, unsigned step, unsigned limit)
  * its budget is its fixed entry cost (the instance check, about 250).
  */
 #define COST_PIECE 60
-#define COST_SUM 15
+#define COST_SUM 22
 #define COST_LAG 5
 #define COST_DFT1 11
 #define COST_DFT2 16
 #define COST_SLIDE 60
+#define COST_RAMP 40
 
 static inline unsigned items(int32_t budget, int32_t cost)
 {
@@ -329,6 +332,7 @@ static wake_hpa_status_t check_instance(const wake_hpa_t *h)
         h->d > h->lags || h->bins > h->n / 2u || h->m > h->bins + 1u || h->pair > 2u ||
         h->psd_end > h->psd_hi + 1u || h->attempts >= WAKE_HPA_RIDGE_STEPS ||
         ((h->phase == STEP_BIN_START || h->phase == STEP_BIN_END) && h->d >= h->pair) ||
+        (h->phase == STEP_RAMP && h->t >= N) ||
         (h->phase == STEP_GRAM && (h->d >= h->cfg.level || h->t > h->d))) {
         return WAKE_HPA_E_CORRUPT;
     }
@@ -358,7 +362,7 @@ wake_hpa_status_t wake_hpa_default_config(wake_hpa_config_t *cfg)
     cfg->window = 500;
     cfg->level = 5;
     cfg->ar_order = 17;
-    cfg->rule = WAKE_HPA_RULE_SHALLOW;
+    cfg->rule = WAKE_HPA_RULE_PAPER;
     cfg->warmup[0] = 200;
     cfg->warmup[1] = 300;
     cfg->warmup[2] = 400;
@@ -417,6 +421,8 @@ static void begin(wake_hpa_t *h, const wake_q15_t *window, uint16_t n, uint32_t 
     h->m = 0;
     h->sum = 0;
     h->prefix_rows = 0;
+    h->tsum = 0;
+    h->tsum_rows = 0;
     h->lo = INT16_MAX;
     h->hi = INT16_MIN;
     h->flag = WAKE_HPA_VALLEY;
@@ -512,28 +518,34 @@ static void finish(wake_hpa_t *h, const float *w, float r, float mse, float ridg
     h->phase = STEP_IDLE;
 }
 
-/** S, min, max over one chunk; a constant window ends the run (weights kept). */
+/** S, T = sum t x(t), min, max over one chunk; a constant window ends the run (weights kept). */
 static int32_t step_sums(wake_hpa_t *h, int32_t budget)
 {
     const unsigned start = h->t, rows = h->rows;
     const unsigned end = chunk_end(h->t, items(budget, COST_SUM), h->n);
     const unsigned split = end < rows ? end : (start > rows ? start : rows);
     const wake_q15_t *x = h->work;
-    /* n <= 1024 samples of |x| <= 2^15: the chunk's sums fit an int32 */
+    /* n <= 1024 samples of |x| <= 2^15: the chunk's sums of x fit an int32; |t x(t)| < 2^25 fits one,
+       their sums (< 2^35) need an int64 */
     int32_t head = 0, all = 0;
+    int64_t thead = 0, tall = 0;
     int16_t lo = h->lo, hi = h->hi;
     unsigned t;
     for (t = start; t < split; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_SUM */
         head += x[t];
+        thead += (int32_t)t * x[t];
     }
     for (t = start; t < end; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_SUM */
         const wake_q15_t v = x[t];
         all += v;
+        tall += (int32_t)t * v;
         lo = v < lo ? v : lo;
         hi = v > hi ? v : hi;
     }
     h->sum += all;
+    h->tsum += tall;
     h->prefix_rows += head;
+    h->tsum_rows += thead;
     h->lo = lo;
     h->hi = hi;
     h->t = (uint16_t)end;
@@ -550,6 +562,7 @@ static int32_t step_sums(wake_hpa_t *h, int32_t budget)
         return (int32_t)(end - start) * (COST_SUM);
     }
     h->mean = (float)h->sum / (float)h->n;
+    h->slope = ((float)x[h->n - 1u] - (float)x[0]) / (float)(h->n - 1u);
     h->t = 0;
     h->phase = STEP_LAGS;
     h->d = 0;
@@ -848,6 +861,7 @@ static void step_bins(wake_hpa_t *h)
     }
     h->bins = (uint16_t)(m - 1u);
     h->power = 0.0f;
+    h->cross = 0.0f;
     memset(h->cxy, 0, sizeof h->cxy);
     memset(h->vhead, 0, sizeof h->vhead);
     h->d = 0;
@@ -856,7 +870,7 @@ static void step_bins(wake_hpa_t *h)
     if (h->bins >= 1u) {
         start_pass(h);
     } else {
-        h->phase = STEP_GRAM;
+        h->phase = STEP_RAMP;
     }
 }
 
@@ -1029,15 +1043,29 @@ static int32_t step_bin_end(wake_hpa_t *h, int32_t budget)
     return (int32_t)(end - start) * COST_SLIDE;
 }
 
-/** X_m and Q_m(0) of the pass's bin h->d from its Reinsch states; the slide's start phasors. */
+/**
+ * X'_m and Q_m(0) of the pass's bin h->d from its Reinsch states; the slide's start phasors.
+ * The truth is the low bins of x minus its end-point line (wake.hpa.sharp.detrended_highpass):
+ * the line's ramp slope t has the DFT R_m = sum t e^{-j w t} = -n/2 + j (n/2) cot(w/2) (m != 0),
+ * so its bins are X'_m = X_m - slope R_m, and the ramp itself goes back into the targets in STEP_RAMP.
+ */
 static void step_bin_start(wake_hpa_t *h)
 {
     const unsigned n = h->n, rows = h->rows, N = 1u << h->cfg.level, b = h->d, m = h->m + b;
-    float cw, sw;
+    const float half_n = 0.5f * (float)n;
+    float cw, sw, ch, sh, rr, ri;
     unit_phasor(2u * m, n, &cw, &sw);   /* e^{j w}, w = 2 pi m / n <= pi */
     reinsch_value(h->gs[b], h->gd[b], h->lam[b], cw, sw, (m * (n - 1u)) % n, n, &h->xr, &h->xi);
     reinsch_value(h->hs[b], h->hd[b], h->lam[b], cw, sw, (m * (rows - 1u)) % n, n, &h->qr, &h->qi);
+    unit_phasor(m, n, &ch, &sh);        /* w / 2 in (0, pi/2): sh > 0 */
+    rr = -half_n;
+    ri = half_n * ch / sh;
+    /* X' = X - slope R */
+    h->xr -= h->slope * rr;
+    h->xi -= h->slope * ri;
     h->power += h->xr * h->xr + h->xi * h->xi;
+    /* Re(X' conj(R)) */
+    h->cross += h->xr * rr + h->xi * ri;
     h->rot[0] = cw;
     h->rot[1] = sw;
     turn((N * m) % n, n, &h->ph[0], &h->ph[1]);
@@ -1062,8 +1090,42 @@ static void next_bin(wake_hpa_t *h)
     if (h->m <= h->bins) {
         start_pass(h);
     } else {
+        h->phase = STEP_RAMP;
+    }
+}
+
+/**
+ * One chunk of the end-point line's ramp r(t) = t - (n-1)/2 into the targets
+ * (wake.hpa.sharp.detrended_highpass; the low bins already hold X' = X - slope R):
+ *   Cxy(i) += slope sum_{u < rows} x_c(i + u) r(i + u + N - i) = slope (U(i) + (N - (n-1)/2) wsum(i))
+ *   vhead(i) += slope r(i)
+ * with U(i) = sum_{u < rows} u x_c(i + u), U(0) = sum_{t < rows} t x(t) - mu rows (rows-1) / 2 from the
+ * exact sum, and U(i+1) = U(i) + rows x_c(i + rows) - wsum(i + 1).
+ */
+static int32_t step_ramp(wake_hpa_t *h, int32_t budget)
+{
+    const unsigned n = h->n, rows = h->rows, N = 1u << h->cfg.level;
+    const unsigned start = h->t, end = chunk_end(start, items(budget, COST_RAMP), N);
+    const float slope = h->slope, mu = h->mean, fr = (float)rows;
+    const float lead = (float)N - 0.5f * (float)(n - 1u), centre = 0.5f * (float)(n - 1u);
+    const wake_q15_t *x = h->work;
+    float u = start == 0u ? int64_to_float(h->tsum_rows) - mu * (0.5f * fr * (fr - 1.0f)) : h->ramp_u;
+    unsigned i;
+    for (i = start; i < end; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
+        h->cxy[i] += slope * (u + lead * h->wsum[i]);
+        h->vhead[i] += slope * ((float)i - centre);
+        if (i + 1u < N) {
+            u += fr * ((float)x[i + rows] - mu) - h->wsum[i + 1u];
+        }
+    }
+    h->ramp_u = u;
+    h->t = (uint16_t)end;
+    if (end == N) {
+        h->t = 0;
+        h->d = 0;
         h->phase = STEP_GRAM;
     }
+    return (int32_t)(end - start) * COST_RAMP;
 }
 
 /**
@@ -1071,8 +1133,13 @@ static void next_bin(wake_hpa_t *h)
  * window mean mu, A = A_c + mu 1 s' (s = row sums of B) and y = y_c + mu 1:
  *   G  = B (Rxx B') + mu (c s' + s c') + rows mu^2 s s',   c = A_c'1 = B wsum
  *   b  = B Cxy + mu c + mu sy s + rows mu^2 s,             sy = 1'y_c = -sum vhead
- *   y'y = (2/n) sum |X_m|^2 - sum vhead^2 + 2 mu sy + rows mu^2
- *   R  = max(var x - (2/n^2) sum |X_m|^2, 1e-6 var x)
+ * The centred target is v_c(t) = F(t) + slope r(t): F the low bins X' of x_c
+ * minus the end-point line, r(t) = t - (n-1)/2 the line's ramp (STEP_RAMP has
+ * put the ramp's part into Cxy and vhead), and with sum F = sum r = 0,
+ * sum r^2 = n (n^2-1)/12:
+ *   y'y = (2/n) (sum |X'_m|^2 + 2 slope sum Re X'_m conj R_m) + slope^2 sum r^2
+ *         - sum vhead^2 + 2 mu sy + rows mu^2
+ *   R  = max((sum x_c^2 - 2 slope sum x_c r + slope^2 sum r^2 - (2/n) sum |X'_m|^2) / n, 1e-6 var x)
  */
 static void step_gram(wake_hpa_t *h)
 {
@@ -1121,11 +1188,16 @@ static void step_gram(wake_hpa_t *h)
         return;
     }
     {
-        const float fn = (float)h->n;
+        const float fn = (float)h->n, slope = h->slope;
         const float sum_sq = h->r[0] / (fn * fn);             /* sum x_c^2 */
         const float var = sum_sq / fn;
-        h->yy = h->power * (2.0f / fn) - h->vv + 2.0f * mu * h->sy + fr * mu * mu;
-        h->noise = max_f((sum_sq - h->power * (2.0f / fn)) / fn, 1e-6f * var);
+        const float ramp_sq = fn * (fn * fn - 1.0f) / 12.0f;  /* sum r^2 */
+        /* sum x_c r = T - (n-1) S / 2, exact as 2T - (n-1) S */
+        const float x_ramp = 0.5f * int64_to_float(2 * h->tsum - (int64_t)(h->n - 1u) * h->sum);
+        const float line_sq = slope * slope * ramp_sq;
+        h->yy = (h->power + 2.0f * slope * h->cross) * (2.0f / fn) + line_sq - h->vv + 2.0f * mu * h->sy +
+                fr * mu * mu;
+        h->noise = max_f((sum_sq - 2.0f * slope * x_ramp + line_sq - h->power * (2.0f / fn)) / fn, 1e-6f * var);
         h->scale = h->trace / (float)J;
         h->factor = h->cfg.ridge;
         h->attempts = 0;
@@ -1266,6 +1338,8 @@ static int32_t piece_cost(const wake_hpa_t *h)
         return cost_psd_bin(h);
     case STEP_DFT:
         return h->pair == 2u ? COST_DFT2 : COST_DFT1;
+    case STEP_RAMP:
+        return COST_RAMP;
     default: /* STEP_BIN_END */
         return COST_SLIDE;
     }
@@ -1287,6 +1361,8 @@ static int32_t run_step(wake_hpa_t *h, int32_t budget, int32_t fixed)
         return step_dft(h, budget);
     case STEP_BIN_END:
         return step_bin_end(h, budget);
+    case STEP_RAMP:
+        return step_ramp(h, budget);
     case STEP_LAG_END:
         step_lag_end(h);
         break;

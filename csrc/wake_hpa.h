@@ -232,6 +232,8 @@ typedef struct {
     int16_t lo, hi;               /**< smallest and largest sample */
     int64_t sum;                  /**< S = sum x */
     int64_t prefix_rows;          /**< sum of x[0 .. rows-1] */
+    int64_t tsum;                 /**< T = sum t x(t) (the end-point line's cross term) */
+    int64_t tsum_rows;            /**< sum t x(t) over t < rows */
     int64_t prefix_lo;            /**< P(d) = sum x[0 .. d-1] */
     int64_t prefix_hi;            /**< P(rows + d) */
     int64_t suffix;               /**< sum x[n-d .. n-1] */
@@ -245,7 +247,10 @@ typedef struct {
     float hs[2], hd[2];           /**< the states at t = rows */
     float rot[2];                 /**< cos w, sin w of the bin being slid */
     float ph[6];                  /**< its phasors e^{j w (N - i)}, e^{j w i}, e^{j w (rows + i)} */
-    float power;                  /**< sum over bins of |X_m|^2 */
+    float power;                  /**< sum over bins of |X'_m|^2 (X' = X - slope R: the line taken out) */
+    float cross;                  /**< sum over bins of Re(X'_m conj(R_m)), R_m = sum t e^{-j w t} */
+    float slope;                  /**< (x(n-1) - x(0)) / (n - 1): the window's end-point line, LSB per sample */
+    float ramp_u;                 /**< STEP_RAMP's U(i) between slices */
     float prev1, prev2;           /**< D of the two previous PSD bins */
     float err;                    /**< Levinson prediction error */
     float den_peak;               /**< D at the tremor peak */

@@ -174,36 +174,49 @@ def test_error_curve_is_the_binned_rms_over_one_range():
         error_curve(truth, est, fs, bin_s=0.001)
 
 
-def test_default_cutoff_rule_lowers_the_synthetic_error(paper_signals):
-    """docs/design.md, "Cut-off on real wear": the condition for the 'shallow' default (whole recording and
-    after 5 s); on this set the gain is small (0.07424 -> 0.07423 whole with the C core)."""
-    now = _slices(paper_signals)
-    paper = _slices(paper_signals, cutoff_rule="paper")
-    uncapped = _slices(paper_signals, shallow_max=6.0)
-    for k in ("whole (from 0.5 s)", "after 5 s"):
-        assert now[k] < paper[k], (k, now[k], paper[k])
-    # the cap is what keeps the synthetic set from losing: without it the rule raises the error
-    assert uncapped["whole (from 0.5 s)"] > paper["whole (from 0.5 s)"]
+def test_shallow_rule_is_an_option_because_it_costs_the_synthetic_set(paper_signals):
+    """docs/design.md, "Cut-off on real wear": with the detrended truth the capped 'shallow' rule raises the
+    synthetic whole-recording error a little (0.07390 -> 0.07396 with the C core), so 'paper' stays the
+    default; the 4 Hz cap makes the option better than the uncapped minimum."""
+    default = _slices(paper_signals)
+    capped = _slices(paper_signals, cutoff_rule="shallow")
+    uncapped = _slices(paper_signals, cutoff_rule="shallow", shallow_max=6.0)
+    assert capped["whole (from 0.5 s)"] > default["whole (from 0.5 s)"]
+    assert capped["whole (from 0.5 s)"] < 1.005 * default["whole (from 0.5 s)"]   # small: under 0.5 %
+    assert capped["whole (from 0.5 s)"] < uncapped["whole (from 0.5 s)"]
 
 
 @pytest.mark.skipif(pads_dir() is None, reason=NO_PADS)
-def test_default_cutoff_rule_lowers_the_pads_error_and_leaves_few_windows_on_the_default():
+def test_shallow_rule_lowers_the_pads_error_and_leaves_few_windows_on_the_default():
     from wake.eval.datasets import load_pads_folder
 
-    now, paper, flags = [], [], []
+    shallow, paper, flags = [], [], []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         for rec in load_pads_folder(pads_dir()):
-            res = WakeFilter(fs=rec.fs, backend="reference").run(rec.samples)
-            v_paper = WakeFilter(fs=rec.fs, backend="reference", cutoff_rule="paper").run(rec.samples).voluntary
+            res = WakeFilter(fs=rec.fs, backend="reference", cutoff_rule="shallow").run(rec.samples)
+            v_paper = WakeFilter(fs=rec.fs, backend="reference").run(rec.samples).voluntary
             flags += [u.cutoff_flag for ch in res.hpa for u in ch]
             for c in range(rec.samples.shape[1]):
                 _, tremor, _ = independent_ground_truth(rec.samples[:, c], rec.fs)
-                now.append(slice_nrmse(tremor, res.tremor[:, c], rec.fs))
+                shallow.append(slice_nrmse(tremor, res.tremor[:, c], rec.fs))
                 paper.append(slice_nrmse(tremor, rec.samples[:, c] - v_paper[:, c], rec.fs))
     mean = lambda rows, k: float(np.mean([r[k] for r in rows]))  # noqa: E731
     # the issue's target: at most 30 % of windows on the constant default cut-off (paper rule: 81 %)
     on_default = sum(f in ("no_valley", "no_tremor_peak", "silent") for f in flags) / len(flags)
     assert on_default <= 0.30, on_default
     for k in ("whole (from 0.5 s)", "after 5 s"):
-        assert mean(now, k) < 0.95 * mean(paper, k), k
+        assert mean(shallow, k) < 0.95 * mean(paper, k), k
+
+
+def test_detrended_truth_lowers_the_synthetic_error(paper_signals, monkeypatch):
+    """docs/design.md, "Tremor ground truth of a window": the end-point line taken out before the sharp
+    high-pass lowers the error after 2 s and over the whole recording (0.07424 -> 0.07390 with the C core)."""
+    import wake.hpa.run as hpa_run
+    from wake.hpa.sharp import sharp_highpass
+
+    detrended = _slices(paper_signals)
+    monkeypatch.setattr(hpa_run, "detrended_highpass", sharp_highpass)
+    plain = _slices(paper_signals)
+    for k in ("2-5 s", "after 5 s", "whole (from 0.5 s)"):
+        assert detrended[k] < plain[k], (k, detrended[k], plain[k])

@@ -90,7 +90,7 @@ static inline wake_hpa_status_t wake_config_hpa_init(wake_hpa_t *hpa)
     c.window = 500;
     c.level = 5;
     c.ar_order = 17;
-    c.rule = 1;
+    c.rule = 0;
     c.warmup[0] = 200;
     c.warmup[1] = 300;
     c.warmup[2] = 400;

@@ -46,7 +46,7 @@ def test_shallow_dip_is_not_a_valley():
     fd, flag = find_cutoff(f, psd, rule="paper")
     assert flag in ("no_valley", "no_tremor_peak") and fd == 2.0
     # the shallow rule takes the floor's minimum instead, never above shallow_max
-    fd, flag = find_cutoff(f, psd)
+    fd, flag = find_cutoff(f, psd, rule="shallow")
     assert flag == "shallow_valley" and 0.5 <= fd <= 4.0
 
 
@@ -69,16 +69,16 @@ def test_shallow_rule_stops_at_shallow_max():
     f = np.linspace(0, 50, 1023)
     # voluntary content, a shallow dip at 5 Hz, a tremor peak at 8 Hz
     psd = 1.0 + 2.0 * np.exp(-f / 0.5) - 0.2 * np.exp(-((f - 5) ** 2) / 0.5) + 0.3 * np.exp(-((f - 8) ** 2) / 0.5)
-    fd6, flag6 = find_cutoff(f, psd, shallow_max=6.0)
+    fd6, flag6 = find_cutoff(f, psd, rule="shallow", shallow_max=6.0)
     assert flag6 == "shallow_valley" and abs(fd6 - 5.0) < 0.1
-    fd, flag = find_cutoff(f, psd)
+    fd, flag = find_cutoff(f, psd, rule="shallow")
     low = (f >= 0.5) & (f <= 4.0)
     assert flag == "shallow_valley" and fd == f[low][np.argmin(psd[low])] and fd <= 4.0
     # the deep valley of the paper rule is not capped
     deep = np.exp(-f / 0.4) + 0.1 * np.exp(-((f - 9) ** 2) / 2)
-    assert find_cutoff(f, deep, shallow_max=1.0) == find_cutoff(f, deep, rule="paper")
+    assert find_cutoff(f, deep, rule="shallow", shallow_max=1.0) == find_cutoff(f, deep, rule="paper")
     # fewer than 3 bins from cutoff_range[0] up to shallow_max: the default, flagged no_valley
-    assert find_cutoff(f, psd, shallow_max=0.5) == (2.0, "no_valley")
+    assert find_cutoff(f, psd, rule="shallow", shallow_max=0.5) == (2.0, "no_valley")
     for bad in (0.25, float("nan"), "4", True):
         with pytest.raises(ValueError, match="shallow_max"):
             find_cutoff(f, psd, shallow_max=bad)
@@ -86,11 +86,11 @@ def test_shallow_rule_stops_at_shallow_max():
         WakeConfig(shallow_max=0.25)
 
 
-def test_the_shallow_rule_is_the_default():
-    """docs/design.md, "Cut-off on real wear": 'shallow' with shallow_max = 4 Hz leaves 23 % of PADS windows on
-    the default (paper rule: 81 %) and lowers the whole-recording error on PADS and on the synthetic set, the
-    condition we set for a default (bench/cutoff_rules.py measures it; tests/test_warmup.py pins the scores)."""
-    assert (WakeConfig().cutoff_rule, WakeConfig().shallow_max) == ("shallow", 4.0)
+def test_the_paper_rule_stays_the_default():
+    """docs/design.md, "Cut-off on real wear": with the HPA's detrended truth the capped 'shallow' rule lowers
+    the PADS error but raises the synthetic one (0.07396 against 0.07390), so by the condition we set for a
+    default it is an option (tests/test_warmup.py pins the scores)."""
+    assert (WakeConfig().cutoff_rule, WakeConfig().shallow_max) == ("paper", 4.0)
     assert CUTOFF_FLAGS["shallow_valley"].startswith("rule 'shallow'")
 
 
@@ -127,8 +127,12 @@ def test_hpa_on_synthetic_window():
     upd = run_hpa(s.measurement[:500], CONFIG, taps=TAPS)
     assert upd.cutoff_flag == "valley"
     assert 1.0 < upd.cutoff < 6.0
-    tremor_gt = sharp_highpass(s.measurement[:500], FS, upd.cutoff)
+    # the truth is the sharp high-pass of the window minus its end-point line
+    x = s.measurement[:500]
+    line = x[0] + (x[-1] - x[0]) * np.arange(500) / 499
+    tremor_gt = sharp_highpass(x - line, FS, upd.cutoff)
     assert upd.measurement_noise == pytest.approx(np.var(tremor_gt))
+    assert upd.measurement_noise != pytest.approx(np.var(sharp_highpass(x, FS, upd.cutoff)), rel=1e-3)
     assert upd.weights.shape == (5,) and np.all(np.isfinite(upd.weights))
     # the causal fit predicts the voluntary ground truth better than no weights at all
     assert upd.fit_error < 0.5 * np.std(s.voluntary[:500])

@@ -5,8 +5,9 @@ One HPA run takes the last ``L`` samples and returns what the RTP needs:
 S1. :func:`wake.hpa.spectrum.ar_psd`, the Yule-Walker spectrum of the window;
 S2. :func:`find_cutoff`, the cut-off ``f_d`` at the valley between the
     voluntary and the tremor band (with a documented fallback);
-    :func:`wake.hpa.sharp.sharp_highpass` then gives the tremor ground truth and
-    ``R``, its variance;
+    :func:`wake.hpa.sharp.detrended_highpass` (the paper's sharp FFT
+    high-pass, after the line through the window's end points is taken out)
+    then gives the tremor ground truth and ``R``, its variance;
 S3. the ``J`` wavelet approximations (:mod:`wake.wavelets`);
 S4. :func:`fit_weights`, the weights ``w`` that minimise the paper's error
     ``e_L``.
@@ -28,7 +29,7 @@ import numpy as np
 from wake.config import WakeConfig
 from wake.hpa.cutoff import find_cutoff
 from wake.hpa.fit import default_weights, fit_weights
-from wake.hpa.sharp import sharp_highpass
+from wake.hpa.sharp import detrended_highpass
 from wake.hpa.spectrum import ar_psd, window_order
 from wake.wavelets import filter_bank_outputs, filter_bank_taps, wavelet_approximations
 
@@ -110,7 +111,8 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
     cutoff, flag = find_cutoff(freqs, psd, tremor_band=config.tremor_band, cutoff_range=config.cutoff_range,
                                default_cutoff=default_cutoff, rule=config.cutoff_rule,
                                shallow_max=config.shallow_max)
-    tremor_gt = sharp_highpass(x, fs, cutoff)
+    # the window's end-point line is voluntary: taken out first, it leaves no seam in the FFT
+    tremor_gt = detrended_highpass(x, fs, cutoff)
     voluntary_gt = x - tremor_gt
     # R: variance of the tremor ground truth, floored at 1e-6 of the window's
     # variance so that a window with no tremor still gives S = w'Pw + R > 0.

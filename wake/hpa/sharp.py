@@ -6,7 +6,7 @@ import numpy as np
 
 from wake._validation import check_positive
 
-__all__ = ["sharp_highpass"]
+__all__ = ["sharp_highpass", "end_point_line", "detrended_highpass"]
 
 
 def sharp_highpass(x, fs, cutoff):
@@ -48,3 +48,44 @@ def sharp_highpass(x, fs, cutoff):
     keep = np.fft.rfftfreq(n, 1.0 / fs) > cutoff
     spectrum[~keep] = 0.0
     return np.fft.irfft(spectrum, n, axis=0)
+
+
+def end_point_line(x):
+    """The line through the first and the last sample of ``x`` (1-D), sample by sample.
+
+    Examples
+    --------
+    >>> from wake.hpa.sharp import end_point_line
+    >>> end_point_line([1.0, 5.0, -2.0, 4.0]).tolist()
+    [1.0, 2.0, 3.0, 4.0]
+    """
+    x = np.asarray(x, dtype=float)
+    if x.ndim != 1 or x.size < 2:
+        raise ValueError(f"need a 1-D window of at least 2 samples, got shape {x.shape}")
+    return x[0] + (x[-1] - x[0]) * (np.arange(x.size) / (x.size - 1))
+
+
+def detrended_highpass(x, fs, cutoff):
+    """:func:`sharp_highpass` of ``x`` minus the line through its end points: the HPA's tremor ground truth.
+
+    The FFT treats the window as one period of a periodic signal.  A window
+    that ends higher than it starts (a voluntary movement in progress) then
+    has a jump at the seam, and the jump's high-frequency content would land
+    in the tremor truth at both ends of the window, where the causal fit's
+    newest rows are.  The line through the first and last samples is
+    voluntary by definition; taking it out first removes the jump
+    (docs/design.md, "Tremor ground truth of a window").
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wake.hpa.sharp import detrended_highpass, sharp_highpass
+    >>> t = np.arange(500) / 100.0
+    >>> ramp = 0.5 * t                                   # voluntary drift, no tremor
+    >>> float(np.abs(sharp_highpass(ramp, 100.0, 2.0)).max()) > 0.5
+    True
+    >>> float(np.abs(detrended_highpass(ramp, 100.0, 2.0)).max()) < 1e-12
+    True
+    """
+    x = np.asarray(x, dtype=float)
+    return sharp_highpass(x - end_point_line(x), fs, cutoff)
