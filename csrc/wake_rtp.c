@@ -50,6 +50,16 @@
 #define WAKE_RTP_NOINLINE
 #endif
 
+/* Functions that run once per HPA, reset or state load, never per sample.
+ * clang optimises them for size: at -O2 it unrolls their loops over the J
+ * levels into about twice gcc's code (bench/clang_cost.py); gcc builds them
+ * as the rest.  The per-sample path is not marked. */
+#if defined(__clang__)
+#define WAKE_RTP_COLD __attribute__((minsize))
+#else
+#define WAKE_RTP_COLD
+#endif
+
 /* The ring is 4-byte aligned inside the struct (prime_window stores words). */
 typedef char wake_rtp_ring_is_aligned[(offsetof(wake_rtp_t, ring) % 4u == 0u) ? 1 : -1];
 
@@ -318,7 +328,7 @@ static wake_rtp_status_t check_instance(const wake_rtp_t *s)
     return st;
 }
 
-static wake_rtp_status_t check_weights(const wake_q24_t *weights, unsigned level, wake_cov_t r, wake_cov_t q)
+WAKE_RTP_COLD static wake_rtp_status_t check_weights(const wake_q24_t *weights, unsigned level, wake_cov_t r, wake_cov_t q)
 {
     if (weights == NULL) {
         return WAKE_RTP_E_NULL;
@@ -352,7 +362,7 @@ static uint64_t weight_norm2(const wake_q24_t *w, unsigned J)
 }
 
 /** floor(sqrt(v)), bit by bit (rebuild only, never in the per-sample path). */
-static uint32_t isqrt64(uint64_t v)
+WAKE_RTP_COLD static uint32_t isqrt64(uint64_t v)
 {
     uint64_t res = 0;
     uint64_t bit = (uint64_t)1 << 62;
@@ -376,7 +386,7 @@ static uint32_t isqrt64(uint64_t v)
  * P_ii >= 0 and |P_ij| <= sqrt(P_ii P_jj) (symmetric J x J, stride J).
  * Runs in the rebuild (once per weight update), never per sample.
  */
-static void covariance_guard(wake_cov_t *P, unsigned J, uint32_t *events)
+WAKE_RTP_COLD static void covariance_guard(wake_cov_t *P, unsigned J, uint32_t *events)
 {
     unsigned i, j;
     for (i = 0; i < J; ++i) {
@@ -412,7 +422,7 @@ typedef struct {
  * g = P_s w,  s = w'g,  v = (g - (s/|w|^2) w) / b,  z = w'd_s.  Deterministic:
  * the rebuild and every later materialisation get the same values.
  */
-static void snapshot_terms(const wake_rtp_t *s, snapshot_t *out, uint32_t *ev)
+WAKE_RTP_COLD static void snapshot_terms(const wake_rtp_t *s, snapshot_t *out, uint32_t *ev)
 {
     unsigned i, j, J = s->level;
     const wake_q24_t *w = s->weights;
@@ -477,7 +487,7 @@ static void snapshot_terms(const wake_rtp_t *s, snapshot_t *out, uint32_t *ev)
  * fixes the others.  Where rounding or saturation left P indefinite, the
  * guard restores P_ii >= 0 and |P_ij| <= sqrt(P_ii P_jj) (counted).
  */
-static void materialise(const wake_rtp_t *s, wake_q23_t *d, wake_cov_t *P, uint32_t *events, uint32_t *guarded)
+WAKE_RTP_COLD static void materialise(const wake_rtp_t *s, wake_q23_t *d, wake_cov_t *P, uint32_t *events, uint32_t *guarded)
 {
     /* The coefficients carry XF extra fraction bits: they are multiplied by
      * weights up to 64, whose products w_i w_j would otherwise amplify their
@@ -550,7 +560,7 @@ static inline wake_fir_t fir_tap(int32_t h)
     return t;
 }
 
-static void rebuild(wake_rtp_t *s, const wake_q23_t *d, const wake_cov_t *P)
+WAKE_RTP_COLD static void rebuild(wake_rtp_t *s, const wake_q23_t *d, const wake_cov_t *P)
 {
     unsigned i, j, J = s->level, N = s->n_taps;
     const wake_q24_t *w = s->weights;
@@ -600,7 +610,7 @@ static void rebuild(wake_rtp_t *s, const wake_q23_t *d, const wake_cov_t *P)
 /* Configuration                                                           */
 /* ---------------------------------------------------------------------- */
 
-wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const wake_q15_t *taps,
+WAKE_RTP_COLD wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const wake_q15_t *taps,
                                 const wake_q24_t *weights, wake_cov_t r, wake_cov_t q, wake_cov_t p0)
 {
     wake_rtp_status_t st;
@@ -650,7 +660,7 @@ wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const wake_q15_t *taps
     return wake_rtp_reset(s);
 }
 
-wake_rtp_status_t wake_rtp_set_weights(wake_rtp_t *s, const wake_q24_t *weights, wake_cov_t r, wake_cov_t q)
+WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_weights(wake_rtp_t *s, const wake_q24_t *weights, wake_cov_t r, wake_cov_t q)
 {
 #if WAKE_RTP_KALMAN
     wake_q23_t d[WAKE_RTP_MAX_LEVEL];
@@ -678,7 +688,7 @@ wake_rtp_status_t wake_rtp_set_weights(wake_rtp_t *s, const wake_q24_t *weights,
     return WAKE_RTP_OK;
 }
 
-wake_rtp_status_t wake_rtp_reset(wake_rtp_t *s)
+WAKE_RTP_COLD wake_rtp_status_t wake_rtp_reset(wake_rtp_t *s)
 {
     unsigned i, J;
     wake_rtp_status_t st = check_instance(s);
@@ -701,7 +711,7 @@ wake_rtp_status_t wake_rtp_reset(wake_rtp_t *s)
     return WAKE_RTP_OK;
 }
 
-wake_rtp_status_t wake_rtp_get_state(const wake_rtp_t *s, wake_q23_t *correction, wake_cov_t *covariance)
+WAKE_RTP_COLD wake_rtp_status_t wake_rtp_get_state(const wake_rtp_t *s, wake_q23_t *correction, wake_cov_t *covariance)
 {
     uint32_t ignored = 0u;
     wake_rtp_status_t st = check_instance(s);
@@ -977,7 +987,7 @@ wake_rtp_status_t wake_rtp_run(wake_rtp_t *s, const wake_q15_t *in, wake_q15_t *
     return WAKE_RTP_OK;
 }
 
-wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q15_t *window,
+WAKE_RTP_COLD wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q15_t *window,
                                       const wake_q23_t *correction, const wake_cov_t *covariance,
                                       wake_q23_t last_output)
 {
