@@ -302,16 +302,20 @@ static int weights_in_range(const wake_q24_t *weights, unsigned level)
 /** The structural fields: what wake_rtp_step indexes with or branches on. */
 static wake_rtp_status_t check_structure(const wake_rtp_t *s)
 {
+    uint32_t live;
     if (s == NULL) {
         return WAKE_RTP_E_NULL;
     }
     if (s->magic != WAKE_RTP_MAGIC) {
         return WAKE_RTP_E_UNINIT;
     }
+    /* an inert instance has q = 0 and a zero covariance; tested without a branch on inert, so
+       that an inert and a live instance pay the same (the step's cost does not depend on it) */
+    live = (uint32_t)(s->q != 0) | (uint32_t)(s->s != 0) | (uint32_t)(s->b != 0);
     if (s->level < 1u || s->level > (unsigned)WAKE_RTP_MAX_LEVEL
         || s->n_taps != (uint16_t)(1u << s->level) || s->head >= s->n_taps
         || s->primed > 1u || s->taps == NULL || s->r <= 0 || s->q < 0 || s->p0 < 0
-        || s->inert > 1u || (s->inert != 0u && (s->q != 0 || s->s != 0 || s->b != 0))
+        || s->inert > 1u || (s->inert & live) != 0u
         || (!WAKE_RTP_KALMAN && s->inert != 1u)) {
         return WAKE_RTP_E_CORRUPT;
     }

@@ -15,10 +15,13 @@ How it works (``docs/profiling.md`` has the details and the tables):
    comes from the source: every loop of the per-sample path carries a comment
    ``/* wcet-loop: EXPR */`` on one of its lines, ``EXPR`` in ``N`` (= 2^J)
    and ``J``; the instructions of the loop are mapped to their source lines
-   with ``addr2line``.  A loop without an annotation is an error.  The header
-   runs at most ``B + 1`` times when it can leave the loop (test at the top),
-   else ``B`` times; the bound is ``(H - 1) * (longest header -> back edge)
-   + (longest header -> exit)``, loops collapsed innermost first.
+   with ``addr2line``.  A loop without an annotation is an error.  ``B``
+   counts iterations of the body.  The header runs at most ``B + 1`` times
+   when it can leave the loop before the rest of the body (test at the top),
+   else ``B`` times (a one-block loop that tests at its end, the shape gcc
+   gives ``for`` loops with a guard and ``do``-``while`` loops); the bound is
+   ``(H - 1) * (longest header -> back edge) + (longest header -> exit)``,
+   loops collapsed innermost first.
 3. Instructions inside an IT block whose condition fails are counted (the
    core issues them); the measured counts are taken the same way.
 4. ``exclude`` names functions whose calls cost nothing: the inert bound
@@ -353,7 +356,11 @@ class _Analyser:
                     elif v is None or v not in body:
                         c_exit = [max(c_exit[0], dist[u][0] + en), max(c_exit[1], dist[u][1] + ec)]
                         header_exits |= u == h
-            runs = trips + 1 if header_exits else trips
+            # The header tests at the top (it runs B + 1 times) only if it can leave before the rest of the
+            # body.  A header that is its own latch (one block that ends in the test branching back to
+            # itself) leaves only after a whole iteration: B times.
+            self_latch = any(v == h for v, _ in edges[h])
+            runs = trips + 1 if header_exits and not self_latch else trips
             cost = ((runs - 1) * c_back[0] + c_exit[0], (runs - 1) * c_back[1] + c_exit[1])
             exits = {v for u in body for v, _ in edges[u] if v is None or v not in body}
             # the loop becomes one node: entered at h, leaving to its exits (costs already inside)
