@@ -149,3 +149,25 @@ def test_out_of_range_numbers_exit_2_with_one_line(argv, message, recording, tmp
     assert main(argv) == 2
     err = capsys.readouterr().err.strip()
     assert message in err and "Traceback" not in err and len(err.splitlines()) == 1
+
+
+def test_run_takes_the_cutoff_rule_and_reports_the_flags(tmp_path, capsys):
+    from wake import WakeFilter
+
+    # a high-SNR signal whose windows have a tremor peak but no 3 dB valley: the two rules differ
+    s = make_signal(20.9, seed=1, duration=12.0)
+    path = tmp_path / "rec.csv"
+    np.savetxt(path, s.measurement[:, None], delimiter=",", header="a", comments="")
+    seen = {}
+    for rule in ("paper", "shallow"):
+        out = tmp_path / f"{rule}.csv"
+        assert main(["run", str(path), "--fs", "100", "--out", str(out), "--cutoff-rule", rule]) == 0
+        line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith(f"cut-off rule {rule}:"))
+        written = np.loadtxt(out, delimiter=",", skiprows=1)
+        want = WakeFilter(fs=100, cutoff_rule=rule).run(written[:, 1])
+        flags = [u.cutoff_flag for u in want.hpa[0]]
+        for flag in set(flags):
+            assert f"{flag} {flags.count(flag)}" in line
+        np.testing.assert_allclose(written[:, 2], want.voluntary, rtol=1e-6, atol=1e-9)
+        seen[rule] = set(flags)
+    assert "no_valley" in seen["paper"] and "shallow_valley" in seen["shallow"]

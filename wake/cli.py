@@ -20,6 +20,10 @@ def add_filter_arguments(p: argparse.ArgumentParser) -> None:
     g.add_argument("--ar-order", type=int, default=17, help="Yule-Walker order p (default: 17)")
     g.add_argument("--backend", choices=("c", "reference"), default=None,
                    help="RTP backend (default: c when the compiled core is present, else reference)")
+    g.add_argument("--cutoff-rule", choices=("paper", "shallow"), default="paper",
+                   help="how the HPA finds f_d: 'paper' (default) a 3 dB valley or 2 Hz; 'shallow' also a "
+                        "shallower dip below a tremor peak, at or below 4 Hz (for real wear: on PADS 23 %% "
+                        "instead of 81 %% of windows on 2 Hz; docs/design.md)")
 
 
 def make_filter(args, fs, **settings):
@@ -28,7 +32,7 @@ def make_filter(args, fs, **settings):
 
     # backend None: the C core when installed, else the reference (with a CoreMissingWarning)
     return WakeFilter(fs=fs, wavelet=args.wavelet, level=args.level, window_s=args.window_s,
-                      ar_order=args.ar_order, backend=args.backend, **settings)
+                      ar_order=args.ar_order, backend=args.backend, cutoff_rule=args.cutoff_rule, **settings)
 
 
 def _cmd_demo(args) -> int:
@@ -108,6 +112,9 @@ def _cmd_run(args) -> int:
         print(f"wrote {rows} rows to {args.out} (time, then per channel: measurement, voluntary, tremor)")
     cut = ", ".join(f"{c:.2f}" for c in res.mean_cutoff)
     print(f"{len(res.hpa[0])} HPA runs per channel, mean cut-off f_d = {cut} Hz, backend {res.backend}")
+    flags = [u.cutoff_flag for channel in res.hpa for u in channel]
+    counts = ", ".join(f"{f} {flags.count(f)}" for f in sorted(set(flags), key=lambda f: (-flags.count(f), f)))
+    print(f"cut-off rule {args.cutoff_rule}: {counts} (wake.hpa.CUTOFF_FLAGS says what each means)")
     if res.clipped is not None and np.any(res.clipped):
         print(f"warning: {int(np.sum(res.clipped))} input samples were clipped at full scale", file=sys.stderr)
     if args.plot:
