@@ -11,7 +11,7 @@ whole recording from 0.5 s and after 5 s, and the synthetic voluntary NRMSE
   both the tremor peak and the largest PSD value to its left (the shipped rule);
 * ``depth 1 dB`` - the same with a 1 dB depth;
 * ``no left test`` - 3 dB below the tremor peak only;
-* ``shallow`` - the shipped default: where ``paper`` finds a tremor peak
+* ``shallow`` - the library's option (``cutoff_rule="shallow"``): where ``paper`` finds a tremor peak
   but no valley, the PSD minimum between ``cutoff_range[0]`` and the lower
   of the peak and ``shallow_max`` = 4 Hz, however shallow (``shallow max F``:
   the cap at F Hz; 6 Hz, the top of ``cutoff_range``, is no cap);
@@ -64,7 +64,7 @@ def make_rule(kind):
         if kind.startswith("default "):
             return SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
                            default_cutoff=float(kind.split()[1]), rule="paper")
-        if kind == "shallow":  # the library's default rule (WakeConfig(), shallow_max = 4 Hz)
+        if kind == "shallow":  # the library's option (WakeConfig(cutoff_rule="shallow"), shallow_max = 4 Hz)
             return SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
                            default_cutoff=default_cutoff, rule="shallow")
         if kind.startswith("shallow max "):  # the library's rule with another shallow_max
