@@ -37,6 +37,11 @@ OUTLIER_PEAKS = 1e6
 #: ... and beyond this magnitude always (L x^2 stays finite for any window length WakeConfig accepts).
 OUTLIER_ABS = 1e150
 
+#: A run of missing samples at least this share of the HPA window long is a long gap: the HPA windows that
+#: hold it use only the samples after it, and the warm-up schedule restarts at its end (docs/design.md,
+#: "Missing samples").  Shorter runs are interpolated over.
+GAP_SHARE = 0.2
+
 __all__ = ["Channel", "ClippingWarning"]
 
 
@@ -70,6 +75,12 @@ class Channel:
         self.count = 0
         self.next_hpa = config.next_hpa(0)  # sample count of the next HPA (progressive, then every L)
         self.pending = None  # thread mode: (future, window) of an HPA still off the sample path
+        # long gaps (GAP_SHARE): missing samples in a row up to now, the count of the last sample of the
+        # latest long gap, and the warm-up HPA points counted from its end
+        self.missing_run = 0
+        self.gap_end = None
+        self.restarts = ()
+        self.gap_skipped = 0          # HPA points skipped: too few samples since a long gap
         if config.backend == "c" and config.full_scale is not None:
             self.switch_to_c(config.full_scale)
 
@@ -156,6 +167,39 @@ class Channel:
         self.on_c = True
         self.full_scale = full_scale
 
+    # -- long gaps -----------------------------------------------------------
+    def gap_length(self) -> int:
+        """Missing samples in a row that make a long gap (at least one)."""
+        return max(1, int(np.ceil(GAP_SHARE * self.config.window_samples)))
+
+    def point_after(self, count: int) -> int:
+        """The next HPA point after ``count`` samples: the regular schedule, or a warm-up point after a long gap."""
+        regular = self.config.next_hpa(count)
+        later = [p for p in self.restarts if p > count]
+        return min([regular] + later)
+
+    def gap_ended(self, last_missing: int) -> None:
+        """A long gap ended with sample number ``last_missing``: the warm-up HPAs start again from there
+        (as after ``reset()``), beside the regular schedule."""
+        self.gap_end = last_missing
+        self.restarts = tuple(last_missing + p for p in self.config.hpa_points())
+        self.next_hpa = self.point_after(last_missing)
+
+    def hpa_window(self, window, count: int):
+        """The samples the HPA at ``count`` reads: ``window`` (the last min(count, L)), or only those after a
+        long gap inside it; None inside a long gap or when fewer than ``2 * 2**J`` samples follow one (the
+        HPA is skipped, the weights kept)."""
+        if self.missing_run >= self.gap_length():
+            self.gap_skipped += 1
+            return None
+        if self.gap_end is None or count - self.gap_end >= window.shape[0]:
+            return window
+        tail = window[window.shape[0] - (count - self.gap_end):]
+        if tail.shape[0] < 2 * self.config.n_taps:
+            self.gap_skipped += 1
+            return None
+        return tail
+
     # -- samples -------------------------------------------------------------
     def process(self, x):
         """A block of samples continuing the stream: ``y[i]`` is what
@@ -168,22 +212,44 @@ class Channel:
         seen = np.concatenate((self.ordered_history(), x))  # the last L samples before x, then x
         base = self.count
         start = 0
+        # Long gaps (what update() sees sample by sample): valid[j] is the index of a present sample, and
+        # the run of missing samples before it (the run carried from the last call before the first).
+        valid = np.flatnonzero(~np.isnan(x))
+        before = np.diff(valid, prepend=-1) - 1
+        if valid.size:
+            before[0] += self.missing_run
+        ends = list(valid[before >= self.gap_length()])  # first sample after each long gap
+        carried = self.missing_run
+
+        def run_at(k):
+            """Missing samples in a row up to and including x[k]."""
+            j = np.searchsorted(valid, k, side="right") - 1
+            return int(k - valid[j]) if j >= 0 else int(k + 1 + carried)
+
         # After sample number c = next_hpa arrives, an HPA runs (on the last
         # min(c, L) samples) before that sample's RTP step.
         while True:
             stop = self.next_hpa - base - 1  # index in x of the sample completing the next HPA point
+            if ends and ends[0] <= min(stop, n - 1):
+                # a long gap ended before that point (update() reschedules when its first sample comes)
+                self.gap_ended(base + int(ends.pop(0)))
+                continue
             if stop >= n:
                 break
             if start < stop:
                 y[start:stop] = self.run_rtp(x[start:stop])
                 start = stop
             self.count = base + stop + 1
+            self.missing_run = run_at(stop)
             m = min(self.count, L)
-            self.hpa(seen[L + stop + 1 - m : L + stop + 1])
-            self.next_hpa = self.config.next_hpa(self.count)
+            window = self.hpa_window(seen[L + stop + 1 - m : L + stop + 1], self.count)
+            self.next_hpa = self.point_after(self.count)
+            if window is not None:
+                self.hpa(window)
         if start < n:
             y[start:] = self.run_rtp(x[start:])
         self.count = base + n
+        self.missing_run = run_at(n - 1) if n else self.missing_run
         self.history = seen[-L:].copy()
         self.pos = 0
         return y
@@ -205,10 +271,18 @@ class Channel:
         self.history[self.pos] = sample
         self.pos = (self.pos + 1) % L
         self.count += 1
+        if sample != sample:
+            self.missing_run += 1
+        else:
+            if self.missing_run >= self.gap_length():
+                self.gap_ended(self.count - 1)
+            self.missing_run = 0
         if self.count == self.next_hpa:
-            window = self.ordered_history()[-min(self.count, L):]
-            self.next_hpa = self.config.next_hpa(self.count)
-            if self.config.hpa_mode == "inline":
+            window = self.hpa_window(self.ordered_history()[-min(self.count, L):], self.count)
+            self.next_hpa = self.point_after(self.count)
+            if window is None:
+                pass
+            elif self.config.hpa_mode == "inline":
                 self.hpa(window)
             else:
                 # One HPA in flight at a time: a new window waits for the last
