@@ -85,3 +85,17 @@ def test_the_gap_policy_lowers_the_error_after_a_long_gap(monkeypatch):
         return np.mean(errs)
 
     assert error_after(channel.GAP_SHARE) < 0.95 * error_after(1e9)   # 1e9: never a long gap
+
+
+def test_thread_mode_runs_the_same_hpa_points_and_windows_around_gaps(signal):
+    x = _gapped(signal, 1000, 1300)
+    inline = WakeFilter(backend="reference").run(x).hpa[0]
+    f = WakeFilter(backend="reference", hpa_mode="thread")
+    for v in x:
+        f.update(v)
+    f.flush()
+    threaded = list(f.hpa_history[0])
+    f.close()
+    assert [u.index for u in threaded] == [u.index for u in inline]
+    for a, b in zip(threaded, inline):
+        np.testing.assert_array_equal(a.weights, b.weights)
