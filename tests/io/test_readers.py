@@ -114,7 +114,7 @@ def test_not_a_mat_file(tmp_path):
 @pytest.mark.parametrize("content, args, match", [
     ("time,x\n0,1\n0.01,2,3\n", [], "line 3: 3 columns where the file has 2 .a ragged row"),
     ("time,x\n0,1\n0.01,abc\n", [], "line 3: 'abc' is not a number"),
-    ("time,x\n0,1\n0.01,2\n0.005,3\n", [], "goes backwards at row 3"),
+    ("time,x\n0,1\n0.01,2\n0.005,3\n", [], r"goes backwards at row 3 \(0.01 -> 0.005 s\)"),
     ("x,y\n1,2\n3,4\n", [], "has no time column, so the sampling rate is unknown"),
     ("time,x\n0,1\n0.01,2\n", ["--column", "time"], "is the time column"),
     ("time,x\n0,1\n0.01,2\n", ["--column", "gyro"], "no column 'gyro'; columns: time, x"),

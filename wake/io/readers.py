@@ -353,7 +353,8 @@ def read_mat(path, *, fs=None, time_column="auto", columns=None, name=None) -> R
             names.extend(f"{k}_{i}" for i in range(v.shape[1]))
             cols.extend(v.T)
     if not cols:
-        raise ValueError(f"{path}: no numeric vector or matrix of {length} samples; variables: "
+        what = f"of {length} samples" if length else "of numbers"
+        raise ValueError(f"{path}: no numeric vector or matrix {what}; variables: "
                          f"{', '.join(f'{k} {v.shape}' for k, v in arrays.items())}")
     data = np.column_stack(cols)
     if np.isinf(data).any():

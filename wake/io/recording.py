@@ -95,7 +95,8 @@ def _check_time(time: np.ndarray) -> np.ndarray:
     steps = np.diff(time)
     if (steps < 0).any():
         i = int(np.argmax(steps < 0))
-        raise ValueError(f"the time column goes backwards at row {i + 2} ({time[i]!r} -> {time[i + 1]!r} s)")
+        raise ValueError(f"the time column goes backwards at row {i + 2} ({float(time[i]):g} -> "
+                         f"{float(time[i + 1]):g} s)")
     if not (steps > 0).any():
         raise ValueError("the time column never advances: every timestamp is the same")
     return steps
