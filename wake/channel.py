@@ -170,7 +170,7 @@ class Channel:
     # -- long gaps -----------------------------------------------------------
     def gap_length(self) -> int:
         """Missing samples in a row that make a long gap (at least one)."""
-        return max(1, int(np.ceil(GAP_SHARE * self.config.window_samples)))
+        return max(1, int(np.ceil(round(GAP_SHARE * self.config.window_samples, 9))))   # 0.2 * 500 is 100
 
     def point_after(self, count: int) -> int:
         """The next HPA point after ``count`` samples: the regular schedule, or a warm-up point after a long gap."""
