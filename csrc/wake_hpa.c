@@ -307,7 +307,7 @@ static uint32_t seal_of(const wake_hpa_t *h)
     v = mix(v, (uint32_t)c->warmup[2] | (uint32_t)c->warmup[3] << 16);
     v = mix(v, (uint32_t)h->psd_lo | (uint32_t)h->psd_hi << 16);
     v = mix(v, (uint32_t)h->cut_lo | (uint32_t)h->cut_hi << 16);
-    return mix(v, (uint32_t)h->cut_shallow);
+    return mix(v, (uint32_t)h->cut_shallow | (uint32_t)h->gap_len << 16);
 }
 
 static wake_hpa_status_t check_instance(const wake_hpa_t *h)
@@ -319,7 +319,8 @@ static wake_hpa_status_t check_instance(const wake_hpa_t *h)
     if (h->magic != WAKE_HPA_MAGIC) {
         return WAKE_HPA_E_UNINIT;
     }
-    if (h->seal != seal_of(h) || h->fill > 1u || h->fill_len > h->cfg.window || h->phase > STEP_SOLVE) {
+    if (h->seal != seal_of(h) || h->fill > 1u || h->fill_len > h->cfg.window || h->phase > STEP_SOLVE ||
+        h->base > h->count) {
         return WAKE_HPA_E_CORRUPT;
     }
     if (h->phase == STEP_IDLE) {
@@ -402,6 +403,7 @@ wake_hpa_status_t wake_hpa_init(wake_hpa_t *h, const wake_hpa_config_t *cfg, con
     h->cut_hi = (uint16_t)last_bin_at_or_below(h, cfg->cutoff_high);
     h->cut_shallow = (uint16_t)last_bin_at_or_below(h, cfg->shallow_high < cfg->cutoff_high ? cfg->shallow_high
                                                                                             : cfg->cutoff_high);
+    h->gap_len = (uint16_t)((cfg->window + 4u) / 5u);          /* ceil(L / 5): wake.channel.GAP_SHARE */
     h->seal = seal_of(h);
     h->magic = WAKE_HPA_MAGIC;
     return WAKE_HPA_OK;
@@ -449,33 +451,74 @@ wake_hpa_status_t wake_hpa_start(wake_hpa_t *h, const wake_q15_t *window, uint16
     return WAKE_HPA_OK;
 }
 
-wake_hpa_status_t wake_hpa_push(wake_hpa_t *h, wake_q15_t sample)
+/** Whether a running HPA reads buffer b (a window pushed here, not a caller's). */
+static int reads_buffer(const wake_hpa_t *h, unsigned b)
+{
+    const wake_q15_t *lo = h->buf + (size_t)b * WAKE_HPA_MAX_WINDOW;
+    return h->phase != STEP_IDLE && h->work >= lo && h->work < lo + WAKE_HPA_MAX_WINDOW;
+}
+
+/**
+ * One sample into the window buffers, and the HPA it completes (wake.channel.Channel.update):
+ * a full window every L samples from the schedule's base, the warm-up points counted from it;
+ * none inside a long gap; a long gap's end restarts the schedule there, in a fresh buffer.
+ */
+static wake_hpa_status_t feed(wake_hpa_t *h, wake_q15_t sample, int missing)
 {
     wake_q15_t *fill;
-    wake_hpa_status_t st = check_instance(h);
-    if (st != WAKE_HPA_OK) {
-        return st;
+    int inside;
+    if (missing) {
+        sample = h->last_valid;
+        h->missing_run = (uint16_t)(h->missing_run + (h->missing_run < UINT16_MAX ? 1u : 0u));
+    } else {
+        if (h->missing_run >= h->gap_len) {
+            /* the last sample ended a long gap: the schedule starts again from it (a warm-up HPA that
+               reads this buffer's prefix is abandoned: its samples are about to be overwritten) */
+            if (reads_buffer(h, h->fill)) {
+                h->phase = STEP_IDLE;
+                h->skipped = h->skipped == UINT32_MAX ? h->skipped : h->skipped + 1u;
+            }
+            h->base = h->count;
+            h->warmup_next = 0;
+            h->fill_len = 0;
+        }
+        h->missing_run = 0;
+        h->last_valid = sample;
     }
+    inside = h->missing_run >= h->gap_len;
     fill = h->buf + (size_t)h->fill * WAKE_HPA_MAX_WINDOW;
     fill[h->fill_len] = sample;
     h->fill_len = (uint16_t)(h->fill_len + 1u);
     h->count = h->count == UINT32_MAX ? h->count : h->count + 1u;
     if (h->fill_len == h->cfg.window) {
         /* a full window: the HPA reads this buffer, the next samples go to the other */
+        h->fill = (uint16_t)(1u - h->fill);
+        h->fill_len = 0;
+        if (inside) {
+            /* no HPA on a window that ends in a long gap; one still reading the other buffer stops */
+            if (reads_buffer(h, h->fill)) {
+                h->phase = STEP_IDLE;
+                h->overruns = h->overruns == UINT32_MAX ? h->overruns : h->overruns + 1u;
+            }
+            h->gap_skipped = h->gap_skipped == UINT32_MAX ? h->gap_skipped : h->gap_skipped + 1u;
+            return WAKE_HPA_OK;
+        }
         if (h->phase != STEP_IDLE && h->n == h->cfg.window) {
             h->overruns = h->overruns == UINT32_MAX ? h->overruns : h->overruns + 1u;
         } else if (h->phase != STEP_IDLE) {
             /* a warm-up HPA still running: the full window supersedes it */
             h->skipped = h->skipped == UINT32_MAX ? h->skipped : h->skipped + 1u;
         }
-        h->fill = (uint16_t)(1u - h->fill);
-        h->fill_len = 0;
         begin(h, fill, h->cfg.window, h->count);
         return WAKE_HPA_STARTED;
     }
     if (h->warmup_next < WAKE_HPA_MAX_WARMUP && h->cfg.warmup[h->warmup_next] != 0u &&
-        h->count == h->cfg.warmup[h->warmup_next]) {
+        h->count - h->base == h->cfg.warmup[h->warmup_next]) {
         h->warmup_next = (uint16_t)(h->warmup_next + 1u);
+        if (inside) {
+            h->gap_skipped = h->gap_skipped == UINT32_MAX ? h->gap_skipped : h->gap_skipped + 1u;
+            return WAKE_HPA_OK;
+        }
         if (h->phase != STEP_IDLE) {
             h->skipped = h->skipped == UINT32_MAX ? h->skipped : h->skipped + 1u;
             return WAKE_HPA_OK;
@@ -485,6 +528,24 @@ wake_hpa_status_t wake_hpa_push(wake_hpa_t *h, wake_q15_t sample)
         return WAKE_HPA_STARTED;
     }
     return WAKE_HPA_OK;
+}
+
+wake_hpa_status_t wake_hpa_push(wake_hpa_t *h, wake_q15_t sample)
+{
+    wake_hpa_status_t st = check_instance(h);
+    if (st != WAKE_HPA_OK) {
+        return st;
+    }
+    return feed(h, sample, 0);
+}
+
+wake_hpa_status_t wake_hpa_push_missing(wake_hpa_t *h)
+{
+    wake_hpa_status_t st = check_instance(h);
+    if (st != WAKE_HPA_OK) {
+        return st;
+    }
+    return feed(h, 0, 1);
 }
 
 /* ------------------------------------------------------------------------ */

@@ -207,6 +207,13 @@ typedef struct {
     uint32_t overruns;            /**< full-window HPAs abandoned unfinished after L more samples */
     uint32_t skipped;             /**< warm-up HPAs not run or not finished: a warm-up point that found an
                                        HPA running, or a warm-up HPA superseded by the full window */
+    uint32_t gap_skipped;         /**< HPA points that fell inside a long gap (not run) */
+    uint32_t base;                /**< the count the schedule runs from: 0, or the last sample of the latest
+                                       long gap */
+    uint16_t missing_run;         /**< missing samples in a row up to now (saturates at 65535) */
+    uint16_t gap_len;             /**< a long gap: at least this many missing samples in a row, ceil(L / 5)
+                                       (set by init) */
+    wake_q15_t last_valid;        /**< the newest sample pushed (a missing sample is held at it) */
     uint16_t fill_len;            /**< samples in the buffer being filled */
     uint16_t fill;                /**< which buffer is being filled (0 or 1) */
     uint16_t warmup_next;         /**< next warm-up point to check */
@@ -309,6 +316,19 @@ wake_hpa_status_t wake_hpa_init(wake_hpa_t *h, const wake_hpa_config_t *cfg, con
  * Q15 in; nothing is computed here.
  */
 wake_hpa_status_t wake_hpa_push(wake_hpa_t *h, wake_q15_t sample);
+
+/**
+ * @brief A missing sample (the RTP's wake_rtp_step_missing()): the window holds
+ *        the last sample pushed in its place.
+ *
+ * A run of at least ::wake_hpa_t::gap_len missing samples (20 % of L) is a
+ * long gap: HPA points inside it are skipped (::wake_hpa_t::gap_skipped), and
+ * at its end the schedule starts again, warm-up points first, in a fresh
+ * buffer, as after init (docs/design.md, "Missing samples"; the host
+ * interpolates a short gap linearly where this holds the last sample).
+ * @return as wake_hpa_push().
+ */
+wake_hpa_status_t wake_hpa_push_missing(wake_hpa_t *h);
 
 /**
  * @brief Start an HPA on a caller-owned window (oldest first), which must stay

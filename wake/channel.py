@@ -37,9 +37,9 @@ OUTLIER_PEAKS = 1e6
 #: ... and beyond this magnitude always (L x^2 stays finite for any window length WakeConfig accepts).
 OUTLIER_ABS = 1e150
 
-#: A run of missing samples at least this share of the HPA window long is a long gap: the HPA windows that
-#: hold it use only the samples after it, and the warm-up schedule restarts at its end (docs/design.md,
-#: "Missing samples").  Shorter runs are interpolated over.
+#: A run of missing samples at least this share of the HPA window long is a long gap: the HPA schedule
+#: starts again at its end, warm-up first, as after ``reset()``, and no window reaches back into it
+#: (docs/design.md, "Missing samples").  Shorter runs are interpolated over.
 GAP_SHARE = 0.2
 
 __all__ = ["Channel", "ClippingWarning"]
@@ -75,12 +75,11 @@ class Channel:
         self.count = 0
         self.next_hpa = config.next_hpa(0)  # sample count of the next HPA (progressive, then every L)
         self.pending = None  # thread mode: (future, window) of an HPA still off the sample path
-        # long gaps (GAP_SHARE): missing samples in a row up to now, the count of the last sample of the
-        # latest long gap, and the warm-up HPA points counted from its end
+        # long gaps (GAP_SHARE): missing samples in a row up to now, and the count of the last sample of the
+        # latest long gap (the HPA schedule runs from there)
         self.missing_run = 0
         self.gap_end = None
-        self.restarts = ()
-        self.gap_skipped = 0          # HPA points skipped: too few samples since a long gap
+        self.gap_skipped = 0          # HPA points skipped: inside a long gap, or too few samples after one
         if config.backend == "c" and config.full_scale is not None:
             self.switch_to_c(config.full_scale)
 
@@ -173,16 +172,16 @@ class Channel:
         return max(1, int(np.ceil(round(GAP_SHARE * self.config.window_samples, 9))))   # 0.2 * 500 is 100
 
     def point_after(self, count: int) -> int:
-        """The next HPA point after ``count`` samples: the regular schedule, or a warm-up point after a long gap."""
-        regular = self.config.next_hpa(count)
-        later = [p for p in self.restarts if p > count]
-        return min([regular] + later)
+        """The next HPA point after ``count`` samples: the schedule from the stream's start, or from the end
+        of the latest long gap."""
+        if self.gap_end is None:
+            return self.config.next_hpa(count)
+        return self.gap_end + self.config.next_hpa(count - self.gap_end)
 
     def gap_ended(self, last_missing: int) -> None:
-        """A long gap ended with sample number ``last_missing``: the warm-up HPAs start again from there
-        (as after ``reset()``), beside the regular schedule."""
+        """A long gap ended with sample number ``last_missing``: the schedule starts again from there, warm-up
+        HPAs first, as after ``reset()``."""
         self.gap_end = last_missing
-        self.restarts = tuple(last_missing + p for p in self.config.hpa_points())
         self.next_hpa = self.point_after(last_missing)
 
     def hpa_window(self, window, count: int):

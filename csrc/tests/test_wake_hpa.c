@@ -125,6 +125,8 @@ static void test_bad_input(void)
     /* never initialised */
     memset(&other, 0, sizeof other);
     CHECK(wake_hpa_push(&other, 1) == WAKE_HPA_E_UNINIT);
+    CHECK(wake_hpa_push_missing(&other) == WAKE_HPA_E_UNINIT);
+    CHECK(wake_hpa_push_missing(NULL) == WAKE_HPA_E_NULL);
     CHECK(wake_hpa_slice(&other) == WAKE_HPA_E_UNINIT);
     CHECK(wake_hpa_run(&other) == WAKE_HPA_E_UNINIT);
     CHECK(wake_hpa_start(&other, window, 100, 0) == WAKE_HPA_E_UNINIT);
@@ -148,6 +150,35 @@ static void test_bad_input(void)
     init_default(&hpa);
     hpa.psd_hi = 500;
     CHECK(wake_hpa_run(&hpa) == WAKE_HPA_E_CORRUPT);
+    init_default(&hpa);
+    hpa.base = 5;                   /* the schedule's base after the samples pushed */
+    CHECK(wake_hpa_push_missing(&hpa) == WAKE_HPA_E_CORRUPT);
+    init_default(&hpa);
+    hpa.gap_len = 7;                /* a derived length: sealed */
+    CHECK(wake_hpa_push(&hpa, 1) == WAKE_HPA_E_CORRUPT);
+    /* a long gap: the points inside it are skipped, and the schedule starts again at its end */
+    {
+        int k;
+        wake_hpa_status_t st;
+        init_default(&hpa);
+        for (k = 0; k < 150; ++k) {
+            CHECK(wake_hpa_push(&hpa, (wake_q15_t)(k % 7)) == WAKE_HPA_OK);
+        }
+        for (k = 151; k <= 310; ++k) {              /* samples 151..310 missing */
+            st = wake_hpa_push_missing(&hpa);
+            /* point 200: 50 missing so far, not yet a long gap (the window holds them) */
+            CHECK(st == (k == 200 ? WAKE_HPA_STARTED : WAKE_HPA_OK));
+        }
+        CHECK(hpa.gap_skipped == 1u && hpa.missing_run == 160u);   /* point 300: inside */
+        CHECK(wake_hpa_push(&hpa, 3) == WAKE_HPA_OK); /* sample 311 ends the gap: base 310 */
+        CHECK(hpa.base == 310u && hpa.fill_len == 1u && hpa.missing_run == 0u);
+        CHECK(hpa.phase == 0u);                     /* the warm-up run on the old prefix was abandoned */
+        for (k = 0; k < 198; ++k) {
+            CHECK(wake_hpa_push(&hpa, (wake_q15_t)(k % 5)) == WAKE_HPA_OK);
+        }
+        CHECK(wake_hpa_push(&hpa, 1) == WAKE_HPA_STARTED);   /* 310 + 200: a warm-up window of 200 */
+        CHECK(hpa.n == 200u && hpa.index == 510u);
+    }
     init_default(&hpa);
     hpa.cut_shallow = 600;          /* a derived bin: past the PSD the valley search keeps */
     CHECK(wake_hpa_run(&hpa) == WAKE_HPA_E_CORRUPT);

@@ -139,3 +139,50 @@ def test_standalone_firmware_on_a_cortex_m4f_under_qemu_equals_the_host_build_bi
     weights = np.fromfile(tmp_path / "run_qemu" / "weights.bin", dtype="<i4").reshape(-1, 8)
     assert pred.size == 5000 and np.abs(pred).max() > 0
     assert len(weights) >= 9 and (np.diff(weights[:, 0]) > 0).all()  # an HPA installed every L samples
+
+
+def _device_results(q, config, taps):
+    """The on-device HPA fed sample by sample (NaN-marked samples through wake_hpa_push_missing), each HPA
+    run to its end as soon as it starts: the (index, weights) of every result."""
+    from wake._rtp import ffi, lib
+    from wake.hpa.c_port import hpa_config
+    from wake.hpa.prior import prior_weights
+    from wake.rtp.fixed import quantize_taps
+
+    h = ffi.new("wake_hpa_t *")
+    taps_q = np.ascontiguousarray(quantize_taps(taps), dtype=np.int16)
+    start = np.asarray(prior_weights(config, taps), dtype=np.float32)
+    assert lib.wake_hpa_init(h, hpa_config(config), ffi.from_buffer("int16_t[]", taps_q),
+                             ffi.from_buffer("float[]", start)) == lib.WAKE_HPA_OK
+    res = ffi.new("wake_hpa_result_t *")
+    out = []
+    for v in q:
+        st = lib.wake_hpa_push_missing(h) if v is None else lib.wake_hpa_push(h, int(v))
+        assert st in (lib.WAKE_HPA_OK, lib.WAKE_HPA_STARTED)
+        if st == lib.WAKE_HPA_STARTED:
+            assert lib.wake_hpa_run(h) == lib.WAKE_HPA_DONE and lib.wake_hpa_take(h, res) == lib.WAKE_HPA_OK
+            out.append((int(res.index), np.array([res.weights[j] for j in range(config.level)])))
+    return out, int(h.gap_skipped)
+
+
+def test_the_device_hpa_follows_the_schedule_around_long_gaps():
+    """docs/design.md, "Missing samples": a long gap skips the HPA points inside it and restarts the schedule
+    at its end, on the device (wake_hpa_push_missing) as on the host; windows without a short gap agree."""
+    s = make_signal(10.0, seed=5, duration=45.0)
+    x = s.measurement.copy()
+    x[1000:1300] = np.nan                                 # long: the schedule restarts at sample 1300
+    x[2750:2790] = np.nan                                 # short: held on the device, interpolated on the host
+    x[3200:3500] = np.nan                                 # long, over the point 1300 + 4 L = 3300
+    full_scale = 2.0 ** np.ceil(np.log2(np.nanmax(np.abs(x)) * 1.01))
+    q = [None if np.isnan(v) else int(np.clip(np.rint(v * 32768 / full_scale), -32768, 32767)) for v in x]
+    device, skipped = _device_results(q, CONFIG, TAPS)
+    seen = np.array([np.nan if v is None else v * full_scale / 32768 for v in q])
+    host = WakeFilter(backend="reference").run(seen).hpa[0]
+    assert [i for i, _ in device] == [u.index for u in host]
+    assert [u.index for u in host if 1300 < u.index < 4100] == [1500, 1600, 1700, 1800, 2300, 2800,
+                                                                3700, 3800, 3900, 4000]
+    assert skipped == 1                                   # the point 3300, inside the second long gap
+    for (index, w), u in zip(device, host):
+        if index <= 2750 or index >= 3500:                # windows without the short gap
+            py, c = u.weights, w
+            assert np.max(np.abs(c - py)) <= 0.05 * max(1.0, np.max(np.abs(py))), (index, c, py)

@@ -89,7 +89,10 @@ int16_t on_sample(int16_t sample_q15)
 
 Start both with `{name}_init(&rtp)` and `{name}_hpa_init(&hpa)`.  An RTOS
 task may instead call `wake_hpa_run(&hpa)` after `wake_hpa_push()` returns
-`WAKE_HPA_STARTED`.  Compile `wake_hpa.c` with `-ffp-contract=off` so that
+`WAKE_HPA_STARTED`.  A sample the sensor did not deliver goes to
+`wake_rtp_step_missing(&rtp, &voluntary_next)` and `wake_hpa_push_missing(&hpa)`:
+after a gap of 20 % of the HPA window or more, the HPA starts its warm-up
+again on the samples after it.  Compile `wake_hpa.c` with `-ffp-contract=off` so that
 every machine rounds it the same way.
 
 ## Build
