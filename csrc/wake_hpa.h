@@ -49,7 +49,7 @@
  * J = WAKE_HPA_MAX_LEVEL, p = WAKE_HPA_MAX_ORDER, B = WAKE_HPA_MAX_PSD_BINS, about
  *   4 W (the two int16 windows) + (8 J + 12) 2^J (the bank as floats, Rxx B',
  *   three 2^J sums) + 8 p + 4 B + 8 J^2 + 24 J + 400 bytes;
- * 4,760 bytes with -DWAKE_HPA_MAX_WINDOW=500 -DWAKE_HPA_MAX_LEVEL=5
+ * 4,808 bytes with -DWAKE_HPA_MAX_WINDOW=500 -DWAKE_HPA_MAX_LEVEL=5
  * -DWAKE_HPA_MAX_ORDER=17 -DWAKE_HPA_MAX_PSD_BINS=64 (`wake profile --hpa`
  * measures it on the target).  Stack: about 200 bytes on a Cortex-M4F, 400 on
  * a Cortex-M0+ (its soft-float calls); no recursion, no arrays on the stack.
