@@ -64,6 +64,12 @@ static inline int is_finite(float v)
 }
 
 static inline float max_f(float a, float b) { return a > b ? a : b; }
+
+/** A counter that sticks at UINT32_MAX instead of wrapping. */
+static inline void count_up(uint32_t *c)
+{
+    *c = *c == UINT32_MAX ? *c : *c + 1u;
+}
 static inline float abs_f(float a) { return a < 0.0f ? -a : a; }
 
 /** sin and cos of x for 0 <= x <= pi/4 (Taylor to x^9 / x^10: error below 2e-9). */
@@ -429,7 +435,7 @@ static void begin(wake_hpa_t *h, const wake_q15_t *window, uint16_t n, uint32_t 
     h->hi = INT16_MIN;
     h->flag = WAKE_HPA_VALLEY;
     h->phase = STEP_SUMS;
-    h->runs = h->runs == UINT32_MAX ? h->runs : h->runs + 1u;
+    count_up(&h->runs);
 }
 
 wake_hpa_status_t wake_hpa_start(wake_hpa_t *h, const wake_q15_t *window, uint16_t n, uint32_t index)
@@ -476,7 +482,7 @@ static wake_hpa_status_t feed(wake_hpa_t *h, wake_q15_t sample, int missing)
                reads this buffer's prefix is abandoned: its samples are about to be overwritten) */
             if (reads_buffer(h, h->fill)) {
                 h->phase = STEP_IDLE;
-                h->skipped = h->skipped == UINT32_MAX ? h->skipped : h->skipped + 1u;
+                count_up(&h->skipped);
             }
             h->base = h->count;
             h->warmup_next = 0;
@@ -489,7 +495,7 @@ static wake_hpa_status_t feed(wake_hpa_t *h, wake_q15_t sample, int missing)
     fill = h->buf + (size_t)h->fill * WAKE_HPA_MAX_WINDOW;
     fill[h->fill_len] = sample;
     h->fill_len = (uint16_t)(h->fill_len + 1u);
-    h->count = h->count == UINT32_MAX ? h->count : h->count + 1u;
+    count_up(&h->count);
     if (h->fill_len == h->cfg.window) {
         /* a full window: the HPA reads this buffer, the next samples go to the other */
         h->fill = (uint16_t)(1u - h->fill);
@@ -498,16 +504,16 @@ static wake_hpa_status_t feed(wake_hpa_t *h, wake_q15_t sample, int missing)
             /* no HPA on a window that ends in a long gap; one still reading the other buffer stops */
             if (reads_buffer(h, h->fill)) {
                 h->phase = STEP_IDLE;
-                h->overruns = h->overruns == UINT32_MAX ? h->overruns : h->overruns + 1u;
+                count_up(&h->overruns);
             }
-            h->gap_skipped = h->gap_skipped == UINT32_MAX ? h->gap_skipped : h->gap_skipped + 1u;
+            count_up(&h->gap_skipped);
             return WAKE_HPA_OK;
         }
         if (h->phase != STEP_IDLE && h->n == h->cfg.window) {
-            h->overruns = h->overruns == UINT32_MAX ? h->overruns : h->overruns + 1u;
+            count_up(&h->overruns);
         } else if (h->phase != STEP_IDLE) {
             /* a warm-up HPA still running: the full window supersedes it */
-            h->skipped = h->skipped == UINT32_MAX ? h->skipped : h->skipped + 1u;
+            count_up(&h->skipped);
         }
         begin(h, fill, h->cfg.window, h->count);
         return WAKE_HPA_STARTED;
@@ -516,11 +522,11 @@ static wake_hpa_status_t feed(wake_hpa_t *h, wake_q15_t sample, int missing)
         h->count - h->base == h->cfg.warmup[h->warmup_next]) {
         h->warmup_next = (uint16_t)(h->warmup_next + 1u);
         if (inside) {
-            h->gap_skipped = h->gap_skipped == UINT32_MAX ? h->gap_skipped : h->gap_skipped + 1u;
+            count_up(&h->gap_skipped);
             return WAKE_HPA_OK;
         }
         if (h->phase != STEP_IDLE) {
-            h->skipped = h->skipped == UINT32_MAX ? h->skipped : h->skipped + 1u;
+            count_up(&h->skipped);
             return WAKE_HPA_OK;
         }
         /* a warm-up window: the prefix of the buffer being filled (pushes only append) */
@@ -862,6 +868,18 @@ static int32_t step_psd(wake_hpa_t *h, int32_t budget)
     return (int32_t)(end - start) * (cost_psd_bin(h));
 }
 
+/** The PSD minimum (the first D maximum) over the bins cut_lo .. top. */
+static unsigned psd_minimum(const wake_hpa_t *h, unsigned top)
+{
+    unsigned k, at = h->cut_lo;
+    for (k = h->cut_lo + 1u; k <= top; ++k) { /* wcet-loop: WAKE_HPA_MAX_PSD_BINS */
+        if (h->den[k] > h->den[at]) {
+            at = k;
+        }
+    }
+    return at;
+}
+
 /** The valley rule (wake.hpa.cutoff.find_cutoff) on D = sigma^2 / PSD; then the DFT bins below f_d. */
 static void step_cutoff(wake_hpa_t *h)
 {
@@ -875,14 +893,9 @@ static void step_cutoff(wake_hpa_t *h)
                 h->flag = WAKE_HPA_NO_VALLEY;
             } else {
                 /* PSD minimum = D maximum (first one); PSD maximum to its left = D minimum */
-                unsigned k, valley = h->cut_lo;
+                unsigned k, valley = psd_minimum(h, upper);
                 float left;
                 int shallow;
-                for (k = h->cut_lo + 1u; k <= upper; ++k) { /* wcet-loop: WAKE_HPA_MAX_PSD_BINS */
-                    if (h->den[k] > h->den[valley]) {
-                        valley = k;
-                    }
-                }
                 left = h->den[0];
                 for (k = 1; k <= valley; ++k) { /* wcet-loop: WAKE_HPA_MAX_PSD_BINS */
                     left = h->den[k] < left ? h->den[k] : left;
@@ -898,14 +911,8 @@ static void step_cutoff(wake_hpa_t *h)
                     const unsigned top = h->cut_shallow < h->peak ? h->cut_shallow : h->peak;
                     h->flag = WAKE_HPA_NO_VALLEY;
                     if (h->cfg.rule == WAKE_HPA_RULE_SHALLOW && top >= h->cut_lo && top - h->cut_lo + 1u >= 3u) {
-                        valley = h->cut_lo;
-                        for (k = h->cut_lo + 1u; k <= top; ++k) { /* wcet-loop: WAKE_HPA_MAX_PSD_BINS */
-                            if (h->den[k] > h->den[valley]) {
-                                valley = k;
-                            }
-                        }
                         h->flag = WAKE_HPA_SHALLOW_VALLEY;
-                        h->cutoff = psd_freq(h, valley);
+                        h->cutoff = psd_freq(h, psd_minimum(h, top));
                     }
                 }
             }
