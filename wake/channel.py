@@ -79,7 +79,7 @@ class Channel:
         # latest long gap (the HPA schedule runs from there)
         self.missing_run = 0
         self.gap_end = None
-        self.gap_skipped = 0          # HPA points skipped: inside a long gap, or too few samples after one
+        self.gap_skipped = 0          # HPA points skipped: inside a long gap
         if config.backend == "c" and config.full_scale is not None:
             self.switch_to_c(config.full_scale)
 
@@ -185,19 +185,15 @@ class Channel:
         self.next_hpa = self.point_after(last_missing)
 
     def hpa_window(self, window, count: int):
-        """The samples the HPA at ``count`` reads: ``window`` (the last min(count, L)), or only those after a
-        long gap inside it; None inside a long gap or when fewer than ``2 * 2**J`` samples follow one (the
-        HPA is skipped, the weights kept)."""
+        """The samples the HPA at ``count`` reads: ``window`` (the last min(count, L)) from the latest long
+        gap's end on, or None inside a long gap (the HPA is skipped, the weights kept).  The schedule runs
+        from the gap's end (:meth:`point_after`), so at least its first point's ``2 * 2**J`` samples follow."""
         if self.missing_run >= self.gap_length():
             self.gap_skipped += 1
             return None
-        if self.gap_end is None or count - self.gap_end >= window.shape[0]:
+        if self.gap_end is None:
             return window
-        tail = window[window.shape[0] - (count - self.gap_end):]
-        if tail.shape[0] < 2 * self.config.n_taps:
-            self.gap_skipped += 1
-            return None
-        return tail
+        return window[max(0, window.shape[0] - (count - self.gap_end)):]
 
     # -- samples -------------------------------------------------------------
     def process(self, x):
@@ -280,7 +276,7 @@ class Channel:
             window = self.hpa_window(self.ordered_history()[-min(self.count, L):], self.count)
             self.next_hpa = self.point_after(self.count)
             if window is None:
-                pass
+                pass                  # inside a long gap: no HPA, the weights stay
             elif self.config.hpa_mode == "inline":
                 self.hpa(window)
             else:
