@@ -7,8 +7,15 @@ NRMSE against the independent ground truth (``wake.eval.warmup``) over the
 whole recording from 0.5 s and after 5 s, and the synthetic voluntary NRMSE
 (whole and after 5 s).  The rules (``wake.hpa.cutoff``; every WAKE run uses the C core):
 
+* ``floor`` - the library's default: ``shallow`` (below), with both dips
+  compared to the noise floor, the lowest PSD above the tremor band: a
+  shallow dip less than ``floor_margin_db`` = 15 dB above it gives the
+  default, a valley less than 15 dB above it moves to the floor's low edge
+  (where the PSD comes within ``edge_db`` = 3 dB of it); ``floor margin D``
+  and ``floor edge E`` vary the two; ``floor shallow-test only`` and
+  ``floor edge-test only`` take one half of it (the other half off);
 * ``paper`` - the valley counts only if it lies ``min_depth_db`` = 3 dB below
-  both the tremor peak and the largest PSD value to its left (the shipped rule);
+  both the tremor peak and the largest PSD value to its left (the paper's rule);
 * ``depth 1 dB`` - the same with a 1 dB depth;
 * ``no left test`` - 3 dB below the tremor peak only;
 * ``shallow`` - the library's option (``cutoff_rule="shallow"``): where ``paper`` finds a tremor peak
@@ -61,6 +68,19 @@ def make_rule(kind):
         if kind == "paper":
             return SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
                            default_cutoff=default_cutoff, rule="paper")
+        if kind.startswith("floor"):
+            knobs = {}
+            if kind.startswith("floor margin "):
+                knobs["floor_margin_db"] = float(kind.split()[2])
+            if kind.startswith("floor edge "):
+                knobs["edge_db"] = float(kind.split()[2])
+            fd, flag = SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
+                               default_cutoff=default_cutoff, rule="floor", **knobs)
+            half = {"floor shallow-test only": "floor_valley", "floor edge-test only": "shallow_valley"}.get(kind)
+            if flag == half:  # that half off: the paper's answer for this window
+                return SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
+                               default_cutoff=default_cutoff, rule="paper")
+            return fd, flag
         if kind.startswith("default "):
             return SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
                            default_cutoff=float(kind.split()[1]), rule="paper")
@@ -106,7 +126,8 @@ def make_rule(kind):
     return find
 
 
-RULES = ("paper", "default 2.5", "default 3", "default 3.5", "depth 1 dB", "no left test", "shallow", "shallow max 3",
+RULES = ("paper", "floor", "floor shallow-test only", "floor edge-test only", "floor margin 8", "floor margin 12",
+         "floor margin 20", "floor margin 25", "floor edge 1", "floor edge 6", "floor edge 10", "default 2.5", "default 3", "default 3.5", "depth 1 dB", "no left test", "shallow", "shallow max 3",
          "shallow max 3.5", "shallow max 4.5", "shallow max 5", "shallow max 6", "shallow 0", "shallow 1",
          "shallow floor", "shallow 1 floor", "shallow 2 floor", "flank", "shallow+default 2.5", "shallow+default 3")
 

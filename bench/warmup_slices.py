@@ -2,7 +2,7 @@
 
     python bench/warmup_slices.py                  # PADS (if found) and the synthetic set
     python bench/warmup_slices.py --variants       # also WAKE's warm-up variants (docs/design.md)
-    python bench/warmup_slices.py --cutoff-rule shallow   # WAKE with another cut-off rule
+    python bench/warmup_slices.py --cutoff-rule paper     # WAKE with another cut-off rule
 
 PADS: tremor NRMSE of each method against a ground truth independent of
 WAKE (sharp FFT high-pass at the Welch-spectrum valley between 1.5 and 5 Hz
@@ -26,7 +26,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from wake import WakeFilter  # noqa: E402
+from wake import WakeConfig, WakeFilter  # noqa: E402
 from wake.eval.datasets import default_pads_dir, load_pads_folder  # noqa: E402
 from wake.eval.evaluate import baseline_methods  # noqa: E402
 from wake.eval.synthetic import paper_dataset  # noqa: E402
@@ -42,7 +42,8 @@ VARIANTS = {
 }
 
 
-def _methods(fs, variants, rule="paper"):
+def _methods(fs, variants, rule=None):
+    rule = WakeConfig.cutoff_rule if rule is None else rule
     backend = "c" if c_backend_available() else "reference"
     out = {f"WAKE ({backend})": lambda x: WakeFilter(fs=fs, backend=backend, cutoff_rule=rule).run(x).voluntary}
     if variants:
@@ -55,7 +56,7 @@ def _methods(fs, variants, rule="paper"):
     return out
 
 
-def pads_table(folder, variants=False, rule="paper"):
+def pads_table(folder, variants=False, rule=None):
     recs = load_pads_folder(folder)
     scores = {}
     for rec in recs:
@@ -70,7 +71,7 @@ def pads_table(folder, variants=False, rule="paper"):
     return scores, f"PADS, {sum(r.samples.shape[1] for r in recs)} recording-axes (tremor NRMSE)"
 
 
-def synthetic_table(variants=False, rule="paper"):
+def synthetic_table(variants=False, rule=None):
     data = paper_dataset()
     scores = {}
     for s in data:
@@ -93,7 +94,8 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--variants", action="store_true", help="also WAKE's warm-up variants")
     ap.add_argument("--pads", help="PADS folder (default: next to the checkout or $WAKE_PADS_DIR)")
-    ap.add_argument("--cutoff-rule", default="paper", choices=CUTOFF_RULES, help="WAKE's cut-off rule (default: paper)")
+    ap.add_argument("--cutoff-rule", default=WakeConfig.cutoff_rule, choices=CUTOFF_RULES,
+                    help=f"WAKE's cut-off rule (default: {WakeConfig.cutoff_rule}, the library's)")
     args = ap.parse_args(argv)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

@@ -202,6 +202,27 @@ static unsigned last_bin_at_or_below(const wake_hpa_t *h, float f)
     return k;
 }
 
+/**
+ * The spectrum step's items t = 0 .. psd_last: the PSD bins 0 .. psd_hi + 1 in order (the tremor peak's
+ * local-maximum test needs the right neighbour), then, for rule floor, the noise floor's bins: fs/2 and
+ * every WAKE_HPA_FLOOR_STRIDE-th bin below it, down to floor_lo (wake.hpa.cutoff.FLOOR_STRIDE).
+ */
+static inline unsigned psd_last(const wake_hpa_t *h)
+{
+    const unsigned top = WAKE_HPA_PSD_GRID / 2u;
+    if (h->cfg.rule != WAKE_HPA_RULE_FLOOR || h->floor_lo > top) {
+        return h->psd_hi + 1u;
+    }
+    return h->psd_hi + 1u + (top - h->floor_lo) / WAKE_HPA_FLOOR_STRIDE + 1u;
+}
+
+/** The PSD bin of spectrum item t (see psd_last). */
+static inline unsigned psd_bin(const wake_hpa_t *h, unsigned t)
+{
+    const unsigned run = h->psd_hi + 2u;
+    return t < run ? t : WAKE_HPA_PSD_GRID / 2u - WAKE_HPA_FLOOR_STRIDE * (t - run);
+}
+
 /* ------------------------------------------------------------------------ */
 /* Validation                                                               */
 /* ------------------------------------------------------------------------ */
@@ -221,7 +242,8 @@ static int config_ok(const wake_hpa_config_t *c)
 {
     unsigned J, N, k, prev;
     const float f[] = {c->fs, c->tremor_low, c->tremor_high, c->cutoff_low, c->cutoff_high, c->shallow_high,
-                       c->default_cutoff, c->min_depth_ratio, c->ridge, c->process_noise_ratio};
+                       c->default_cutoff, c->min_depth_ratio, c->floor_ratio, c->edge_ratio, c->ridge,
+                       c->process_noise_ratio};
     for (k = 0; k < sizeof f / sizeof f[0]; ++k) {
         if (!is_finite(f[k])) {
             return 0;
@@ -243,8 +265,9 @@ static int config_ok(const wake_hpa_config_t *c)
         !(c->cutoff_high < c->fs / 2.0f) || !(c->shallow_high >= c->cutoff_low)) {
         return 0;
     }
-    if (!(c->min_depth_ratio > 0.0f) || !(c->min_depth_ratio < 1.0f) || !(c->ridge >= 0.0f) ||
-        !(c->process_noise_ratio >= 0.0f) || c->rule > WAKE_HPA_RULE_SHALLOW) {
+    if (!(c->min_depth_ratio > 0.0f) || !(c->min_depth_ratio < 1.0f) || !(c->floor_ratio > 0.0f) ||
+        !(c->floor_ratio < 1.0f) || !(c->edge_ratio > 0.0f) || !(c->edge_ratio < 1.0f) || !(c->ridge >= 0.0f) ||
+        !(c->process_noise_ratio >= 0.0f) || c->rule > WAKE_HPA_RULE_FLOOR) {
         return 0;
     }
     /* the valley search keeps D for every bin up to cutoff_high */
@@ -305,6 +328,8 @@ static uint32_t seal_of(const wake_hpa_t *h)
     v = mix(v, float_bits(c->shallow_high));
     v = mix(v, float_bits(c->default_cutoff));
     v = mix(v, float_bits(c->min_depth_ratio));
+    v = mix(v, float_bits(c->floor_ratio));
+    v = mix(v, float_bits(c->edge_ratio));
     v = mix(v, float_bits(c->ridge));
     v = mix(v, float_bits(c->process_noise_ratio));
     v = mix(v, (uint32_t)c->window | (uint32_t)c->level << 16);
@@ -313,6 +338,7 @@ static uint32_t seal_of(const wake_hpa_t *h)
     v = mix(v, (uint32_t)c->warmup[2] | (uint32_t)c->warmup[3] << 16);
     v = mix(v, (uint32_t)h->psd_lo | (uint32_t)h->psd_hi << 16);
     v = mix(v, (uint32_t)h->cut_lo | (uint32_t)h->cut_hi << 16);
+    v = mix(v, (uint32_t)h->floor_lo);
     return mix(v, (uint32_t)h->cut_shallow | (uint32_t)h->gap_len << 16);
 }
 
@@ -335,9 +361,10 @@ static wake_hpa_status_t check_instance(const wake_hpa_t *h)
     /* a run in progress: every counter that indexes an array within its range */
     N = 1u << h->cfg.level;
     if (h->work == NULL || h->n > h->cfg.window || h->n < 2u * N || h->rows != h->n - N ||
-        h->order > h->cfg.ar_order || h->lags > (h->order + 1u > N ? h->order + 1u : N) || h->t > h->n ||
+        h->order > h->cfg.ar_order || h->lags > (h->order + 1u > N ? h->order + 1u : N) ||
+        h->t > (h->phase == STEP_PSD ? psd_last(h) + 1u : h->n) ||
         h->d > h->lags || h->bins > h->n / 2u || h->m > h->bins + 1u || h->pair > 2u ||
-        h->psd_end > h->psd_hi + 1u || h->attempts >= WAKE_HPA_RIDGE_STEPS ||
+        h->psd_end > psd_last(h) || h->attempts >= WAKE_HPA_RIDGE_STEPS ||
         ((h->phase == STEP_BIN_START || h->phase == STEP_BIN_END) && h->d >= h->pair) ||
         (h->phase == STEP_RAMP && h->t >= N) ||
         (h->phase == STEP_GRAM && (h->d >= h->cfg.level || h->t > h->d))) {
@@ -364,12 +391,14 @@ wake_hpa_status_t wake_hpa_default_config(wake_hpa_config_t *cfg)
     cfg->shallow_high = 4.0f;
     cfg->default_cutoff = 2.0f;
     cfg->min_depth_ratio = 0.50118723f;   /* 10^(-3/10) */
+    cfg->floor_ratio = 0.031622777f;      /* 10^(-15/10) */
+    cfg->edge_ratio = 0.50118723f;        /* 10^(-3/10) */
     cfg->ridge = 1e-6f;
     cfg->process_noise_ratio = 0.0f;
     cfg->window = 500;
     cfg->level = 5;
     cfg->ar_order = 17;
-    cfg->rule = WAKE_HPA_RULE_PAPER;
+    cfg->rule = WAKE_HPA_RULE_FLOOR;
     cfg->warmup[0] = 200;
     cfg->warmup[1] = 300;
     cfg->warmup[2] = 400;
@@ -409,6 +438,8 @@ wake_hpa_status_t wake_hpa_init(wake_hpa_t *h, const wake_hpa_config_t *cfg, con
     h->cut_hi = (uint16_t)last_bin_at_or_below(h, cfg->cutoff_high);
     h->cut_shallow = (uint16_t)last_bin_at_or_below(h, cfg->shallow_high < cfg->cutoff_high ? cfg->shallow_high
                                                                                             : cfg->cutoff_high);
+    /* the floor's bins: above tremor_high up to fs/2 (none when tremor_high reaches fs/2) */
+    h->floor_lo = (uint16_t)(last_bin_at_or_below(h, cfg->tremor_high) + 1u);
     h->gap_len = (uint16_t)((cfg->window + 4u) / 5u);          /* ceil(L / 5): wake.channel.GAP_SHARE */
     h->seal = seal_of(h);
     h->magic = WAKE_HPA_MAGIC;
@@ -820,8 +851,9 @@ static void step_levinson(wake_hpa_t *h)
         h->phase = STEP_CUTOFF;
         return;
     }
-    /* bins up to one past the tremor band's last bin (the local-maximum test needs it) */
-    h->psd_end = (uint16_t)(h->psd_hi + 1u);
+    h->den_floor = 0.0f;
+    /* bins up to one past the tremor band's last bin (the local-maximum test needs it); rule floor: to fs/2 */
+    h->psd_end = (uint16_t)psd_last(h);
     h->phase = STEP_PSD;
 }
 
@@ -835,9 +867,10 @@ static int32_t step_psd(wake_hpa_t *h, int32_t budget)
 {
     const unsigned start = h->t;
     const unsigned end = chunk_end(h->t, items(budget, cost_psd_bin(h)), h->psd_end + 1u);
-    const unsigned k_lo = h->psd_lo, k_hi = h->psd_hi;
-    unsigned k, m;
-    for (k = h->t; k < end; ++k) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_PSD_BIN */
+    const unsigned k_lo = h->psd_lo, k_hi = h->psd_hi, run = h->psd_hi + 2u;
+    unsigned t, m;
+    for (t = h->t; t < end; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_PSD_BIN */
+        const unsigned k = psd_bin(h, t);
         float c, s, b1 = 0.0f, b2 = 0.0f, re, im, dk;
         unit_phasor(k, WAKE_HPA_PSD_GRID / 2u, &c, &s);
         for (m = h->order; m >= 1u; --m) { /* wcet-loop: WAKE_HPA_MAX_ORDER */
@@ -848,6 +881,11 @@ static int32_t step_psd(wake_hpa_t *h, int32_t budget)
         re = h->a[0] + c * b1 - b2;
         im = s * b1;
         dk = re * re + im * im;
+        if (t >= run) {
+            /* rule floor: the noise floor, the PSD minimum over the floor bins, is the largest D there */
+            h->den_floor = dk > h->den_floor ? dk : h->den_floor;
+            continue;
+        }
         if (k < WAKE_HPA_MAX_PSD_BINS) {
             h->den[k] = dk;
         }
@@ -863,6 +901,7 @@ static int32_t step_psd(wake_hpa_t *h, int32_t budget)
     }
     h->t = (uint16_t)end;
     if (end == h->psd_end + 1u) {
+        h->t = 0;    /* the next steps count from 0 (t may exceed n here) */
         h->phase = STEP_CUTOFF;
     }
     return (int32_t)(end - start) * (cost_psd_bin(h));
@@ -878,6 +917,17 @@ static unsigned psd_minimum(const wake_hpa_t *h, unsigned top)
         }
     }
     return at;
+}
+
+/**
+ * Rule floor: bin k lies less than floor_margin_db above the noise floor.
+ * dB(k) < dB(floor) + margin  <=>  D(k) > ratio D(floor), D(floor) the largest D above tremor_high.
+ * Never for the other rules, nor without floor bins.
+ */
+static int at_floor(const wake_hpa_t *h, unsigned k)
+{
+    return h->cfg.rule == WAKE_HPA_RULE_FLOOR && h->floor_lo <= WAKE_HPA_PSD_GRID / 2u &&
+           h->den[k] > h->cfg.floor_ratio * h->den_floor;
 }
 
 /** The valley rule (wake.hpa.cutoff.find_cutoff) on D = sigma^2 / PSD; then the DFT bins below f_d. */
@@ -903,16 +953,29 @@ static void step_cutoff(wake_hpa_t *h)
                 /* dB(valley) > dB(x) - depth  <=>  D(x) > ratio D(valley) */
                 shallow = h->den_peak > h->cfg.min_depth_ratio * h->den[valley] ||
                           left > h->cfg.min_depth_ratio * h->den[valley];
-                if (!shallow) {
+                if (!shallow && !at_floor(h, valley)) {
                     h->flag = WAKE_HPA_VALLEY;
                     h->cutoff = psd_freq(h, valley);
+                } else if (!shallow) {
+                    /* rule floor, a valley at the noise floor: walk down to where the PSD first comes
+                       within edge_db of it.  dB(x) <= dB(valley) + edge  <=>  D(x) >= ratio D(valley) */
+                    unsigned edge = valley;
+                    while (edge > h->cut_lo && h->den[edge - 1u] >= h->cfg.edge_ratio * h->den[valley]) { /* wcet-loop: WAKE_HPA_MAX_PSD_BINS */
+                        --edge;
+                    }
+                    h->flag = WAKE_HPA_FLOOR_VALLEY;
+                    h->cutoff = psd_freq(h, edge);
                 } else {
-                    /* rule shallow: the PSD minimum at or below min(shallow_high, peak), if 3 bins or more */
+                    /* rules shallow and floor: the PSD minimum at or below min(shallow_high, peak), if 3 bins
+                       or more; rule floor: only a dip well above the noise floor */
                     const unsigned top = h->cut_shallow < h->peak ? h->cut_shallow : h->peak;
                     h->flag = WAKE_HPA_NO_VALLEY;
-                    if (h->cfg.rule == WAKE_HPA_RULE_SHALLOW && top >= h->cut_lo && top - h->cut_lo + 1u >= 3u) {
-                        h->flag = WAKE_HPA_SHALLOW_VALLEY;
-                        h->cutoff = psd_freq(h, psd_minimum(h, top));
+                    if (h->cfg.rule != WAKE_HPA_RULE_PAPER && top >= h->cut_lo && top - h->cut_lo + 1u >= 3u) {
+                        const unsigned dip = psd_minimum(h, top);
+                        if (!at_floor(h, dip)) {
+                            h->flag = WAKE_HPA_SHALLOW_VALLEY;
+                            h->cutoff = psd_freq(h, dip);
+                        }
                     }
                 }
             }
@@ -1384,7 +1447,8 @@ static int32_t piece_cost(const wake_hpa_t *h)
         /* order t + 1 (the first piece also clears a[]) */
         return 80 + 12 * ((int32_t)h->t + 1) + (h->t == 0u ? 2 * WAKE_HPA_MAX_ORDER : 0);
     case STEP_CUTOFF:
-        return 400 + 12 * (int32_t)h->cut_hi + 6 * (int32_t)h->cut_shallow;
+        /* the valley and left searches, the shallow minimum, rule floor's edge walk */
+        return 400 + 20 * (int32_t)h->cut_hi + 6 * (int32_t)h->cut_shallow;
     case STEP_BINS:
         /* the count stops at f_d <= cutoff_high: at most cutoff_high n / fs bins */
         return 450 + 10 * (int32_t)(h->cfg.cutoff_high * ((float)h->n / h->cfg.fs));

@@ -10,7 +10,9 @@
  *   S1  r(k) = sum x_c(t) x_c(t+k)          exact in int64 (x_c = x - mean)
  *       a, sigma^2 = Levinson-Durbin(r)      AR(p), float
  *       D(f) = |1 + sum a_k e^{-j 2 pi f k / fs}|^2 on f = k fs / 1022
- *   S2  f_d = the valley rule on PSD = sigma^2 / D (dB tests as ratios of D)
+ *   S2  f_d = the valley rule on PSD = sigma^2 / D (dB tests as ratios of D); rule floor
+ *       (the default) also compares the dip with the noise floor, max D over fs/2 and every
+ *       8th bin below it above the tremor band (wake.hpa.find_cutoff)
  *   GT  v(t) = mean + (2/n) Re sum_{m: m fs/n <= f_d} X_m e^{j 2 pi m t / n}
  *       (the sharp FFT high-pass's voluntary part, from the bins below f_d only,
  *       each X_m by Reinsch's form of the Goertzel recursion, two bins per pass)
@@ -49,7 +51,7 @@
  * J = WAKE_HPA_MAX_LEVEL, p = WAKE_HPA_MAX_ORDER, B = WAKE_HPA_MAX_PSD_BINS, about
  *   4 W (the two int16 windows) + (8 J + 12) 2^J (the bank as floats, Rxx B',
  *   three 2^J sums) + 8 p + 4 B + 8 J^2 + 24 J + 400 bytes;
- * 4,808 bytes with -DWAKE_HPA_MAX_WINDOW=500 -DWAKE_HPA_MAX_LEVEL=5
+ * 4,824 bytes with -DWAKE_HPA_MAX_WINDOW=500 -DWAKE_HPA_MAX_LEVEL=5
  * -DWAKE_HPA_MAX_ORDER=17 -DWAKE_HPA_MAX_PSD_BINS=64 (`wake profile --hpa`
  * measures it on the target).  Stack: about 200 bytes on a Cortex-M4F, 400 on
  * a Cortex-M0+ (its soft-float calls); no recursion, no arrays on the stack.
@@ -113,6 +115,10 @@ extern "C" {
 #define WAKE_HPA_MAX_WARMUP 4
 /** FFT length of the Python AR spectrum: 512 frequencies on [0, fs/2]. */
 #define WAKE_HPA_PSD_GRID 1022
+
+/** Rule floor: the noise floor is the lowest PSD over fs/2 and every 8th bin below it, above the tremor
+ *  band (wake.hpa.cutoff.FLOOR_STRIDE; 0.78 Hz apart at 100 Hz, where an AR spectrum is smooth). */
+#define WAKE_HPA_FLOOR_STRIDE 8u
 /** Largest |weight| the fit returns (the ridge rises until every weight is within it). */
 #define WAKE_HPA_WEIGHT_LIMIT 32
 /** Times the ridge may rise tenfold. */
@@ -149,13 +155,16 @@ typedef enum {
     WAKE_HPA_NO_TREMOR_PEAK = 1,  /**< no local PSD maximum in the tremor band: default cut-off */
     WAKE_HPA_NO_VALLEY = 2,       /**< no dip min_depth below both sides: default cut-off */
     WAKE_HPA_SILENT = 3,          /**< constant window (or zero AR error): default cut-off */
-    WAKE_HPA_SHALLOW_VALLEY = 4   /**< rule "shallow": the PSD minimum below the peak and shallow_high */
+    WAKE_HPA_SHALLOW_VALLEY = 4,  /**< rules "shallow", "floor": the PSD minimum below the peak and shallow_high */
+    WAKE_HPA_FLOOR_VALLEY = 5     /**< rule "floor": a valley at the noise floor; f_d at the floor's low edge */
 } wake_hpa_flag_t;
 
 /** Cut-off rules (wake.hpa.CUTOFF_RULES). */
 typedef enum {
     WAKE_HPA_RULE_PAPER = 0,
-    WAKE_HPA_RULE_SHALLOW = 1
+    WAKE_HPA_RULE_SHALLOW = 1,
+    WAKE_HPA_RULE_FLOOR = 2       /**< the default: the PSD also on every 8th bin from fs/2 down to the tremor
+                                       band, for the noise floor (about 45 bins more at 100 Hz) */
 } wake_hpa_rule_t;
 
 /** The settings of wake.WakeConfig the HPA reads (`wake export-c` writes them). */
@@ -165,10 +174,12 @@ typedef struct {
     float tremor_high;
     float cutoff_low;           /**< where f_d may lie, Hz: 0 < low <= default <= high < fs/2 */
     float cutoff_high;
-    float shallow_high;         /**< rule shallow: the highest f_d it takes, Hz, >= cutoff_low (4; capped
+    float shallow_high;         /**< rules shallow, floor: the highest f_d taken from a shallow dip, Hz, >= cutoff_low (4; capped
                                      at cutoff_high) */
     float default_cutoff;       /**< the fallback f_d, Hz */
     float min_depth_ratio;      /**< 10^(-min_depth_db / 10), in (0, 1): 0.5011872 for 3 dB */
+    float floor_ratio;          /**< rule floor: 10^(-floor_margin_db / 10), in (0, 1): 0.031622777 for 15 dB */
+    float edge_ratio;           /**< rule floor: 10^(-edge_db / 10), in (0, 1): 0.5011872 for 3 dB */
     float ridge;                /**< relative ridge, >= 0 (1e-6) */
     float process_noise_ratio;  /**< q = ratio * R when applied to the RTP, >= 0 */
     uint16_t window;            /**< L, samples: 2 * 2^J <= L <= WAKE_HPA_MAX_WINDOW, L > 2 p */
@@ -235,6 +246,8 @@ typedef struct {
     uint16_t psd_lo, psd_hi;      /**< PSD bins of the tremor band (set by init) */
     uint16_t cut_lo, cut_hi;      /**< PSD bins of the cut-off range (set by init) */
     uint16_t cut_shallow;         /**< last PSD bin rule shallow may take, <= cut_hi (set by init) */
+    uint16_t floor_lo;            /**< rule floor: first PSD bin above tremor_high (WAKE_HPA_PSD_GRID / 2 + 1:
+                                       none, no floor test; set by init) */
     uint16_t attempts;            /**< ridge rises so far */
     int16_t lo, hi;               /**< smallest and largest sample */
     int64_t sum;                  /**< S = sum x */
@@ -261,6 +274,7 @@ typedef struct {
     float prev1, prev2;           /**< D of the two previous PSD bins */
     float err;                    /**< Levinson prediction error */
     float den_peak;               /**< D at the tremor peak */
+    float den_floor;              /**< rule floor: largest D above tremor_high (the PSD's floor), 0 if none */
     float yy;                     /**< sum of the squared fit targets */
     float noise;                  /**< R of this run, LSB^2 */
     float scale;                  /**< trace(G) / J */

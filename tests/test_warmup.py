@@ -15,7 +15,7 @@ import pytest
 from support import NO_PADS, pads_dir
 from wake import WakeConfig, WakeFilter
 from wake.eval.warmup import SLICES, independent_ground_truth, slice_nrmse
-from wake.hpa import fit_weights, run_hpa
+from wake.hpa import FALLBACK_FLAGS, fit_weights, run_hpa
 from wake.hpa.prior import prior_weights
 from wake.wavelets import filter_bank_taps
 
@@ -174,49 +174,81 @@ def test_error_curve_is_the_binned_rms_over_one_range():
         error_curve(truth, est, fs, bin_s=0.001)
 
 
-def test_shallow_rule_is_an_option_because_it_costs_the_synthetic_set(paper_signals):
-    """docs/design.md, "Cut-off on real wear": with the detrended truth the capped 'shallow' rule raises the
-    synthetic whole-recording error a little (0.07390 -> 0.07396 with the C core), so 'paper' stays the
-    default; the 4 Hz cap makes the option better than the uncapped minimum."""
-    default = _slices(paper_signals)
-    capped = _slices(paper_signals, cutoff_rule="shallow")
-    uncapped = _slices(paper_signals, cutoff_rule="shallow", shallow_max=6.0)
-    assert capped["whole (from 0.5 s)"] > default["whole (from 0.5 s)"]
-    assert capped["whole (from 0.5 s)"] < 1.005 * default["whole (from 0.5 s)"]   # small: under 0.5 %
-    assert capped["whole (from 0.5 s)"] < uncapped["whole (from 0.5 s)"]
+def test_floor_rule_lowers_the_synthetic_error_where_shallow_raised_it(paper_signals):
+    """docs/design.md, "Cut-off on real wear": the 'shallow' rule alone raises the synthetic whole-recording
+    error a little (0.07390 -> 0.07396 with the C core); the 'floor' rule, the default, lowers it (0.07158):
+    shallow dips at the noise floor give the default, valleys at the floor their low edge."""
+    floor = _slices(paper_signals)
+    paper = _slices(paper_signals, cutoff_rule="paper")
+    shallow = _slices(paper_signals, cutoff_rule="shallow")
+    assert WakeConfig().cutoff_rule == "floor"
+    assert shallow["whole (from 0.5 s)"] > paper["whole (from 0.5 s)"]
+    for k in ("2-5 s", "after 5 s", "whole (from 0.5 s)"):
+        assert floor[k] < 0.98 * paper[k], (k, floor[k], paper[k])
 
 
 @pytest.mark.skipif(pads_dir() is None, reason=NO_PADS)
-def test_shallow_rule_lowers_the_pads_error_and_leaves_few_windows_on_the_default():
+def test_floor_rule_lowers_the_pads_error_and_leaves_few_windows_on_the_default():
     from wake.eval.datasets import load_pads_folder
 
-    shallow, paper, flags = [], [], []
+    floor, paper, flags = [], [], []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         for rec in load_pads_folder(pads_dir()):
-            res = WakeFilter(fs=rec.fs, backend="reference", cutoff_rule="shallow").run(rec.samples)
-            v_paper = WakeFilter(fs=rec.fs, backend="reference").run(rec.samples).voluntary
+            res = WakeFilter(fs=rec.fs, backend="reference").run(rec.samples)
+            v_paper = WakeFilter(fs=rec.fs, backend="reference", cutoff_rule="paper").run(rec.samples).voluntary
             flags += [u.cutoff_flag for ch in res.hpa for u in ch]
             for c in range(rec.samples.shape[1]):
                 _, tremor, _ = independent_ground_truth(rec.samples[:, c], rec.fs)
-                shallow.append(slice_nrmse(tremor, res.tremor[:, c], rec.fs))
+                floor.append(slice_nrmse(tremor, res.tremor[:, c], rec.fs))
                 paper.append(slice_nrmse(tremor, rec.samples[:, c] - v_paper[:, c], rec.fs))
     mean = lambda rows, k: float(np.mean([r[k] for r in rows]))  # noqa: E731
     # the issue's target: at most 30 % of windows on the constant default cut-off (paper rule: 81 %)
-    on_default = sum(f in ("no_valley", "no_tremor_peak", "silent") for f in flags) / len(flags)
+    on_default = sum(f in FALLBACK_FLAGS for f in flags) / len(flags)
     assert on_default <= 0.30, on_default
     for k in ("whole (from 0.5 s)", "after 5 s"):
-        assert mean(shallow, k) < 0.95 * mean(paper, k), k
+        assert mean(floor, k) < 0.95 * mean(paper, k), k
 
 
-def test_detrended_truth_lowers_the_synthetic_error(paper_signals, monkeypatch):
-    """docs/design.md, "Tremor ground truth of a window": the end-point line taken out before the sharp
-    high-pass lowers the error after 2 s and over the whole recording (0.07424 -> 0.07390 with the C core)."""
+def test_detrended_truth_lowers_the_synthetic_error_under_the_paper_rule(paper_signals, monkeypatch):
+    """docs/design.md, "Tremor ground truth of a window": with the paper's cut-off rule the end-point line
+    taken out before the sharp high-pass lowers the synthetic error after 2 s and over the whole recording
+    (0.07424 -> 0.07390 with the C core).  With the default 'floor' rule it is neutral there (whole +0.03 %,
+    after 5 s -0.04 %) and lowers PADS in every slice from 2 s on (the next test)."""
     import wake.hpa.run as hpa_run
     from wake.hpa.sharp import sharp_highpass
 
-    detrended = _slices(paper_signals)
+    detrended = _slices(paper_signals, cutoff_rule="paper")
+    floor_detrended = _slices(paper_signals)
     monkeypatch.setattr(hpa_run, "detrended_highpass", sharp_highpass)
-    plain = _slices(paper_signals)
+    plain = _slices(paper_signals, cutoff_rule="paper")
+    floor_plain = _slices(paper_signals)
     for k in ("2-5 s", "after 5 s", "whole (from 0.5 s)"):
         assert detrended[k] < plain[k], (k, detrended[k], plain[k])
+    k = "whole (from 0.5 s)"
+    assert abs(floor_detrended[k] / floor_plain[k] - 1) < 0.001, (floor_detrended[k], floor_plain[k])
+
+
+@pytest.mark.skipif(pads_dir() is None, reason=NO_PADS)
+def test_detrended_truth_lowers_the_pads_error_under_the_default_rule(monkeypatch):
+    import wake.hpa.run as hpa_run
+    from wake.eval.datasets import load_pads_folder
+    from wake.hpa.sharp import sharp_highpass
+
+    def scores():
+        rows = []
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            for rec in load_pads_folder(pads_dir()):
+                res = WakeFilter(fs=rec.fs, backend="reference").run(rec.samples)
+                for c in range(rec.samples.shape[1]):
+                    _, tremor, _ = independent_ground_truth(rec.samples[:, c], rec.fs)
+                    rows.append(slice_nrmse(tremor, res.tremor[:, c], rec.fs))
+        return {k: float(np.mean([r[k] for r in rows])) for k in SLICES}
+
+    detrended = scores()
+    monkeypatch.setattr(hpa_run, "detrended_highpass", sharp_highpass)
+    plain = scores()
+    for k in ("2-5 s", "after 5 s", "whole (from 0.5 s)"):
+        assert detrended[k] < 0.995 * plain[k], (k, detrended[k], plain[k])
+

@@ -20,12 +20,14 @@ def add_filter_arguments(p: argparse.ArgumentParser) -> None:
     g.add_argument("--ar-order", type=int, default=17, help="Yule-Walker order p (default: 17)")
     g.add_argument("--backend", choices=("c", "reference"), default=None,
                    help="RTP backend (default: c when the compiled core is present, else reference)")
+    from wake.config import WakeConfig
     from wake.hpa.cutoff import CUTOFF_RULES
 
-    g.add_argument("--cutoff-rule", choices=CUTOFF_RULES, default="paper",
-                   help="how the HPA finds f_d: 'paper' (default) a 3 dB valley or 2 Hz; 'shallow' also a "
-                        "shallower dip below a tremor peak, at or below 4 Hz (for real wear: on PADS 23 %% "
-                        "instead of 81 %% of windows on 2 Hz; docs/design.md)")
+    g.add_argument("--cutoff-rule", choices=CUTOFF_RULES, default=WakeConfig.cutoff_rule,
+                   help=f"how the HPA finds f_d (default: {WakeConfig.cutoff_rule}): 'paper' a 3 dB valley or "
+                        "2 Hz; 'shallow' also a shallower dip below a tremor peak, at or below 4 Hz; 'floor' "
+                        "as 'shallow', with both compared to the noise floor above the tremor band (on PADS "
+                        "23 %% instead of 81 %% of windows on 2 Hz; docs/design.md, 'Cut-off on real wear')")
 
 
 def make_filter(args, fs, **settings):

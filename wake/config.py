@@ -149,17 +149,22 @@ class WakeConfig:
         Relative ridge of the weight fit.
     tremor_band, cutoff_range, default_cutoff
         Cut-off search, see :func:`wake.hpa.find_cutoff`.
-    cutoff_rule : {"paper", "shallow"}
-        ``"paper"`` (default): a valley 3 dB deep or the default cut-off.
-        ``"shallow"``: the same, and where the window has a tremor peak but
-        no 3 dB valley, the PSD minimum below the peak and at or below
-        ``shallow_max`` (docs/design.md, "Cut-off on real wear": 23 %
-        instead of 81 % of PADS windows on the default, PADS tremor NRMSE
-        0.102 instead of 0.112, synthetic 0.07396 instead of 0.07390).
+    cutoff_rule : {"floor", "paper", "shallow"}
+        ``"paper"``: a valley 3 dB deep or the default cut-off (the
+        paper's rule).  ``"shallow"``: the same, and where the window has a
+        tremor peak but no 3 dB valley, the PSD minimum below the peak and
+        at or below ``shallow_max``.  ``"floor"`` (default): as
+        ``"shallow"``, with both dips compared to the noise floor above the
+        tremor band: a shallow dip at the floor gives the default, a valley
+        at the floor moves to the floor's low edge (see
+        :func:`wake.hpa.find_cutoff`; docs/design.md, "Cut-off on real
+        wear": 23 % instead of 81 % of PADS windows on the default, PADS
+        tremor NRMSE 0.102 instead of 0.112, synthetic 0.0716 instead of
+        0.0739).
     shallow_max : float
-        Highest cut-off the ``"shallow"`` rule takes, Hz (default 4, the
-        lower edge of pathological tremor); at least ``cutoff_range[0]``.
-        The ``"paper"`` rule does not read it.
+        Highest cut-off the ``"shallow"`` and ``"floor"`` rules take from a
+        shallow dip, Hz (default 4, the lower edge of pathological tremor);
+        at least ``cutoff_range[0]``.  The ``"paper"`` rule does not read it.
     full_scale : float or None
         C backend: the physical value mapped to the int16 full scale;
         ``None`` chooses it from the signal (see :class:`~wake.WakeFilter`).
@@ -216,7 +221,7 @@ class WakeConfig:
     tremor_band: tuple = (2.5, 15.0)
     cutoff_range: tuple = (0.5, 6.0)
     default_cutoff: float = 2.0
-    cutoff_rule: str = "paper"
+    cutoff_rule: str = "floor"
     shallow_max: float = 4.0
     full_scale: float | None = None
     headroom: float = 16.0

@@ -85,12 +85,14 @@ static inline wake_hpa_status_t wake_config_hpa_init(wake_hpa_t *hpa)
     c.shallow_high = 4.0f;
     c.default_cutoff = 2.0f;
     c.min_depth_ratio = 0.501187205f;
+    c.floor_ratio = 0.0316227749f;
+    c.edge_ratio = 0.501187205f;
     c.ridge = 9.99999997e-07f;
     c.process_noise_ratio = 0.0f;
     c.window = 500;
     c.level = 5;
     c.ar_order = 17;
-    c.rule = 0;
+    c.rule = 2;
     c.warmup[0] = 200;
     c.warmup[1] = 300;
     c.warmup[2] = 400;

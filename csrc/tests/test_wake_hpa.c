@@ -92,7 +92,7 @@ static void test_bad_input(void)
     {
         wake_hpa_config_t bad;
         int k;
-        for (k = 0; k < 14; ++k) {
+        for (k = 0; k < 18; ++k) {
             bad = c;
             switch (k) {
             case 0: bad.level = 0; break;
@@ -108,6 +108,10 @@ static void test_bad_input(void)
             case 10: bad.ar_order = 250; break;            /* L <= 2p */
             case 11: bad.shallow_high = 0.25f; break;      /* below cutoff_low */
             case 12: bad.shallow_high = NAN; break;
+            case 13: bad.floor_ratio = 0.0f; break;
+            case 14: bad.floor_ratio = 1.0f; break;
+            case 15: bad.edge_ratio = NAN; break;
+            case 16: bad.rule = WAKE_HPA_RULE_FLOOR + 1; break;
             default: bad.rule = 7; break;
             }
             init_default(&hpa);
@@ -184,6 +188,12 @@ static void test_bad_input(void)
     CHECK(wake_hpa_run(&hpa) == WAKE_HPA_E_CORRUPT);
     init_default(&hpa);
     hpa.cfg.shallow_high = 5.0f;
+    CHECK(wake_hpa_slice(&hpa) == WAKE_HPA_E_CORRUPT);
+    init_default(&hpa);
+    hpa.floor_lo = 3;               /* the floor's first bin is derived (sealed) */
+    CHECK(wake_hpa_slice(&hpa) == WAKE_HPA_E_CORRUPT);
+    init_default(&hpa);
+    hpa.cfg.floor_ratio = 0.5f;
     CHECK(wake_hpa_slice(&hpa) == WAKE_HPA_E_CORRUPT);
     /* a loop counter out of its range in the middle of a run */
     {

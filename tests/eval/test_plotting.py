@@ -28,8 +28,9 @@ def test_plot_result_writes_a_png_with_the_cutoff_flag(tmp_path):
     seen = {}
     real_close = plt.close
 
-    def keep_legends(fig):  # read the legends before the figure is closed
+    def keep_legends(fig):  # read the legends and titles before the figure is closed
         seen["texts"] = [t.get_text() for a in fig.axes if a.get_legend() for t in a.get_legend().get_texts()]
+        seen["titles"] = [a.get_title() for a in fig.axes]
         seen["ylabels"] = [a.get_ylabel() for a in fig.axes]
         real_close(fig)
 
@@ -41,6 +42,11 @@ def test_plot_result_writes_a_png_with_the_cutoff_flag(tmp_path):
         plt.close = real_close
     assert (tmp_path / "f.png").read_bytes()[:4] == b"\x89PNG"
     last = res.hpa[0][-1]
-    assert any(f"f_d = {last.cutoff:.2f} Hz" in t and last.cutoff_flag.split("_")[0] in t for t in seen["texts"])
+    assert any(f"f_d = {last.cutoff:.2f} Hz ({last.cutoff_flag})" in t for t in seen["texts"])
+    # a cut-off taken from the spectrum (here the default rule's floor_valley) is not a fallback
+    assert last.cutoff_flag == "floor_valley"
+    fell_back = 100 * np.mean([u.cutoff_flag in ("no_tremor_peak", "no_valley", "silent") for u in res.hpa[0]])
+    assert any(f"{fell_back:.0f} % fell back to the default cut-off" in t for t in seen["titles"]), seen["titles"]
+    assert fell_back < 50
     assert any(t.startswith("warm-up") for t in seen["texts"])
     assert seen["ylabels"][0] == "signal (rad/s)"

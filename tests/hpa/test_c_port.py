@@ -57,6 +57,34 @@ def test_c_hpa_agrees_with_the_python_hpa(name):
     assert np.isfinite(c.weights).all() and np.abs(c.weights).max() <= 32
 
 
+def test_c_hpa_runs_every_cutoff_rule_like_the_python_hpa():
+    """Each rule on windows that take each of its branches: a valley at the noise floor (the synthetic set),
+    a shallow dip well above it (a tremor shoulder), a weak tremor bump on a flat floor."""
+    t = np.arange(500) / 100.0
+    rng = np.random.default_rng(5)
+    # a random walk (voluntary content falling as 1/f^2) into a weak 6 Hz tremor: a shallow dip, far above
+    # the noise floor
+    shoulder = (np.cumsum(np.random.default_rng(0).normal(size=500)) * 0.05 + 0.05 * np.sin(2 * np.pi * 6 * t)
+                + 0.002 * np.random.default_rng(1).normal(size=500))
+    flat = 0.02 * np.sin(2 * np.pi * 0.2 * t) + rng.normal(size=500) + 0.15 * np.sin(2 * np.pi * 8 * t)
+    cases = {"synthetic": make_signal(7.5, seed=1).measurement[:500], "shoulder": shoulder, "flat floor": flat}
+    seen = set()
+    for rule in ("paper", "shallow", "floor"):
+        cfg = WakeConfig(backend="reference", cutoff_rule=rule)
+        for name, x in cases.items():
+            from wake.hpa.c_port import quantize_window, run_hpa_c, window_full_scale
+
+            full = window_full_scale(x)
+            py = run_hpa(quantize_window(x, full) * (full / 32768), cfg, taps=TAPS)
+            c = run_hpa_c(x, cfg, taps=TAPS)
+            assert (c.cutoff_flag, name, rule) == (py.cutoff_flag, name, rule)
+            assert abs(c.cutoff - py.cutoff) <= GRID, (name, rule)
+            seen.add((rule, py.cutoff_flag))
+    # the cases reach the floor rule's three outcomes, and the other rules' own
+    assert {("floor", "floor_valley"), ("floor", "shallow_valley"), ("floor", "no_valley"),
+            ("shallow", "shallow_valley"), ("paper", "valley"), ("paper", "no_valley")} <= seen, seen
+
+
 def test_a_silent_window_keeps_the_previous_weights_like_the_python_hpa():
     prev = np.array([0.1, 0.2, 0.3, 0.2, 0.2])
     py, c = both(np.full(300, 0.7), previous_weights=prev)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from wake.hpa.cutoff import FALLBACK_FLAGS
 from wake.hpa.spectrum import ar_psd
 
 
@@ -97,10 +98,10 @@ def plot_result(path, x, result, fs, *, voluntary_truth=None, tremor_truth=None,
         freqs, psd = ar_psd(seg, fs, ar_order)
         ax[2 + 1].semilogy(freqs, psd, color="C2", label=f"AR(p={ar_order}) spectrum, last HPA window "
                                                        f"(ending at {last.index / fs:.1f} s)")
-        kind = "valley" if last.cutoff_flag == "valley" else f"{last.cutoff_flag}: default used"
+        kind = f"{last.cutoff_flag}: default used" if last.cutoff_flag in FALLBACK_FLAGS else last.cutoff_flag
         ax[3].axvline(last.cutoff, color="C3", ls="--", label=f"f_d = {last.cutoff:.2f} Hz ({kind})")
         flags = [u.cutoff_flag for u in updates]
-        share = 100.0 * sum(f != "valley" for f in flags) / len(flags)
+        share = 100.0 * sum(f in FALLBACK_FLAGS for f in flags) / len(flags)
         ax[3].set_title(f"{len(flags)} HPA runs, {share:.0f} % fell back to the default cut-off", fontsize=9)
     ax[3].set_xlabel("frequency (Hz)")
     ax[3].set_ylabel(f"PSD ({unit}$^2$/Hz)" if unit else "PSD (1/Hz)")

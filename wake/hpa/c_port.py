@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from wake.config import WakeConfig
-from wake.hpa.cutoff import CUTOFF_RULES
+from wake.hpa.cutoff import CUTOFF_RULES, EDGE_DB, FLOOR_MARGIN_DB
 from wake.hpa.run import HPAUpdate
 from wake.rtp.full_scale import power_of_two_at_least
 
@@ -20,9 +20,12 @@ __all__ = ["C_FLAGS", "hpa_config", "hpa_config_fields", "quantize_window", "run
            "window_full_scale"]
 
 #: wake_hpa_flag_t -> the keys of :data:`wake.hpa.CUTOFF_FLAGS`
-C_FLAGS = ("valley", "no_tremor_peak", "no_valley", "silent", "shallow_valley")
+C_FLAGS = ("valley", "no_tremor_peak", "no_valley", "silent", "shallow_valley", "floor_valley")
 #: 10^(-3 dB / 10): the valley depth of :func:`wake.hpa.find_cutoff` as a ratio of PSD values
 MIN_DEPTH_RATIO = 10.0 ** (-3.0 / 10.0)
+#: 10^(-FLOOR_MARGIN_DB / 10) and 10^(-EDGE_DB / 10): rule "floor"'s margins as ratios of PSD values
+FLOOR_RATIO = 10.0 ** (-FLOOR_MARGIN_DB / 10.0)
+EDGE_RATIO = 10.0 ** (-EDGE_DB / 10.0)
 #: Warm-up points wake_hpa_config_t holds (WAKE_HPA_MAX_WARMUP)
 MAX_WARMUP = 4
 _Q15 = 32768.0
@@ -65,7 +68,8 @@ def hpa_config_fields(config: WakeConfig) -> dict:
     return {"fs": config.fs, "tremor_low": config.tremor_band[0], "tremor_high": config.tremor_band[1],
             "cutoff_low": config.cutoff_range[0], "cutoff_high": config.cutoff_range[1],
             "shallow_high": config.shallow_max,
-            "default_cutoff": config.default_cutoff, "min_depth_ratio": MIN_DEPTH_RATIO, "ridge": config.ridge,
+            "default_cutoff": config.default_cutoff, "min_depth_ratio": MIN_DEPTH_RATIO,
+            "floor_ratio": FLOOR_RATIO, "edge_ratio": EDGE_RATIO, "ridge": config.ridge,
             "process_noise_ratio": config.process_noise_ratio, "window": config.window_samples,
             "level": config.level, "ar_order": config.ar_order, "rule": CUTOFF_RULES.index(config.cutoff_rule),
             "warmup": points + [0] * (MAX_WARMUP - len(points))}

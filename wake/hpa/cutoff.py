@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["CUTOFF_FLAGS", "CUTOFF_RULES", "find_cutoff"]
+__all__ = ["CUTOFF_FLAGS", "CUTOFF_RULES", "FALLBACK_FLAGS", "find_cutoff"]
 
 #: How a cut-off was found.  ``"valley"`` is the normal case; the others are fallbacks.
 CUTOFF_FLAGS = {
@@ -12,18 +12,38 @@ CUTOFF_FLAGS = {
     "no_tremor_peak": "no local PSD maximum inside tremor_band: default_cutoff used",
     "no_valley": "the PSD has no dip of min_depth_db below both sides: default_cutoff used",
     "silent": "the window has (near) zero variance: default_cutoff used, weights kept",
-    "shallow_valley": ("rule 'shallow': a tremor peak but no 3 dB valley; f_d at the PSD minimum below the peak "
-                       "and at or below shallow_max"),
+    "shallow_valley": ("rules 'shallow' and 'floor': a tremor peak but no 3 dB valley; f_d at the PSD minimum "
+                       "below the peak and at or below shallow_max"),
+    "floor_valley": ("rule 'floor': a valley at the noise floor (less than floor_margin_db above it); f_d at the "
+                     "low edge of the floor, where the PSD first comes within edge_db of the valley"),
 }
 
-#: Cut-off rules (docs/design.md, "Cut-off on real wear").  "paper" is the default.
-CUTOFF_RULES = ("paper", "shallow")
+#: The flags whose f_d is ``default_cutoff``, not taken from the window's spectrum.
+FALLBACK_FLAGS = ("no_tremor_peak", "no_valley", "silent")
 
-#: Highest f_d the "shallow" rule takes, Hz: a shallow dip above it is not where voluntary motion ends.
+#: Cut-off rules (docs/design.md, "Cut-off on real wear").  "floor" is the default; "paper" is the paper's.
+CUTOFF_RULES = ("paper", "shallow", "floor")
+
+#: Highest f_d the "shallow" and "floor" rules take from a shallow dip, Hz: a shallow dip above it is not
+#: where voluntary motion ends.
 SHALLOW_MAX = 4.0
 
+#: Rule "floor": a dip less than this far above the noise floor (the lowest PSD above the tremor band), dB,
+#: is broadband noise between the two bands, not where they meet.
+FLOOR_MARGIN_DB = 15.0
+
+#: Rule "floor": the low edge of a valley at the noise floor is where the PSD comes within this of it, dB.
+EDGE_DB = 3.0
+
+#: Rule "floor": the noise floor is the lowest PSD over the last bin (fs/2) and every FLOOR_STRIDE-th bin
+#: below it, above the tremor band.  An AR spectrum is smooth there; on the 512-bin grid of
+#: :func:`~wake.hpa.spectrum.ar_psd` the stride keeps the C HPA's spectrum at about 200 bins instead of 512
+#: (every stride from 1 to 8 gives the same flags on PADS and the synthetic set).
+FLOOR_STRIDE = 8
+
 def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
-                default_cutoff=2.0, min_depth_db=3.0, rule="paper", shallow_max=SHALLOW_MAX):
+                default_cutoff=2.0, min_depth_db=3.0, rule="paper", shallow_max=SHALLOW_MAX,
+                floor_margin_db=FLOOR_MARGIN_DB, edge_db=EDGE_DB):
     """Cut-off ``f_d`` at the valley between voluntary and tremor content.
 
     The tremor peak is the largest local maximum of the PSD inside
@@ -32,7 +52,12 @@ def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
     below both the tremor peak and the largest PSD value to its left
     (the voluntary content).  Otherwise the ``"paper"`` rule (the default)
     returns ``default_cutoff``, and the ``"shallow"`` rule the PSD minimum
-    between ``cutoff_range[0]`` and ``min(shallow_max, peak)``.
+    between ``cutoff_range[0]`` and ``min(shallow_max, peak)``.  The
+    ``"floor"`` rule (:class:`wake.WakeConfig`'s default) compares both with
+    the noise floor, the lowest PSD above ``tremor_band`` (over the last bin
+    and every :data:`FLOOR_STRIDE`-th bin below it): a shallow dip counts
+    only ``floor_margin_db`` or more above it, and a valley closer to
+    it than that is a gap filled by noise, whose low edge is taken instead.
 
     Parameters
     ----------
@@ -46,18 +71,34 @@ def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
         The fallback, Hz; must lie in ``cutoff_range``.
     min_depth_db : float
         How deep a dip must be to count as a valley.
-    rule : {"paper", "shallow"}
-        ``"shallow"``: where ``"paper"`` (the default) finds a tremor peak but
-        no valley deep enough, take the PSD minimum between
-        ``cutoff_range[0]`` and the lower of the peak and ``shallow_max``
-        (flag ``"shallow_valley"``) instead of the default.  On the ten PADS
-        recordings it leaves 23 % of HPA windows on the default instead of
-        81 % and lowers the PADS error; it raises the synthetic error a
-        little, so it is not the default (docs/design.md, "Cut-off on real
-        wear").
+    rule : {"paper", "shallow", "floor"}
+        ``"paper"`` (this function's default, the paper's rule): the valley
+        or ``default_cutoff``.
+        ``"shallow"``: where ``"paper"`` finds a tremor peak but no valley
+        deep enough, take the PSD minimum between ``cutoff_range[0]`` and
+        the lower of the peak and ``shallow_max`` (flag
+        ``"shallow_valley"``) instead of the default.
+        ``"floor"``: as ``"shallow"``, but a shallow dip less than
+        ``floor_margin_db`` above the noise floor gives the default (flag
+        ``"no_valley"``), and a valley less than ``floor_margin_db`` above
+        it moves down to the floor's low edge: the lowest frequency, not
+        below ``cutoff_range[0]``, from which the PSD stays within
+        ``edge_db`` of the valley (flag ``"floor_valley"``).  Without PSD
+        bins above ``tremor_band`` there is no floor and it acts as
+        ``"shallow"``.  On the ten PADS recordings it leaves 23 % of HPA
+        windows on the default instead of 81 %, and it lowers the error on
+        PADS and on the paper's synthetic set (docs/design.md, "Cut-off on
+        real wear").
     shallow_max : float
-        Highest cut-off the ``"shallow"`` rule takes, Hz (default 4: the
-        lower edge of pathological tremor; ``cutoff_range[1]`` caps it too).
+        Highest cut-off the ``"shallow"`` and ``"floor"`` rules take from a
+        shallow dip, Hz (default 4: the lower edge of pathological tremor;
+        ``cutoff_range[1]`` caps it too).
+    floor_margin_db : float
+        Rule ``"floor"``: how far above the noise floor a dip must lie to
+        be where voluntary and tremor content meet, dB (default 15).
+    edge_db : float
+        Rule ``"floor"``: the low edge of a valley at the noise floor is
+        where the PSD comes within this of the valley, dB (default 3).
 
     Returns
     -------
@@ -87,6 +128,10 @@ def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
             or not lo <= shallow_max < np.inf:
         raise ValueError(f"shallow_max must be a finite frequency at or above cutoff_range[0] = {lo:g} Hz, "
                          f"got {shallow_max!r}")
+    for name, value in (("floor_margin_db", floor_margin_db), ("edge_db", edge_db)):
+        if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)) \
+                or not 0 < value < np.inf:
+            raise ValueError(f"{name} must be a finite positive number of dB, got {value!r}")
     if not 0 < tremor_band[0] < tremor_band[1]:
         raise ValueError(f"tremor_band must be (low, high) with 0 < low < high, got {tremor_band!r}")
     freqs = np.asarray(freqs, dtype=float)
@@ -105,11 +150,25 @@ def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
         return float(default_cutoff), "no_valley"
     valley = search[np.argmin(db[search])]
     left = db[: valley + 1].max()
+    # the noise floor: the lowest PSD above the tremor band, over fs/2 and every FLOOR_STRIDE-th bin below it
+    # (rule "floor"; none without bins there)
+    above = np.flatnonzero(freqs > tremor_band[1])[::-1][::FLOOR_STRIDE]
+    floor = db[above].min() if rule == "floor" and above.size else -np.inf
     if db[valley] > db[peak] - min_depth_db or db[valley] > left - min_depth_db:
-        if rule == "shallow":
+        if rule in ("shallow", "floor"):
             # a dip shallower than min_depth_db: its minimum, but only where voluntary motion can end
+            # and, rule "floor", only well above the noise floor
             low = np.flatnonzero((freqs >= lo) & (freqs <= min(hi, shallow_max, freqs[peak])))
             if low.size >= 3:
-                return float(freqs[low[np.argmin(db[low])]]), "shallow_valley"
+                dip = low[np.argmin(db[low])]
+                if db[dip] >= floor + floor_margin_db:
+                    return float(freqs[dip]), "shallow_valley"
         return float(default_cutoff), "no_valley"
+    if db[valley] < floor + floor_margin_db:
+        # a valley at the noise floor: where the minimum falls inside the gap is noise; the gap's low
+        # edge is where the voluntary content ends
+        edge = valley
+        while edge > 0 and freqs[edge - 1] >= lo and db[edge - 1] <= db[valley] + edge_db:
+            edge -= 1
+        return float(freqs[edge]), "floor_valley"
     return float(freqs[valley]), "valley"
