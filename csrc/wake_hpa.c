@@ -274,6 +274,9 @@ static int config_ok(const wake_hpa_config_t *c)
     if (c->cutoff_high * (float)WAKE_HPA_PSD_GRID / c->fs >= (float)(WAKE_HPA_MAX_PSD_BINS - 1)) {
         return 0;
     }
+    if (c->clean_below > c->window) {
+        return 0;
+    }
     prev = 0;
     for (k = 0; k < WAKE_HPA_MAX_WARMUP && c->warmup[k] != 0u; ++k) {
         if (c->warmup[k] <= prev || c->warmup[k] < 2u * N || c->warmup[k] >= c->window) {
@@ -313,8 +316,8 @@ static inline uint32_t mix(uint32_t v, uint32_t w)
  * re-validating cost 280).  Each step is a bijection of the running value,
  * so a change of any one field is always detected.
  */
-#if WAKE_HPA_MAX_WARMUP != 4
-#error "seal_of() hashes four warm-up points"
+#if WAKE_HPA_MAX_WARMUP != 8
+#error "seal_of() hashes eight warm-up points"
 #endif
 static uint32_t seal_of(const wake_hpa_t *h)
 {
@@ -336,6 +339,9 @@ static uint32_t seal_of(const wake_hpa_t *h)
     v = mix(v, (uint32_t)c->ar_order | (uint32_t)c->rule << 16);
     v = mix(v, (uint32_t)c->warmup[0] | (uint32_t)c->warmup[1] << 16);
     v = mix(v, (uint32_t)c->warmup[2] | (uint32_t)c->warmup[3] << 16);
+    v = mix(v, (uint32_t)c->warmup[4] | (uint32_t)c->warmup[5] << 16);
+    v = mix(v, (uint32_t)c->warmup[6] | (uint32_t)c->warmup[7] << 16);
+    v = mix(v, (uint32_t)c->clean_below);
     v = mix(v, (uint32_t)h->psd_lo | (uint32_t)h->psd_hi << 16);
     v = mix(v, (uint32_t)h->cut_lo | (uint32_t)h->cut_hi << 16);
     v = mix(v, (uint32_t)h->floor_lo);
@@ -399,9 +405,11 @@ wake_hpa_status_t wake_hpa_default_config(wake_hpa_config_t *cfg)
     cfg->level = 5;
     cfg->ar_order = 17;
     cfg->rule = WAKE_HPA_RULE_FLOOR;
-    cfg->warmup[0] = 200;
-    cfg->warmup[1] = 300;
-    cfg->warmup[2] = 400;
+    cfg->clean_below = 200;
+    cfg->warmup[0] = 100;
+    cfg->warmup[1] = 200;
+    cfg->warmup[2] = 300;
+    cfg->warmup[3] = 400;
     return WAKE_HPA_OK;
 }
 
@@ -596,6 +604,11 @@ static void finish(wake_hpa_t *h, const float *w, float r, float mse, float ridg
 {
     unsigned j;
     wake_hpa_result_t *res = &h->result;
+    if (h->n < h->cfg.clean_below && h->flag != WAKE_HPA_VALLEY && h->flag != WAKE_HPA_FLOOR_VALLEY) {
+        /* a short warm-up window without a clean valley: its fit is not installed */
+        w = h->weights;
+        notes = (uint16_t)(notes | WAKE_HPA_NOTE_WEIGHTS_KEPT);
+    }
     for (j = 0; j < h->cfg.level; ++j) {
         res->weights[j] = w[j];
         h->weights[j] = w[j];

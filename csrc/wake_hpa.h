@@ -51,7 +51,7 @@
  * J = WAKE_HPA_MAX_LEVEL, p = WAKE_HPA_MAX_ORDER, B = WAKE_HPA_MAX_PSD_BINS, about
  *   4 W (the two int16 windows) + (8 J + 12) 2^J (the bank as floats, Rxx B',
  *   three 2^J sums) + 8 p + 4 B + 8 J^2 + 24 J + 400 bytes;
- * 4,824 bytes with -DWAKE_HPA_MAX_WINDOW=500 -DWAKE_HPA_MAX_LEVEL=5
+ * 4,832 bytes with -DWAKE_HPA_MAX_WINDOW=500 -DWAKE_HPA_MAX_LEVEL=5
  * -DWAKE_HPA_MAX_ORDER=17 -DWAKE_HPA_MAX_PSD_BINS=64 (`wake profile --hpa`
  * measures it on the target).  Stack: about 200 bytes on a Cortex-M4F, 400 on
  * a Cortex-M0+ (its soft-float calls); no recursion, no arrays on the stack.
@@ -112,7 +112,7 @@ extern "C" {
 /** Filter-bank taps for the largest level. */
 #define WAKE_HPA_MAX_TAPS (1 << WAKE_HPA_MAX_LEVEL)
 /** Warm-up HPA points the configuration can hold. */
-#define WAKE_HPA_MAX_WARMUP 4
+#define WAKE_HPA_MAX_WARMUP 8
 /** FFT length of the Python AR spectrum: 512 frequencies on [0, fs/2]. */
 #define WAKE_HPA_PSD_GRID 1022
 
@@ -186,6 +186,9 @@ typedef struct {
     uint16_t level;             /**< J, 1..WAKE_HPA_MAX_LEVEL */
     uint16_t ar_order;          /**< p, 1..WAKE_HPA_MAX_ORDER */
     uint16_t rule;              /**< a ::wake_hpa_rule_t */
+    uint16_t clean_below;       /**< a window shorter than this (samples; 0: none) installs its fit only with
+                                     a clean valley (flag valley or floor_valley), else keeps the weights
+                                     (wake.hpa.run.CLEAN_ONLY_BELOW_S: 2 s) */
     uint16_t warmup[WAKE_HPA_MAX_WARMUP]; /**< sample counts of warm-up HPAs before the first full
                                                window, increasing, each in [2 * 2^J, L); 0 ends the list */
 } wake_hpa_config_t;

@@ -45,7 +45,7 @@ def test_run_writes_csv(recording, tmp_path, capsys):
     np.testing.assert_allclose(data[:, 0], np.arange(1200) / 100.0, atol=1e-9)
     np.testing.assert_allclose(data[:, 1], s.measurement, rtol=1e-8)
     np.testing.assert_allclose(data[:, 3], data[:, 1] - data[:, 2], atol=1e-7)
-    assert "5 HPA runs per channel" in capsys.readouterr().out
+    assert "6 HPA runs per channel" in capsys.readouterr().out
 
 
 def test_run_all_columns(recording, tmp_path):

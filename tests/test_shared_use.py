@@ -45,8 +45,8 @@ def test_two_threads_on_one_filter_install_every_hpa_once_and_in_order(backend):
         assert errors == []
         total = 1 + 2 * per_thread
         history = filt.hpa_history[0]
-        # every HPA once, in order (warm-up at 2, 3, 4 s, then every window), installed after it was asked for
-        assert [u.index for u in history] == [200, 300, 400] + list(range(500, total + 1, 500))
+        # every HPA once, in order (warm-up at 1, 2, 3, 4 s, then every window), installed after it was asked for
+        assert [u.index for u in history] == [100, 200, 300, 400] + list(range(500, total + 1, 500))
         applied = [u.applied_at for u in history]
         assert applied == sorted(applied) and len(set(applied)) == len(applied)
         assert all(u.applied_at > u.index for u in history)
@@ -63,7 +63,7 @@ def test_context_manager_stops_the_worker_thread():
     assert not any(t.is_alive() for t in workers)
     assert filt._pool is None
     # nothing in flight was lost: close() installs it first
-    assert [u.index for u in filt.hpa_history[0]] == [200, 300, 400, 500]
+    assert [u.index for u in filt.hpa_history[0]] == [100, 200, 300, 400, 500]
     # and the filter stays usable
     assert np.isfinite(filt.update(0.1))
 
@@ -74,7 +74,7 @@ def test_hpa_history_keeps_the_newest_updates_only():
     filt.update_block(x)
     assert [u.index for u in filt.hpa_history[0]] == [2_000, 2_500, 3_000]
     # run() returns every update of the recording it was given
-    assert [u.index for u in filt.run(x).hpa[0]] == [200, 300, 400, 500, 1_000, 1_500, 2_000, 2_500, 3_000]
+    assert [u.index for u in filt.run(x).hpa[0]] == [100, 200, 300, 400, 500, 1_000, 1_500, 2_000, 2_500, 3_000]
     # the bound survives a snapshot
     g = WakeFilter(config=filt.config)
     g.set_state(filt.get_state())

@@ -34,7 +34,7 @@ def test_thread_mode_is_deterministic_given_the_swap_points(stream):
     f.flush()
     updates = f.hpa_history[0]
     f.close()
-    assert len(updates) == 3 + len(x) // 500  # warm-up HPA runs at 2, 3 and 4 s, then one per window
+    assert len(updates) == 4 + len(x) // 500  # warm-up HPA runs at 1, 2, 3 and 4 s, then one per window
     # swaps happen between samples, never before the window that fed them was complete
     assert all(u.applied_at > u.index for u in updates)
     np.testing.assert_array_equal(y, replay(x, updates, f.taps, f.config))
@@ -62,7 +62,7 @@ def test_inline_swap_point_is_the_window_end(stream):
     f = WakeFilter(backend="reference")
     for v in stream.measurement[:1000]:
         f.update(v)
-    assert [u.applied_at for u in f.hpa_history[0]] == [200, 300, 400, 500, 1000]
+    assert [u.applied_at for u in f.hpa_history[0]] == [100, 200, 300, 400, 500, 1000]
 
 
 def test_gap_of_one_second_recovers(stream):
@@ -126,7 +126,7 @@ def test_update_block_equals_update(backend, stream):
     one = np.array([a.update(v) for v in x])
     blocks = np.concatenate([b.update_block(x[:333]), b.update_block(x[333:1500]), b.update_block(x[1500:])])
     np.testing.assert_array_equal(one, blocks)
-    assert [u.index for u in a.hpa_history[0]] == [u.index for u in b.hpa_history[0]] == [200, 300, 400, 500, 1000, 1500, 2000]
+    assert [u.index for u in a.hpa_history[0]] == [u.index for u in b.hpa_history[0]] == [100, 200, 300, 400, 500, 1000, 1500, 2000]
     with pytest.raises(ValueError, match="streams 1 channel"):
         b.update_block(np.ones((10, 2)))
 

@@ -81,7 +81,7 @@ def _pair(name: str, value) -> tuple[float, float]:
 
 
 #: Candidate warm-up HPA times (s) of the automatic schedule (docs/design.md, "Warm-up").
-AUTO_WARMUP_S = (2.0, 3.0, 4.0)
+AUTO_WARMUP_S = (1.0, 2.0, 3.0, 4.0)
 
 
 def auto_warmup_points(fs: float, window_s: float, level: int) -> tuple:
@@ -183,7 +183,9 @@ class WakeConfig:
         before the first full window (docs/design.md, "Warm-up").  ``()``
         keeps the paper's schedule (the first HPA at ``window_s``).  Each
         must leave at least ``2 * 2**J`` samples.  ``None`` (the default):
-        :func:`auto_warmup_points`.
+        :func:`auto_warmup_points`, 1, 2, 3 and 4 s at the defaults.  A fit
+        on less than 2 s is installed only on a clean valley
+        (:data:`wake.hpa.run.CLEAN_ONLY_BELOW_S`).
     initial_weights : {"prior", "deepest"}
         Weights before the first HPA: ``"prior"`` the designed one-step-ahead
         predictor of :func:`wake.hpa.prior.prior_weights`; ``"deepest"`` the

@@ -93,10 +93,15 @@ static inline wake_hpa_status_t wake_config_hpa_init(wake_hpa_t *hpa)
     c.level = 5;
     c.ar_order = 17;
     c.rule = 2;
-    c.warmup[0] = 200;
-    c.warmup[1] = 300;
-    c.warmup[2] = 400;
-    c.warmup[3] = 0;
+    c.clean_below = 200;
+    c.warmup[0] = 100;
+    c.warmup[1] = 200;
+    c.warmup[2] = 300;
+    c.warmup[3] = 400;
+    c.warmup[4] = 0;
+    c.warmup[5] = 0;
+    c.warmup[6] = 0;
+    c.warmup[7] = 0;
     return wake_hpa_init(hpa, &c, wake_config_taps, start);
 }
 #endif

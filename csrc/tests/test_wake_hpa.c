@@ -92,7 +92,7 @@ static void test_bad_input(void)
     {
         wake_hpa_config_t bad;
         int k;
-        for (k = 0; k < 18; ++k) {
+        for (k = 0; k < 19; ++k) {
             bad = c;
             switch (k) {
             case 0: bad.level = 0; break;
@@ -102,7 +102,7 @@ static void test_bad_input(void)
             case 4: bad.fs = NAN; break;
             case 5: bad.cutoff_high = 50.0f; break;
             case 6: bad.default_cutoff = 7.0f; break;
-            case 7: bad.warmup[1] = 150; break;            /* not increasing */
+            case 7: bad.warmup[1] = 90; break;             /* not increasing (100, 90) */
             case 8: bad.warmup[3] = 450; bad.warmup[2] = 0; break; /* a gap in the list */
             case 9: bad.min_depth_ratio = 1.5f; break;
             case 10: bad.ar_order = 250; break;            /* L <= 2p */
@@ -112,6 +112,7 @@ static void test_bad_input(void)
             case 14: bad.floor_ratio = 1.0f; break;
             case 15: bad.edge_ratio = NAN; break;
             case 16: bad.rule = WAKE_HPA_RULE_FLOOR + 1; break;
+            case 17: bad.clean_below = (uint16_t)(bad.window + 1u); break;
             default: bad.rule = 7; break;
             }
             init_default(&hpa);
@@ -164,7 +165,14 @@ static void test_bad_input(void)
     {
         int k;
         wake_hpa_status_t st;
-        init_default(&hpa);
+        wake_hpa_config_t c3;
+        /* the warm-up points 200, 300, 400 (the default also has 100) */
+        CHECK(wake_hpa_default_config(&c3) == WAKE_HPA_OK);
+        c3.warmup[0] = 200;
+        c3.warmup[1] = 300;
+        c3.warmup[2] = 400;
+        c3.warmup[3] = 0;
+        CHECK(wake_hpa_init(&hpa, &c3, taps, start_w) == WAKE_HPA_OK);
         for (k = 0; k < 150; ++k) {
             CHECK(wake_hpa_push(&hpa, (wake_q15_t)(k % 7)) == WAKE_HPA_OK);
         }

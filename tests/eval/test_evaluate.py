@@ -101,7 +101,7 @@ def test_quick_run_scores_time_since_start_and_the_flags(quick_report):
         t, err = res[part]["curves"]["WAKE-ref"]
         assert t[0] == 0.25 and len(t) == len(err) >= 20
     flags = res["real"]["flags"]
-    assert sum(flags.values()) == 2 * 6 * 5                  # 12 s recordings: HPAs at 2, 3, 4, 5 and 10 s
+    assert sum(flags.values()) == 2 * 6 * 6                  # 12 s recordings: HPAs at 1, 2, 3, 4, 5 and 10 s
     assert "| flag | windows | share |" in text.split("## The cut-off on PADS")[1]
     assert all("x" not in w for ws in res["real"]["flag_windows"].values() for w in ws)
 

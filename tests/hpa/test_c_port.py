@@ -85,6 +85,20 @@ def test_c_hpa_runs_every_cutoff_rule_like_the_python_hpa():
             ("shallow", "shallow_valley"), ("paper", "valley"), ("paper", "no_valley")} <= seen, seen
 
 
+def test_a_short_window_without_a_clean_valley_keeps_the_weights_like_the_python_hpa():
+    """wake.hpa.run.CLEAN_ONLY_BELOW_S: under 2 s of samples, a fit is installed only on a clean valley."""
+    prev = np.array([0.1, 0.2, 0.3, 0.2, 0.2])
+    t = np.arange(100) / 100.0
+    trend = np.cumsum(np.random.default_rng(2).normal(size=100)) * 0.05 + 0.3 * t
+    py, c = both(trend, previous_weights=prev)
+    assert c.cutoff_flag == py.cutoff_flag not in ("valley", "floor_valley")
+    assert "weights_kept" in c.flags and "weights_kept" in py.flags
+    np.testing.assert_allclose(c.weights, prev, rtol=1e-7)
+    py, c = both(make_signal(7.5, seed=1).measurement[:100], previous_weights=prev)
+    assert c.cutoff_flag == py.cutoff_flag == "floor_valley"
+    assert "weights_kept" not in c.flags and not np.allclose(c.weights, prev)
+
+
 def test_a_silent_window_keeps_the_previous_weights_like_the_python_hpa():
     prev = np.array([0.1, 0.2, 0.3, 0.2, 0.2])
     py, c = both(np.full(300, 0.7), previous_weights=prev)
@@ -207,8 +221,8 @@ def test_the_device_hpa_follows_the_schedule_around_long_gaps():
     seen = np.array([np.nan if v is None else v * full_scale / 32768 for v in q])
     host = WakeFilter(backend="reference").run(seen).hpa[0]
     assert [i for i, _ in device] == [u.index for u in host]
-    assert [u.index for u in host if 1300 < u.index < 4100] == [1500, 1600, 1700, 1800, 2300, 2800,
-                                                                3700, 3800, 3900, 4000]
+    assert [u.index for u in host if 1300 < u.index < 4100] == [1400, 1500, 1600, 1700, 1800, 2300, 2800,
+                                                                3600, 3700, 3800, 3900, 4000]
     assert skipped == 1                                   # the point 3300, inside the second long gap
     for (index, w), u in zip(device, host):
         if index <= 2750 or index >= 3500:                # windows without the short gap

@@ -13,7 +13,7 @@ import numpy as np
 
 from wake.config import WakeConfig
 from wake.hpa.cutoff import CUTOFF_RULES, EDGE_DB, FLOOR_MARGIN_DB
-from wake.hpa.run import HPAUpdate
+from wake.hpa.run import HPAUpdate, clean_only_below
 from wake.rtp.full_scale import power_of_two_at_least
 
 __all__ = ["C_FLAGS", "hpa_config", "hpa_config_fields", "quantize_window", "run_hpa_c", "check_c_hpa_config",
@@ -27,7 +27,7 @@ MIN_DEPTH_RATIO = 10.0 ** (-3.0 / 10.0)
 FLOOR_RATIO = 10.0 ** (-FLOOR_MARGIN_DB / 10.0)
 EDGE_RATIO = 10.0 ** (-EDGE_DB / 10.0)
 #: Warm-up points wake_hpa_config_t holds (WAKE_HPA_MAX_WARMUP)
-MAX_WARMUP = 4
+MAX_WARMUP = 8
 _Q15 = 32768.0
 
 
@@ -56,6 +56,9 @@ def check_c_hpa_config(config: WakeConfig) -> None:
     if config.cutoff_range[1] * lib.WAKE_HPA_PSD_GRID / config.fs >= lib.WAKE_HPA_MAX_PSD_BINS - 1:
         problems.append(f"cutoff_range[1] = {config.cutoff_range[1]:g} Hz at fs = {config.fs:g} Hz needs more than "
                         f"WAKE_HPA_MAX_PSD_BINS = {lib.WAKE_HPA_MAX_PSD_BINS} spectrum bins")
+    if len(config.hpa_points()) > lib.WAKE_HPA_MAX_WARMUP:
+        problems.append(f"{len(config.hpa_points())} warm-up points exceed WAKE_HPA_MAX_WARMUP = "
+                        f"{lib.WAKE_HPA_MAX_WARMUP} (pass fewer warmup_hpa_s)")
     if problems:
         raise ValueError("hpa_backend='c' cannot run this configuration: " + "; ".join(problems)
                          + "; use hpa_backend='python'")
@@ -64,7 +67,10 @@ def check_c_hpa_config(config: WakeConfig) -> None:
 def hpa_config_fields(config: WakeConfig) -> dict:
     """The fields of ``wake_hpa_config_t`` for ``config``, by name (floats for float fields, ints for
     integer ones, ``warmup`` padded with zeros); no compiled core needed (``wake export-header`` renders them)."""
-    points = list(config.hpa_points())[:MAX_WARMUP]
+    points = list(config.hpa_points())
+    if len(points) > MAX_WARMUP:
+        raise ValueError(f"the C HPA holds at most {MAX_WARMUP} warm-up points, this configuration has "
+                         f"{len(points)} ({config.warmup_hpa_s!r} s); pass fewer warmup_hpa_s")
     return {"fs": config.fs, "tremor_low": config.tremor_band[0], "tremor_high": config.tremor_band[1],
             "cutoff_low": config.cutoff_range[0], "cutoff_high": config.cutoff_range[1],
             "shallow_high": config.shallow_max,
@@ -72,7 +78,7 @@ def hpa_config_fields(config: WakeConfig) -> dict:
             "floor_ratio": FLOOR_RATIO, "edge_ratio": EDGE_RATIO, "ridge": config.ridge,
             "process_noise_ratio": config.process_noise_ratio, "window": config.window_samples,
             "level": config.level, "ar_order": config.ar_order, "rule": CUTOFF_RULES.index(config.cutoff_rule),
-            "warmup": points + [0] * (MAX_WARMUP - len(points))}
+            "clean_below": clean_only_below(config), "warmup": points + [0] * (MAX_WARMUP - len(points))}
 
 
 def hpa_config(config: WakeConfig):

@@ -54,6 +54,20 @@ class HPAUpdate:
 #: for a window of n < L samples, 0 for a full window (docs/design.md, "Warm-up").
 WARMUP_SHRINK = 0.0
 
+#: A warm-up fit on fewer than this many seconds of samples is installed only when the window's spectrum
+#: separates voluntary motion from tremor cleanly (a cut-off flag in :data:`CLEAN_FLAGS`); otherwise the
+#: weights in use stay (flag ``"weights_kept"``).  One second cannot resolve a shoulder or a missing
+#: tremor peak, and a fit on it extrapolates the slow trend (docs/design.md, "Warm-up").
+CLEAN_ONLY_BELOW_S = 2.0
+
+#: The cut-off flags of a clean separation: a valley 3 dB deep, at or above the noise floor.
+CLEAN_FLAGS = ("valley", "floor_valley")
+
+
+def clean_only_below(config: WakeConfig) -> int:
+    """Window length in samples below which only a clean separation installs a fit (:data:`CLEAN_ONLY_BELOW_S`)."""
+    return int(round(CLEAN_ONLY_BELOW_S * config.fs))
+
 
 def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, index: int = 0,
             start_weights=None) -> HPAUpdate:
@@ -73,7 +87,9 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
         The RTP filter bank (:func:`wake.wavelets.filter_bank_taps`);
         computed from ``config`` when not given.
     previous_weights : numpy.ndarray, optional
-        Kept when the window is silent.
+        Kept when the window is silent, and when a warm-up window shorter
+        than :data:`CLEAN_ONLY_BELOW_S` has no clean valley (a cut-off flag
+        outside :data:`CLEAN_FLAGS`).
     index : int
         Number of samples received when the HPA ran (recorded in the result).
     start_weights : numpy.ndarray, optional
@@ -128,4 +144,8 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
     w, err, used = fit_weights(approx, target, ridge, center=start_weights, shrink=shrink)
     if used > ridge:
         flags.append("regularised")
+    if x.size < clean_only_below(config) and flag not in CLEAN_FLAGS:
+        # a short warm-up window without a clean valley: its fit is not installed
+        w = np.array(previous_weights, dtype=float) if previous_weights is not None else default_weights(level)
+        flags.append("weights_kept")
     return HPAUpdate(index, cutoff, flag, w, measurement_noise, err, used, tuple(flags))
