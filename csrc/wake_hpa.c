@@ -524,7 +524,13 @@ static wake_hpa_status_t feed(wake_hpa_t *h, wake_q15_t sample, int missing)
                 count_up(&h->skipped);
             }
             h->base = h->count;
+            /* from its first point of clean_below samples or more: the weights in use were fitted before
+               the gap, and a shorter fit does not beat them (wake.channel.Channel.point_after) */
             h->warmup_next = 0;
+            while (h->warmup_next < WAKE_HPA_MAX_WARMUP && h->cfg.warmup[h->warmup_next] != 0u &&
+                   h->cfg.warmup[h->warmup_next] < h->cfg.clean_below) { /* wcet-loop: WAKE_HPA_MAX_WARMUP */
+                h->warmup_next = (uint16_t)(h->warmup_next + 1u);
+            }
             h->fill_len = 0;
         }
         h->missing_run = 0;

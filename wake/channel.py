@@ -19,6 +19,7 @@ import numpy as np
 
 from wake.config import WakeConfig
 from wake.hpa import HPAUpdate, default_weights, run_hpa
+from wake.hpa.run import clean_only_below
 from wake.hpa.c_port import run_hpa_c
 from wake.hpa.prior import prior_weights
 from wake.rtp import ReferenceRTP, load_fixed_point
@@ -173,10 +174,12 @@ class Channel:
 
     def point_after(self, count: int) -> int:
         """The next HPA point after ``count`` samples: the schedule from the stream's start, or from the end
-        of the latest long gap."""
+        of the latest long gap, there from its first point of ``CLEAN_ONLY_BELOW_S`` (2 s) or more: the weights
+        in use were fitted before the gap, and a shorter fit does not beat them (docs/design.md, "Missing
+        samples")."""
         if self.gap_end is None:
             return self.config.next_hpa(count)
-        return self.gap_end + self.config.next_hpa(count - self.gap_end)
+        return self.gap_end + self.config.next_hpa(max(count - self.gap_end, clean_only_below(self.config) - 1))
 
     def gap_ended(self, last_missing: int) -> None:
         """A long gap ended with sample number ``last_missing``: the schedule starts again from there, warm-up

@@ -191,6 +191,26 @@ static void test_bad_input(void)
         CHECK(wake_hpa_push(&hpa, 1) == WAKE_HPA_STARTED);   /* 310 + 200: a warm-up window of 200 */
         CHECK(hpa.n == 200u && hpa.index == 510u);
     }
+    /* the default schedule (100, 200, 300, 400) after a long gap: from its first point of clean_below (200)
+       samples or more, the 1-s point is not run (wake.channel.Channel.point_after) */
+    {
+        int k;
+        wake_hpa_result_t r;
+        init_default(&hpa);
+        for (k = 1; k <= 100; ++k) {
+            CHECK(wake_hpa_push(&hpa, (wake_q15_t)(k % 7)) == (k == 100 ? WAKE_HPA_STARTED : WAKE_HPA_OK));
+        }
+        CHECK(hpa.n == 100u);
+        CHECK(wake_hpa_run(&hpa) == WAKE_HPA_DONE && wake_hpa_take(&hpa, &r) == WAKE_HPA_OK);
+        for (k = 0; k < 150; ++k) {
+            CHECK(wake_hpa_push_missing(&hpa) == WAKE_HPA_OK);   /* points 200 and 300 fall inside */
+        }
+        for (k = 1; k < 200; ++k) {
+            CHECK(wake_hpa_push(&hpa, (wake_q15_t)(k % 5)) == WAKE_HPA_OK);   /* no HPA at 250 + 100 */
+        }
+        CHECK(wake_hpa_push(&hpa, 1) == WAKE_HPA_STARTED);
+        CHECK(hpa.n == 200u && hpa.index == 450u);   /* base 250 + 200 */
+    }
     init_default(&hpa);
     hpa.cut_shallow = 600;          /* a derived bin: past the PSD the valley search keeps */
     CHECK(wake_hpa_run(&hpa) == WAKE_HPA_E_CORRUPT);
