@@ -6,7 +6,8 @@ import numpy as np
 
 __all__ = ["CUTOFF_FLAGS", "CUTOFF_RULES", "FALLBACK_FLAGS", "find_cutoff"]
 
-#: How a cut-off was found.  ``"valley"`` is the normal case; the others are fallbacks.
+#: How a cut-off was found: from the window's spectrum (``"valley"``, ``"floor_valley"``, ``"shallow_valley"``)
+#: or the fallback ``default_cutoff`` (:data:`FALLBACK_FLAGS`).
 CUTOFF_FLAGS = {
     "valley": "f_d at the PSD minimum between the voluntary content and the tremor peak",
     "no_tremor_peak": "no local PSD maximum inside tremor_band: default_cutoff used",
@@ -85,8 +86,8 @@ def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
         below ``cutoff_range[0]``, from which the PSD stays within
         ``edge_db`` of the valley (flag ``"floor_valley"``).  Without PSD
         bins above ``tremor_band`` there is no floor and it acts as
-        ``"shallow"``.  On the ten PADS recordings it leaves 23 % of HPA
-        windows on the default instead of 81 %, and it lowers the error on
+        ``"shallow"``.  On the ten PADS recordings it leaves 24 % of HPA
+        windows on the default instead of 82 %, and it lowers the error on
         PADS and on the paper's synthetic set (docs/design.md, "Cut-off on
         real wear").
     shallow_max : float
