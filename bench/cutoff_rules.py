@@ -171,7 +171,7 @@ def main(argv=None):
     for kind in rules:
         flags, ps, ss = evaluate(kind, pads, synthetic)
         share = {f: flags.count(f) / max(len(flags), 1) for f in sorted(set(flags))}
-        default = sum(v for f, v in share.items() if f in ("no_valley", "no_tremor_peak", "silent"))
+        default = sum(v for f, v in share.items() if f in cutoff_mod.FALLBACK_FLAGS)
         mean = lambda rows, k: np.nanmean([r[k] for r in rows]) if rows else float("nan")  # noqa: E731
         print(f"| {kind} | {100 * default:.0f} % | " + ", ".join(f"{f} {100 * v:.0f} %" for f, v in share.items())
               + f" | {mean(ps, 'whole (from 0.5 s)'):.5f} / {mean(ps, 'after 5 s'):.5f} "

@@ -59,6 +59,21 @@ def _slices(signals, **settings):
     return {k: float(np.mean([r[k] for r in rows])) for k in SLICES}
 
 
+def _pads_slices(**settings):
+    """Mean PADS tremor NRMSE per slice against the independent truth (reference backend)."""
+    from wake.eval.datasets import load_pads_folder
+
+    rows = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for rec in load_pads_folder(pads_dir()):
+            res = WakeFilter(fs=rec.fs, backend="reference", **settings).run(rec.samples)
+            for c in range(rec.samples.shape[1]):
+                _, tremor, _ = independent_ground_truth(rec.samples[:, c], rec.fs)
+                rows.append(slice_nrmse(tremor, res.tremor[:, c], rec.fs))
+    return {k: float(np.mean([r[k] for r in rows])) for k in SLICES}
+
+
 def test_warmup_beats_the_first_release_in_every_slice_on_the_synthetic_set(paper_signals):
     now = _slices(paper_signals)
     before = _slices(paper_signals, **FIRST_RELEASE)
@@ -72,22 +87,10 @@ def test_warmup_beats_the_first_release_in_every_slice_on_the_synthetic_set(pape
 
 @pytest.mark.skipif(pads_dir() is None, reason=NO_PADS)
 def test_warmup_lowers_the_whole_recording_error_on_pads():
-    from wake.eval.datasets import load_pads_folder
-
-    now, before = [], []
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        for rec in load_pads_folder(pads_dir()):
-            v_now = WakeFilter(fs=rec.fs, backend="reference").run(rec.samples).voluntary
-            v_before = WakeFilter(fs=rec.fs, backend="reference", **FIRST_RELEASE).run(rec.samples).voluntary
-            for c in range(rec.samples.shape[1]):
-                _, tremor, _ = independent_ground_truth(rec.samples[:, c], rec.fs)
-                now.append(slice_nrmse(tremor, rec.samples[:, c] - v_now[:, c], rec.fs))
-                before.append(slice_nrmse(tremor, rec.samples[:, c] - v_before[:, c], rec.fs))
-    mean = lambda rows, k: float(np.mean([r[k] for r in rows]))  # noqa: E731
+    now, before = _pads_slices(), _pads_slices(**FIRST_RELEASE)
     for k in ("0.5-1 s", "1-2 s", "2-5 s", "whole (from 0.5 s)"):
-        assert mean(now, k) < mean(before, k), k
-    assert mean(now, "after 5 s") <= 1.02 * mean(before, "after 5 s")
+        assert now[k] < before[k], k
+    assert now["after 5 s"] <= 1.02 * before["after 5 s"]
 
 
 def test_schedule_of_the_warmup_hpa():
@@ -234,26 +237,13 @@ def test_detrended_truth_lowers_the_synthetic_error_under_the_paper_rule(paper_s
 @pytest.mark.skipif(pads_dir() is None, reason=NO_PADS)
 def test_detrended_truth_lowers_the_pads_error_under_the_default_rule(monkeypatch):
     import wake.hpa.run as hpa_run
-    from wake.eval.datasets import load_pads_folder
     from wake.hpa.sharp import sharp_highpass
 
-    def scores():
-        rows = []
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            for rec in load_pads_folder(pads_dir()):
-                res = WakeFilter(fs=rec.fs, backend="reference").run(rec.samples)
-                for c in range(rec.samples.shape[1]):
-                    _, tremor, _ = independent_ground_truth(rec.samples[:, c], rec.fs)
-                    rows.append(slice_nrmse(tremor, res.tremor[:, c], rec.fs))
-        return {k: float(np.mean([r[k] for r in rows])) for k in SLICES}
-
-    detrended = scores()
+    detrended = _pads_slices()
     monkeypatch.setattr(hpa_run, "detrended_highpass", sharp_highpass)
-    plain = scores()
+    plain = _pads_slices()
     for k in ("2-5 s", "after 5 s", "whole (from 0.5 s)"):
         assert detrended[k] < 0.995 * plain[k], (k, detrended[k], plain[k])
-
 
 
 def test_a_short_warmup_fit_is_installed_only_on_a_clean_valley():
@@ -290,19 +280,6 @@ def test_the_one_second_hpa_lowers_the_synthetic_1_to_2_s_error(paper_signals):
 
 @pytest.mark.skipif(pads_dir() is None, reason=NO_PADS)
 def test_the_one_second_hpa_does_not_cost_pads():
-    from wake.eval.datasets import load_pads_folder
-
-    def scores(**settings):
-        rows = []
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            for rec in load_pads_folder(pads_dir()):
-                res = WakeFilter(fs=rec.fs, backend="reference", **settings).run(rec.samples)
-                for c in range(rec.samples.shape[1]):
-                    _, tremor, _ = independent_ground_truth(rec.samples[:, c], rec.fs)
-                    rows.append(slice_nrmse(tremor, res.tremor[:, c], rec.fs))
-        return {k: float(np.mean([r[k] for r in rows])) for k in SLICES}
-
-    now, before = scores(), scores(warmup_hpa_s=(2.0, 3.0, 4.0))
+    now, before = _pads_slices(), _pads_slices(warmup_hpa_s=(2.0, 3.0, 4.0))
     for k in SLICES:
         assert now[k] <= before[k] * 1.001, (k, now[k], before[k])
