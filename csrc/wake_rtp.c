@@ -113,6 +113,7 @@ static inline int16_t narrow_saturate16(int32_t v, uint32_t *events)
     return (int16_t)((v > INT16_MAX) ? INT16_MAX : (v < INT16_MIN) ? INT16_MIN : v);
 }
 
+#if WAKE_RTP_KALMAN
 /** a * b exactly, for int32 operands (a 32 x 32 -> 64-bit multiply). */
 static inline int64_t multiply_wide(int32_t a, int32_t b)
 {
@@ -126,6 +127,7 @@ static inline int64_t multiply_wide(int32_t a, int32_t b)
     return (int64_t)a * b;
 #endif
 }
+#endif
 
 /** a * b exactly, for uint32 operands. */
 static inline uint64_t multiply_wide_unsigned(uint32_t a, uint32_t b)
@@ -139,6 +141,7 @@ static inline uint64_t multiply_wide_unsigned(uint32_t a, uint32_t b)
 #endif
 }
 
+#if WAKE_RTP_KALMAN /* helpers of the Kalman part only */
 /** v clamped to +-2^40 (the range of z = w'd); adds 1 to *events when it clamps. */
 static inline int64_t clamp_wide(int64_t v, uint32_t *events)
 {
@@ -147,7 +150,7 @@ static inline int64_t clamp_wide(int64_t v, uint32_t *events)
     return (v > top) ? top : (v < -top) ? -top : v;
 }
 
-/** v clamped to +-2^50 (the range of s, b, acc_vv); adds 1 to *events when it clamps. */
+/** v clamped to +-2^50 (the range of s); adds 1 to *events when it clamps. */
 static inline int64_t clamp_cov_wide(int64_t v, uint32_t *events)
 {
     const int64_t top = INT64_C(1) << 50;
@@ -175,12 +178,6 @@ static inline int64_t shift_by(int64_t v, int k)
     return (k >= 0) ? shift_right_floor(v, (unsigned)k) : v * (INT64_C(1) << (unsigned)(-k));
 }
 
-/** a + b for int32 operands, saturated (computed in int64). */
-static inline int32_t add_saturate(int32_t a, int64_t b, uint32_t *events)
-{
-    return narrow_saturate((int64_t)a + b, events);
-}
-
 /** Number of significant bits of v (0 for v = 0), portable. */
 static inline unsigned bit_length64(uint64_t v)
 {
@@ -198,6 +195,7 @@ static inline unsigned bit_length64(uint64_t v)
     return n + (unsigned)v;
 #endif
 }
+#endif
 
 uint32_t wake_rtp_reciprocal(uint32_t x)
 {
@@ -251,36 +249,28 @@ static inline inverse_t inverse_of(uint64_t x)
 }
 
 /**
- * round(a / x 2^frac) clamped to +-2^50, for |a| < 2^62 and the inverse of x.
- * a is first reduced to 31 significant bits (relative error <= 2^-31); then
- * a * recip < 2^62, and the shift 61 + exponent - frac is applied (left
- * shifts saturate).
+ * round(a 2^frac / x) clamped to +-2^50, for |a| < 2^62, 1 <= x < 2^62 and
+ * frac <= 40: restoring long division, one quotient bit per turn.  Exact
+ * (one rounding), a fixed number of turns; it runs in the restart and in
+ * get_state only, never per sample.
  */
-static int64_t divide_wide(int64_t a, inverse_t inv, int frac, uint32_t *events)
+WAKE_RTP_COLD static int64_t divide_wide(int64_t a, uint64_t x, unsigned frac, uint32_t *events)
 {
-    uint64_t mag_a = (uint64_t)(a < 0 ? -a : a);
-    int m = (int)bit_length64(mag_a) - 31;
-    int64_t p, mag;
-    int sh;
-    if (m < 0) {
-        m = 0;
+    const uint64_t cap = UINT64_C(1) << 52;                 /* twice 2^50 and more: clamps below */
+    uint64_t mag = (uint64_t)(a < 0 ? -a : a), rem = 0, q = 0;
+    unsigned k;
+    /* the numerator mag 2^(frac + 1), bit by bit from the top: the 62 bits of mag, then zeros */
+    for (k = 0; k < 63u + frac; ++k) {
+        uint64_t take;
+        rem = (rem << 1) | (mag >> 61);                                     /* < 2 x < 2^63 */
+        mag = (mag << 1) & ((UINT64_C(1) << 62) - 1u);
+        take = (rem >= x) ? 1u : 0u;
+        rem -= x & (UINT64_C(0) - take);                                 /* no multiply */
+        q = (q << 1) | take;                                                /* <= 2^53 + 1 */
+        q = (q > cap) ? cap : q;
     }
-    p = (int64_t)multiply_wide_unsigned((uint32_t)(mag_a >> (unsigned)m), inv.recip);
-    sh = 61 + inv.exponent - frac - m;
-    if (p == 0 || sh > 62) {
-        mag = 0;
-    } else if (sh >= 1) {
-        mag = shift_right_round(p, (unsigned)sh);
-    } else {
-        mag = (sh < -30 || (p >> (unsigned)(63 + sh)) != 0) ? INT64_MAX : p << (unsigned)(-sh);
-    }
-    return clamp_cov_wide(a < 0 ? -mag : mag, events);
-}
-
-/** divide_wide narrowed to int32 with saturation. */
-static int32_t divide_scaled(int64_t a, inverse_t inv, int frac, uint32_t *events)
-{
-    return narrow_saturate(divide_wide(a, inv, frac, events), events);
+    q = (q + 1u) >> 1;                                      /* one extra bit: round half up */
+    return clamp_cov_wide(a < 0 ? -(int64_t)q : (int64_t)q, events);
 }
 #endif /* WAKE_RTP_KALMAN */
 
@@ -311,7 +301,7 @@ static wake_rtp_status_t check_structure(const wake_rtp_t *s)
     }
     /* an inert instance has q = 0 and a zero covariance; tested without a branch on inert, so
        that an inert and a live instance pay the same (the step's cost does not depend on it) */
-    live = (uint32_t)(s->q != 0) | (uint32_t)(s->s != 0) | (uint32_t)(s->b != 0);
+    live = (uint32_t)(s->q != 0) | (uint32_t)(s->s != 0);
     if (s->level < 1u || s->level > (unsigned)WAKE_RTP_MAX_LEVEL
         || s->n_taps != (uint16_t)(1u << s->level) || s->head >= s->n_taps
         || s->primed > 1u || s->taps == NULL || s->r <= 0 || s->q < 0 || s->p0 < 0
@@ -322,11 +312,11 @@ static wake_rtp_status_t check_structure(const wake_rtp_t *s)
     return WAKE_RTP_OK;
 }
 
-/** check_structure plus the weights' range (every function that multiplies by the weights). */
+/** check_structure plus the weights' range and the variance's sign (every function but the per-sample ones). */
 static wake_rtp_status_t check_instance(const wake_rtp_t *s)
 {
     wake_rtp_status_t st = check_structure(s);
-    if (st == WAKE_RTP_OK && !weights_in_range(s->weights, s->level)) {
+    if (st == WAKE_RTP_OK && (!weights_in_range(s->weights, s->level) || s->variance < 0)) {
         return WAKE_RTP_E_CORRUPT;
     }
     return st;
@@ -350,10 +340,17 @@ WAKE_RTP_COLD static wake_rtp_status_t check_weights(const wake_q24_t *weights, 
 }
 
 /* ---------------------------------------------------------------------- */
-/* Rebuild: the affine form <-> P and d                                    */
+/* The covariance form: P and d from a few scalars                         */
 /* ---------------------------------------------------------------------- */
 
 #if WAKE_RTP_KALMAN /* the covariance code: left out of WAKE_RTP_KALMAN 0 builds */
+/** q |w|^2 or lambda |w|^2 for a Q(P) value c and |w|^2 in Q24 (< 2^40): Q(P) in int64, |.| < 2^47. */
+static int64_t scale_by_norm(wake_cov_t c, uint64_t omega)
+{
+    /* c |w|^2 = c (hi + lo / 2^24) with |w|^2 = hi 2^24 + lo: hi < 2^16, lo < 2^24 */
+    return (int64_t)c * (int64_t)(omega >> 24) + shift_right_round((int64_t)c * (int64_t)(omega & 0xFFFFFFu), 24u);
+}
+
 /** |w|^2 in Q24 (exact sum of Q48 squares, rounded once): < 2^40. */
 static uint64_t weight_norm2(const wake_q24_t *w, unsigned J)
 {
@@ -365,190 +362,83 @@ static uint64_t weight_norm2(const wake_q24_t *w, unsigned J)
     return (acc + (UINT64_C(1) << 23)) >> 24;
 }
 
-/** floor(sqrt(v)), bit by bit (rebuild only, never in the per-sample path). */
-WAKE_RTP_COLD static uint32_t isqrt64(uint64_t v)
+/** w'x for x in Q23 (d) or Q(P) (a row of P): sum of J products Q(f + 24) rounded once to Q(f); |.| < 2^41. */
+static int64_t weighted_sum(const wake_q24_t *w, const int32_t *x, unsigned J)
 {
-    uint64_t res = 0;
-    uint64_t bit = (uint64_t)1 << 62;
-    while (bit > v) {
-        bit >>= 2;
+    unsigned j;
+    int64_t acc = 0;
+    for (j = 0; j < J; ++j) {
+        acc += shift_right_floor(multiply_wide(x[j], w[j]), 3u);       /* 8 terms < 2^60 each: < 2^63 */
     }
-    while (bit != 0) {
-        if (v >= res + bit) {
-            v -= res + bit;
-            res = (res >> 1) + bit;
-        } else {
-            res >>= 1;
-        }
-        bit >>= 2;
-    }
-    return (uint32_t)res;
+    return shift_right_round(acc, 21u);
+}
+
+/** Lambda = variance + steps q: the diagonal of P now, before the measurements along w took their share. */
+static wake_cov_t grown_variance(const wake_rtp_t *s, uint32_t *events)
+{
+    return narrow_saturate((int64_t)s->variance + (int64_t)s->steps * s->q, events);   /* < 2^63 */
 }
 
 /**
- * Keep a rebuilt P a covariance where rounding or saturation broke it:
- * P_ii >= 0 and |P_ij| <= sqrt(P_ii P_jj) (symmetric J x J, stride J).
- * Runs in the rebuild (once per weight update), never per sample.
+ * P and d of the literal recursion (docs/fixed_point.md): since the last restart
+ * (P = lambda I, d = d_s) every u = P w was parallel to w, so
+ *
+ *   d = d_s + ((z - z_s) / |w|^2) w
+ *   P = Lambda I - c w w',   Lambda = lambda + steps q,   c = (Lambda - s / |w|^2) / |w|^2
+ *
+ * @p P may be NULL (set_weights needs d only).  With w = 0 nothing was observed:
+ * d = d_s and P = Lambda I.
  */
-WAKE_RTP_COLD static void covariance_guard(wake_cov_t *P, unsigned J, uint32_t *events)
+WAKE_RTP_COLD static void materialise(const wake_rtp_t *s, wake_q23_t *d, wake_cov_t *P, uint32_t *events)
 {
-    unsigned i, j;
-    for (i = 0; i < J; ++i) {
-        if (P[i * J + i] < 0) {
-            P[i * J + i] = 0;
-            count_events(events, 1u);
-        }
+    /* The coefficients carry XF extra fraction bits: they are multiplied by
+     * weights up to 64, whose products w_i w_j would otherwise amplify their
+     * rounding to many LSB. */
+    enum { XF = 16 };
+    unsigned i, j, J = s->level;
+    const wake_q24_t *w = s->weights;
+    uint64_t omega = weight_norm2(w, J);
+    wake_cov_t lambda = grown_variance(s, events);
+    int64_t c_z = 0, c_ww = 0;                             /* Q(23 + XF), Q(P + XF) */
+    if (omega != 0u) {
+        /* c_z = (z - z_s) / |w|^2                        (|w|^2 in Q24) */
+        c_z = divide_wide(s->z - s->z_snapshot, omega, 24 + XF, events);
+        /* c = (Lambda - s / |w|^2) / |w|^2 */
+        c_ww = (int64_t)lambda * (INT64_C(1) << XF) - divide_wide(s->s, omega, 24 + XF, events);
+        c_ww = divide_wide(c_ww, omega, 24, events);
     }
     for (i = 0; i < J; ++i) {
-        for (j = i + 1u; j < J; ++j) {
-            int64_t pij = P[i * J + j];
-            int64_t apij = (pij < 0) ? -pij : pij;
-            int64_t bound2 = (int64_t)P[i * J + i] * P[j * J + j];            /* < 2^62 */
-            if (apij * apij > bound2) {                                        /* <= 2^62 */
-                int32_t b = (int32_t)isqrt64((uint64_t)bound2);               /* < 2^31 */
-                P[i * J + j] = (pij < 0) ? -b : b;
+        /* d_i = d_s,i + c_z w_i                                                    Q23 */
+        int64_t t = shift_right_round(multiply_wide_by32(c_z, w[i], 24u, 1), XF);
+        d[i] = narrow_saturate((int64_t)s->correction[i] + t, events);
+        if (P != NULL) {
+            /* P_ij = Lambda d_ij - (c w_i) w_j                                       Q(P) */
+            int64_t row = clamp_cov_wide(multiply_wide_by32(c_ww, w[i], 24u, 1), events);
+            for (j = i; j < J; ++j) {                      /* upper triangle, mirrored */
+                int64_t p = (i == j ? (int64_t)lambda : 0)
+                            - shift_right_round(multiply_wide_by32(row, w[j], 24u, 1), XF);
+                P[i * J + j] = narrow_saturate(p, events);
                 P[j * J + i] = P[i * J + j];
-                count_events(events, 1u);
             }
         }
     }
 }
 
-/** What the affine form derives from the snapshot (P_s, d_s) and w; recomputed, not stored. */
-typedef struct {
-    int64_t s;                          /**< w' P_s w (>= 0), Q(P) */
-    int64_t b;                          /**< 2^nb > max |g_i - (s/|w|^2) w_i|, or 0 */
-    int64_t z;                          /**< w' d_s, Q23 */
-    wake_q24_t v[WAKE_RTP_MAX_LEVEL];   /**< (g - (s/|w|^2) w) / b, |v_i| < 2 */
-} snapshot_t;
-
 /**
- * g = P_s w,  s = w'g,  v = (g - (s/|w|^2) w) / b,  z = w'd_s.  Deterministic:
- * the rebuild and every later materialisation get the same values.
+ * The variance the filter holds along w: s / |w|^2 (Lambda when w = 0, where
+ * nothing was observed), saturated to the covariance format.  A weight change
+ * restarts P at this variance in every direction.
  */
-WAKE_RTP_COLD static void snapshot_terms(const wake_rtp_t *s, snapshot_t *out, uint32_t *ev)
+WAKE_RTP_COLD static wake_cov_t observed_variance(const wake_rtp_t *s, int64_t w_p_w, uint32_t *events)
 {
-    unsigned i, j, J = s->level;
-    const wake_q24_t *w = s->weights;
-    uint64_t omega = weight_norm2(w, J);
-    int64_t g[WAKE_RTP_MAX_LEVEL];
-    int64_t perp[WAKE_RTP_MAX_LEVEL];
-    int64_t gamma = 0, zacc = 0;
-    uint64_t perp_max = 0;
-    wake_cov_t ratio = 0;
-    unsigned nb;
-    /* g = P_s w: J products < 2^61 each, in Q(P + 24) -> Q(P); |g_i| < 2^40 */
-    for (i = 0; i < J; ++i) {
-        int64_t acc = 0;
-        for (j = 0; j < J; ++j) {
-            acc += shift_right_floor(multiply_wide(s->covariance[i * J + j], w[j]), 3u);   /* 8 terms < 2^63 */
-        }
-        g[i] = shift_right_round(acc, 21u);
-        zacc += shift_right_floor(multiply_wide(s->correction[i], w[i]), 3u);   /* 8 terms < 2^63 */
+    uint64_t omega = weight_norm2(s->weights, s->level);
+    if (omega == 0u) {
+        return grown_variance(s, events);
     }
-    /* s = w' g                                                          Q(P), int64, < 2^50 */
-    for (i = 0; i < J; ++i) {
-        gamma += multiply_wide_by32(g[i], w[i], 24u, 1);
-    }
-    /* w'Pw of a covariance is >= 0; rounding of the rebuilt P (a few LSB per entry, times |w|^2)
-     * can leave it just below 0 when the new w is nearly unobservable: take 0 there (with s >= 0
-     * the recursion keeps 0 <= rho < 1, 0 < tau <= 1 and s >= 0 for ever) */
-    out->s = clamp_cov_wide(gamma < 0 ? 0 : gamma, ev);
-    /* v: g minus its component along w, scaled by the power of two b just above its largest entry */
-    if (omega != 0u) {
-        ratio = divide_scaled(out->s, inverse_of(omega), 24, ev);        /* s / |w|^2, Q(P) */
-    }
-    for (i = 0; i < J; ++i) {
-        uint64_t mag;
-        perp[i] = g[i] - shift_right_round(multiply_wide(ratio, w[i]), 24u);
-        mag = (uint64_t)(perp[i] < 0 ? -perp[i] : perp[i]);
-        perp_max = mag > perp_max ? mag : perp_max;
-    }
-    nb = bit_length64(perp_max);                                        /* b = 2^nb > max |perp_i| */
-    out->b = (perp_max == 0u) ? 0 : (INT64_C(1) << nb);                   /* nb <= 42 */
-    for (i = 0; i < J; ++i) {
-        /* v_i = perp_i / 2^nb in Q24, |v_i| < 2 */
-        int64_t vi;
-        if (nb > 24u) {
-            vi = shift_right_round(perp[i], nb - 24u);
-        } else {
-            vi = perp[i] * (INT64_C(1) << (24u - nb));
-        }
-        out->v[i] = (perp_max == 0u) ? 0 : narrow_saturate(vi, ev);
-    }
-    /* z = w' d_s                                                        Q23 */
-    out->z = shift_right_round(zacc, 21u);                              /* < 2^40 */
-}
-
-/**
- * P and d of the literal recursion from the affine form (docs/fixed_point.md):
- *
- *   P = P_s + steps q I - acc_vv v v' - ((b_s - b) / |w|^2)(v w' + w v')
- *         + ((s - s_s) / |w|^4 - steps q / |w|^2) w w'
- *   d = d_s + d_dir v + ((z - z_s) / |w|^2) w
- *
- * Only the v v' coefficient needs an accumulator: P w = b v + (s/|w|^2) w
- * fixes the others.  Where rounding or saturation left P indefinite, the
- * guard restores P_ii >= 0 and |P_ij| <= sqrt(P_ii P_jj) (counted).
- */
-WAKE_RTP_COLD static void materialise(const wake_rtp_t *s, wake_q23_t *d, wake_cov_t *P, uint32_t *events, uint32_t *guarded)
-{
-    /* The coefficients carry XF extra fraction bits: they are multiplied by
-     * weights up to 64, whose products w_i w_j would otherwise amplify their
-     * rounding to many LSB of P. */
-    enum { XF = 16 };
-    unsigned i, j, J = s->level;
-    const wake_q24_t *w = s->weights, *v;
-    uint64_t omega = weight_norm2(w, J);
-    int64_t nq = (int64_t)s->steps * s->q;                  /* < 2^63 */
-    snapshot_t snap;
-    uint32_t again = 0u;                                    /* counted at the rebuild already */
-    wake_cov_t grow = narrow_saturate(nq, events);
-    int64_t c_vw = 0, c_ww = 0, c_z = 0;                    /* Q(P + XF), Q(P + XF), Q(23 + XF) */
-    int64_t row_v[WAKE_RTP_MAX_LEVEL], row_w[WAKE_RTP_MAX_LEVEL];
-    snapshot_terms(s, &snap, &again);
-    v = snap.v;
-    if (omega != 0u) {
-        inverse_t inv = inverse_of(omega);                  /* 1 / |w|^2, |w|^2 in Q24 */
-        /* c_vw = (b_s - b) / |w|^2 ;  c_ww = ((s - s_s) / |w|^2 - steps q) / |w|^2 */
-        c_vw = divide_wide(snap.b - s->b, inv, 24 + XF, events);
-        c_ww = divide_wide(s->s - snap.s, inv, 24 + XF, events) - (int64_t)grow * (INT64_C(1) << XF);
-        c_ww = divide_wide(c_ww, inv, 24, events);
-        /* c_z = (z - z_s) / |w|^2 */
-        c_z = divide_wide(s->z - snap.z, inv, 24 + XF, events);
-    }
-    /* row_v_i = acc_vv v_i + c_vw w_i ;  row_w_i = c_vw v_i - c_ww w_i       Q(P + XF) */
-    for (i = 0; i < J; ++i) {
-        row_v[i] = clamp_cov_wide(multiply_wide_by32(s->acc_vv, v[i], 24u - XF, 1)
-                                  + multiply_wide_by32(c_vw, w[i], 24u, 1), events);
-        row_w[i] = clamp_cov_wide(multiply_wide_by32(c_vw, v[i], 24u, 1)
-                                  - multiply_wide_by32(c_ww, w[i], 24u, 1), events);
-    }
-    /* P_ij = P_s,ij + grow d_ij - row_v_i v_j - row_w_i w_j   upper triangle, mirrored */
-    for (i = 0; i < J; ++i) {
-        for (j = i; j < J; ++j) {
-            int64_t t = multiply_wide_by32(row_v[i], v[j], 24u, 1) + multiply_wide_by32(row_w[i], w[j], 24u, 1);
-            int64_t p = (int64_t)s->covariance[i * J + j] + (i == j ? grow : 0) - shift_right_round(t, XF);
-            P[i * J + j] = narrow_saturate(p, events);
-            P[j * J + i] = P[i * J + j];
-        }
-    }
-    covariance_guard(P, J, guarded);
-    /* d_i = d_s,i + d_dir v_i + c_z w_i                                             Q23 */
-    for (i = 0; i < J; ++i) {
-        int64_t t = shift_right_round(multiply_wide(s->d_dir, v[i]), 24u)
-                    + shift_right_round(multiply_wide_by32(c_z, w[i], 24u, 1), XF);
-        d[i] = narrow_saturate((int64_t)s->correction[i] + t, events);
-    }
+    return narrow_saturate(divide_wide(w_p_w < 0 ? 0 : w_p_w, omega, 24, events), events);
 }
 #endif /* WAKE_RTP_KALMAN */
 
-/**
- * Make (P, d) the snapshot for the current weights and restart the affine
- * form from it:  g = P_s w,  s = w'g,  v = (g - (s/|w|^2) w) / b,  z = w'd_s.
- * Also rebuilds the FIR taps h = B'w.  P (J x J, stride J) and d are read
- * before anything is written, so they may be the struct's own snapshot.
- */
 /** A tap as fir_window reads it (see wake_fir_t). */
 static inline wake_fir_t fir_tap(int32_t h)
 {
@@ -564,39 +454,35 @@ static inline wake_fir_t fir_tap(int32_t h)
     return t;
 }
 
-WAKE_RTP_COLD static void rebuild(wake_rtp_t *s, const wake_q23_t *d, const wake_cov_t *P)
+/**
+ * Restart the covariance form for the current weights from d and P = lambda I:
+ * d_s = d,  s = lambda |w|^2,  z = z_s = w'd,  steps = 0.  Also rebuilds the
+ * FIR taps h = B'w.  @p d may be the struct's own snapshot.
+ */
+WAKE_RTP_COLD static void restart(wake_rtp_t *s, const wake_q23_t *d, wake_cov_t lambda)
 {
     unsigned i, j, J = s->level, N = s->n_taps;
     const wake_q24_t *w = s->weights;
     uint32_t *ev = &s->saturations;
-#if WAKE_RTP_KALMAN
-    uint64_t omega = weight_norm2(w, J);
-    snapshot_t snap;
-#endif
-
     if (d != s->correction) {
         memcpy(s->correction, d, (size_t)J * sizeof(wake_q23_t));
     }
-    if (P != s->covariance) {
-        memcpy(s->covariance, P, (size_t)J * J * sizeof(wake_cov_t));
-    }
-    s->d_dir = 0;
-    s->acc_vv = 0;
+    s->variance = lambda;
     s->steps = 0u;
 #if WAKE_RTP_KALMAN
-    snapshot_terms(s, &snap, ev);
-    s->s = snap.s;
-    s->b = snap.b;
-    s->z = snap.z;
-    /* q |w|^2 = q (hi + lo / 2^24) with |w|^2 = hi 2^24 + lo in Q24: hi < 2^16, lo < 2^24 */
-    s->q_omega = (int64_t)s->q * (int64_t)(omega >> 24)                   /* < 2^47 */
-                 + shift_right_round((int64_t)s->q * (int64_t)(omega & 0xFFFFFFu), 24u);
+    {
+        uint64_t omega = weight_norm2(w, J);
+        s->s = scale_by_norm(lambda, omega);                              /* w' (lambda I) w */
+        s->q_omega = scale_by_norm(s->q, omega);
+        s->z = weighted_sum(w, s->correction, J);
+        s->z_snapshot = s->z;
+    }
 #else
-    /* no Kalman: d = 0 and P = 0 (init and load_state see to it), so s = b = z = 0 */
+    /* no Kalman: d = 0 and lambda = 0 (init and load_state see to it), so s = z = 0 */
     s->s = 0;
-    s->b = 0;
-    s->z = 0;
     s->q_omega = 0;
+    s->z = 0;
+    s->z_snapshot = 0;
 #endif
     /* h_i = sum_j B_ji w_j: exact in int64 (Q39), rounded once to Q(FIR) */
     for (i = 0; i < N; ++i) {
@@ -607,7 +493,7 @@ WAKE_RTP_COLD static void rebuild(wake_rtp_t *s, const wake_q23_t *d, const wake
         s->fir[i] = fir_tap(narrow_saturate(shift_right_round(acc, 15u + WAKE_RTP_WEIGHT_FRAC - WAKE_RTP_FIR_FRAC),
                                             ev));
     }
-    s->inert = (s->q == 0 && s->s == 0 && s->b == 0) ? 1u : 0u;
+    s->inert = (s->q == 0 && s->s == 0) ? 1u : 0u;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -659,17 +545,15 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const wa
     s->r = r;
     s->q = q;
     s->p0 = p0;
-    s->inert = (q == 0) ? 1u : 0u;   /* consistent before reset's check (s = b = 0); rebuild sets it */
+    s->inert = (q == 0) ? 1u : 0u;   /* consistent before reset's check (s = 0); restart sets it */
     s->magic = WAKE_RTP_MAGIC;
     return wake_rtp_reset(s);
 }
 
 WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_weights(wake_rtp_t *s, const wake_q24_t *weights, wake_cov_t r, wake_cov_t q)
 {
-#if WAKE_RTP_KALMAN
     wake_q23_t d[WAKE_RTP_MAX_LEVEL];
-    wake_cov_t P[WAKE_RTP_MAX_LEVEL * WAKE_RTP_MAX_LEVEL];
-#endif
+    wake_cov_t lambda = 0;
     wake_rtp_status_t st = check_instance(s);
     if (st != WAKE_RTP_OK) {
         return st;
@@ -679,45 +563,37 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_weights(wake_rtp_t *s, const wake_q
         return st;
     }
 #if WAKE_RTP_KALMAN
-    materialise(s, d, P, &s->saturations, &s->guard_events);   /* P, d under the old weights */
+    /* d under the old weights; P restarts as (w'Pw / |w|^2) I, its variance along the old w */
+    materialise(s, d, NULL, &s->saturations);
+    lambda = observed_variance(s, s->s, &s->saturations);
+#else
+    memset(d, 0, sizeof(d));                                    /* d and P stay 0 */
 #endif
     memcpy(s->weights, weights, (size_t)s->level * sizeof(wake_q24_t));
     s->r = r;
     s->q = q;
-#if WAKE_RTP_KALMAN
-    rebuild(s, d, P);
-#else
-    rebuild(s, s->correction, s->covariance);                  /* both stay 0 */
-#endif
+    restart(s, d, lambda);
     return WAKE_RTP_OK;
 }
 
 WAKE_RTP_COLD wake_rtp_status_t wake_rtp_reset(wake_rtp_t *s)
 {
-    unsigned i, J;
     wake_rtp_status_t st = check_instance(s);
     if (st != WAKE_RTP_OK) {
         return st;
     }
-    J = s->level;
     memset(s->ring, 0, sizeof(s->ring));
     memset(s->correction, 0, sizeof(s->correction));
-    memset(s->covariance, 0, sizeof(s->covariance));
-    for (i = 0; i < J; ++i) {
-        s->covariance[i * J + i] = s->p0;     /* P(0) = p0 I */
-    }
     s->head = 0u;
     s->primed = 0u;
     s->last_output = 0;
     s->saturations = 0u;
-    s->guard_events = 0u;
-    rebuild(s, s->correction, s->covariance);
+    restart(s, s->correction, s->p0);                           /* d = 0, P(0) = p0 I */
     return WAKE_RTP_OK;
 }
 
 WAKE_RTP_COLD wake_rtp_status_t wake_rtp_get_state(const wake_rtp_t *s, wake_q23_t *correction, wake_cov_t *covariance)
 {
-    uint32_t ignored = 0u;
     wake_rtp_status_t st = check_instance(s);
     if (st != WAKE_RTP_OK) {
         return st;
@@ -726,14 +602,18 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_get_state(const wake_rtp_t *s, wake_q23
         return WAKE_RTP_E_NULL;
     }
 #if WAKE_RTP_KALMAN
-    materialise(s, correction, covariance, &ignored, &ignored);
+    {
+        uint32_t ignored = 0u;
+        materialise(s, correction, covariance, &ignored);
+    }
 #else
-    (void)ignored;
     memset(correction, 0, (size_t)s->level * sizeof(wake_q23_t));
     memset(covariance, 0, (size_t)s->level * s->level * sizeof(wake_cov_t));
 #endif
     return WAKE_RTP_OK;
 }
+
+
 
 /* ---------------------------------------------------------------------- */
 /* Per-sample recursion                                                    */
@@ -834,41 +714,30 @@ static inline wake_q23_t innovation(const wake_rtp_t *s, wake_q15_t sample, uint
 
 #if WAKE_RTP_KALMAN
 /**
- * Kalman measurement and time update in the affine form, for the innovation
- * e (Q23).  Constant time: one reciprocal, eight 32 x 32 -> 64-bit products.
+ * Kalman measurement and time update along w, for the innovation e (Q23).
+ * Constant time: one reciprocal, four 32 x 32 -> 64-bit products.
  */
 WAKE_RTP_NOINLINE static uint32_t kalman_update(wake_rtp_t *s, wake_q23_t e)
 {
     uint32_t ev = 0u;
-    /* S = s + R, clamped to >= 1 LSB (only a non-PSD loaded P makes s + R < 1); < 2^51 */
+    /* S = s + R, clamped to >= 1 LSB (s >= 0 unless the state was corrupted); < 2^51 */
     int64_t S = s->s + s->r;
     inverse_t inv;
-    int32_t s_norm, b_norm, half_recip;
+    int32_t s_norm;
     wake_ratio_t rho, tau;
-    wake_q24_t b_over_s;
     ev += (uint32_t)(S < 1);
     S = (S < 1) ? 1 : S;
     /* 1/S = recip 2^-(61 + k), S = mant 2^k, mant in [2^30, 2^31); k in -30..20 */
     inv = inverse_of((uint64_t)S);
-    half_recip = (int32_t)(inv.recip >> 1);
     /* rho = s / S = (s / 2^k) recip / 2^31                                Q30 */
     s_norm = narrow_saturate(shift_by(s->s, inv.exponent), &ev);
-    rho = narrow_saturate(shift_right_round(multiply_wide(s_norm, half_recip), 30u), &ev);
+    rho = narrow_saturate(shift_right_round(multiply_wide(s_norm, (int32_t)(inv.recip >> 1)), 30u), &ev);
     /* tau = R / S = 1 - rho                                                Q30 */
     tau = narrow_saturate((int64_t)RATIO_ONE - rho, &ev);
-    /* b / S = (b / 2^(k+7)) recip / 2^30                                   Q24 */
-    b_norm = narrow_saturate(shift_by(inv.exponent + 7 >= 0 ? s->b : (s->b > INT32_MAX ? INT32_MAX : s->b),
-                                      inv.exponent + 7), &ev);
-    b_over_s = narrow_saturate(shift_right_round(multiply_wide(b_norm, half_recip), 29u), &ev);
-    /* d = d + u e / S:  z = w'd gains rho e; the v-coefficient gains (b/S) e   Q23 */
+    /* d = d + u e / S with u = P w = (s / |w|^2) w:  z = w'd gains rho e   Q23 */
     s->z = clamp_wide(s->z + shift_right_round(multiply_wide(rho, e), 30u), &ev);
-    s->d_dir = add_saturate(s->d_dir, shift_right_round(multiply_wide(b_over_s, e), 24u), &ev);
-    /* P = P - u u'/S + q I: the v v' part accumulates (P w fixes the rest)   Q(P) */
-    s->acc_vv = clamp_cov_wide(s->acc_vv + multiply_wide_by32(s->b, b_over_s, 24u, 1), &ev);
-    /* u' = P' w = (R/S) u + q w:  s = tau s + q|w|^2,  b = tau b            Q(P) */
+    /* P = P - u u'/S + q I, seen along w:  s = w'Pw = tau s + q |w|^2       Q(P) */
     s->s = clamp_cov_wide(multiply_wide_by32(s->s, tau, 30u, 1) + s->q_omega, &ev);
-    /* b >= 0 and 0 < tau <= 1 (s >= 0 when P is PSD): rounding down lets b reach 0 and stay */
-    s->b = clamp_cov_wide(multiply_wide_by32(s->b, tau, 30u, 0), &ev);
     return ev;
 }
 #endif
@@ -995,8 +864,8 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q1
                                       const wake_q23_t *correction, const wake_cov_t *covariance,
                                       wake_q23_t last_output)
 {
-    unsigned i, j, J;
-    wake_cov_t P[WAKE_RTP_MAX_LEVEL * WAKE_RTP_MAX_LEVEL];
+    unsigned i, J;
+    wake_cov_t lambda = 0, top = 0;
     wake_rtp_status_t st = check_instance(s);
     if (st != WAKE_RTP_OK) {
         return st;
@@ -1006,35 +875,36 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q1
     }
     J = s->level;
     for (i = 0; i < J; ++i) {
-        if (covariance[i * J + i] < 0) {
+        const wake_cov_t p_ii = covariance[i * J + i];
+        if (p_ii < 0) {
             return WAKE_RTP_E_STATE;
         }
+        top = (p_ii > top) ? p_ii : top;
     }
-#if !WAKE_RTP_KALMAN
-    for (i = 0; i < J; ++i) {
-        if (correction[i] != 0) {
-            return WAKE_RTP_E_NO_KALMAN;
+#if WAKE_RTP_KALMAN
+    {
+        /* P restarts as (w'Pw / |w|^2) I: the only part of P the recursion uses until the next
+         * weight change, where it restarts that way anyway.  w = 0 observes nothing: the largest P_ii. */
+        int64_t w_p_w = 0;
+        for (i = 0; i < J; ++i) {
+            /* w'Pw = sum_i (P w)_i w_i, Q(P): |(P w)_i| < 2^41, each term < 2^50 (J <= 8 terms) */
+            w_p_w += multiply_wide_by32(weighted_sum(s->weights, covariance + i * J, J), s->weights[i], 24u, 1);
         }
-        for (j = 0; j < J; ++j) {
-            if (covariance[i * J + j] != 0) {
-                return WAKE_RTP_E_NO_KALMAN;
-            }
+        s->steps = 0u;
+        s->variance = top;
+        lambda = observed_variance(s, w_p_w, &s->saturations);
+    }
+#else
+    for (i = 0; i < J * J; ++i) {
+        if (covariance[i] != 0 || (i < J && correction[i] != 0)) {
+            return WAKE_RTP_E_NO_KALMAN;
         }
     }
 #endif
     memcpy(s->ring, window, (size_t)s->n_taps * sizeof(wake_q15_t));
     memcpy(s->ring + s->n_taps, window, (size_t)s->n_taps * sizeof(wake_q15_t));
     s->head = 0u;
-    for (i = 0; i < J; ++i) {
-        for (j = i; j < J; ++j) {
-            P[i * J + j] = covariance[i * J + j];
-            P[j * J + i] = covariance[i * J + j];
-        }
-    }
-#if WAKE_RTP_KALMAN
-    covariance_guard(P, J, &s->guard_events);
-#endif
-    rebuild(s, correction, P);
+    restart(s, correction, lambda);
     s->last_output = last_output;
     s->primed = 1u;
     return WAKE_RTP_OK;

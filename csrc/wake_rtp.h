@@ -186,35 +186,30 @@ typedef enum {
 typedef struct {
     uint32_t magic;            /**< WAKE_RTP_MAGIC when initialised */
     uint32_t saturations;      /**< narrowings that saturated since init/reset (sticks at UINT32_MAX) */
-    uint32_t guard_events;     /**< covariance entries repaired by the rebuild's guard (P_ii >= 0,
-                                    |P_ij| <= sqrt(P_ii P_jj)) since init/reset; never per sample */
-    uint32_t steps;            /**< samples since the last rebuild (sticks at UINT32_MAX); P gains steps * q I */
+    uint32_t steps;            /**< samples since the last restart (sticks at UINT32_MAX); P gains steps * q I */
     uint16_t level;            /**< J, 1..WAKE_RTP_MAX_LEVEL */
     uint16_t n_taps;           /**< N = 2^J */
     uint16_t head;             /**< ring index of the oldest sample, 0..N-1 */
     uint16_t primed;           /**< 0 until the first sample, then 1 */
-    uint16_t inert;            /**< 1 only while q == 0, s == 0 and b == 0 (the Kalman update is then the
-                                    identity and is skipped); set by every rebuild */
+    uint16_t inert;            /**< 1 only while q == 0 and s == 0 (the Kalman update is then the
+                                    identity and is skipped); set by every restart */
     uint16_t reserved;         /**< 0 */
     const wake_q15_t *taps;    /**< J x N taps B, row-major, oldest sample first, Q15 (caller-owned) */
     wake_q24_t weights[WAKE_RTP_MAX_LEVEL];  /**< HPA weights w, Q24, |w| <= 64 */
     wake_cov_t r;              /**< measurement noise R, > 0 */
     wake_cov_t q;              /**< process noise q (Q = q I), >= 0 */
     wake_cov_t p0;             /**< initial covariance P(0) = p0 I, >= 0 */
+    wake_cov_t variance;       /**< lambda >= 0: P = lambda I at the last restart (reset, set_weights,
+                                    load_state) */
     int64_t q_omega;           /**< q |w|^2, Q(P_FRAC) of FS^2 in int64 */
     wake_q23_t last_output;    /**< y(n-1) (saturated to int32) */
-    /* per-sample Kalman state: u = P w = b v + (s / |w|^2) w, where v (|v_i| < 2, v'w = 0) and the
-     * values at the rebuild are derived from the snapshot and w when needed (wake_rtp.c, snapshot_terms) */
+    /* per-sample Kalman state: since the restart u = P w = (s / |w|^2) w, so d moves along w only */
     int64_t s;                 /**< w' P w, Q(P_FRAC) of FS^2 in int64 (with |w| up to 64 it leaves the
                                     int32 range of P); kept within +-2^50 */
-    int64_t b;                 /**< coefficient of v in P w, >= 0, Q(P_FRAC) of FS^2 in int64 */
     int64_t z;                 /**< w' d, Q23 of FS in int64 (w'a and w'd may each leave the int32
                                     range while y = w'(a + d) does not); kept within +-2^40 */
-    wake_q23_t d_dir;          /**< coefficient of v in d - d_s */
-    int64_t acc_vv;            /**< sum b^2 / S: P loses acc_vv v v' (int64, within +-2^50) */
-    /* snapshot, rebuilt by reset, set_weights and load_state */
-    wake_q23_t correction[WAKE_RTP_MAX_LEVEL];   /**< d_s */
-    wake_cov_t covariance[WAKE_RTP_MAX_LEVEL * WAKE_RTP_MAX_LEVEL]; /**< P_s, J x J row-major (stride J), symmetric */
+    int64_t z_snapshot;        /**< w' d_s, the value of z at the restart */
+    wake_q23_t correction[WAKE_RTP_MAX_LEVEL];   /**< d_s, d at the last restart */
     wake_fir_t fir[WAKE_RTP_MAX_TAPS];           /**< h = B' w, oldest sample first */
     wake_q15_t ring[2 * WAKE_RTP_MAX_TAPS];      /**< the newest N samples, each stored twice (at k and
                                                       k + N) so that the window, oldest first, is the

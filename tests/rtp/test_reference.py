@@ -58,6 +58,29 @@ def test_block_run_equals_steps_with_gaps_and_weight_changes(rng):
     np.testing.assert_array_equal([a.step(v) for v in x[400:]], b.run(x[400:]))
 
 
+def test_weight_change_restarts_the_covariance_isotropic(rng):
+    """docs/design.md, "Covariance at a weight change": P = (w'Pw / w'w) I with the old w; d and the window stay."""
+    rtp = ReferenceRTP(TAPS, W, 0.3, 1e-3, 0.5)
+    rtp.run(rng.normal(size=300))
+    P = rtp.covariance.reshape(4, 4).copy()
+    assert np.ptp(np.diag(P)) > 1e-6                    # not isotropic before the change
+    d, window = rtp.correction.copy(), rtp.buffer.copy()
+    rtp.set_weights(W[::-1], 0.5)
+    np.testing.assert_allclose(rtp.covariance.reshape(4, 4), (W @ P @ W) / (W @ W) * np.eye(4), rtol=1e-12)
+    np.testing.assert_array_equal(rtp.correction, d)
+    np.testing.assert_array_equal(rtp.buffer, window)
+    # until the next change the gain stays along w: d moves only along the new weights
+    d0 = rtp.correction.copy()
+    rtp.run(rng.normal(size=50))
+    step = rtp.correction - d0
+    np.testing.assert_allclose(step - (step @ W[::-1]) / (W @ W) * W[::-1], 0.0, atol=1e-12)
+    # w = 0 observes nothing: the restart keeps P's diagonal
+    zero = ReferenceRTP(TAPS, np.zeros(4), 0.3, 1e-3, 0.5)
+    zero.run(rng.normal(size=20))
+    zero.set_weights(W, 0.3)
+    np.testing.assert_allclose(zero.covariance.reshape(4, 4), (0.5 + 20e-3) * np.eye(4), rtol=1e-12)
+
+
 def test_constant_input_is_predicted_exactly():
     rtp = ReferenceRTP(TAPS, np.array([0.0, 0.0, 0.0, 1.0]), 1.0, 1e-3, 1.0)
     assert np.allclose(rtp.run(np.full(100, 2.5)), 2.5)

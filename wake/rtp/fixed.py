@@ -162,7 +162,6 @@ class FixedPointRTP:
         )
         self.clipped = 0
         self._carried_saturations = 0  # counted at an earlier full scale (rescaled)
-        self._carried_guard_events = 0
 
     # -- quantised parameters in physical units (what the C core really uses)
     @property
@@ -195,11 +194,6 @@ class FixedPointRTP:
     def saturations(self):
         """Narrowings that saturated inside the C core since construction / reset."""
         return int(self._state.saturations) + self._carried_saturations
-
-    @property
-    def guard_events(self):
-        """Covariance entries the C core's rebuild (at a weight update) repaired since construction / reset."""
-        return int(self._state.guard_events) + self._carried_guard_events
 
     @property
     def primed(self):
@@ -250,13 +244,15 @@ class FixedPointRTP:
         """Forget every sample; keep taps and weights (counters restart)."""
         _check(lib.wake_rtp_reset(self._state), "wake_rtp_reset")
         self.clipped = 0
-        self._carried_saturations = self._carried_guard_events = 0
+        self._carried_saturations = 0
 
     def load_state(self, window_oldest_first, correction, covariance, last_output):
         """Set ring, correction, covariance and last output (hand-over from a float warm-up).
 
         Values are quantised like everything else; out-of-range values raise
-        ValueError.  The covariance's upper triangle is used and mirrored.
+        ValueError.  The C core keeps of the covariance what the recursion
+        uses, its variance along ``w``: ``P`` restarts as ``(w'Pw / w'w) I``
+        (docs/design.md, "Covariance at a weight change"); ``d`` is kept whole.
         """
         fs = self.full_scale
         win = np.asarray(window_oldest_first, dtype=float).reshape(-1)
@@ -432,7 +428,6 @@ class FixedPointRTP:
                            float(np.clip(self.last_output, -top_x, top_x)))
         new.clipped += self.clipped
         new._carried_saturations = self.saturations
-        new._carried_guard_events = self.guard_events
         return new, clamped
 
     def set_weights_clamped(self, weights, measurement_noise, process_noise):
@@ -445,7 +440,7 @@ class FixedPointRTP:
     def __getstate__(self):
         return {"full_scale": self.full_scale, "taps_q": self._taps_q, "clipped": self.clipped,
                 "p0_q": self._p0_q, "struct": bytes(ffi.buffer(self._state)),
-                "carried": (self._carried_saturations, self._carried_guard_events)}
+                "carried": self._carried_saturations}
 
     def __setstate__(self, st):
         self.full_scale = st["full_scale"]
@@ -453,7 +448,10 @@ class FixedPointRTP:
         self.level, self.n_taps = self._taps_q.shape
         self._p0_q = st["p0_q"]
         self.clipped = st["clipped"]
-        self._carried_saturations, self._carried_guard_events = st.get("carried", (0, 0))
+        if len(st["struct"]) != ffi.sizeof("wake_rtp_t") or not isinstance(st["carried"], int):
+            raise ValueError("this state was saved by another version of the C core (its struct layout "
+                             "differs); re-create the filter and run it again instead of loading the state")
+        self._carried_saturations = st["carried"]
         self._state = ffi.new("wake_rtp_t *")
         self._out = ffi.new("int16_t *")
         self._taps_c = ffi.from_buffer("int16_t[]", self._taps_q)

@@ -9,7 +9,7 @@ The per-sample recursion (docs/design.md maps each line onto the paper)::
 
     buffer <- newest sample                      m_J(n), a ring of 2**J samples
     e      = m(n) - y(n-1)                       innovation, eq. (r(k))
-    u      = P w
+    u      = P w                                 (P restarts as (w'Pw / w'w) I when w changes)
     S      = w' u + R                            eq. (S(k))
     K      = u / S                               eq. (K(k))
     d      = d + K e                             state update
@@ -94,7 +94,13 @@ class ReferenceRTP:
 
     # -- configuration -----------------------------------------------------
     def set_weights(self, weights, measurement_noise, process_noise=None):
-        """Install new HPA output between two samples (no state is touched)."""
+        """Install new HPA output between two samples.
+
+        The window, ``d`` and the last output are kept.  The covariance
+        restarts isotropic at the variance it held along the direction it
+        observed: ``P = (w_old' P w_old / |w_old|^2) I`` (``trace(P) / J``
+        when ``w_old = 0``; docs/design.md, "Covariance at a weight change").
+        """
         w = np.array(weights, dtype=float).reshape(-1)
         if w.shape != (self.level,) or not np.isfinite(w).all():
             raise ValueError(f"weights must be {self.level} finite numbers, got {weights!r}")
@@ -104,9 +110,19 @@ class ReferenceRTP:
         q = self.process_noise if process_noise is None else float(process_noise)
         if not np.isfinite(q) or q < 0:
             raise ValueError(f"process_noise Q must be finite and >= 0, got {process_noise!r}")
+        if hasattr(self, "covariance"):
+            self.covariance = self._restarted_covariance()
         self.weights = w
         self.measurement_noise = r
         self.process_noise = q
+
+    def _restarted_covariance(self):
+        """(w' P w / |w|^2) I for the weights in use: P's variance along w, in every direction."""
+        P = self.covariance.reshape(self.level, self.level)
+        w = self.weights
+        omega = float(w @ w)
+        variance = float(w @ P @ w) / omega if omega > 0.0 else float(np.trace(P)) / self.level
+        return max(variance, 0.0) * np.eye(self.level).reshape(-1)
 
     def reset(self):
         """Forget every sample; keep taps and weights."""

@@ -253,7 +253,7 @@ def profile_configuration(emu: Emulator, wavelet="sym3", level=5, *, kalman=True
                        cycles, bound)
 
 
-PHASES = ("check_instance", "push", "measurement_update", "time_update", "psd_guard", "predict")
+PHASES = ("check_structure", "push", "kalman_update", "time_update", "predict")
 
 
 def hotspots(emu: Emulator, wavelet="sym3", level=5, *, kalman=True, n=None):
