@@ -3,10 +3,11 @@
  * @brief Fixed-point WAKE real-time prediction in constant time.
  *
  * The per-sample path (wake_rtp_step) is the 2^J-tap FIR y = h' window plus
- * a scalar Kalman recursion; the J x J covariance P and the correction d of
- * the literal recursion (wake/rtp/reference.py) are rebuilt from a snapshot
- * only in set_weights, reset, load_state and get_state.  docs/fixed_point.md
- * derives the form and bounds its error.
+ * a scalar Kalman recursion along w; the J x J covariance P and the
+ * correction d of the literal recursion (wake/rtp/reference.py, which
+ * restarts P as (w'Pw / |w|^2) I at a weight change) are formed from the
+ * restart and a few scalars only in set_weights and get_state.
+ * docs/fixed_point.md derives the form and bounds its error.
  *
  * Conventions: no signed overflow, no left shift of a negative value, no
  * float, no division instruction.  Right shifts of negative values go
@@ -403,9 +404,11 @@ WAKE_RTP_COLD static void materialise(const wake_rtp_t *s, wake_q23_t *d, wake_c
     if (omega != 0u) {
         /* c_z = (z - z_s) / |w|^2                        (|w|^2 in Q24) */
         c_z = divide_wide(s->z - s->z_snapshot, omega, 24 + XF, events);
-        /* c = (Lambda - s / |w|^2) / |w|^2 */
-        c_ww = (int64_t)lambda * (INT64_C(1) << XF) - divide_wide(s->s, omega, 24 + XF, events);
-        c_ww = divide_wide(c_ww, omega, 24, events);
+        if (P != NULL) {
+            /* c = (Lambda - s / |w|^2) / |w|^2 */
+            c_ww = (int64_t)lambda * (INT64_C(1) << XF) - divide_wide(s->s, omega, 24 + XF, events);
+            c_ww = divide_wide(c_ww, omega, 24, events);
+        }
     }
     for (i = 0; i < J; ++i) {
         /* d_i = d_s,i + c_z w_i                                                    Q23 */

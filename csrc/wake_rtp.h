@@ -15,20 +15,22 @@
  *   y(n) = w' (B window + d)        prediction of the voluntary motion at n + 1
  * @endcode
  *
- * This core evaluates the same recursion in an algebraically equivalent,
- * constant-time form (docs/fixed_point.md proves the equivalence and bounds
- * the error):
+ * A weight change restarts the covariance isotropic at its variance along
+ * the old w, P = (w'Pw / |w|^2) I (docs/design.md, "Covariance at a weight
+ * change").  From such a restart u = P w stays parallel to w, and this core
+ * evaluates the same recursion in an algebraically equivalent, constant-time
+ * form (docs/fixed_point.md proves the equivalence and bounds the error):
  *
  * @code
  *   h    = B' w                     2^J FIR taps, rebuilt by set_weights
  *   y(n) = h' window + z,           z = w' d
- *   u    = b v + (s / |w|^2) w      u = P w stays in span{v, w}: two scalars s = w'Pw, b
- *   S = s + R;  rho = s / S;  tau = R / S
+ *   S = s + R;  rho = s / S;        s = w' P w  (u = (s / |w|^2) w)
  *   z   += rho e                    w' d
- *   s    = tau s + q |w|^2;  b = tau b
+ *   s    = (R / S) s + q |w|^2
  * @endcode
  *
- * P and d themselves are rebuilt from a snapshot (P_s, d_s) and a few scalars only in wake_rtp_set_weights and wake_rtp_get_state; the
+ * d and P themselves are formed from the restart (lambda, d_s) and these
+ * scalars only in wake_rtp_set_weights and wake_rtp_get_state; the
  * per-sample path has no data-dependent loop and no rare slow path.
  *
  * Portable C99, integer arithmetic only, no allocation, no global state: any
@@ -46,7 +48,7 @@
  * | HPA weights w                   | ::wake_q24_t      | Q24                        | [-64, 64]          |
  * | FIR taps h = B'w                | ::wake_fir_t      | Q(WAKE_RTP_FIR_FRAC)       | < 64 J             |
  * | d, z, e, y(n-1)                 | ::wake_q23_t      | Q23 of FS                  | [-256, 256) FS     |
- * | P, R, q, p0, s, b               | ::wake_cov_t      | Q(WAKE_RTP_P_FRAC) of FS^2 | default Q32: [-0.5, 0.5) FS^2 |
+ * | P, lambda, R, q, p0, s          | ::wake_cov_t      | Q(WAKE_RTP_P_FRAC) of FS^2 | default Q32: [-0.5, 0.5) FS^2 |
  * | rho = s/S, tau = R/S            | ::wake_ratio_t    | Q30                        | [-2, 2)            |
  */
 #ifndef WAKE_RTP_H
@@ -236,7 +238,7 @@ typedef struct {
  * rejected, and |w| <= 64; so |h_i| = |sum_j B_ji w_j| < 64 J and the
  * window sum h' window stays below 2^47 in its int64 accumulator (exact).
  * The FIR taps are the exact int64 sums rounded once to
- * Q(WAKE_RTP_FIR_FRAC).  See wake_rtp_set_weights for the rebuild.
+ * Q(WAKE_RTP_FIR_FRAC).  See wake_rtp_set_weights for the restart of P and d.
  */
 wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const wake_q15_t *taps,
                                 const wake_q24_t *weights, wake_cov_t r, wake_cov_t q, wake_cov_t p0);
@@ -244,9 +246,10 @@ wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const wake_q15_t *taps
 /**
  * @brief Install new HPA weights, R and q between two samples.
  *
- * Glitch-free: the ring and the last output are untouched; P and d are
- * rebuilt from the affine form (the values wake_rtp_get_state returns) and
- * become the new snapshot; the next step uses the new values.
+ * Glitch-free: the ring, d and the last output are untouched; the covariance
+ * restarts as P = (w'Pw / |w|^2) I with the old w (its variance along the
+ * direction it observed; the largest P_ii when w = 0); the next step uses
+ * the new values.
  * @param[in,out] s        initialised instance
  * @param[in]     weights  J weights, Q24, |w| <= 64
  * @param[in]     r        R, Q(P_FRAC) of FS^2, > 0
@@ -255,13 +258,12 @@ wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const wake_q15_t *taps
  *         (on error nothing changes).
  *
  * @par Scaling and overflow
- * The rebuild (docs/fixed_point.md): P_ij = P_s,ij + steps q d_ij - (terms
- * along v and w from acc_vv, s, b and their snapshots), every product 32 x 32 -> 64 bit
- * rounded once and saturated to int32; divisions by |w|^2 are products with
- * a Newton-Raphson reciprocal (no division instruction).  The new snapshot
- * takes g = P_s w (int64 sums of J products < 2^61, rounded to Q(P_FRAC)),
- * s = w'g saturated to int32, v = (g - (s/|w|^2) w) / b with b the power of
- * two just above max|g_i - (s/|w|^2) w_i|, so |v_i| < 2 in Q24.
+ * d = d_s + ((z - z_s) / |w|^2) w and lambda = s / |w|^2 (docs/fixed_point.md):
+ * each division by |w|^2 (Q24, < 2^40) is an exact restoring long division
+ * (63 + frac turns, no division instruction) rounded once and clamped to
+ * +-2^50, then narrowed to int32 with saturation; s = lambda |w|^2 and
+ * q |w|^2 are exact in int64; w'd sums J products < 2^60 after a floor
+ * shift by 3.
  */
 wake_rtp_status_t wake_rtp_set_weights(wake_rtp_t *s, const wake_q24_t *weights, wake_cov_t r, wake_cov_t q);
 
@@ -272,7 +274,7 @@ wake_rtp_status_t wake_rtp_set_weights(wake_rtp_t *s, const wake_q24_t *weights,
  * saturation counter restarts from zero.
  * @return WAKE_RTP_OK, WAKE_RTP_E_NULL, _UNINIT or _CORRUPT.
  * @par Scaling and overflow
- * As wake_rtp_set_weights (the rebuild from P = p0 I, d = 0).
+ * s = p0 |w|^2, exact in int64.
  */
 wake_rtp_status_t wake_rtp_reset(wake_rtp_t *s);
 
@@ -334,14 +336,19 @@ wake_rtp_status_t wake_rtp_run(wake_rtp_t *s, const wake_q15_t *in, wake_q15_t *
  * @param[in]     window      N = 2^J samples, oldest first, Q15 of FS
  * @param[in]     correction  J values d, Q23 of FS
  * @param[in]     covariance  J x J values P, row-major, Q(P_FRAC) of FS^2;
- *                            the upper triangle is used and mirrored
+ *                            the core keeps w'Pw: P restarts as (w'Pw / |w|^2) I
+ *                            (the largest P_ii when w = 0), as at a weight change
  * @param[in]     last_output y(n-1), Q23 of FS
  * @return WAKE_RTP_OK, WAKE_RTP_E_NULL, _UNINIT, _CORRUPT or _STATE (a
  *         negative diagonal entry; nothing changes).
  *
- * The instance is primed afterwards; the saturation counter is kept.
+ * The instance is primed afterwards; the saturation counter is kept.  Until
+ * the next weight change only w'Pw and the direction of P w enter the
+ * recursion; for a P from the same recursion (P w parallel to w) the
+ * predictions are those of the full P.
  * @par Scaling and overflow
- * As wake_rtp_set_weights (the rebuild from the given P and d).
+ * w'Pw = sum_i (P w)_i w_i: J products per row < 2^60 after a floor shift by
+ * 3, each row rounded once; then as wake_rtp_set_weights.
  */
 wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q15_t *window,
                                       const wake_q23_t *correction, const wake_cov_t *covariance,
@@ -354,8 +361,12 @@ wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q15_t *window,
  * @param[out] covariance  J x J values P, row-major, Q(P_FRAC) of FS^2
  * @return WAKE_RTP_OK, WAKE_RTP_E_NULL, _UNINIT or _CORRUPT.
  * @par Scaling and overflow
- * As wake_rtp_set_weights; entries beyond int32 saturate (not counted: the
- * instance is const).
+ * P = Lambda I - c w w' with Lambda = lambda + steps q and
+ * c = (Lambda - s / |w|^2) / |w|^2: two long divisions as in
+ * wake_rtp_set_weights, c carried with 16 extra fraction bits so that the
+ * products w_i w_j (up to 2^12) do not amplify its rounding; the upper
+ * triangle is computed and mirrored; entries beyond int32 saturate (not
+ * counted: the instance is const).
  */
 wake_rtp_status_t wake_rtp_get_state(const wake_rtp_t *s, wake_q23_t *correction, wake_cov_t *covariance);
 
