@@ -402,8 +402,8 @@ WAKE_RTP_COLD static void materialise(const wake_rtp_t *s, wake_q23_t *d, wake_c
     wake_cov_t lambda = grown_variance(s, events);
     int64_t c_z = 0, c_ww = 0;                             /* Q(23 + XF), Q(P + XF) */
     if (omega != 0u) {
-        /* c_z = (z - z_s) / |w|^2                        (|w|^2 in Q24) */
-        c_z = divide_wide(s->z - s->z_snapshot, omega, 24 + XF, events);
+        /* c_z = (z - z_s) / |w|^2, z_s = w'd_s as the restart computed it   (|w|^2 in Q24) */
+        c_z = divide_wide(s->z - weighted_sum(w, s->correction, J), omega, 24 + XF, events);
         if (P != NULL) {
             /* c = (Lambda - s / |w|^2) / |w|^2 */
             c_ww = (int64_t)lambda * (INT64_C(1) << XF) - divide_wide(s->s, omega, 24 + XF, events);
@@ -428,15 +428,16 @@ WAKE_RTP_COLD static void materialise(const wake_rtp_t *s, wake_q23_t *d, wake_c
 }
 
 /**
- * The variance the filter holds along w: s / |w|^2 (Lambda when w = 0, where
- * nothing was observed), saturated to the covariance format.  A weight change
- * restarts P at this variance in every direction.
+ * The variance the filter holds along w: w'Pw / |w|^2, saturated to the
+ * covariance format; @p unobserved when w = 0, which observes nothing.  A
+ * weight change restarts P at this variance in every direction.
  */
-WAKE_RTP_COLD static wake_cov_t observed_variance(const wake_rtp_t *s, int64_t w_p_w, uint32_t *events)
+WAKE_RTP_COLD static wake_cov_t observed_variance(const wake_rtp_t *s, int64_t w_p_w, wake_cov_t unobserved,
+                                                  uint32_t *events)
 {
     uint64_t omega = weight_norm2(s->weights, s->level);
     if (omega == 0u) {
-        return grown_variance(s, events);
+        return unobserved;
     }
     return narrow_saturate(divide_wide(w_p_w < 0 ? 0 : w_p_w, omega, 24, events), events);
 }
@@ -459,7 +460,7 @@ static inline wake_fir_t fir_tap(int32_t h)
 
 /**
  * Restart the covariance form for the current weights from d and P = lambda I:
- * d_s = d,  s = lambda |w|^2,  z = z_s = w'd,  steps = 0.  Also rebuilds the
+ * d_s = d,  s = lambda |w|^2,  z = w'd_s,  steps = 0.  Also rebuilds the
  * FIR taps h = B'w.  @p d may be the struct's own snapshot.
  */
 WAKE_RTP_COLD static void restart(wake_rtp_t *s, const wake_q23_t *d, wake_cov_t lambda)
@@ -477,15 +478,13 @@ WAKE_RTP_COLD static void restart(wake_rtp_t *s, const wake_q23_t *d, wake_cov_t
         uint64_t omega = weight_norm2(w, J);
         s->s = scale_by_norm(lambda, omega);                              /* w' (lambda I) w */
         s->q_omega = scale_by_norm(s->q, omega);
-        s->z = weighted_sum(w, s->correction, J);
-        s->z_snapshot = s->z;
+        s->z = weighted_sum(w, s->correction, J);                        /* z_s, recomputed by materialise */
     }
 #else
     /* no Kalman: d = 0 and lambda = 0 (init and load_state see to it), so s = z = 0 */
     s->s = 0;
     s->q_omega = 0;
     s->z = 0;
-    s->z_snapshot = 0;
 #endif
     /* h_i = sum_j B_ji w_j: exact in int64 (Q39), rounded once to Q(FIR) */
     for (i = 0; i < N; ++i) {
@@ -568,7 +567,7 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_weights(wake_rtp_t *s, const wake_q
 #if WAKE_RTP_KALMAN
     /* d under the old weights; P restarts as (w'Pw / |w|^2) I, its variance along the old w */
     materialise(s, d, NULL, &s->saturations);
-    lambda = observed_variance(s, s->s, &s->saturations);
+    lambda = observed_variance(s, s->s, grown_variance(s, &s->saturations), &s->saturations);
 #else
     memset(d, 0, sizeof(d));                                    /* d and P stay 0 */
 #endif
@@ -893,9 +892,7 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q1
             /* w'Pw = sum_i (P w)_i w_i, Q(P): |(P w)_i| < 2^41, each term < 2^50 (J <= 8 terms) */
             w_p_w += multiply_wide_by32(weighted_sum(s->weights, covariance + i * J, J), s->weights[i], 24u, 1);
         }
-        s->steps = 0u;
-        s->variance = top;
-        lambda = observed_variance(s, w_p_w, &s->saturations);
+        lambda = observed_variance(s, w_p_w, top, &s->saturations);
     }
 #else
     for (i = 0; i < J * J; ++i) {

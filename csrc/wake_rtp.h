@@ -210,7 +210,6 @@ typedef struct {
                                     int32 range of P); kept within +-2^50 */
     int64_t z;                 /**< w' d, Q23 of FS in int64 (w'a and w'd may each leave the int32
                                     range while y = w'(a + d) does not); kept within +-2^40 */
-    int64_t z_snapshot;        /**< w' d_s, the value of z at the restart */
     wake_q23_t correction[WAKE_RTP_MAX_LEVEL];   /**< d_s, d at the last restart */
     wake_fir_t fir[WAKE_RTP_MAX_TAPS];           /**< h = B' w, oldest sample first */
     wake_q15_t ring[2 * WAKE_RTP_MAX_TAPS];      /**< the newest N samples, each stored twice (at k and

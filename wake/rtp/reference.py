@@ -98,7 +98,7 @@ class ReferenceRTP:
 
         The window, ``d`` and the last output are kept.  The covariance
         restarts isotropic at the variance it held along the direction it
-        observed: ``P = (w_old' P w_old / |w_old|^2) I`` (``trace(P) / J``
+        observed: ``P = (w_old' P w_old / |w_old|^2) I`` (the largest ``P_ii``
         when ``w_old = 0``; docs/design.md, "Covariance at a weight change").
         """
         w = np.array(weights, dtype=float).reshape(-1)
@@ -121,7 +121,7 @@ class ReferenceRTP:
         P = self.covariance.reshape(self.level, self.level)
         w = self.weights
         omega = float(w @ w)
-        variance = float(w @ P @ w) / omega if omega > 0.0 else float(np.trace(P)) / self.level
+        variance = float(w @ P @ w) / omega if omega > 0.0 else float(np.diag(P).max())   # as the C core
         return max(variance, 0.0) * np.eye(self.level).reshape(-1)
 
     def reset(self):
