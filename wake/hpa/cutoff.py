@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from wake._validation import check_positive
+
 __all__ = ["CUTOFF_FLAGS", "CUTOFF_RULES", "FALLBACK_FLAGS", "find_cutoff"]
 
 #: How a cut-off was found: from the window's spectrum (``"valley"``, ``"floor_valley"``, ``"shallow_valley"``)
@@ -129,10 +131,8 @@ def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
             or not lo <= shallow_max < np.inf:
         raise ValueError(f"shallow_max must be a finite frequency at or above cutoff_range[0] = {lo:g} Hz, "
                          f"got {shallow_max!r}")
-    for name, value in (("floor_margin_db", floor_margin_db), ("edge_db", edge_db)):
-        if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)) \
-                or not 0 < value < np.inf:
-            raise ValueError(f"{name} must be a finite positive number of dB, got {value!r}")
+    floor_margin_db = check_positive("floor_margin_db", floor_margin_db)
+    edge_db = check_positive("edge_db", edge_db)
     if not 0 < tremor_band[0] < tremor_band[1]:
         raise ValueError(f"tremor_band must be (low, high) with 0 < low < high, got {tremor_band!r}")
     freqs = np.asarray(freqs, dtype=float)
