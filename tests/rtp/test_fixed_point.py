@@ -440,3 +440,18 @@ def test_first_sample_gets_only_the_time_update():
     ref.step(0.9)
     assert np.trace(ref.covariance.reshape(level, level)) < level * (p0 + 2 * q)
     np.testing.assert_allclose(c.covariance, ref.covariance, rtol=2e-3, atol=1e-8)
+
+
+def test_a_state_pickled_with_another_struct_layout_is_refused():
+    """A pickle from a core whose wake_rtp_t differs (e.g. before the covariance restart) must not be loaded."""
+    import pickle
+
+    rng = np.random.default_rng(8)
+    c = FixedPointRTP(filter_bank_taps("sym3", 4), make_weights(rng, 4), 0.02, 2e-4, 0.02, full_scale=2.0)
+    c.run(smooth_signal(200, rng))
+    st = c.__getstate__()
+    clone = pickle.loads(pickle.dumps(c))
+    np.testing.assert_array_equal(clone.run(np.zeros(10)), c.run(np.zeros(10)))
+    old = dict(st, struct=st["struct"] + bytes(8))
+    with pytest.raises(ValueError, match="another version of the C core"):
+        FixedPointRTP.__new__(FixedPointRTP).__setstate__(old)
