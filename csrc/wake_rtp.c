@@ -61,6 +61,18 @@
 #define WAKE_RTP_COLD
 #endif
 
+/* Helpers that an -Os build keeps out of line.  gcc's size heuristics inline
+ * them at every call site, where each copy of their 64-bit arithmetic costs
+ * more than the call (docs/profiling.md, "Code at -Os").  Other levels inline
+ * them as before: the -O2 code that the cost targets bound is unchanged. */
+#if defined(__GNUC__) && defined(__OPTIMIZE_SIZE__)
+#define WAKE_RTP_OUTLINE_AT_OS __attribute__((noinline))
+#define WAKE_RTP_INLINE_UNLESS_OS static WAKE_RTP_OUTLINE_AT_OS
+#else
+#define WAKE_RTP_OUTLINE_AT_OS
+#define WAKE_RTP_INLINE_UNLESS_OS static inline
+#endif
+
 /* The ring is 4-byte aligned inside the struct (prime_window stores words). */
 typedef char wake_rtp_ring_is_aligned[(offsetof(wake_rtp_t, ring) % 4u == 0u) ? 1 : -1];
 
@@ -93,7 +105,7 @@ static inline int64_t shift_right_floor(int64_t v, unsigned sh)
 }
 
 /** round(v / 2^sh), halves up, for 1 <= sh <= 62 and |v| <= 2^62 (cannot overflow). */
-static inline int64_t shift_right_round(int64_t v, unsigned sh)
+WAKE_RTP_INLINE_UNLESS_OS int64_t shift_right_round(int64_t v, unsigned sh)
 {
     return shift_right_floor(v + (INT64_C(1) << (sh - 1u)), sh);
 }
@@ -108,7 +120,7 @@ static inline int32_t narrow_saturate(int64_t v, uint32_t *events)
 }
 
 /** Narrow int32 to int16, saturating; adds 1 to *events when it saturates. */
-static inline int16_t narrow_saturate16(int32_t v, uint32_t *events)
+WAKE_RTP_INLINE_UNLESS_OS int16_t narrow_saturate16(int32_t v, uint32_t *events)
 {
     *events += (uint32_t)((v > INT16_MAX) | (v < INT16_MIN));
     return (int16_t)((v > INT16_MAX) ? INT16_MAX : (v < INT16_MIN) ? INT16_MIN : v);
@@ -143,20 +155,24 @@ static inline uint64_t multiply_wide_unsigned(uint32_t a, uint32_t b)
 }
 
 #if WAKE_RTP_KALMAN /* helpers of the Kalman part only */
-/** v clamped to +-2^40 (the range of z = w'd); adds 1 to *events when it clamps. */
-static inline int64_t clamp_wide(int64_t v, uint32_t *events)
+/** v clamped to +-2^bits, 1 <= bits <= 62; adds 1 to *events when it clamps. */
+WAKE_RTP_INLINE_UNLESS_OS int64_t clamp_symmetric(int64_t v, unsigned bits, uint32_t *events)
 {
-    const int64_t top = INT64_C(1) << 40;
+    const int64_t top = INT64_C(1) << bits;
     *events += (uint32_t)((v > top) | (v < -top));
     return (v > top) ? top : (v < -top) ? -top : v;
 }
 
-/** v clamped to +-2^50 (the range of s); adds 1 to *events when it clamps. */
-static inline int64_t clamp_cov_wide(int64_t v, uint32_t *events)
+/** v clamped to +-2^40 (the range of z = w'd); adds 1 to *events when it clamps. */
+static inline int64_t clamp_wide(int64_t v, uint32_t *events)
 {
-    const int64_t top = INT64_C(1) << 50;
-    *events += (uint32_t)((v > top) | (v < -top));
-    return (v > top) ? top : (v < -top) ? -top : v;
+    return clamp_symmetric(v, 40u, events);
+}
+
+/** v clamped to +-2^50 (the range of s); adds 1 to *events when it clamps. */
+WAKE_RTP_INLINE_UNLESS_OS int64_t clamp_cov_wide(int64_t v, uint32_t *events)
+{
+    return clamp_symmetric(v, 50u, events);
 }
 
 /**
@@ -173,18 +189,12 @@ static inline int64_t multiply_wide_by32(int64_t a, int32_t b, unsigned sh, int 
            + (round ? shift_right_round(low, sh) : shift_right_floor(low, sh));
 }
 
-/** v / 2^k (floor) for k >= 0, v 2^-k for k < 0 (the caller keeps |v 2^-k| < 2^63). */
-static inline int64_t shift_by(int64_t v, int k)
-{
-    return (k >= 0) ? shift_right_floor(v, (unsigned)k) : v * (INT64_C(1) << (unsigned)(-k));
-}
-
-/** Number of significant bits of v (0 for v = 0), portable. */
+/** Number of significant bits of v >= 1, portable. */
 static inline unsigned bit_length64(uint64_t v)
 {
 #if defined(__GNUC__) && defined(__ARM_FEATURE_CLZ)
     /* CLZ (Cortex-M3/M4/M7): no branch on the data, so the step's worst path is its usual one */
-    return (v == 0u) ? 0u : 64u - (unsigned)__builtin_clzll(v);
+    return 64u - (unsigned)__builtin_clzll(v);
 #else
     unsigned n = 0;
     if (v >> 32) { v >>= 32; n += 32; }
@@ -229,26 +239,6 @@ uint32_t wake_rtp_reciprocal(uint32_t x)
 }
 
 #if WAKE_RTP_KALMAN
-/**
- * A positive divisor as a reciprocal: 1/x = recip 2^-(61 + exponent), with
- * x = mantissa 2^exponent, mantissa in [2^30, 2^31).
- */
-typedef struct {
-    uint32_t recip;
-    int exponent;
-} inverse_t;
-
-/** The inverse of x, 1 <= x < 2^63 (normalisation by shifts, then Newton-Raphson). */
-static inline inverse_t inverse_of(uint64_t x)
-{
-    inverse_t inv;
-    int k = (int)bit_length64(x) - 31;
-    uint32_t mant = (k >= 0) ? (uint32_t)(x >> (unsigned)k) : (uint32_t)(x << (unsigned)(-k));
-    inv.recip = wake_rtp_reciprocal(mant);
-    inv.exponent = k;
-    return inv;
-}
-
 /**
  * round(a 2^frac / x) clamped to +-2^50, for |a| < 2^62, 1 <= x < 2^62 and
  * frac <= 40: restoring long division, one quotient bit per turn.  Exact
@@ -346,7 +336,7 @@ WAKE_RTP_COLD static wake_rtp_status_t check_weights(const wake_q24_t *weights, 
 
 #if WAKE_RTP_KALMAN /* the covariance code: left out of WAKE_RTP_KALMAN 0 builds */
 /** q |w|^2 or lambda |w|^2 for a Q(P) value c and |w|^2 in Q24 (< 2^40): Q(P) in int64, |.| < 2^47. */
-static int64_t scale_by_norm(wake_cov_t c, uint64_t omega)
+static WAKE_RTP_OUTLINE_AT_OS int64_t scale_by_norm(wake_cov_t c, uint64_t omega)
 {
     /* c |w|^2 = c (hi + lo / 2^24) with |w|^2 = hi 2^24 + lo: hi < 2^16, lo < 2^24 */
     return (int64_t)c * (int64_t)(omega >> 24) + shift_right_round((int64_t)c * (int64_t)(omega & 0xFFFFFFu), 24u);
@@ -375,7 +365,7 @@ static int64_t weighted_sum(const wake_q24_t *w, const int32_t *x, unsigned J)
 }
 
 /** Lambda = variance + steps q: the diagonal of P now, before the measurements along w took their share. */
-static wake_cov_t grown_variance(const wake_rtp_t *s, uint32_t *events)
+static WAKE_RTP_OUTLINE_AT_OS wake_cov_t grown_variance(const wake_rtp_t *s, uint32_t *events)
 {
     return narrow_saturate((int64_t)s->variance + (int64_t)s->steps * s->q, events);   /* < 2^63 */
 }
@@ -444,7 +434,7 @@ WAKE_RTP_COLD static wake_cov_t observed_variance(const wake_rtp_t *s, int64_t w
 #endif /* WAKE_RTP_KALMAN */
 
 /** A tap as fir_window reads it (see wake_fir_t). */
-static inline wake_fir_t fir_tap(int32_t h)
+WAKE_RTP_INLINE_UNLESS_OS wake_fir_t fir_tap(int32_t h)
 {
     wake_fir_t t;
 #if WAKE_RTP_SPLIT_FIR
@@ -629,7 +619,7 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_get_state(const wake_rtp_t *s, wake_q23
 WAKE_RTP_NOINLINE static void prime_window(wake_rtp_t *s, wake_q15_t sample)
 {
     unsigned i, N = s->n_taps;
-#if defined(__GNUC__)
+#if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
     uint32_t pair = (uint32_t)(uint16_t)sample * UINT32_C(0x10001);
     unsigned char *ring = (unsigned char *)__builtin_assume_aligned(s->ring, 4);
     if (N == 2u) {                                /* J = 1: 2N = 4 samples, two words */
@@ -692,6 +682,13 @@ static inline int64_t fir_window(const wake_fir_t *h, const wake_q15_t *x, unsig
     } while (h != end);                                                   /* wcet-loop: N */
     hi_sum = acc_hi - ((uint32_t)acc_x << 15);                            /* sum hi x mod 2^32 */
     return ((int64_t)hi_sum - (int64_t)(hi_sum >> 31) * 4294967296) * 65536 + (int64_t)acc_mid * 256 + acc_lo;
+#elif defined(__OPTIMIZE_SIZE__)
+    int64_t acc = 0;
+    unsigned i;
+    for (i = 0; i < n; ++i) {                                             /* wcet-loop: N */
+        acc += (int64_t)h[i].value * x[i];
+    }
+    return acc;
 #else
     int64_t acc0 = 0, acc1 = 0;
     unsigned i = 0;
@@ -722,24 +719,27 @@ static inline wake_q23_t innovation(const wake_rtp_t *s, wake_q15_t sample, uint
 WAKE_RTP_NOINLINE static uint32_t kalman_update(wake_rtp_t *s, wake_q23_t e)
 {
     uint32_t ev = 0u;
-    /* S = s + R, clamped to >= 1 LSB (s >= 0 unless the state was corrupted); < 2^51 */
-    int64_t S = s->s + s->r;
-    inverse_t inv;
-    int32_t s_norm;
+    /* s in [0, 2^50] unless the state was corrupted: an s outside is counted and clamped to it */
+    const int64_t s_in = clamp_cov_wide(s->s, &ev);
+    const int64_t s_pos = (s_in < 0) ? 0 : s_in;
+    /* S = s + R: in [1, 2^51) (R >= 1) */
+    const uint64_t S = (uint64_t)s_pos + (uint64_t)s->r;
+    /* S 2^up has its top bit at 62; mant = S 2^(up - 32) in [2^30, 2^31) and
+     * s_norm = floor(s 2^(up - 32)) <= mant, both by the same shift, so the
+     * exponent cancels in s / S.  1/mant = recip 2^-61.             up in 12..62 */
+    const unsigned up = 63u - bit_length64(S);
+    const uint32_t recip = wake_rtp_reciprocal((uint32_t)((S << up) >> 32));
+    const uint32_t s_norm = (uint32_t)(((uint64_t)s_pos << up) >> 32);
     wake_ratio_t rho, tau;
-    ev += (uint32_t)(S < 1);
-    S = (S < 1) ? 1 : S;
-    /* 1/S = recip 2^-(61 + k), S = mant 2^k, mant in [2^30, 2^31); k in -30..20 */
-    inv = inverse_of((uint64_t)S);
-    /* rho = s / S = (s / 2^k) recip / 2^31                                Q30 */
-    s_norm = narrow_saturate(shift_by(s->s, inv.exponent), &ev);
-    rho = narrow_saturate(shift_right_round(multiply_wide(s_norm, (int32_t)(inv.recip >> 1)), 30u), &ev);
+    ev += (uint32_t)(s_in < 0);
+    /* rho = s / S = s_norm recip / 2^31                                  Q30 */
+    rho = narrow_saturate(shift_right_round((int64_t)multiply_wide_unsigned(s_norm, recip >> 1), 30u), &ev);   /* < 2^62 */
     /* tau = R / S = 1 - rho                                                Q30 */
     tau = narrow_saturate((int64_t)RATIO_ONE - rho, &ev);
     /* d = d + u e / S with u = P w = (s / |w|^2) w:  z = w'd gains rho e   Q23 */
     s->z = clamp_wide(s->z + shift_right_round(multiply_wide(rho, e), 30u), &ev);
     /* P = P - u u'/S + q I, seen along w:  s = w'Pw = tau s + q |w|^2       Q(P) */
-    s->s = clamp_cov_wide(multiply_wide_by32(s->s, tau, 30u, 1) + s->q_omega, &ev);
+    s->s = clamp_cov_wide(multiply_wide_by32(s_pos, tau, 30u, 1) + s->q_omega, &ev);
     return ev;
 }
 #endif
@@ -778,20 +778,19 @@ static inline void time_update_only(wake_rtp_t *s, uint32_t *events)
 #endif
 }
 
-static wake_q15_t step_validated(wake_rtp_t *s, wake_q15_t sample)
+/**
+ * One sample: @p measured 0 for a missing one (the last prediction stands in
+ * for it, no measurement update; the stream must be primed).  The first sample of a stream has no
+ * measurement update either.
+ */
+static wake_q15_t step_validated(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev)
 {
-    uint32_t ev = 0u;
     wake_q15_t y;
-    if (!s->primed) {
-        /* The first sample of a stream had no prediction before it, so it has no
-         * innovation (e would be 0 by construction: the window is primed with it):
-         * no measurement update, only the time update P = P + q I (as for a missing
-         * sample).  It also keeps the priming off the Kalman update's path: the
-         * step's static bound is the longer of the two, not their sum. */
+    if (!s->primed || !measured) {
         push(s, sample);
         time_update_only(s, &ev);
     } else {
-        const wake_q23_t e = innovation(s, sample, &ev); /* its saturation is counted even when inert */
+        const wake_q23_t e = innovation(s, sample, &ev);
         push(s, sample);
 #if WAKE_RTP_KALMAN
         if (!s->inert) {
@@ -801,26 +800,14 @@ static wake_q15_t step_validated(wake_rtp_t *s, wake_q15_t sample)
         (void)e;
 #endif
     }
-    s->steps += (uint32_t)(s->steps != UINT32_MAX);      /* P gains q I per sample */
+    s->steps += (uint32_t)(s->steps != UINT32_MAX);
     y = predict(s, &ev);
     count_events(&s->saturations, ev);
     return y;
 }
 
-wake_rtp_status_t wake_rtp_step(wake_rtp_t *s, wake_q15_t sample, wake_q15_t *prediction)
-{
-    wake_rtp_status_t st = check_structure(s);
-    if (st != WAKE_RTP_OK) {
-        return st;
-    }
-    if (prediction == NULL) {
-        return WAKE_RTP_E_NULL;
-    }
-    *prediction = step_validated(s, sample);
-    return WAKE_RTP_OK;
-}
-
-wake_rtp_status_t wake_rtp_step_missing(wake_rtp_t *s, wake_q15_t *prediction)
+/** wake_rtp_step (@p measured 1) and wake_rtp_step_missing (0): the checks, then the step. */
+static WAKE_RTP_OUTLINE_AT_OS wake_rtp_status_t step_checked(wake_rtp_t *s, wake_q15_t sample, int measured, wake_q15_t *prediction)
 {
     uint32_t ev = 0u;
     wake_rtp_status_t st = check_structure(s);
@@ -830,34 +817,40 @@ wake_rtp_status_t wake_rtp_step_missing(wake_rtp_t *s, wake_q15_t *prediction)
     if (prediction == NULL) {
         return WAKE_RTP_E_NULL;
     }
-    if (!s->primed) {
-        *prediction = 0;
-        return WAKE_RTP_OK;
+    if (!measured) {
+        if (!s->primed) {
+            *prediction = 0;                       /* a missing sample before the first: nothing to predict from */
+            return WAKE_RTP_OK;
+        }
+        /* the last prediction stands in for the missing sample */
+        sample = narrow_saturate16((int32_t)shift_right_round(s->last_output, SIGNAL_GUARD_BITS), &ev);
     }
-    /* the last prediction stands in for the sample; no measurement update */
-    push(s, narrow_saturate16((int32_t)shift_right_round(s->last_output, SIGNAL_GUARD_BITS), &ev));
-    time_update_only(s, &ev);
-    s->steps += (uint32_t)(s->steps != UINT32_MAX);
-    *prediction = predict(s, &ev);
-    count_events(&s->saturations, ev);
+    *prediction = step_validated(s, sample, measured, ev);
     return WAKE_RTP_OK;
+}
+
+wake_rtp_status_t wake_rtp_step(wake_rtp_t *s, wake_q15_t sample, wake_q15_t *prediction)
+{
+    return step_checked(s, sample, 1, prediction);
+}
+
+wake_rtp_status_t wake_rtp_step_missing(wake_rtp_t *s, wake_q15_t *prediction)
+{
+    return step_checked(s, 0, 0, prediction);
 }
 
 wake_rtp_status_t wake_rtp_run(wake_rtp_t *s, const wake_q15_t *in, wake_q15_t *out, size_t n)
 {
     size_t k;
     wake_rtp_status_t st = check_structure(s);
-    if (st != WAKE_RTP_OK) {
+    if (st != WAKE_RTP_OK || n == 0u) {
         return st;
-    }
-    if (n == 0u) {
-        return WAKE_RTP_OK;
     }
     if (in == NULL || out == NULL) {
         return WAKE_RTP_E_NULL;
     }
     for (k = 0; k < n; ++k) {
-        out[k] = step_validated(s, in[k]);
+        (void)wake_rtp_step(s, in[k], &out[k]);          /* cannot fail: s and out were checked */
     }
     return WAKE_RTP_OK;
 }

@@ -73,7 +73,7 @@ extern "C" {
 /**
  * 1 (default): the Kalman update is compiled in.  0: a build for firmware
  * whose Kalman stays inert (q = 0 and p0 = 0, the WakeFilter default) leaves
- * the covariance code out (more than half of the code); init, set_weights and
+ * the covariance code out (about half of the code); init, set_weights and
  * load_state then refuse q > 0, p0 > 0 or a non-zero d or P with
  * WAKE_RTP_E_NO_KALMAN.  The predictions of an inert configuration are the
  * same, bit for bit, in both builds.
@@ -320,7 +320,8 @@ wake_rtp_status_t wake_rtp_step_missing(wake_rtp_t *s, wake_q15_t *prediction);
 /**
  * @brief Run a block: out[k] = prediction after in[k], k = 0..n-1.
  *
- * Same result as n calls of wake_rtp_step; the instance is validated once.
+ * Same result and cost per sample as n calls of wake_rtp_step (it makes
+ * them: the instance is validated before the first sample and by every step).
  * @p in and @p out may be the same array.  n = 0 is allowed (pointers may
  * then be NULL).
  * @return as wake_rtp_step.

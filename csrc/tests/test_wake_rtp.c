@@ -770,8 +770,16 @@ static void test_24_hours_bounded(void)
     CHECK(ok, "24 h: run ok");
     CHECK(s.saturations == 0u, "24 h: no saturation (%u)", (unsigned)s.saturations);
     CHECK(s.steps == 12u * 360000u, "24 h: 12 h of steps since the update (%u)", (unsigned)s.steps);
-    CHECK(llabs(s.s - s_after_1h) <= s_after_1h / 2 && s.s > 0, "24 h: w'Pw converged and stays (%lld vs %lld)",
-          (long long)s.s, (long long)s_after_1h);
+    {
+        /* the fixed point of s = R s / (s + R) + q|w|^2:  s^2 = q|w|^2 (s + R)  (for the weights now in force).
+         * The update rounds R s / (s + R) to 1 LSB (+-0.5) and its slope there is (R / (s + R))^2 < 1, so the
+         * integer recursion settles within 0.5 / (1 - slope) LSB of it (plus 1 for the ratio's rounding). */
+        const double qw = (double)s.q_omega, R = (double)s.r, fixed = 0.5 * (qw + sqrt(qw * qw + 4.0 * qw * R));
+        const double slope = (R / (fixed + R)) * (R / (fixed + R)), allowed = 0.5 / (1.0 - slope) + 1.0;
+        CHECK(s_after_1h > 0 && fabs((double)s.s - fixed) <= allowed,
+              "24 h: w'Pw at its fixed point (%lld vs %.1f +- %.1f; %lld after 1 h, before the update)", (long long)s.s,
+              fixed, allowed, (long long)s_after_1h);
+    }
     /* s = w'Pw reaches the fixed point of s = tau s + q|w|^2 and stays there: no creep */
     CHECK(s.s == s_at_18h && s_max < (1 << 20), "24 h: s bounded and converged (%lld at 18 h, %lld at 24 h, max %lld)",
           (long long)s_at_18h, (long long)s.s, (long long)s_max);
@@ -801,6 +809,34 @@ static void test_corrupted_weights(void)
     CHECK(wake_rtp_step(&s, 1, &y) == WAKE_RTP_E_UNINIT, "failed init: uninitialised");
 }
 
+/* A stray write into the Kalman scalar s = w'Pw (negative, or past its 2^50 range) is
+ * counted and clamped by the next update: no undefined behaviour (UBSan), s back in range. */
+static void test_corrupted_variance(void)
+{
+    static int16_t taps[MAXJ * MAXN];
+    wake_rtp_t s;
+    int32_t w[MAXJ];
+    int16_t y;
+    const int64_t corrupt[] = {-5, -(INT64_C(1) << 50) - 1, INT64_MIN, (INT64_C(1) << 50) + 1, INT64_MAX};
+    size_t k;
+    int n;
+    make_taps(4, taps, 0);
+    make_weights(4, w, 0.5);
+    for (k = 0; k < sizeof(corrupt) / sizeof(corrupt[0]); ++k) {
+        uint32_t before;
+        CHECK(wake_rtp_init(&s, 4, taps, w, 3000, 3, 3000) == WAKE_RTP_OK && s.inert == 0u, "init live");
+        for (n = 0; n < 20; ++n) {
+            CHECK(wake_rtp_step(&s, (int16_t)(n * 300), &y) == WAKE_RTP_OK, "step");
+        }
+        before = s.saturations;
+        s.s = corrupt[k];
+        CHECK(wake_rtp_step(&s, 1000, &y) == WAKE_RTP_OK, "step with a corrupted s runs (%lld)", (long long)corrupt[k]);
+        CHECK(s.saturations > before, "a corrupted s is counted (%lld)", (long long)corrupt[k]);
+        CHECK(s.s >= 0 && s.s <= (INT64_C(1) << 50), "s back in [0, 2^50] (%lld -> %lld)", (long long)corrupt[k],
+              (long long)s.s);
+    }
+}
+
 int main(void)
 {
     printf("sizeof(wake_rtp_t) = %u bytes (WAKE_RTP_MAX_LEVEL = %d, P_FRAC = %d)\n", (unsigned)sizeof(wake_rtp_t),
@@ -815,6 +851,7 @@ int main(void)
     test_instances_independent();
     test_inert_shortcut();
     test_corrupted_weights();
+    test_corrupted_variance();
     test_24_hours_bounded();
     printf("%d passed, %d failed\n", n_passed, n_failed);
     return n_failed ? 1 : 0;

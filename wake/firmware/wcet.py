@@ -44,7 +44,7 @@ from .profile.build import Image, _emulator_modules, toolchain
 
 __all__ = ["WcetError", "Bound", "static_bound", "CYCLE_MODELS", "instruction_cycles", "CycleModel"]
 
-LOOP_ANNOTATION = re.compile(r"wcet-loop:\s*([^*]+?)\s*\*/")
+LOOP_ANNOTATION = re.compile(r"wcet-loop:\s*(.+?)\s*\*/")   # the expression may hold `*` ("2 * N")
 
 
 class WcetError(RuntimeError):
