@@ -116,7 +116,7 @@ target_link_libraries(your_firmware PRIVATE wake_rtp)
 
 Firmware that keeps the Kalman inert (q = 0 and p0 = 0, the default) can add
 `-DWAKE_RTP_KALMAN=0`: the covariance code is left out (Cortex-M4 `-Os`: about
-2 KB of code instead of 3.6 KB), the predictions are the same bit for bit,
+1.7 KB of code instead of 3 KB), the predictions are the same bit for bit,
 and a call that sets q > 0 or p0 > 0 returns `WAKE_RTP_E_NO_KALMAN`.
 
 Checked to compile with `arm-none-eabi-gcc -std=c99 -mcpu=cortex-m4 -mthumb -c`
