@@ -176,17 +176,15 @@ WAKE_RTP_INLINE_UNLESS_OS int64_t clamp_cov_wide(int64_t v, uint32_t *events)
 }
 
 /**
- * round (or floor) of a b / 2^sh for |a| <= 2^50, 20 <= sh <= 31: a = hi 2^31 + lo with
+ * round(a b / 2^sh) for |a| <= 2^50, 20 <= sh <= 31: a = hi 2^31 + lo with
  * lo in [0, 2^31), so a b = hi b 2^31 + lo b from two 32 x 32 -> 64-bit products.
  * |result| < 2^62.
  */
-static inline int64_t multiply_wide_by32(int64_t a, int32_t b, unsigned sh, int round)
+static inline int64_t multiply_wide_by32(int64_t a, int32_t b, unsigned sh)
 {
     int64_t hi = shift_right_floor(a, 31u);                                /* |hi| <= 2^19 */
     int32_t lo = (int32_t)(a - hi * (INT64_C(1) << 31));                   /* [0, 2^31) */
-    int64_t low = multiply_wide(lo, b);
-    return multiply_wide((int32_t)hi, b) * (INT64_C(1) << (31u - sh))
-           + (round ? shift_right_round(low, sh) : shift_right_floor(low, sh));
+    return multiply_wide((int32_t)hi, b) * (INT64_C(1) << (31u - sh)) + shift_right_round(multiply_wide(lo, b), sh);
 }
 
 /** Number of significant bits of v >= 1, portable. */
@@ -402,14 +400,14 @@ WAKE_RTP_COLD static void materialise(const wake_rtp_t *s, wake_q23_t *d, wake_c
     }
     for (i = 0; i < J; ++i) {
         /* d_i = d_s,i + c_z w_i                                                    Q23 */
-        int64_t t = shift_right_round(multiply_wide_by32(c_z, w[i], 24u, 1), XF);
+        int64_t t = shift_right_round(multiply_wide_by32(c_z, w[i], 24u), XF);
         d[i] = narrow_saturate((int64_t)s->correction[i] + t, events);
         if (P != NULL) {
             /* P_ij = Lambda d_ij - (c w_i) w_j                                       Q(P) */
-            int64_t row = clamp_cov_wide(multiply_wide_by32(c_ww, w[i], 24u, 1), events);
+            int64_t row = clamp_cov_wide(multiply_wide_by32(c_ww, w[i], 24u), events);
             for (j = i; j < J; ++j) {                      /* upper triangle, mirrored */
                 int64_t p = (i == j ? (int64_t)lambda : 0)
-                            - shift_right_round(multiply_wide_by32(row, w[j], 24u, 1), XF);
+                            - shift_right_round(multiply_wide_by32(row, w[j], 24u), XF);
                 P[i * J + j] = narrow_saturate(p, events);
                 P[j * J + i] = P[i * J + j];
             }
@@ -739,7 +737,7 @@ WAKE_RTP_NOINLINE static uint32_t kalman_update(wake_rtp_t *s, wake_q23_t e)
     /* d = d + u e / S with u = P w = (s / |w|^2) w:  z = w'd gains rho e   Q23 */
     s->z = clamp_wide(s->z + shift_right_round(multiply_wide(rho, e), 30u), &ev);
     /* P = P - u u'/S + q I, seen along w:  s = w'Pw = tau s + q |w|^2       Q(P) */
-    s->s = clamp_cov_wide(multiply_wide_by32(s_pos, tau, 30u, 1) + s->q_omega, &ev);
+    s->s = clamp_cov_wide(multiply_wide_by32(s_pos, tau, 30u) + s->q_omega, &ev);
     return ev;
 }
 #endif
@@ -779,18 +777,23 @@ static inline void time_update_only(wake_rtp_t *s, uint32_t *events)
 }
 
 /**
- * One sample: @p measured 0 for a missing one (the last prediction stands in
- * for it, no measurement update; the stream must be primed).  The first sample of a stream has no
- * measurement update either.
+ * One sample of a checked instance, with @p ev events counted before it.
+ * @p measured 0: a missing sample of a primed stream, @p sample the stand-in
+ * step_checked computed.
  */
 static wake_q15_t step_validated(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev)
 {
     wake_q15_t y;
     if (!s->primed || !measured) {
+        /* No measurement update, only the time update P = P + q I: a missing sample has no
+         * innovation, and neither has the first sample of a stream (no prediction preceded it;
+         * e would be 0 by construction: the window is primed with it).  It also keeps the
+         * priming off the Kalman update's path: the step's static bound is the longer of the
+         * two, not their sum. */
         push(s, sample);
         time_update_only(s, &ev);
     } else {
-        const wake_q23_t e = innovation(s, sample, &ev);
+        const wake_q23_t e = innovation(s, sample, &ev); /* its saturation is counted even when inert */
         push(s, sample);
 #if WAKE_RTP_KALMAN
         if (!s->inert) {
@@ -800,7 +803,7 @@ static wake_q15_t step_validated(wake_rtp_t *s, wake_q15_t sample, int measured,
         (void)e;
 #endif
     }
-    s->steps += (uint32_t)(s->steps != UINT32_MAX);
+    s->steps += (uint32_t)(s->steps != UINT32_MAX);      /* P gains q I per sample */
     y = predict(s, &ev);
     count_events(&s->saturations, ev);
     return y;
@@ -883,7 +886,7 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q1
         int64_t w_p_w = 0;
         for (i = 0; i < J; ++i) {
             /* w'Pw = sum_i (P w)_i w_i, Q(P): |(P w)_i| < 2^41, each term < 2^50 (J <= 8 terms) */
-            w_p_w += multiply_wide_by32(weighted_sum(s->weights, covariance + i * J, J), s->weights[i], 24u, 1);
+            w_p_w += multiply_wide_by32(weighted_sum(s->weights, covariance + i * J, J), s->weights[i], 24u);
         }
         lambda = observed_variance(s, w_p_w, top, &s->saturations);
     }
