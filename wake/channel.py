@@ -81,6 +81,7 @@ class Channel:
         self.missing_run = 0
         self.gap_end = None
         self.gap_skipped = 0          # HPA points skipped: inside a long gap
+        self.long_gap = self.gap_length()   # fixed with the config; update() reads it every sample
         if config.backend == "c" and config.full_scale is not None:
             self.switch_to_c(config.full_scale)
 
@@ -191,7 +192,7 @@ class Channel:
         """The samples the HPA at ``count`` reads: ``window`` (the last min(count, L)) from the latest long
         gap's end on, or None inside a long gap (the HPA is skipped, the weights kept).  The schedule runs
         from the gap's end (:meth:`point_after`), so at least its first point's ``2 * 2**J`` samples follow."""
-        if self.missing_run >= self.gap_length():
+        if self.missing_run >= self.long_gap:
             self.gap_skipped += 1
             return None
         if self.gap_end is None:
@@ -216,7 +217,7 @@ class Channel:
         before = np.diff(valid, prepend=-1) - 1
         if valid.size:
             before[0] += self.missing_run
-        ends = list(valid[before >= self.gap_length()])  # first sample after each long gap
+        ends = list(valid[before >= self.long_gap])  # first sample after each long gap
         carried = self.missing_run
 
         def run_at(k):
@@ -272,7 +273,7 @@ class Channel:
         if sample != sample:
             self.missing_run += 1
         else:
-            if self.missing_run >= self.gap_length():
+            if self.missing_run >= self.long_gap:
                 self.gap_ended(self.count - 1)
             self.missing_run = 0
         if self.count == self.next_hpa:
