@@ -23,13 +23,20 @@ run it by hand on a quiet machine::
 ``--echo-baseline`` also times, side by side and fed by the same clock, a
 process that only passes every sample back over the same transport: the
 floor of the machine and the transport at that moment.  Shared machines
-vary from run to run; compare the two rows of one run.
+vary from run to run; compare the rows of one run.  With the echo, it also
+reports ``wake stream``'s latency minus the echo's, sample by sample: a stall
+of the whole machine delays both and cancels there.  ``--hpa-mode thread
+inline`` runs one ``wake stream`` per mode, side by side::
+
+    python bench/stream_end_to_end.py --hpa-mode thread inline --echo-baseline
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import os
+import selectors
 import subprocess
 import sys
 import threading
@@ -43,6 +50,7 @@ sys.path.insert(0, str(ROOT))
 
 FS = 100.0
 TARGET_P999_MS = 2.0
+HPA_MODES = ("thread", "inline")
 
 
 def six_channels(n: int) -> tuple[np.ndarray, str]:
@@ -84,50 +92,64 @@ def _paced(n, send):
         send(i)
 
 
-def run_pipe(x: np.ndarray, extra, echo=False) -> list:
-    """Latencies (s) of ``wake stream`` and, with ``echo``, of the echo process fed side by side."""
-    cmds = [[sys.executable, "-m", "wake", "stream", "--stdin", "--stdout", "--fs", str(FS), "--status", "0", *extra]]
+def run_pipe(x: np.ndarray, extras, echo=False) -> list:
+    """Latencies (s) of ``wake stream`` (one process per entry of ``extras``, its extra arguments) and, with
+    ``echo``, of the echo process, all fed side by side by the same clock.
+
+    One thread paces the input and reads every output with ``select``: with a reader thread per process,
+    the bench's own threads would wait for each other's interpreter lock (5 ms switch interval), and
+    its latency figures would carry that wait.
+    """
+    cmds = [[sys.executable, "-m", "wake", "stream", "--stdin", "--stdout", "--fs", str(FS), "--status", "0", *extra]
+            for extra in extras]
     if echo:
         cmds.append([sys.executable, "-c", ECHO])
-    procs = [subprocess.Popen(c, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                              bufsize=1, env=_env()) for c in cmds]
+    procs = [subprocess.Popen(c, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, bufsize=0,
+                              env=_env()) for c in cmds]
     for p in procs:  # the clock starts when every process is ready for its first sample
-        first = p.stderr.readline()
+        first = p.stderr.readline().decode()
         if "ready" not in first:
-            raise SystemExit(f"{p.args[1:3]} did not start: {first}{p.stderr.read()}")
-    sent = np.zeros((len(procs), len(x)))
-    got = np.full((len(procs), len(x)), np.nan)
-
-    def reader(k):
-        for i in range(len(x)):
-            line = procs[k].stdout.readline()
-            if not line:
-                return
-            got[k, i] = time.perf_counter()
-
-    threads = [threading.Thread(target=reader, args=(k,), daemon=True) for k in range(len(procs))]
-    for th in threads:
-        th.start()
-    lines = [",".join(repr(v) for v in row) + "\n" for row in x.tolist()]
-
-    def send(i):
-        order = range(len(procs)) if i % 2 == 0 else reversed(range(len(procs)))  # neither always goes first
-        for k in order:
-            sent[k, i] = time.perf_counter()
-            procs[k].stdin.write(lines[i])
-            procs[k].stdin.flush()
-
-    _paced(len(x), send)
-    for p in procs:
-        p.stdin.close()
-    for th in threads:
-        th.join(timeout=30)
+            raise SystemExit(f"{p.args[1:3]} did not start: {first}{p.stderr.read().decode()}")
+    n = len(x)
+    sent = np.full((len(procs), n), np.nan)
+    got = np.full((len(procs), n), np.nan)
+    answered = [0] * len(procs)
+    lines = [(",".join(repr(v) for v in row) + "\n").encode() for row in x.tolist()]
+    sel = selectors.DefaultSelector()
+    for k, p in enumerate(procs):
+        os.set_blocking(p.stdout.fileno(), False)
+        sel.register(p.stdout.fileno(), selectors.EVENT_READ, k)
+    start = time.perf_counter() + 0.5
+    i, still_open, deadline = 0, len(procs), math.inf
+    while still_open and time.perf_counter() < deadline:
+        now = time.perf_counter()
+        if i < n and now >= start + i / FS:
+            for k in (range(len(procs)) if i % 2 == 0 else reversed(range(len(procs)))):  # none always first
+                sent[k, i] = time.perf_counter()
+                os.write(procs[k].stdin.fileno(), lines[i])
+            i += 1
+            if i == n:  # end of input: every process answers what it read, then ends
+                for p in procs:
+                    p.stdin.close()
+                deadline = time.perf_counter() + 30
+            continue
+        for key, _ in sel.select(start + i / FS - now if i < n else deadline - now):
+            k = key.data
+            t = time.perf_counter()
+            chunk = os.read(key.fd, 1 << 16)
+            if not chunk:
+                sel.unregister(key.fd)
+                still_open -= 1
+                continue
+            count = min(chunk.count(b"\n"), n - answered[k])
+            got[k, answered[k]:answered[k] + count] = t
+            answered[k] += count
     for p in procs:
         p.wait(timeout=30)
-        err = p.stderr.read()
+        err = p.stderr.read().decode()
         if p.returncode != 0:
             raise SystemExit(f"{p.args[1:3]} failed ({p.returncode}):\n{err}")
-        print(err.strip().splitlines()[-1], file=sys.stderr)
+        print(" ".join(p.args[-2:]) + ": " + err.strip().splitlines()[-1], file=sys.stderr)
     return list(got - sent)
 
 
@@ -148,16 +170,18 @@ print("echo: end of input", file=sys.stderr)
 """
 
 
-def run_lsl(x: np.ndarray, extra, echo=False) -> list:
-    """Latencies (s) over LSL: one outlet read by ``wake stream`` and, with ``echo``, by the echo process."""
+def run_lsl(x: np.ndarray, extras, echo=False) -> list:
+    """Latencies (s) over LSL: one outlet read by ``wake stream`` (one process per entry of ``extras``) and,
+    with ``echo``, by the echo process."""
     import pylsl
 
     tag = f"{os.getpid()}"
     info = pylsl.StreamInfo(f"wake-bench-in-{tag}", "IMU", x.shape[1], FS, pylsl.cf_double64, f"bench-{tag}")
     outlet = pylsl.StreamOutlet(info)
     source = f"wake-bench-in-{tag}"
-    cmds = {f"wake-bench-out-{tag}": [sys.executable, "-m", "wake", "stream", "--lsl-in", source, "--lsl-out",
-                                      f"wake-bench-out-{tag}", "--status", "0", *extra]}
+    cmds = {f"wake-bench-out{k}-{tag}": [sys.executable, "-m", "wake", "stream", "--lsl-in", source, "--lsl-out",
+                                         f"wake-bench-out{k}-{tag}", "--status", "0", *extra]
+            for k, extra in enumerate(extras)}
     if echo:
         cmds[f"wake-bench-echo-{tag}"] = [sys.executable, "-c", LSL_ECHO, source, f"wake-bench-echo-{tag}"]
     procs = [subprocess.Popen(c, stderr=subprocess.PIPE, text=True, env=_env()) for c in cmds.values()]
@@ -188,7 +212,7 @@ def run_lsl(x: np.ndarray, extra, echo=False) -> list:
     outlet = None  # closes the stream: the readers of wake stream and the echo see its end
     for p in procs:
         err = p.communicate(timeout=30)[1]
-        print(err.strip().splitlines()[-1] if err.strip() else "", file=sys.stderr)
+        print(" ".join(p.args[-2:]) + ": " + (err.strip().splitlines()[-1] if err.strip() else ""), file=sys.stderr)
     return list(lat)
 
 
@@ -196,18 +220,37 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--duration", type=float, default=300.0, help="seconds of streamed data (default 300)")
     ap.add_argument("--transport", choices=("pipe", "lsl"), default="pipe")
-    ap.add_argument("--hpa-mode", choices=("thread", "inline"), default="thread")
+    ap.add_argument("--hpa-mode", choices=HPA_MODES, nargs="+", default=["thread"],
+                    help="one wake stream process per mode given, fed side by side by the same clock")
     ap.add_argument("--echo-baseline", action="store_true",
                     help="also time a process that only echoes the lines: the floor of this machine and its pipes")
     args = ap.parse_args(argv)
     n = int(args.duration * FS)
     x, source = six_channels(n)
-    extra = ["--hpa-mode", args.hpa_mode]
-    lat = (run_pipe if args.transport == "pipe" else run_lsl)(x, extra, echo=args.echo_baseline)
-    report(lat[0], n, f"wake stream, {args.transport}, hpa_mode={args.hpa_mode}", args.duration, source)
+    extras = [["--hpa-mode", mode] for mode in args.hpa_mode]
+    lat = (run_pipe if args.transport == "pipe" else run_lsl)(x, extras, echo=args.echo_baseline)
+    for k, mode in enumerate(args.hpa_mode):
+        report(lat[k], n, f"wake stream, {args.transport}, hpa_mode={mode}", args.duration, source)
     if args.echo_baseline:
-        report(lat[1], n, f"echo baseline, {args.transport} (no filtering), fed side by side", args.duration, source)
+        for k, mode in enumerate(args.hpa_mode):
+            report_excess(lat[k], lat[-1], f"wake stream ({mode}) minus the echo, sample by sample")
+        report(lat[-1], n, f"echo baseline, {args.transport} (no filtering), fed side by side", args.duration, source)
     return 0
+
+
+def report_excess(lat, echo, what) -> None:
+    """What ``wake stream`` adds to the machine's floor: its latency minus the echo's, per sample.
+
+    Both processes got each sample within microseconds of each other, so a stall of the whole machine
+    (a hypervisor taking the cores, which lasts up to hundreds of ms here) delays both and cancels.
+    """
+    both = np.isfinite(lat) & np.isfinite(echo)
+    ms = (np.asarray(lat)[both] - np.asarray(echo)[both]) * 1e3
+    p50, p99, p999 = np.percentile(ms, [50, 99, 99.9])
+    print(f"{what}: {both.sum()} samples")
+    print("| median | p99 | p99.9 | max |")
+    print("|---:|---:|---:|---:|")
+    print(f"| {p50:+.3f} ms | {p99:+.3f} ms | {p999:+.3f} ms | {ms.max():+.3f} ms |")
 
 
 def report(lat, n, what, duration, source) -> None:
