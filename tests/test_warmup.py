@@ -283,3 +283,62 @@ def test_the_one_second_hpa_does_not_cost_pads():
     now, before = _pads_slices(), _pads_slices(warmup_hpa_s=(2.0, 3.0, 4.0))
     for k in SLICES:
         assert now[k] <= before[k] * 1.001, (k, now[k], before[k])
+
+
+# -- the bound: weights fitted to the true voluntary motion (docs/design.md, "What any HPA could reach") --
+
+def test_approximation_predictions_are_wakes_prediction_per_weight(signal10):
+    from wake.eval.warmup import approximation_predictions
+
+    x = signal10.measurement
+    A = approximation_predictions(x)
+    w = prior_weights(WakeConfig(fs=signal10.fs))
+    v = WakeFilter(fs=signal10.fs, backend="reference", warmup_hpa_s=()).run(x).voluntary
+    first_hpa = WakeConfig(fs=signal10.fs).window_samples
+    np.testing.assert_allclose(A[:first_hpa] @ w, v[:first_hpa], rtol=0, atol=1e-12)
+    with pytest.raises(ValueError, match="finite"):
+        approximation_predictions(np.r_[x[:10], np.nan])
+
+
+def test_truth_fitted_prediction_fits_every_sample_before_each_refit(signal10):
+    from wake.eval.warmup import approximation_predictions, truth_fitted_prediction
+
+    x, v, fs = signal10.measurement, signal10.voluntary, signal10.fs
+    A = approximation_predictions(x)
+    w0 = prior_weights(WakeConfig(fs=fs))
+    p = truth_fitted_prediction(x, v, fs, refit_s=(1.0,))
+    w1 = np.linalg.lstsq(A[1:100], v[1:100], rcond=None)[0]
+    np.testing.assert_allclose(p[:100], A[:100] @ w0, atol=1e-12)
+    np.testing.assert_allclose(p[100:], A[100:] @ w1, atol=1e-9)
+    # no refit: the start-up weights throughout; a strong pull: nearly the start-up weights
+    np.testing.assert_allclose(truth_fitted_prediction(x, v, fs, refit_s=()), A @ w0, atol=1e-12)
+    pulled = truth_fitted_prediction(x, v, fs, refit_s=(1.0,), pull=1e6)
+    assert np.abs(pulled - A @ w0).max() < 1e-3 * np.abs(A @ w0).max()
+    with pytest.raises(ValueError, match="shape of x"):
+        truth_fitted_prediction(x, v[:-1], fs)
+
+
+def test_no_hpa_schedule_reaches_the_early_targets_on_the_synthetic_set(paper_signals):
+    """Fitted to the true voluntary motion before every sample, WAKE's weights still miss the issue's
+    1-2 s target (1.5x the after-5-s error) and BMFLC's 0.5-1 s error; the default HPA is close to
+    the same bound at its own times."""
+    from wake.eval.baselines import BMFLC
+    from wake.eval.warmup import truth_fitted_prediction
+
+    limit, at_times, bmflc = [], [], []
+    for s in paper_signals:
+        limit.append(slice_nrmse(s.voluntary, truth_fitted_prediction(s.measurement, s.voluntary, s.fs), s.fs))
+        times = WakeConfig(fs=s.fs).warmup_hpa_s
+        at_times.append(slice_nrmse(s.voluntary, truth_fitted_prediction(s.measurement, s.voluntary, s.fs,
+                                                                         refit_s=times), s.fs))
+        bmflc.append(slice_nrmse(s.voluntary, BMFLC(fs=s.fs).run(s.measurement).voluntary, s.fs))
+    limit, at_times, bmflc = (mean_of(r) for r in (limit, at_times, bmflc))
+    wake = _slices(paper_signals)
+    assert limit["1-2 s"] > 1.5 * wake["after 5 s"], (limit["1-2 s"], wake["after 5 s"])
+    assert limit["0.5-1 s"] > bmflc["0.5-1 s"], (limit["0.5-1 s"], bmflc["0.5-1 s"])
+    # the HPA with its estimated truth is within 5 % of the truth-fitted weights at the same times
+    assert wake["1-2 s"] < 1.05 * at_times["1-2 s"], (wake["1-2 s"], at_times["1-2 s"])
+
+
+def mean_of(rows):
+    return {k: float(np.mean([r[k] for r in rows])) for k in rows[0]}

@@ -15,7 +15,7 @@ import scipy.signal
 from wake.hpa.sharp import sharp_highpass
 
 __all__ = ["SLICES", "independent_cutoff", "independent_ground_truth", "slice_nrmse", "error_curve", "mean_slices",
-           "mean_curve"]
+           "mean_curve", "approximation_predictions", "truth_fitted_prediction"]
 
 #: Slices of time since start, in seconds (None: to the end).  "whole" starts
 #: at 0.5 s: before that no causal method has seen a tremor period.
@@ -122,3 +122,125 @@ def mean_curve(curves):
     """Mean of :func:`error_curve` outputs over signals, on the shortest common time axis."""
     n = min(len(t) for t, _ in curves)
     return curves[0][0][:n], np.nanmean([e[:n] for _, e in curves], axis=0)
+
+
+# -- what any HPA could reach in the first seconds -------------------------------------------------
+
+
+def approximation_predictions(x, config=None):
+    """The RTP's one-step-ahead prediction of each approximation alone: column j is ``voluntary`` with ``w = e_j``.
+
+    With the Kalman filter inert (the default) WAKE's prediction is linear in
+    the weights, so ``approximation_predictions(x) @ w`` is what
+    ``WakeFilter.run(x).voluntary`` gives while the weights are ``w``
+    (float reference; row 0 is 0, nothing has been seen).
+
+    Parameters
+    ----------
+    x : array_like, shape (n,)
+        One channel.
+    config : WakeConfig, optional
+        ``wavelet``, ``level`` and ``mode`` are used (default: ``WakeConfig()``).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, level)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wake.eval.warmup import approximation_predictions
+    >>> A = approximation_predictions(np.ones(64))
+    >>> A.shape, float(A[0, 0]), bool(np.allclose(A[40:].sum(axis=1) > 0, True))
+    ((64, 5), 0.0, True)
+    """
+    from wake.config import WakeConfig
+    from wake.rtp.reference import ReferenceRTP
+    from wake.wavelets import filter_bank_taps
+
+    config = WakeConfig() if config is None else config
+    x = np.asarray(x, dtype=float)
+    if x.ndim != 1 or not np.isfinite(x).all():
+        raise ValueError(f"x must be one channel of finite samples, shape (n,); got shape {x.shape}"
+                         + ("" if x.ndim != 1 else " with NaN or inf"))
+    taps = filter_bank_taps(config.wavelet, config.level, config.mode)
+    out = np.zeros((x.size, config.level))
+    for j in range(config.level):
+        unit = np.zeros(config.level)
+        unit[j] = 1.0
+        out[1:, j] = ReferenceRTP(taps, unit, 1.0).run(x)[:-1]
+    return out
+
+
+def truth_fitted_prediction(x, voluntary, fs, config=None, *, refit_s=None, pull=0.0, start_s=0.0):
+    """WAKE's prediction with weights fitted by least squares to the *true* voluntary motion.
+
+    A bound, not a method: an HPA estimates the voluntary motion of its window
+    (cut-off, sharp high-pass) and fits ``w`` to that estimate; here the fit
+    gets the truth itself, on every sample seen so far (from ``start_s``).
+    No cut-off rule, ground-truth estimate or fit of an HPA run at the same
+    times can do better on average than this fit does, up to how a
+    least-squares fit on past samples generalises to the next ones.
+
+    Parameters
+    ----------
+    x : array_like, shape (n,)
+        The measurement (one channel).
+    voluntary : array_like, shape (n,)
+        Its true voluntary motion.
+    fs : float
+        Sampling rate, Hz.
+    config : WakeConfig, optional
+        Filter bank and start-up weights (``prior_weights(config)``).
+    refit_s : sequence of float, optional
+        Times (s) at which the weights are refitted, on every sample before;
+        ``None``: before every sample, from 0.5 s (the limit of any HPA
+        schedule).  Before the first refit the start-up weights predict.
+    pull : float
+        Pulls the fit towards the start-up weights ``w0``:
+        ``min |v - A w|^2 + pull * tr(A'A) / J * |w - w0|^2``.
+    start_s : float
+        First sample used by the fits.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,)
+        The prediction ``v_hat[n]`` from the samples before ``n``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wake.eval.warmup import truth_fitted_prediction
+    >>> t = np.arange(300) / 100.0
+    >>> v = np.sin(2 * np.pi * 0.5 * t); x = v + 0.2 * np.sin(2 * np.pi * 9 * t)
+    >>> p = truth_fitted_prediction(x, v, 100.0)
+    >>> bool(np.sqrt(np.mean((p[100:] - v[100:]) ** 2)) < 0.05)
+    True
+    """
+    from wake.config import WakeConfig
+    from wake.hpa.prior import prior_weights
+
+    config = WakeConfig(fs=fs) if config is None else config
+    voluntary = np.asarray(voluntary, dtype=float)
+    A = approximation_predictions(x, config)
+    if voluntary.shape != (A.shape[0],):
+        raise ValueError(f"voluntary must have the shape of x, {(A.shape[0],)}; got {voluntary.shape}")
+    if pull < 0:
+        raise ValueError(f"pull must be >= 0, got {pull}")
+    w0 = prior_weights(config)
+    J = A.shape[1]
+    first = max(1, int(round(start_s * fs)))     # row 0 predicts nothing
+    if refit_s is None:
+        at = set(range(max(first + 1, int(round(0.5 * fs))), A.shape[0]))
+    else:
+        at = {int(round(t * fs)) for t in refit_s}
+    out = A @ w0
+    gram, rhs, w = np.zeros((J, J)), np.zeros(J), w0
+    for n in range(first, A.shape[0]):
+        if n in at and gram.any():
+            scale = pull * np.trace(gram) / J
+            w = np.linalg.lstsq(gram + scale * np.eye(J), rhs + scale * w0, rcond=None)[0]
+        out[n] = A[n] @ w
+        gram += np.outer(A[n], A[n])
+        rhs += A[n] * voluntary[n]
+    return out
