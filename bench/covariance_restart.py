@@ -7,23 +7,25 @@ weight change as ``P = (w'Pw / w'w) I``, its variance along the old ``w``.
 This script runs the same filters with two other rules patched in: ``carry``
 (P kept whole, the first release) and ``prior`` (P back to ``p0 I``), on the
 paper's ten synthetic signals (voluntary NRMSE) and, when found, the PADS
-recordings (tremor NRMSE against the offline ground truth at the mean f_d of
+recordings (``wake.eval.datasets.load_pads_folder``: every axis on a uniform
+100 Hz grid; tremor NRMSE against the offline ground truth at the mean f_d of
 the default filter, as ``bench/design_choices.py``), each after the first
 HPA window (5 s) and from 0.5 s.  The default filter keeps the Kalman inert
 (P = 0), where the three rules coincide; the rows are live settings.
-Takes about 15 minutes on one core.
+Takes about 5 minutes on one core.
 """
 
 import argparse
-import os
 import sys
 from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run from a checkout without installing
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))  # run from a checkout without installing
 
 from wake import WakeFilter  # noqa: E402
+from wake.eval.datasets import default_pads_dir, load_pads_folder  # noqa: E402
 from wake.eval.metrics import nrmse, offline_ground_truth  # noqa: E402
 from wake.eval.synthetic import paper_dataset  # noqa: E402
 from wake.rtp.reference import ReferenceRTP  # noqa: E402
@@ -46,10 +48,12 @@ FS = 100.0
 
 
 def pads_axes(folder):
+    """Every axis of every PADS recording, on the loader's uniform 100 Hz grid."""
     out = []
-    for path in sorted(Path(folder).glob("*.txt")):
-        data = np.loadtxt(path, delimiter=",")
-        out.extend(data[:, c] for c in range(1, 7))
+    for rec in load_pads_folder(folder):
+        if rec.fs != FS:
+            raise SystemExit(f"{rec.name}: expected {FS:g} Hz after loading, got {rec.fs:g} Hz")
+        out.extend(rec.samples[:, c] for c in range(rec.samples.shape[1]))
     return out
 
 
@@ -66,11 +70,13 @@ def score(kw, synth, real, truths):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--pads", default=os.environ.get("WAKE_PADS_DIR",
-                                                     str(Path(__file__).resolve().parents[2] / "shared" / "data" / "pads")))
+    ap.add_argument("--pads", help="the PADS folder (default: $WAKE_PADS_DIR, else ../shared/data/pads)")
     args = ap.parse_args(argv)
     synth = paper_dataset()
-    real = pads_axes(args.pads) if Path(args.pads).is_dir() else []
+    folder = default_pads_dir(args.pads, cwd=ROOT)
+    real = pads_axes(folder) if folder is not None and folder.is_dir() else []
+    if not real:
+        print("PADS recordings not found: the PADS columns are NaN (pass --pads DIR)", file=sys.stderr)
     cutoffs = [WakeFilter(backend="reference").run(x).mean_cutoff[0] for x in real]
     truths = [offline_ground_truth(x, FS, fd)[1] for x, fd in zip(real, cutoffs)]
     print("| setting | rule | synthetic after 5 s | synthetic from 0.5 s | PADS after 5 s | PADS from 0.5 s |")

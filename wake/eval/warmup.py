@@ -175,12 +175,14 @@ def approximation_predictions(x, config=None):
 def truth_fitted_prediction(x, voluntary, fs, config=None, *, refit_s=None, pull=0.0, start_s=0.0):
     """WAKE's prediction with weights fitted by least squares to the *true* voluntary motion.
 
-    A bound, not a method: an HPA estimates the voluntary motion of its window
-    (cut-off, sharp high-pass) and fits ``w`` to that estimate; here the fit
-    gets the truth itself, on every sample seen so far (from ``start_s``).
-    No cut-off rule, ground-truth estimate or fit of an HPA run at the same
-    times can do better on average than this fit does, up to how a
-    least-squares fit on past samples generalises to the next ones.
+    A yardstick, not a method: an HPA estimates the voluntary motion of its
+    window (cut-off, sharp high-pass) and fits ``w`` to that estimate; here
+    the fit gets the truth itself, on every sample seen so far (from
+    ``start_s``).  That takes the HPA's estimation error out; what is left
+    is how well fixed weights fitted on past samples carry over to the next
+    ones.  It is not a strict lower bound: where a fit carries over badly,
+    keeping the start-up weights can score lower (``pull`` spans the two;
+    ``bench/warmup_bound.py`` also takes a per-signal hindsight choice).
 
     Parameters
     ----------
