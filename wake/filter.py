@@ -199,8 +199,8 @@ class WakeFilter:
     >>> from wake.eval.synthetic import make_signal
     >>> s = make_signal(10.0, seed=3)
     >>> res = WakeFilter(fs=100.0, backend="reference").run(s.measurement)
-    >>> res.voluntary.shape, len(res.hpa[0])
-    ((5000,), 9)
+    >>> res.voluntary.shape, len(res.hpa[0])   # HPAs: warm-up at 1, 2, 3, 4 s, then every 5 s
+    ((5000,), 14)
     """
 
     def __init__(self, fs: float = 100.0, wavelet: str = "sym3", level: int = 5, window_s: float = 5.0,
