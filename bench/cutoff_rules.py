@@ -127,7 +127,8 @@ def make_rule(kind):
 
 
 RULES = ("paper", "floor", "floor shallow-test only", "floor edge-test only", "floor margin 8", "floor margin 12",
-         "floor margin 20", "floor margin 25", "floor edge 1", "floor edge 6", "floor edge 10", "default 2.5", "default 3", "default 3.5", "depth 1 dB", "no left test", "shallow", "shallow max 3",
+         "floor margin 20", "floor margin 25", "floor edge 1", "floor edge 6", "floor edge 10", "default 2.5",
+         "default 3", "default 3.5", "depth 1 dB", "no left test", "shallow", "shallow max 3",
          "shallow max 3.5", "shallow max 4.5", "shallow max 5", "shallow max 6", "shallow 0", "shallow 1",
          "shallow floor", "shallow 1 floor", "shallow 2 floor", "flank", "shallow+default 2.5", "shallow+default 3")
 

@@ -56,9 +56,9 @@ HINDSIGHT = ("hindsight choice per signal (not causal): best of WAKE, the start-
 def _methods(fs):
     backend = "c" if c_backend_available() else "reference"
     out = {f"WAKE ({backend})": lambda x: WakeFilter(fs=fs, backend=backend).run(x).voluntary}
+    baselines = baseline_methods(fs)
     for name in ("BMFLC", "WFLC"):
-        m = baseline_methods(fs)[name]
-        out[name] = (lambda m: lambda x: m.run(x).voluntary)(m)
+        out[name] = (lambda m: lambda x: m.run(x).voluntary)(baselines[name])
     return out
 
 

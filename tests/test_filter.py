@@ -41,7 +41,7 @@ def test_warmup_is_defined_and_finite(signal10):
 def test_hpa_history(signal10):
     res = WakeFilter(**REF).run(signal10.measurement)
     upd = res.hpa[0]
-    # warm-up HPA runs at 2, 3 and 4 s on every sample so far, then one every window (5 s)
+    # warm-up HPA runs at 1, 2, 3 and 4 s on every sample so far, then one every window (5 s)
     assert [u.index for u in upd] == [100, 200, 300, 400] + list(range(500, 5001, 500))
     assert all(0.5 <= u.cutoff <= 6.0 for u in upd)
     assert res.mean_cutoff[0] == pytest.approx(np.mean([u.cutoff for u in upd]))

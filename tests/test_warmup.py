@@ -14,7 +14,7 @@ import pytest
 
 from support import NO_PADS, pads_dir
 from wake import WakeConfig, WakeFilter
-from wake.eval.warmup import SLICES, independent_ground_truth, slice_nrmse
+from wake.eval.warmup import SLICES, independent_ground_truth, mean_slices, slice_nrmse
 from wake.hpa import FALLBACK_FLAGS, fit_weights, run_hpa
 from wake.hpa.prior import prior_weights
 from wake.wavelets import filter_bank_taps
@@ -332,13 +332,9 @@ def test_no_hpa_schedule_reaches_the_early_targets_on_the_synthetic_set(paper_si
         at_times.append(slice_nrmse(s.voluntary, truth_fitted_prediction(s.measurement, s.voluntary, s.fs,
                                                                          refit_s=times), s.fs))
         bmflc.append(slice_nrmse(s.voluntary, BMFLC(fs=s.fs).run(s.measurement).voluntary, s.fs))
-    limit, at_times, bmflc = (mean_of(r) for r in (limit, at_times, bmflc))
+    limit, at_times, bmflc = (mean_slices(r) for r in (limit, at_times, bmflc))
     wake = _slices(paper_signals)
     assert limit["1-2 s"] > 1.5 * wake["after 5 s"], (limit["1-2 s"], wake["after 5 s"])
     assert limit["0.5-1 s"] > bmflc["0.5-1 s"], (limit["0.5-1 s"], bmflc["0.5-1 s"])
     # the HPA with its estimated truth is within 5 % of the truth-fitted weights at the same times
     assert wake["1-2 s"] < 1.05 * at_times["1-2 s"], (wake["1-2 s"], at_times["1-2 s"])
-
-
-def mean_of(rows):
-    return {k: float(np.mean([r[k] for r in rows])) for k in rows[0]}

@@ -13,5 +13,5 @@ from wake.hpa.run import HPAUpdate, run_hpa
 from wake.hpa.sharp import sharp_highpass
 from wake.hpa.spectrum import ar_psd, levinson_durbin, yule_walker
 
-__all__ = ["CUTOFF_FLAGS", "CUTOFF_RULES", "FALLBACK_FLAGS", "FITS", "HPAUpdate", "ar_psd", "default_weights", "find_cutoff", "fit_weights",
-           "levinson_durbin", "run_hpa", "sharp_highpass", "yule_walker"]
+__all__ = ["CUTOFF_FLAGS", "CUTOFF_RULES", "FALLBACK_FLAGS", "FITS", "HPAUpdate", "ar_psd", "default_weights",
+           "find_cutoff", "fit_weights", "levinson_durbin", "run_hpa", "sharp_highpass", "yule_walker"]

@@ -44,6 +44,7 @@ EDGE_DB = 3.0
 #: (every stride from 1 to 8 gives the same flags on PADS and the synthetic set).
 FLOOR_STRIDE = 8
 
+
 def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
                 default_cutoff=2.0, min_depth_db=3.0, rule="paper", shallow_max=SHALLOW_MAX,
                 floor_margin_db=FLOOR_MARGIN_DB, edge_db=EDGE_DB):
