@@ -23,14 +23,17 @@ and get their channel names and units.
 
 from __future__ import annotations
 
-import csv
 import re
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
 from wake._validation import check_positive
-from wake.io.recording import Recording, analyse_time, nominal_rate, resample_uniform
+from wake.io.recording import Recording, Timing, analyse_time, nominal_rate, resample_uniform
+from wake.io.text_table import DECIMAL_MARKS, read_text_table
+from wake.io.time_column import (TimeUnit, is_row_counter, is_time_name, shaped_like_time, unit_from_name,
+                                 unit_from_steps)
 
 __all__ = ["FORMATS", "PADS_CHANNELS", "PADS_UNITS", "read_recording", "read_csv", "read_pads", "read_mat"]
 
@@ -41,8 +44,6 @@ PADS_CHANNELS = ("acc_x", "acc_y", "acc_z", "gyro_x", "gyro_y", "gyro_z")
 #: Units of :data:`PADS_CHANNELS`.
 PADS_UNITS = ("g", "g", "g", "rad/s", "rad/s", "rad/s")
 
-_TIME_NAME = re.compile(r"(t|time|times|timestamp|timestamps|time_?s|time_?sec|seconds|secs?|time_?ms|elapsed)",
-                        re.IGNORECASE)
 _UNIT = re.compile(r"^(.*?)\s*[\[(]\s*([^\])]*?)\s*[\])]\s*$")
 _MAT_TIME = ("t", "time", "timestamp", "timestamps", "Time", "T")
 _MAT_RATE = ("fs", "Fs", "FS", "srate", "sampling_rate", "sample_rate", "samplerate", "SampleRate")
@@ -53,84 +54,6 @@ def split_unit(cell: str) -> tuple[str, str]:
     cell = cell.strip()
     m = _UNIT.match(cell)
     return (m.group(1).strip(), m.group(2)) if m and m.group(1).strip() else (cell, "")
-
-
-def _time_scale(name: str, unit: str) -> float | None:
-    """Seconds per time unit when ``name [unit]`` names a time column, else None."""
-    if unit.lower() in ("ms", "msec", "milliseconds"):
-        return 1e-3
-    if unit.lower() in ("us", "µs", "microseconds"):
-        return 1e-6
-    if not _TIME_NAME.fullmatch(name.replace(" ", "_")):
-        return None
-    return 1e-3 if name.lower().replace(" ", "_").endswith("ms") else 1.0
-
-
-def _shaped_like_time(col: np.ndarray) -> bool:
-    if col.size < 3 or not np.isfinite(col).all():
-        return False
-    steps = np.diff(col)
-    if (steps < 0).any() or not (steps > 0).any():
-        return False
-    if _is_row_counter(col):
-        return False  # 0, 1, 2, ... is an index, not seconds
-    median = np.median(steps[steps > 0])
-    return np.mean(np.abs(steps - median) <= 0.5 * median) >= 0.9
-
-
-def _is_row_counter(col: np.ndarray) -> bool:
-    return col.size >= 2 and np.all(np.diff(col) == 1) and np.all(col == np.round(col))
-
-
-def _read_rows(path: Path):
-    """All non-blank rows as lists of stripped strings; lines starting with '#' are comments."""
-    try:
-        with open(path, newline="", encoding="utf-8-sig") as fh:
-            text = fh.read()
-    except UnicodeDecodeError:
-        raise ValueError(f"{path}: not a text file (for MATLAB files use the .mat suffix or --format mat)") from None
-    lines = [(i + 1, line) for i, line in enumerate(text.splitlines()) if line.strip() and not
-             line.lstrip().startswith("#")]
-    if not lines:
-        raise ValueError(f"{path}: the file holds no data")
-    sample = "\n".join(line for _, line in lines[:20])
-    delimiter = ","
-    if "," not in sample:
-        delimiter = ";" if ";" in sample else ("\t" if "\t" in sample else None)
-    rows = []
-    for lineno, line in lines:
-        cells = line.split() if delimiter is None else next(csv.reader([line], delimiter=delimiter))
-        rows.append((lineno, [c.strip() for c in cells]))
-    return rows
-
-
-def _numeric(rows, path: Path) -> np.ndarray:
-    width = len(rows[0][1])
-    out = np.empty((len(rows), width))
-    for i, (lineno, row) in enumerate(rows):
-        if len(row) != width:
-            raise ValueError(f"{path}, line {lineno}: {len(row)} columns where the file has {width} "
-                             "(a ragged row: fix or delete that line)")
-        try:
-            out[i] = [float(c) if c else np.nan for c in row]
-        except ValueError:
-            bad = next(c for c in row if not _is_number(c))
-            raise ValueError(f"{path}, line {lineno}: {bad!r} is not a number (empty cells are read as missing "
-                             "samples; only a first line may hold column names)") from None
-    inf = np.isinf(out)
-    if inf.any():
-        i = int(np.argwhere(inf)[0][0])
-        raise ValueError(f"{path}, line {rows[i][0]}: infinite value (leave the cell empty or write nan for a "
-                         "missing sample)")
-    return out
-
-
-def _is_number(cell: str) -> bool:
-    try:
-        float(cell)
-        return True
-    except ValueError:
-        return not cell
 
 
 def _no_time(time_column) -> bool:
@@ -155,10 +78,14 @@ def _column_index(spec, names, path, what="column") -> int:
     raise ValueError(f"{what} must be a name or a 0-based index, got {spec!r}")
 
 
-def _select(names, columns, path, time_index):
-    """File column indices for ``columns`` (names or file indices, ``None`` = every non-time column)."""
+def _select(names, columns, path, time_index, text=()):
+    """File column indices for ``columns`` (names or file indices; ``None``: every column but time and ``text``)."""
     if columns is None:
-        return [i for i in range(len(names)) if i != time_index]
+        idx = [i for i in range(len(names)) if i != time_index and i not in text]
+        if not idx:
+            raise ValueError(f"{path}: no numeric column to filter (text columns: "
+                             f"{', '.join(names[i] for i in text)})")
+        return idx
     if isinstance(columns, (str, int, np.integer)):
         wanted = [columns]
     elif isinstance(columns, (list, tuple)):
@@ -177,30 +104,43 @@ def _select(names, columns, path, time_index):
     return idx
 
 
-def _finish(path, name, data, names, units, time_index, time_scale, fs, columns):
-    """Select the channels, take the time column and put the samples on a uniform grid."""
-    idx = _select(names, columns, path, time_index)
-    values = data[:, idx]
+def _finish(path, name, column, names, units, time_index, time_unit, fs, columns, *, text=(), notes=(),
+            rate_source="--fs"):
+    """Select the channels, take the time column and put the samples on a uniform grid.
+
+    ``column(j)`` gives file column ``j`` as floats (only the columns used are asked for); ``time_unit`` is
+    the :class:`~wake.io.time_column.TimeUnit` of the time column, None to judge it from its steps.
+    """
+    idx = _select(names, columns, path, time_index, text)
+    values = np.column_stack([column(i) for i in idx])
     ch_names = tuple(names[i] for i in idx)
     ch_units = tuple(units[i] for i in idx) if any(units) else ()
+    skipped = [names[i] for i in text if i not in idx]
+    if skipped and columns is None:
+        notes = (*notes, f"text column{'s' if len(skipped) > 1 else ''} {', '.join(skipped)} left out")
     if time_index is None:
         if fs is None:
             raise ValueError(f"{path} has no time column, so the sampling rate is unknown: give it with --fs HZ "
                              "(fs=...), or name the time column with --time-column NAME (time_column=...)")
         fs = check_positive("fs", fs)
-        return Recording(name, fs, ch_names, values, str(path), units=ch_units)
-    time = data[:, time_index] * time_scale
+        return Recording(name, fs, ch_names, values, str(path), units=ch_units, timing=Timing(rate_source),
+                         notes=tuple(notes))
+    raw = column(time_index)
+    time_unit = unit_from_steps(raw) if time_unit is None else time_unit
+    time = raw * time_unit.seconds
     try:
         rate = nominal_rate(time) if fs is None else check_positive("fs", fs)
         timing = analyse_time(time, rate)
         if timing.resampled:
             values, _ = resample_uniform(time, values, rate)
     except ValueError as exc:
-        raise ValueError(f"{path}: {exc}") from None
-    return Recording(name, rate, ch_names, values, str(path), units=ch_units, t0=float(time[0]), timing=timing)
+        raise ValueError(f"{path}: {exc} ({time_unit.describe(names[time_index])})") from None
+    timing = replace(timing, unit_note=time_unit.describe(names[time_index]))
+    return Recording(name, rate, ch_names, values, str(path), units=ch_units, t0=float(time[0]), timing=timing,
+                     notes=tuple(notes))
 
 
-def read_csv(path, *, fs=None, time_column="auto", columns=None, name=None) -> Recording:
+def read_csv(path, *, fs=None, time_column="auto", columns=None, name=None, decimal="auto") -> Recording:
     """A delimited text file: comma, semicolon, tab or whitespace separated.
 
     Parameters
@@ -213,9 +153,13 @@ def read_csv(path, *, fs=None, time_column="auto", columns=None, name=None) -> R
         header name or a 0-based index: that column.
     columns : str, int or sequence of them, optional
         Channels to keep (header names or 0-based file column indices);
-        default: every column but the time column.
+        default: every numeric column but the time column (text columns,
+        such as a subject id, are left out and said so in ``notes``).
     name : str, optional
         Recording name (default: the file stem).
+    decimal : {"auto", ".", ","}
+        Decimal mark (:mod:`wake.io.text_table`): ``"auto"`` reads
+        ``0,5;1,2`` as two numbers, 0.5 and 1.2.
 
     Examples
     --------
@@ -230,49 +174,50 @@ def read_csv(path, *, fs=None, time_column="auto", columns=None, name=None) -> R
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"{path}: no such file" + (" (it is a folder)" if path.is_dir() else ""))
-    rows = _read_rows(path)
-    header = None
-    if not all(_is_number(c) for c in rows[0][1]):
-        header = [split_unit(c) for c in rows[0][1]]
-        rows = rows[1:]
-        if not rows:
-            raise ValueError(f"{path}: a header but no data")
-    data = _numeric(rows, path)
-    width = data.shape[1]
-    if header is not None and len(header) != width:
-        raise ValueError(f"{path}: the header names {len(header)} columns, the data has {width}")
+    table = read_text_table(path, decimal)
+    width = table.width
+    header = [split_unit(c) for c in table.header] if table.header is not None else None
     names = [h[0] for h in header] if header else [f"col{i}" for i in range(width)]
     units = [h[1] for h in header] if header else [""] * width
-    time_index, scale = _find_time(data, names, units, time_column, path, header is not None)
-    if header is None and width == 7 and time_index == 0 and time_column == "auto":
+    parsed = {}
+
+    def column(j):
+        if j not in parsed:
+            parsed[j] = table.numbers(j, names[j])
+        return parsed[j]
+
+    text = tuple(j for j in range(width) if table.is_text(j))
+    time_index, time_unit = _find_time(column, names, units, time_column, path, header is not None, text)
+    if header is None and width == 7 and time_index == 0 and time_column == "auto" and not text:
         names, units = ["time", *PADS_CHANNELS], ["s", *PADS_UNITS]  # the PADS layout
-    if time_index is None and header is None and width > 1 and _is_row_counter(data[:, 0]) and columns is None \
-            and time_column == "auto":
-        # a row counter as the first column: an index, not a signal
-        names, units, data = names[1:], units[1:], data[:, 1:]
-    return _finish(path, name or path.stem, data, names, units, time_index, scale, fs, columns)
+    start = 0
+    if time_index is None and header is None and width > 1 and 0 not in text and columns is None \
+            and time_column == "auto" and is_row_counter(column(0)):
+        start = 1  # a row counter as the first column: an index, not a signal
+    notes = ("decimal comma",) if table.decimal_comma else ()
+    return _finish(path, name or path.stem, lambda j: column(j + start), names[start:], units[start:],
+                   time_index, time_unit, fs, columns, text=tuple(j - start for j in text), notes=notes)
 
 
-def _find_time(data, names, units, time_column, path, has_header):
-    width = data.shape[1]
+def _find_time(column, names, units, time_column, path, has_header, text=()):
+    """``(index, TimeUnit or None)`` of the time column (``None`` unit: judge it from the steps)."""
+    width = len(names)
     if _no_time(time_column):
-        return None, 1.0
+        return None, None
     if isinstance(time_column, str) and time_column.lower() == "auto":
-        if width < 2:
-            return None, 1.0
-        scale = _time_scale(names[0], units[0]) if has_header else None
-        if scale is not None:
-            return 0, scale
-        if (not has_header or not names[0]) and _shaped_like_time(data[:, 0]):
-            return 0, 1.0  # unnamed: by its shape
-        return None, 1.0  # a named column that is not called time is a signal
+        if width < 2 or 0 in text:
+            return None, None
+        if has_header and is_time_name(names[0], units[0]):
+            return 0, unit_from_name(names[0], units[0])
+        if (not has_header or not names[0]) and shaped_like_time(column(0)):
+            return 0, None  # unnamed: by its shape
+        return None, None  # a named column that is not called time is a signal
     if isinstance(time_column, bool) or not isinstance(time_column, (str, int, np.integer)):
         raise ValueError(f"time_column must be 'auto', None, a name or an index, got {time_column!r}")
     i = _column_index(time_column, names, path, what="time column")
     if width < 2:
         raise ValueError(f"{path}: the only column cannot be both time and signal")
-    scale = _time_scale(names[i], units[i])
-    return i, 1.0 if scale is None else scale
+    return i, unit_from_name(names[i], units[i])
 
 
 def read_pads(path, fs=100.0, columns=None) -> Recording:
@@ -284,18 +229,21 @@ def read_pads(path, fs=100.0, columns=None) -> Recording:
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"{path}: no such file")
-    rows = _read_rows(path)
-    if len(rows[0][1]) != 7:
-        raise ValueError(f"{path}: a PADS recording has 7 columns (time, acc x/y/z, gyro x/y/z), "
-                         f"the first line has {len(rows[0][1])}")
-    data = _numeric(rows, path)
+    table = read_text_table(path, ".")
+    if table.header is not None or table.width != 7:
+        raise ValueError(f"{path}: a PADS recording has no header and 7 columns (time, acc x/y/z, gyro x/y/z); "
+                         f"this file has {table.width} columns" +
+                         (" and a header row" if table.header is not None else ""))
+    names = ["time", *PADS_CHANNELS]
+    data = np.column_stack([table.numbers(j, names[j]) for j in range(7)])
     if np.isnan(data).any():
         i = int(np.argwhere(np.isnan(data))[0][0])
-        raise ValueError(f"{path}, line {rows[i][0]}: an empty or nan cell (PADS recordings have none)")
+        raise ValueError(f"{path}, line {table.lines[i]}: an empty or nan cell (PADS recordings have none)")
     if data.shape[0] < 2:
         raise ValueError(f"{path}: need at least two samples, got {data.shape[0]}")
     fs = check_positive("fs", fs)
-    return _finish(path, path.stem, data, ["time", *PADS_CHANNELS], ["s", *PADS_UNITS], 0, 1.0, fs, columns)
+    return _finish(path, path.stem, lambda j: data[:, j], names, ["s", *PADS_UNITS], 0, TimeUnit("s", "unit cell"),
+                   fs, columns)
 
 
 def read_mat(path, *, fs=None, time_column="auto", columns=None, name=None) -> Recording:
@@ -321,10 +269,12 @@ def read_mat(path, *, fs=None, time_column="auto", columns=None, name=None) -> R
         raise ValueError(f"{path}: not a readable MATLAB file ({exc})") from None
     arrays = {k: np.asarray(v) for k, v in mat.items() if not k.startswith("__")}
     numeric = {k: v for k, v in arrays.items() if v.dtype.kind in "iuf" and v.size > 0}
+    rate_source = "--fs"
     if fs is None:
         for k in _MAT_RATE:
             if k in numeric and numeric[k].size == 1:
                 fs = float(numeric.pop(k).reshape(-1)[0])
+                rate_source = f"the file's {k!r} variable"
                 break
     else:
         for k in _MAT_RATE:
@@ -365,10 +315,12 @@ def read_mat(path, *, fs=None, time_column="auto", columns=None, name=None) -> R
         names = ["time", *names]
         time_index = 0
     units = [""] * len(names)
-    return _finish(path, name or path.stem, data, names, units, time_index, 1.0, fs, columns)
+    return _finish(path, name or path.stem, lambda j: data[:, j], names, units, time_index, TimeUnit(), fs, columns,
+                   rate_source=rate_source)
 
 
-def read_recording(path, *, format="auto", fs=None, time_column="auto", columns=None) -> Recording:
+def read_recording(path, *, format="auto", fs=None, time_column="auto", columns=None, decimal="auto",
+                   units=None) -> Recording:
     """Read a recording in any known format onto a uniform grid.
 
     Parameters
@@ -377,13 +329,17 @@ def read_recording(path, *, format="auto", fs=None, time_column="auto", columns=
     format : {"auto", "csv", "pads", "mat"}
         ``"auto"``: ``.mat`` files are MATLAB, everything else delimited
         text (PADS files are recognised by their shape).
-    fs, time_column, columns
-        See :func:`read_csv`.
+    fs, time_column, columns, decimal
+        See :func:`read_csv` (``decimal`` applies to delimited text only).
+    units : str or sequence of str, optional
+        The channels' units where the file does not say them (a headerless
+        CSV): one unit for every channel, or one per channel.
 
     Returns
     -------
     Recording
-        With ``timing`` saying whether the time column was resampled.
+        With ``timing`` saying whether the time column was resampled and in
+        which unit it was read, and ``notes`` what else the reader inferred.
 
     Raises
     ------
@@ -392,9 +348,23 @@ def read_recording(path, *, format="auto", fs=None, time_column="auto", columns=
     """
     if format not in FORMATS:
         raise ValueError(f"format must be one of {', '.join(FORMATS)}, got {format!r}")
+    if decimal not in DECIMAL_MARKS:
+        raise ValueError(f"decimal must be one of {', '.join(repr(d) for d in DECIMAL_MARKS)}, got {decimal!r}")
     path = Path(path)
     if format == "mat" or (format == "auto" and path.suffix.lower() == ".mat"):
-        return read_mat(path, fs=fs, time_column=time_column, columns=columns)
-    if format == "pads":
-        return read_pads(path, fs=100.0 if fs is None else fs, columns=columns)
-    return read_csv(path, fs=fs, time_column=time_column, columns=columns)
+        rec = read_mat(path, fs=fs, time_column=time_column, columns=columns)
+    elif format == "pads":
+        rec = read_pads(path, fs=100.0 if fs is None else fs, columns=columns)
+    else:
+        rec = read_csv(path, fs=fs, time_column=time_column, columns=columns, decimal=decimal)
+    return rec if units is None else with_units(rec, units)
+
+
+def with_units(rec: Recording, units) -> Recording:
+    """``rec`` with ``units`` (one for all channels, or one per channel) where the file named none."""
+    given = [units] * len(rec.channels) if isinstance(units, str) else list(units)
+    if len(given) != len(rec.channels) or not all(isinstance(u, str) for u in given):
+        raise ValueError(f"units: give one unit for every channel or one per channel ({len(rec.channels)}: "
+                         f"{', '.join(rec.channels)}), got {units!r}")
+    merged = tuple(rec.unit(i) or u.strip() for i, u in enumerate(given))
+    return replace(rec, units=merged)

@@ -32,6 +32,7 @@ class Timing:
     irregular_steps: int = 0  #: raw steps off the median by more than 50 %
     resampled: bool = False  #: interpolated onto a uniform grid
     raw_samples: int = 0  #: rows before resampling
+    unit_note: str = ""  #: which unit the time column was read in, and why ("time column 't' in ms (from its name)")
 
     def describe(self, fs: float) -> str:
         """One line for a human: the rate, and the jitter when there was a time column."""
@@ -39,8 +40,9 @@ class Timing:
             return f"{fs:g} Hz from {self.source}"
         what = (f"resampled {self.raw_samples} timestamped rows onto a uniform {fs:g} Hz grid"
                 if self.resampled else f"time column regular at {fs:g} Hz, used as is")
+        unit = f"; {self.unit_note}" if self.unit_note else ""
         return (f"{what} (steps: median {1e3 * self.median_step:.3f} ms, jitter {1e3 * self.jitter:.3f} ms "
-                f"std, longest {1e3 * self.max_step:.3f} ms, {self.irregular_steps} off by over 50 %)")
+                f"std, longest {1e3 * self.max_step:.3f} ms, {self.irregular_steps} off by over 50 %{unit})")
 
 
 @dataclass
@@ -58,6 +60,7 @@ class Recording:
     units: tuple = ()  #: one unit per channel ("" when unknown), or () when none is known
     t0: float = 0.0  #: time of the first sample, s
     timing: Timing = field(default_factory=lambda: Timing("--fs"))
+    notes: tuple = ()  #: what the reader inferred beyond the timing ("decimal comma", "text column id left out")
 
     @property
     def duration(self) -> float:
