@@ -73,7 +73,7 @@ def test_export_header_fits_weights(recording, tmp_path, capsys):
     pytest.importorskip("wake._rtp", reason="the compiled C core wake._rtp is not built")
     path, _ = recording
     out = tmp_path / "cfg.h"
-    assert main(["export-header", str(out), "--fit", str(path), "--column", "0"]) == 0
+    assert main(["export-header", str(out), "--fit", str(path), "--column", "0", "--fs", "100"]) == 0
     text = out.read_text()
     assert "wake_config_taps" in text and "wake_config_weights" in text
     assert "#define WAKE_CONFIG_LEVEL 5" in text

@@ -17,6 +17,7 @@ from __future__ import annotations
 import io
 import os
 import re
+from pathlib import Path
 
 import numpy as np
 
@@ -49,6 +50,7 @@ def export_header(
     name="wake_config",
     sample_rate=100.0,
     window_s=5.0,
+    provenance="",
 ):
     """Write ``name.h``-style C header with a quantised configuration.
 
@@ -74,6 +76,10 @@ def export_header(
     window_s : float
         HPA window in seconds, for ``name_hpa_init`` (the on-device HPA,
         compiled when ``wake_hpa.h`` is included before this header).
+    provenance : str
+        Where the weights came from (``wake export-header --fit`` says which
+        file, channel and rate, and the fit's error), written in the header's
+        first comment.  Default: the start-up weights, or "given".
 
     Returns
     -------
@@ -94,6 +100,7 @@ def export_header(
     hpa_cfg = WakeConfig(fs=sample_rate, wavelet=wavelet, level=J, window_s=window_s, backend="reference")
     start = prior_weights(hpa_cfg, taps)
     start_q = quantize_weights(start, J)
+    weights_said = provenance or ("the start-up weights" if weights is None else "given")
     if weights is None:
         weights = start
     w_q = quantize_weights(weights, J)
@@ -106,6 +113,7 @@ def export_header(
  * wavelet {wavelet}, level {J}, full scale {fs!r} (physical units -> 1.0 in Q15)
  * taps Q{TAP_FRAC}; weights Q{WEIGHT_FRAC}; R, q, p0 in Q{P_FRAC} of full_scale^2
  * R = {float(measurement_noise)!r}, q = {float(process_noise)!r}, p0 = {float(initial_covariance)!r}
+ * weights: {_comment_text(weights_said)}
  */
 #ifndef {macro}_H
 #define {macro}_H
@@ -162,6 +170,13 @@ static inline wake_rtp_status_t {name}_init(wake_rtp_t *rtp)
     return text
 
 
+def _comment_text(text: str) -> str:
+    """``text`` safe inside a C block comment, wrapped at about 100 columns."""
+    import textwrap
+
+    return "\n *   ".join(textwrap.wrap(text.replace("*/", "* /"), 100)) or "-"
+
+
 def _float_literal(v) -> str:
     """A C float literal that rounds to the same single-precision value (no double promotion)."""
     text = f"{float(np.float32(v)):.9g}"
@@ -202,8 +217,18 @@ def _checked_full_scale(full_scale) -> float:
     return fs
 
 
+#: Sampling rate of the start-up weights when no recording (``--fit``) gives one, Hz.
+DEFAULT_SAMPLE_RATE = 100.0
+
+
 def add_config_arguments(p) -> None:
-    """The options that choose and fit a configuration (shared by ``export-header`` and ``export-c``)."""
+    """The options that choose and fit a configuration (shared by ``export-header`` and ``export-c``).
+
+    ``--fit FILE`` is read exactly as ``wake run FILE`` reads it: the same reader, column, time-column, rate,
+    decimal-mark and unit options (:mod:`wake.io.options`) and the same refusals.
+    """
+    from wake.io.options import add_reading_arguments
+
     p.add_argument("--wavelet", default="sym3", help="mother wavelet of the filter bank (a discrete PyWavelets name)")
     p.add_argument("--level", type=int, default=5, help="decomposition level J (the RTP window is 2**J samples)")
     p.add_argument("--full-scale", type=float, default=None,
@@ -214,11 +239,44 @@ def add_config_arguments(p) -> None:
     p.add_argument("--measurement-noise", type=float, default=None, help="R (default: fitted, or 1e-3 FS^2)")
     p.add_argument("--process-noise", type=float, default=0.0, help="q in physical units squared")
     p.add_argument("--initial-covariance", type=float, default=0.0, help="p0 in physical units squared")
-    p.add_argument("--fit", metavar="CSV", help="fit weights and R on this recording (last HPA run)")
-    p.add_argument("--fs", type=float, default=100.0, help="sampling rate (Hz) of --fit and of the start-up weights")
-    p.add_argument("--column", type=int, default=None, help="column of --fit (default: the first)")
+    p.add_argument("--fit", metavar="FILE",
+                   help="fit weights and R on one channel of this recording (the last HPA run over it), read as "
+                        "`wake run FILE` reads it")
     p.add_argument("--window", type=float, default=5.0, help="HPA window of --fit in s")
     p.add_argument("--name", default="wake_config", help="C identifier prefix")
+    add_reading_arguments(p, what="--fit FILE", fs_help=(
+        "sampling rate in Hz: of --fit (default: its time column; required when it has none) and of the start-up "
+        f"weights (default without --fit: {DEFAULT_SAMPLE_RATE:g})"))
+
+
+def fit_on_recording(args):
+    """The last HPA over one channel of ``args.fit``, read as ``wake run`` reads it.
+
+    Returns ``(update, x, filt, note)``: the :class:`~wake.hpa.HPAUpdate`, the channel's samples, the filter
+    and a one-line account of what was fitted on (file, channel, rate, HPA time, cut-off, fit error).
+    """
+    from wake.filter import WakeFilter
+    from wake.io.options import read_from_arguments
+
+    rec = read_from_arguments(args.fit, args, option="--fit")
+    if len(rec.channels) > 1 and args.column:
+        raise ValueError(f"--fit {args.fit}: a firmware configuration is fitted on one channel; --column selected "
+                         f"{len(rec.channels)} ({', '.join(rec.channels)}): give one")
+    x = rec.samples[:, 0]
+    filt = WakeFilter(fs=rec.fs, wavelet=args.wavelet, level=args.level, window_s=args.window, backend="reference")
+    res = filt.run(x)
+    if not res.hpa[0]:
+        raise ValueError(f"--fit {args.fit}: {len(x)} samples are too few for one HPA "
+                         f"({filt.window_samples} at {rec.fs:g} Hz and --window {args.window:g}); "
+                         "give a longer recording or a shorter --window")
+    last = res.hpa[0][-1]
+    unit = f" {rec.unit(0)}" if rec.unit(0) else ""
+    chosen = "" if args.column else f" (the first of {len(rec.channels)}; choose with --column)" \
+        if len(rec.channels) > 1 else ""
+    note = (f"fitted on channel {rec.channels[0]!r}{chosen} of {Path(args.fit).name} at {rec.fs:g} Hz "
+            f"({rec.timing.describe(rec.fs)}); last HPA at sample {last.index}, f_d {last.cutoff:.2f} Hz "
+            f"({last.cutoff_flag}), fit error e_L {last.fit_error:.4g}{unit} RMS")
+    return last, x, filt, note, rec.fs
 
 
 def resolve_config(args) -> dict:
@@ -226,20 +284,12 @@ def resolve_config(args) -> dict:
     weights = None
     r = args.measurement_noise
     fs_value = None if args.full_scale is None else _checked_full_scale(args.full_scale)
+    note = ""
+    if args.fs is not None and not args.fs > 0:
+        raise ValueError(f"--fs must be > 0 Hz, got {args.fs}")
+    sample_rate = DEFAULT_SAMPLE_RATE if args.fs is None else float(args.fs)
     if args.fit:
-        from wake.eval.datasets import load_csv
-        from wake.filter import WakeFilter
-
-        rec = load_csv(args.fit, column=args.column, fs=args.fs)
-        x = np.asarray(rec.samples, dtype=float).reshape(len(rec.samples), -1)[:, 0]
-        filt = WakeFilter(fs=args.fs, wavelet=args.wavelet, level=args.level, window_s=args.window,
-                          backend="reference")
-        res = filt.run(x)
-        if not res.hpa[0]:
-            raise ValueError(f"--fit {args.fit}: {len(x)} samples are too few for one HPA "
-                             f"({filt.window_samples} at --fs {args.fs:g} and --window {args.window:g}); "
-                             "give a longer recording or a shorter --window")
-        last = res.hpa[0][-1]
+        last, x, filt, note, sample_rate = fit_on_recording(args)
         weights = last.weights
         r = last.measurement_noise if r is None else r
         if fs_value is None:
@@ -251,11 +301,13 @@ def resolve_config(args) -> dict:
             weights = [float(v) for v in args.weights.split(",")]
         except ValueError:
             raise ValueError(f"--weights must be comma-separated numbers, got {args.weights!r}") from None
+        note = "weights given with --weights" + (f"; R {note}" if note else "")
     fs_value = 1.0 if fs_value is None else fs_value
     r = 1e-3 * fs_value**2 if r is None else r
     return dict(wavelet=args.wavelet, level=args.level, weights=weights, measurement_noise=r,
                 process_noise=args.process_noise, initial_covariance=args.initial_covariance,
-                full_scale=fs_value, name=args.name, sample_rate=args.fs, window_s=args.window)
+                full_scale=fs_value, name=args.name, sample_rate=sample_rate, window_s=args.window,
+                provenance=note)
 
 
 def cli(argv=None) -> int:
@@ -276,4 +328,6 @@ def cli(argv=None) -> int:
     export_header(dest, **config)
     if dest is not sys.stdout:
         print(f"wrote {args.out} ({args.wavelet}, J={args.level}, full scale {config['full_scale']:g})")
+    if config["provenance"]:
+        print(f"weights {config['provenance']}", file=sys.stderr if dest is sys.stdout else sys.stdout)
     return 0
