@@ -31,11 +31,21 @@ def refuse_same_file(out, inputs, *, option="--out"):
                              "choose another output path")
 
 
+def _new_file_mode() -> int:
+    """The mode ``open(path, "w")`` would give a new file: 0o666 less the process's umask."""
+    mask = os.umask(0o022)  # the umask can only be read by setting it: put it straight back
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
 def atomic_write_text(path, text: str, encoding: str = "utf-8") -> None:
     """Write ``text`` to ``path`` through a temporary file in the same folder and ``os.replace``.
 
     A crash or a full disk leaves the old file (or none), never half of the
     new one. A symbolic link at ``path`` is followed: its target is replaced.
+    The file gets the mode a plain ``open(path, "w")`` would give it: an
+    existing file keeps its mode, a new one follows the umask (the temporary
+    file's own 0600 is not passed on).
     """
     target = Path(os.path.realpath(path))
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
@@ -44,8 +54,7 @@ def atomic_write_text(path, text: str, encoding: str = "utf-8") -> None:
             fh.write(text)
             fh.flush()
             os.fsync(fh.fileno())
-        if target.exists():
-            os.chmod(tmp, target.stat().st_mode & 0o7777)
+        os.chmod(tmp, target.stat().st_mode & 0o7777 if target.exists() else _new_file_mode())
         os.replace(tmp, target)
     except BaseException:
         try:

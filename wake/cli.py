@@ -43,6 +43,11 @@ def _cmd_demo(args) -> int:
     from wake.eval.metrics import nrmse, prf, snr_out
     from wake.eval.synthetic import PAPER_WAKE, paper_dataset
 
+    if args.plot:
+        from wake.eval.plotting import require_matplotlib
+
+        require_matplotlib()  # before the work, not after it
+
     data = paper_dataset()
     filt = make_filter(args, data[0].fs)
     print(f"WAKE on the paper's synthetic dataset (backend {filt.backend}, {filt.wavelet}, J={filt.level}, "
@@ -81,34 +86,23 @@ def _cmd_demo(args) -> int:
     return 0
 
 
-def _columns(values):
-    """``--column a,b --column 3`` -> ``["a", "b", "3"]`` (None when not given)."""
-    if not values:
-        return None
-    out = []
-    for value in values:
-        for cell in value.split(","):
-            cell = cell.strip()
-            if not cell:
-                raise ValueError(f"--column {value!r} has an empty name; give names or 0-based indices, "
-                                 "comma-separated")
-            out.append(cell)  # a digit string is an index (wake.io.readers)
-    return out
-
-
 def _cmd_run(args) -> int:
     from wake._files import refuse_same_file
-    from wake.io import read_recording, write_result_csv
+    from wake.io import write_result_csv
+    from wake.io.options import read_from_arguments
 
-    if args.fs is not None and not args.fs > 0:
-        raise ValueError(f"--fs must be > 0 Hz, got {args.fs}")
+    if args.plot:
+        from wake.eval.plotting import require_matplotlib
+
+        require_matplotlib()  # before the work, not after it
     if args.out:
         refuse_same_file(args.out, [args.file])
-    rec = read_recording(args.file, format=args.format, fs=args.fs, time_column=args.time_column,
-                         columns=_columns(args.column))
+    rec = read_from_arguments(args.file, args)
+    plot_channel = _plot_channel(args.plot_channel, rec) if args.plot else 0
     x = rec.samples
+    notes = "".join(f"; {note}" for note in rec.notes)
     print(f"{rec.name}: {x.shape[0]} samples x {x.shape[1]} channel(s) ({', '.join(rec.channels)}); "
-          f"{rec.timing.describe(rec.fs)}")
+          f"{rec.timing.describe(rec.fs)}{notes}")
     filt = make_filter(args, rec.fs)
     res = filt.run(x if x.shape[1] > 1 else x[:, 0])
     if args.out:
@@ -124,10 +118,23 @@ def _cmd_run(args) -> int:
     if args.plot:
         from wake.eval.plotting import plot_result
 
-        plot_result(args.plot, x[:, 0], res, rec.fs, ar_order=filt.ar_order, unit=rec.unit(0),
-                    title=f"{Path(args.file).name}: {rec.channels[0]}")
-        print(f"figure written to {args.plot}")
+        name = rec.channels[plot_channel]
+        plot_result(args.plot, x, res, rec.fs, ar_order=filt.ar_order, unit=rec.unit(plot_channel),
+                    channel=plot_channel, channel_name=name, title=f"{Path(args.file).name}: {name}")
+        print(f"figure written to {args.plot} (channel {name})")
     return 0
+
+
+def _plot_channel(spec, rec) -> int:
+    """The channel ``--plot-channel`` names (a name or a 0-based index among the channels read); default 0."""
+    if spec is None:
+        return 0
+    if spec in rec.channels:
+        return rec.channels.index(spec)
+    if spec.strip().isdigit() and int(spec) < len(rec.channels):
+        return int(spec)
+    raise ValueError(f"--plot-channel {spec!r} is not a channel of {rec.name}; channels: "
+                     f"{', '.join(rec.channels)} (or a 0-based index below {len(rec.channels)})")
 
 
 def _delegate(module: str, argv) -> int:
@@ -148,19 +155,16 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("--plot", metavar="PNG", help="draw signal 1 (needs matplotlib)")
     r = sub.add_parser("run", help="process a recording (CSV, PADS or MATLAB .mat)")
     r.add_argument("file", help="recording: delimited text (a header row of names is read), a PADS .txt, or a .mat")
-    r.add_argument("--fs", type=float, default=None,
-                   help="sampling rate in Hz (default: from the time column; required when there is none)")
-    r.add_argument("--time-column", default="auto", metavar="auto|none|NAME|INDEX",
-                   help="the time column: detected by default (a first column named like time, or "
-                        "increasing in even steps); irregular timestamps are resampled onto --fs")
-    r.add_argument("--column", action="append", metavar="NAME|INDEX",
-                   help="channel(s) to process: header names or 0-based file column indices, comma-separated "
-                        "or repeated (default: every column but the time column)")
-    r.add_argument("--format", choices=("auto", "csv", "pads", "mat"), default="auto",
-                   help="file format (default: .mat by suffix, else delimited text; PADS by its shape)")
+    from wake.io.options import add_reading_arguments
+
+    add_reading_arguments(r)
     r.add_argument("--out", metavar="CSV", help="write time, then per channel measurement, voluntary, tremor "
-                                                "(names and units in the header)")
-    r.add_argument("--plot", metavar="PNG", help="draw the first channel (needs matplotlib)")
+                                                "(names and units in the header; every value written so that "
+                                                "it reads back exactly)")
+    r.add_argument("--plot", metavar="PNG", help="draw one channel (needs matplotlib; checked before the work)")
+    r.add_argument("--plot-channel", metavar="NAME|INDEX", default=None,
+                   help="the channel --plot draws (default: the first); every channel is still filtered and "
+                        "written to --out")
     add_filter_arguments(r)
     for name, helptext in (("evaluate", "baselines vs WAKE on synthetic and real recordings"),
                            ("profile", "Cortex-M instruction count, footprint and stack per sample"),

@@ -8,6 +8,18 @@ from wake.hpa.cutoff import FALLBACK_FLAGS
 from wake.hpa.spectrum import ar_psd
 
 
+#: What to install for figures, said by every refusal.
+MATPLOTLIB_HINT = "plotting needs matplotlib: pip install matplotlib (or pip install \".[plot]\" in a wake source tree)"
+
+
+def require_matplotlib() -> None:
+    """Raise ValueError naming the install when matplotlib is missing: call it before the work a figure ends."""
+    import importlib.util
+
+    if importlib.util.find_spec("matplotlib") is None:
+        raise ValueError(MATPLOTLIB_HINT)
+
+
 def _pyplot():
     try:
         import matplotlib
@@ -15,8 +27,7 @@ def _pyplot():
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:  # pragma: no cover - depends on the environment
-        raise ValueError("plotting needs matplotlib: pip install matplotlib "
-                         "(or pip install \".[plot]\" in a wake source tree)") from None
+        raise ValueError(MATPLOTLIB_HINT) from None
     return plt
 
 
@@ -30,9 +41,14 @@ def _envelope(t, y, fs, seconds=0.2):
     return t[:n].reshape(-1, k)[:, 0], np.nanmin(yb, axis=1), np.nanmax(yb, axis=1)
 
 
+def _legend(ax, **kw):
+    """A legend beside the axes, right of the data, so that it never covers a trace."""
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, fontsize=8, **kw)
+
+
 def plot_result(path, x, result, fs, *, voluntary_truth=None, tremor_truth=None, ar_order=17, title="",
-                unit="", zoom_s=4.0):
-    """A four-panel figure of the first channel of ``result``.
+                unit="", zoom_s=4.0, channel=0, channel_name=""):
+    """A four-panel figure of one channel of ``result`` (``channel``, the first by default).
 
     1. the whole recording: measurement and predicted voluntary motion, the
        warm-up (before the first HPA on a full window) shaded;
@@ -42,16 +58,22 @@ def plot_result(path, x, result, fs, *, voluntary_truth=None, tremor_truth=None,
     4. the AR spectrum of the last HPA window with that HPA's cut-off
        ``f_d`` and its flag (``valley``, or the fallback that set it).
 
-    ``unit`` labels the signal axes (for example ``"rad/s"``).
+    ``x`` is the measurement, shape ``(n,)`` or ``(n, channels)``;
+    ``channel_name`` and ``unit`` label the signal axes (for example
+    ``"gyro_x"`` and ``"rad/s"``).  Legends stand beside the panels.
     """
     plt = _pyplot()
-    x = np.asarray(x, dtype=float).reshape(len(x), -1)[:, 0]
-    vol = np.reshape(result.voluntary, (len(x), -1))[:, 0]
-    tre = np.reshape(result.tremor, (len(x), -1))[:, 0]
+    x = np.asarray(x, dtype=float).reshape(len(x), -1)
+    if not 0 <= channel < x.shape[1]:
+        raise ValueError(f"channel {channel} out of range: the result has {x.shape[1]} channel(s)")
+    x = x[:, channel]
+    vol = np.reshape(result.voluntary, (len(x), -1))[:, channel]
+    tre = np.reshape(result.tremor, (len(x), -1))[:, channel]
     t = np.arange(len(x)) / fs
-    ylab = f"signal ({unit})" if unit else "signal"
+    what = channel_name or "signal"
+    ylab = f"{what} ({unit})" if unit else what
     warm = result.warmup / fs
-    fig, ax = plt.subplots(4, 1, figsize=(10, 12))
+    fig, ax = plt.subplots(4, 1, figsize=(13, 12))
 
     ax[0].plot(t, x, lw=0.5, color="0.65", label="measurement")
     if voluntary_truth is not None:
@@ -60,7 +82,7 @@ def plot_result(path, x, result, fs, *, voluntary_truth=None, tremor_truth=None,
     ax[0].axvspan(0, warm, color="C3", alpha=0.08, label=f"warm-up: before the first full HPA window ({warm:g} s)")
     ax[0].set_ylabel(ylab)
     ax[0].set_xlabel("time (s)")
-    ax[0].legend(loc="upper right", fontsize=8, ncol=2)
+    _legend(ax[0])
     ax[0].set_title(title)
 
     start = min(warm, max(t[-1] - zoom_s, 0.0))
@@ -74,7 +96,7 @@ def plot_result(path, x, result, fs, *, voluntary_truth=None, tremor_truth=None,
         ax[1].plot(t[z], np.asarray(tremor_truth)[z], lw=0.8, color="C1", ls=":", label="tremor + noise (truth)")
     ax[1].set_ylabel(ylab)
     ax[1].set_xlabel(f"time (s), {zoom_s:g} s after the warm-up")
-    ax[1].legend(loc="upper right", fontsize=8, ncol=3)
+    _legend(ax[1])
 
     bin_s = max(2.0 / fs, len(x) / fs / 400.0)  # about 400 bins whatever the length
     te, lo, hi = _envelope(t, tre, fs, bin_s)
@@ -85,11 +107,11 @@ def plot_result(path, x, result, fs, *, voluntary_truth=None, tremor_truth=None,
         ax[2].plot(te2, hi2, color="k", lw=0.6, alpha=0.7, label="tremor + noise (truth), envelope")
         ax[2].plot(te2, lo2, color="k", lw=0.6, alpha=0.7)
     ax[2].axvspan(0, warm, color="C3", alpha=0.08)
-    ax[2].set_ylabel(f"tremor ({unit})" if unit else "tremor")
+    ax[2].set_ylabel(f"{what} tremor ({unit})" if unit else f"{what} tremor")
     ax[2].set_xlabel("time (s)")
-    ax[2].legend(loc="upper right", fontsize=8)
+    _legend(ax[2])
 
-    updates = result.hpa[0]
+    updates = result.hpa[channel]
     if updates:
         last = updates[-1]
         L = int(round(result.warmup))
@@ -106,7 +128,7 @@ def plot_result(path, x, result, fs, *, voluntary_truth=None, tremor_truth=None,
     ax[3].set_xlabel("frequency (Hz)")
     ax[3].set_ylabel(f"PSD ({unit}$^2$/Hz)" if unit else "PSD (1/Hz)")
     ax[3].set_xlim(0, min(20.0, fs / 2))
-    ax[3].legend(loc="upper right", fontsize=8)
+    _legend(ax[3])
     fig.tight_layout()
-    fig.savefig(path, dpi=100)
+    fig.savefig(path, dpi=100, bbox_inches="tight")
     plt.close(fig)

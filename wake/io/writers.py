@@ -5,6 +5,10 @@ known), so :func:`wake.io.read_csv` reads the file back with its names,
 units and time column.  Per channel, three columns: the measurement, the
 voluntary motion (predicted for that sample from the samples before it) and
 the tremor (measurement minus voluntary).
+
+Every value is written with 17 significant digits (``%.17g``), enough for
+a double to read back as the same double: the file holds the filter's
+outputs exactly, not a rounding of them.
 """
 
 from __future__ import annotations
@@ -15,7 +19,10 @@ import numpy as np
 
 from wake._files import atomic_write_text
 
-__all__ = ["result_columns", "write_result_csv"]
+__all__ = ["EXACT_FORMAT", "result_columns", "write_result_csv"]
+
+#: printf format with which a float64 reads back bit for bit (17 significant digits).
+EXACT_FORMAT = "%.17g"
 
 
 def _label(name: str, unit: str) -> str:
@@ -46,7 +53,7 @@ def write_result_csv(path, recording, result) -> int:
     for c in range(k):
         cols += [x[:, c], vol[:, c], trem[:, c]]
     buf = io.StringIO()
-    np.savetxt(buf, np.column_stack(cols), delimiter=",", fmt="%.9g",
+    np.savetxt(buf, np.column_stack(cols), delimiter=",", fmt=EXACT_FORMAT,
                header=",".join(result_columns(recording.channels, recording.units)), comments="")
     atomic_write_text(path, buf.getvalue())
     return n
