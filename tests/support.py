@@ -1,6 +1,7 @@
 """Helpers shared by the test modules (importable: pytest puts tests/ on sys.path)."""
 
 import os
+import shutil
 from pathlib import Path
 
 #: The C sources of this checkout: tests build them rather than a possibly
@@ -23,3 +24,11 @@ def has_c_backend():
 
 NO_PADS = "PADS recordings not found next to the checkout (../shared/data/pads) or in $WAKE_PADS_DIR"
 NO_CORE = "the compiled C core wake._rtp is not built"
+
+
+def missing_tools(*names):
+    """A skip reason naming exactly the tools of ``names`` that are not on PATH, or None when all are."""
+    missing = [n for n in names if shutil.which(n) is None]
+    if not missing:
+        return None
+    return f"{' and '.join(missing)} {'is' if len(missing) == 1 else 'are'} not installed (on PATH)"

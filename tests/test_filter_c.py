@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from support import has_c_backend, pads_dir
+from support import NO_PADS, has_c_backend, pads_dir
 from wake import WakeFilter
 from wake.eval.metrics import nrmse, offline_ground_truth
 
@@ -40,7 +40,13 @@ def test_run_equals_update_on_c(signal10):
 
 
 def test_full_scale_too_small_is_counted_not_silent(signal10):
-    res = WakeFilter(backend="c", full_scale=0.2).run(signal10.measurement[:1500])
+    from wake import ClippingWarning
+
+    with pytest.warns(ClippingWarning, match=r"clipped at the fixed-point full scale ±0\.2") as caught:
+        res = WakeFilter(backend="c", full_scale=0.2).run(signal10.measurement[:1500])
+    clipping = [w for w in caught if issubclass(w.category, ClippingWarning)]
+    # one warning per HPA whose window clipped (warm-up HPAs included), each flagged in the history
+    assert len(clipping) == sum("clipping" in u.flags for u in res.hpa[0]) == len(res.hpa[0]) == 7
     assert res.clipped[0] > 0
     assert np.all(np.isfinite(res.voluntary))
     assert any("noise_clamped" in u.flags for u in res.hpa[0])
@@ -63,7 +69,7 @@ def test_live_kalman_on_c_matches_reference(signal10):
     assert abs(nc - nr) <= 0.01 * nr
 
 
-@pytest.mark.skipif(pads_dir() is None, reason="PADS recordings not found next to the checkout (../shared/data/pads)")
+@pytest.mark.skipif(pads_dir() is None, reason=NO_PADS)
 def test_c_matches_reference_on_real_recordings():
     from wake.eval.datasets import load_pads_folder
 

@@ -17,9 +17,11 @@ applies them through a fixed filter bank and a Kalman update.
 True
 """
 
-from wake.config import WakeConfig
+from wake.channel import ClippingWarning
+from wake.config import CoreMissingWarning, WakeConfig
 from wake.filter import BACKENDS, WakeFilter, WakeResult, WakeState
 
 __version__ = "0.2.0"
 
-__all__ = ["WakeFilter", "WakeResult", "WakeState", "WakeConfig", "BACKENDS", "__version__"]
+__all__ = ["WakeFilter", "WakeResult", "WakeState", "WakeConfig", "BACKENDS", "ClippingWarning",
+           "CoreMissingWarning", "__version__"]

@@ -101,14 +101,16 @@ class CoreMissingWarning(UserWarning):
 
 def _default_backend() -> str:
     """``"c"`` when the compiled core imports, else ``"reference"``, warning (once per process) which."""
-    from wake.rtp import BUILD_HINT, c_backend_available  # here: wake.rtp imports this module
+    from wake.rtp import BUILD_HINT, c_backend_available, missing_core_hint  # here: wake.rtp imports this module
 
     if c_backend_available():
         return "c"
     import warnings
 
-    warnings.warn("the compiled C core (wake._rtp) is not installed, so WAKE runs on the float64 reference "
-                  f"backend; to run the fixed-point core that firmware runs, {BUILD_HINT.split(', or use')[0]}",
+    hint = missing_core_hint()
+    hint = hint.split(", or use")[0] if hint == BUILD_HINT else hint
+    warnings.warn("the compiled C core (wake._rtp) is not importable, so WAKE runs on the float64 reference "
+                  f"backend; to run the fixed-point core that firmware runs, {hint}",
                   CoreMissingWarning, stacklevel=4)
     return "reference"
 

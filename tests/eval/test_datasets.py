@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from support import pads_dir
+from support import NO_PADS, pads_dir
 from wake.eval.datasets import PADS_CHANNELS, default_pads_dir, load_csv, load_pads, load_pads_folder
 
 
@@ -134,8 +134,7 @@ def test_default_pads_dir(tmp_path, monkeypatch):
 
 
 @pytest.mark.realdata
-@pytest.mark.skipif(pads_dir() is None, reason="PADS recordings not found (set WAKE_PADS_DIR or put them in "
-                                                "../shared/data/pads next to the checkout)")
+@pytest.mark.skipif(pads_dir() is None, reason=NO_PADS)
 def test_real_pads_folder_loads():
     recs = load_pads_folder(pads_dir())
     assert len(recs) == 10

@@ -7,10 +7,17 @@ import pytest
 
 from wake.firmware.profile import build as B
 
-pytestmark = pytest.mark.skipif(
-    shutil.which("clang") is None or shutil.which("arm-none-eabi-gcc") is None
-    or not Path(B.NEWLIB_INCLUDE).is_dir(),
-    reason="clang, arm-none-eabi-gcc or the newlib headers are not installed (CI needs only gcc)")
+def _missing() -> str | None:
+    """Exactly what is missing for this comparison, or None."""
+    missing = [tool for tool in ("clang", "arm-none-eabi-gcc") if shutil.which(tool) is None]
+    if not Path(B.NEWLIB_INCLUDE).is_dir():
+        missing.append(f"the newlib headers ({B.NEWLIB_INCLUDE})")
+    if not missing:
+        return None
+    return f"{' and '.join(missing)} {'is' if len(missing) == 1 else 'are'} not installed (CI needs only gcc)"
+
+
+pytestmark = pytest.mark.skipif(_missing() is not None, reason=str(_missing()))
 
 
 @pytest.mark.parametrize("target", list(B.TARGETS))

@@ -47,7 +47,9 @@ def _build_wheel(tmp: Path, env=None) -> Path:
     src = tmp / "src"
     shutil.copytree(ROOT, src, ignore=_IGNORE)
     dist = tmp / "dist"
-    _run([sys.executable, "-m", "pip", "wheel", "--no-deps", "-q", "-w", dist, src], **({"env": env} if env else {}))
+    # -v: setuptools' own warnings reach the log (test_the_wheel_builds_without_setuptools_warnings)
+    res = _run([sys.executable, "-m", "pip", "wheel", "--no-deps", "-v", "-w", dist, src], **({"env": env} if env else {}))
+    (tmp / "build.log").write_text(res.stdout + res.stderr)
     wheels = list(dist.glob("wake_tremor-*.whl"))
     assert len(wheels) == 1, wheels
     return wheels[0]
@@ -132,3 +134,11 @@ def test_export_c_from_the_wheel_compiles_for_cortex_m4_and_the_host(installed):
         for src in ("wake_rtp.c", "wake_hpa.c", "use_config.c"):
             _run([cc, "-std=c99", "-Wall", "-Wextra", "-Werror", *extra, "-c", src, "-o", f"{src}.{Path(cc).name}.o"],
                  cwd=fw)
+
+
+def test_the_wheel_builds_without_setuptools_package_warnings(installed):
+    env_dir, py, work = installed
+    log = (work.parent / "build.log").read_text()
+    assert "running build_py" in log  # the verbose build log was captured
+    # the C sources' folders are declared packages, not "importable but absent from packages"
+    assert "absent from the `packages` configuration" not in log and "Package would be ignored" not in log

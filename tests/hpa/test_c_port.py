@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
+from support import missing_tools
 
 from wake import WakeConfig, WakeFilter
 from wake.eval.metrics import nrmse
@@ -183,8 +184,8 @@ def test_any_int16_window_gives_a_finite_result(n, seed, scale, offset, rule):
     assert np.isfinite(r.measurement_noise) and r.measurement_noise > 0 and r.fit_mse >= 0
 
 
-@pytest.mark.skipif(not (shutil.which("arm-none-eabi-gcc") and shutil.which("qemu-system-arm") and shutil.which("make")),
-                    reason="needs make, arm-none-eabi-gcc and qemu-system-arm")
+@pytest.mark.skipif(missing_tools("make", "arm-none-eabi-gcc", "qemu-system-arm") is not None,
+                    reason=str(missing_tools("make", "arm-none-eabi-gcc", "qemu-system-arm")))
 def test_standalone_firmware_on_a_cortex_m4f_under_qemu_equals_the_host_build_bit_for_bit(tmp_path):
     import sys
 
