@@ -15,7 +15,7 @@ from dataclasses import dataclass, fields
 
 from wake._validation import check_level, check_mode, check_wavelet
 
-__all__ = ["CoreMissingWarning", "WakeConfig", "MAX_LEVEL", "WEIGHT_LIMIT", "BACKENDS", "HPA_BACKENDS", "HPA_MODES", "FITS", "LIMITS"]
+__all__ = ["CoreMissingWarning", "WakeConfig", "parameters_doc", "MAX_LEVEL", "WEIGHT_LIMIT", "BACKENDS", "HPA_BACKENDS", "HPA_MODES", "FITS", "LIMITS"]
 
 #: Highest decomposition level J, for the float reference and the C core alike
 #: (the C struct is sized by ``WAKE_RTP_MAX_LEVEL``, which must equal it).
@@ -95,6 +95,20 @@ def auto_warmup_points(fs: float, window_s: float, level: int) -> tuple:
     return tuple(t for t in times if need <= int(round(t * fs)) < L)
 
 
+def parameters_doc(cls) -> str:
+    """The numpydoc ``Parameters`` entries of ``cls``'s docstring (without the heading), indented as written.
+
+    :class:`~wake.WakeFilter` takes every :class:`WakeConfig` setting, and its docstring shows them from
+    this one text, so ``help(WakeFilter)`` documents every parameter the way ``help(WakeConfig)`` does.
+    """
+    doc = cls.__doc__ or ""
+    head = "Parameters\n    ----------\n"
+    if head not in doc:
+        return ""
+    body = doc.split(head, 1)[1]
+    return body.split("\n\n    Examples", 1)[0].split("\n\n    Notes", 1)[0].rstrip() + "\n"
+
+
 class CoreMissingWarning(UserWarning):
     """The compiled C core is not installed: the default backend is the float64 reference."""
 
@@ -133,13 +147,18 @@ class WakeConfig:
     ar_order : int
         Yule-Walker AR order ``p``.
     backend : {"c", "reference"} or None
-        Where the RTP runs (see :class:`~wake.WakeFilter`).  ``None`` (the
-        default): ``"c"`` when the compiled core is installed, else
-        ``"reference"``; the resolved name is what the config holds.
+        ``"c"`` runs the RTP in the fixed-point C core (the code firmware
+        runs); ``"reference"`` in the float64 reference it is tested
+        against.  ``None`` (the default): ``"c"`` when the compiled core is
+        installed (a machine without a C compiler installs without it), else
+        ``"reference"``, with a :class:`CoreMissingWarning`; the resolved
+        name is what the config holds, and ``WakeResult.backend`` says which
+        ran.  An explicit ``"c"`` without the core raises
+        :class:`~wake.rtp.CoreUnavailable`, saying how to get it.
     mode : str
         Wavelet boundary mode of the filter bank (docs/design.md).
     fit : {"causal", "paper"}
-        What the HPA fits ``w`` on.
+        What the HPA fits ``w`` on (see :mod:`wake.hpa.run`).
     process_noise_ratio : float
         Kalman process noise relative to the measurement noise: ``Q = q I``
         with ``q = process_noise_ratio * R`` of the current HPA window.  0
@@ -168,12 +187,25 @@ class WakeConfig:
         shallow dip, Hz (default 4, the lower edge of pathological tremor);
         at least ``cutoff_range[0]``.  The ``"paper"`` rule does not read it.
     full_scale : float or None
-        C backend: the physical value mapped to the int16 full scale;
-        ``None`` chooses it from the signal (see :class:`~wake.WakeFilter`).
+        C backend: the physical value mapped to the int16 full scale.
+        ``None`` (the default) lets it follow the signal, per channel
+        (:mod:`wake.rtp.full_scale`): at every HPA, the power of two at or
+        above ``headroom`` times the window's robust peak (the 99th
+        percentile of ``|x|``, so up to 1 % of glitches cannot set it); up
+        at once when 4 samples in a row lie beyond it, down after two
+        windows far below it.  The float reference runs until the first
+        window with signal.
     headroom : float
-        Factor of the automatic full scale, in [1, 1e4].
+        Factor of the automatic full scale, in [1, 1e4].  16 (24 dB) because
+        real recordings often start quiet: on the PADS recordings 4x
+        clipped, 16x did not (docs/fixed_point.md); it costs 4 of the 16 bits.
     hpa_mode : {"inline", "thread"}
-        Streaming HPA on the sample path or on a worker thread.
+        Streaming only (:meth:`~wake.WakeFilter.update`).  ``"inline"`` runs
+        the HPA inside the ``update()`` call that completes a window;
+        ``"thread"`` runs it on a worker thread and swaps the new weights in
+        between two later samples, so ``update()`` never waits for an HPA.
+        Each :class:`~wake.hpa.HPAUpdate` records the sample count at which
+        its weights took effect (``applied_at``).  ``run()`` is always inline.
     hpa_backend : {"python", "c"}
         ``"python"`` (default): the float64 reference HPA.  ``"c"``: the
         single-precision C port a standalone device runs

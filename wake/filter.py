@@ -24,7 +24,7 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 
 from wake._validation import as_sample, as_signal
-from wake.config import BACKENDS, WakeConfig
+from wake.config import BACKENDS, WakeConfig, parameters_doc
 from wake.hpa.c_port import check_c_hpa_config
 from wake.channel import Channel, start_weights_for
 from wake.rtp import load_fixed_point
@@ -116,57 +116,7 @@ class WakeFilter:
 
     Parameters
     ----------
-    fs : float
-        Sampling rate in Hz.
-    wavelet : str
-        Mother wavelet (a discrete PyWavelets name; the paper: ``"sym3"``).
-    level : int
-        Decomposition level ``J`` (1..6); the RTP window is ``2**J`` samples.
-    window_s : float
-        HPA window ``L`` in seconds; HPA runs every ``L`` samples.
-        ``L`` must hold at least ``2 * 2**J`` samples and more than
-        ``2 * ar_order``.
-    ar_order : int
-        Yule-Walker AR order ``p``.
-    backend : {"c", "reference"}, optional
-        ``"c"`` runs the RTP in the fixed-point C core (the code firmware
-        runs); ``"reference"`` in the float64 reference it is tested
-        against.  Default: ``"c"`` when the compiled core is installed (a
-        machine without a C compiler installs without it), else
-        ``"reference"``; ``WakeResult.backend`` and ``config.backend`` say
-        which ran.  An explicit ``"c"`` without the core raises
-        :class:`~wake.rtp.CoreUnavailable` in the constructor, saying how to
-        build it.
-    mode : str
-        Wavelet boundary mode of the filter bank (see docs/design.md).
-    fit : {"causal", "paper"}
-        What the HPA fits ``w`` on (see :mod:`wake.hpa.run`).
-    process_noise_ratio : float
-        ``Q = q I`` with ``q = process_noise_ratio * R``: process noise per
-        sample relative to the measurement noise ``R`` of the current HPA
-        window.  0 (the default, see docs/design.md) keeps the pure filter
-        bank.
-    initial_covariance : float
-        ``P(0) = p0 I`` in squared signal units.
-    ridge : float
-        Relative ridge of the weight fit.
-    tremor_band, cutoff_range, default_cutoff
-        Cut-off search, see :func:`wake.hpa.find_cutoff`.
-    full_scale : float, optional
-        C backend: the physical value mapped to the int16 full scale.
-        ``None`` picks ``headroom * max|x|`` over the first HPA window, per
-        channel (the float reference runs the warm-up until then).
-    headroom : float
-        Factor of the automatic full scale (>= 1).  16 (24 dB) because real
-        recordings often start quiet: on the PADS recordings 4x clipped, 16x
-        did not (docs/fixed_point.md); it costs 4 of the 16 bits.
-    hpa_mode : {"inline", "thread"}
-        Streaming only (:meth:`update`).  ``"inline"`` runs the HPA inside
-        the ``update()`` call that completes a window; ``"thread"`` runs it
-        on a worker thread and swaps the new weights in between two later
-        samples, so ``update()`` never waits for an HPA.  Each
-        :class:`~wake.hpa.HPAUpdate` records the sample count at which its
-        weights took effect (``applied_at``).  :meth:`run` is always inline.
+    {config_parameters}: every setting of :class:`WakeConfig`, filled in from its docstring below the class
     config : WakeConfig, optional
         Every setting at once (then no other argument may be given).
 
@@ -455,3 +405,11 @@ class WakeFilter:
         pool = self.__dict__.get("_pool")
         if pool is not None:
             pool.shutdown(wait=False)
+
+
+# Every WakeConfig setting is a WakeFilter argument: its docstring shows WakeConfig's parameter texts, the
+# one place they are written, so help(WakeFilter) and help(WakeConfig) cannot disagree.
+if WakeFilter.__doc__:
+    WakeFilter.__doc__ = WakeFilter.__doc__.replace(
+        "    {config_parameters}: every setting of :class:`WakeConfig`, filled in from its docstring below the class\n",
+        parameters_doc(WakeConfig))
