@@ -2,6 +2,7 @@
 
     python bench/rest_tremor_cutoff.py            # rest-tremor set, the paper's synthetic set, PADS (when found)
     python bench/rest_tremor_cutoff.py --fixed     # also every window at a fixed f_d (what each cut-off is worth)
+    python bench/rest_tremor_cutoff.py --c-hpa     # the C HPA against the Python HPA on the rest-tremor set
 
 A window of rest tremor on slow 1/f drift (``wake.eval.synthetic.rest_tremor_dataset``)
 has a spectrum that rises from 0.5 Hz into the tremor peak with no valley: the
@@ -122,13 +123,34 @@ def _mean(rows, key):
     return np.nanmean([r[key] for r in rows]) if rows else float("nan")
 
 
+def c_hpa_agreement(rest):
+    """The shipped rule in both HPAs on every rest-tremor window, and the pipeline NRMSE each gives."""
+    from hpa_c_agreement import _summarise, run_pair, window_agreement
+
+    windows, scores = [], {"python": [], "c": []}
+    for s in rest:
+        x = s.measurement[:, None]
+        py, cc = run_pair(x, s.fs)
+        filt = WakeFilter(fs=s.fs, backend="c")
+        windows += window_agreement(x, py, filt.config, filt.taps)
+        for name, res in (("python", py), ("c", cc)):
+            scores[name].append(slice_nrmse(s.tremor, res.tremor[:, 0], s.fs))
+    print("rest tremor, C HPA vs Python HPA (both on the fixed-point RTP):", _summarise(windows))
+    for key in (WHOLE, AFTER):
+        py, cc = _mean(scores["python"], key), _mean(scores["c"], key)
+        print(f"  tremor NRMSE {key}: python {py:.5f}  c {cc:.5f}  ({100 * (cc / py - 1):+.2f} %)")
+
+
 def main(argv=None):
     import argparse
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--fixed", action="store_true", help="also every window at a fixed f_d")
     ap.add_argument("--per-signal", action="store_true", help="the rest-tremor scores of each signal")
+    ap.add_argument("--c-hpa", action="store_true", help="only the C HPA against the Python HPA on the rest set")
     args = ap.parse_args(argv)
+    if args.c_hpa:
+        return c_hpa_agreement(rest_tremor_dataset())
     folder = default_pads_dir(cwd=Path(__file__).resolve().parents[1])
     pads = load_pads_folder(folder) if folder is not None and folder.is_dir() else []
     rest, synthetic = rest_tremor_dataset(), paper_dataset()
