@@ -15,19 +15,21 @@ paper's synthetic set (voluntary NRMSE) and on PADS (tremor NRMSE against the
 independent truth of ``wake.eval.warmup``) must not get worse.  The rules
 (every WAKE run uses the C RTP and the Python HPA):
 
-* ``floor`` - the library's default (``wake.hpa.cutoff``);
+* ``floor`` - the library's default (``wake.hpa.cutoff``): a shallow minimum
+  on the lowest bin of the search (a monotone rise, not a dip) is no valley:
+  the default 2 Hz, flag ``no_valley`` (a fallback);
+* ``floor, before`` - the default before that: the lowest bin, flag
+  ``shallow_valley`` (the cases below start from it);
 * ``paper`` - the paper's rule: no 3 dB valley, the default 2 Hz;
-* ``edge default`` - ``floor``, but a shallow minimum on the lowest bin of the
-  search (a monotone rise, not a dip) is no valley: the default 2 Hz, flag
-  ``no_valley`` (a fallback);
-* ``edge flank D`` - ``floor``, but there the tremor peak's left flank, the
-  highest frequency below the peak where the PSD is D dB below it;
-* ``shallow at least F`` - ``floor``, every ``shallow_valley`` raised to F Hz
-  or more (a lower bound on a shallow f_d);
-* ``shallow below default`` - ``floor``, but a ``shallow_valley`` below the
-  default 2 Hz gives the default (``no_valley``);
-* ``shallow`` and ``shallow, edge default`` - the library's option
-  ``cutoff_rule="shallow"`` without and with the edge test;
+* ``edge flank D`` - ``floor, before``, but on the lowest bin the tremor
+  peak's left flank instead, the highest frequency below the peak where the
+  PSD is D dB below it;
+* ``shallow at least F`` - ``floor, before``, every ``shallow_valley`` raised
+  to F Hz or more (a lower bound on a shallow f_d);
+* ``shallow below default`` - ``floor, before``, but a ``shallow_valley``
+  below the default 2 Hz gives the default (``no_valley``);
+* ``shallow`` and ``shallow, before`` - the library's option
+  ``cutoff_rule="shallow"`` with and without the lowest-bin test;
 * ``fixed F`` (``--fixed``) - every window at F Hz, whatever its spectrum.
 """
 
@@ -46,50 +48,64 @@ from wake.eval.datasets import default_pads_dir, load_pads_folder  # noqa: E402
 from wake.eval.synthetic import paper_dataset, rest_tremor_dataset  # noqa: E402
 from wake.eval.warmup import independent_ground_truth, slice_nrmse  # noqa: E402
 from wake.hpa import cutoff as cutoff_mod  # noqa: E402
+from cutoff_rules import _peak  # noqa: E402
 
 SHIPPED = cutoff_mod.find_cutoff
 WHOLE, AFTER = "whole (from 0.5 s)", "after 5 s"
 
 
+def lowest_bin_dip(freqs, psd, *, rule, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
+                   shallow_max=cutoff_mod.SHALLOW_MAX, **_):
+    """The lowest search bin, where rules ``shallow`` and ``floor`` took it as a shallow dip before they
+    fell back there; None elsewhere."""
+    freqs = np.asarray(freqs, dtype=float)
+    db = 10 * np.log10(np.maximum(psd, np.max(psd) * 1e-30))
+    peak = _peak(freqs, db, tremor_band)
+    if peak is None:
+        return None
+    low = np.flatnonzero((freqs >= cutoff_range[0]) & (freqs <= min(cutoff_range[1], shallow_max, freqs[peak])))
+    if low.size < 3 or np.argmin(db[low]) != 0:
+        return None
+    above = np.flatnonzero(freqs > tremor_band[1])[::-1][::cutoff_mod.FLOOR_STRIDE]
+    floor = db[above].min() if rule == "floor" and above.size else -np.inf
+    return low[0] if db[low[0]] >= floor + cutoff_mod.FLOOR_MARGIN_DB else None
+
+
 def make_rule(kind):
     """``find_cutoff`` for one rule of the module docstring."""
     def find(freqs, psd, **kw):
-        kw = {k: v for k, v in kw.items() if k not in ("rule",)}
+        kw.pop("rule", None)
         if kind.startswith("fixed "):
             return float(kind.split()[1]), "fixed"
-        if kind in ("paper", "shallow"):
-            return SHIPPED(freqs, psd, **kw, rule=kind)
-        fd, flag = SHIPPED(freqs, psd, **kw, rule="shallow" if kind.startswith("shallow,") else "floor")
-        if kind == "floor" or flag != "shallow_valley":
+        base = kind.split(",")[0] if kind.split(",")[0] in ("paper", "shallow", "floor") else "floor"
+        fd, flag = SHIPPED(freqs, psd, **kw, rule=base)
+        if kind in ("paper", "shallow", "floor"):
+            return fd, flag
+        edge = lowest_bin_dip(freqs, psd, rule=base, **kw) if flag == "no_valley" else None
+        if edge is not None:  # the rule before the change: the lowest bin, flag shallow_valley
+            fd, flag = float(freqs[edge]), "shallow_valley"
+        if kind.endswith(", before") or flag != "shallow_valley":
             return fd, flag
         if kind.startswith("shallow at least "):
             return max(fd, float(kind.split()[3])), flag
         if kind == "shallow below default":
             default = float(kw.get("default_cutoff", 2.0))
             return (default, "no_valley") if fd < default else (fd, flag)
-        freqs = np.asarray(freqs, dtype=float)
-        lo = kw.get("cutoff_range", (0.5, 6.0))[0]
-        if fd > freqs[freqs >= lo][0]:  # a dip above the search's lowest bin: kept
-            return fd, flag
-        if kind.endswith("edge default"):
-            return float(kw.get("default_cutoff", 2.0)), "no_valley"
-        if kind.startswith("edge flank "):
+        if kind.startswith("edge flank ") and edge is not None:
             db = 10 * np.log10(np.maximum(psd, np.max(psd) * 1e-30))
-            band = kw.get("tremor_band", (2.5, 15.0))
-            inner = np.flatnonzero((freqs >= band[0]) & (freqs <= band[1]))
-            inner = inner[(inner > 0) & (inner < freqs.size - 1)]
-            local_max = inner[(db[inner] >= db[inner - 1]) & (db[inner] >= db[inner + 1])]
-            peak = local_max[np.argmax(db[local_max])]
-            below = np.flatnonzero((freqs >= lo) & (np.arange(freqs.size) < peak)
+            peak = _peak(np.asarray(freqs, dtype=float), db, kw.get("tremor_band", (2.5, 15.0)))
+            below = np.flatnonzero((np.arange(db.size) >= edge) & (np.arange(db.size) < peak)
                                    & (db <= db[peak] - float(kind.split()[2])))
             return (float(freqs[below[-1]]), "shallow_valley") if below.size else (fd, flag)
+        if kind.startswith("edge flank "):
+            return fd, flag
         raise ValueError(kind)
     return find
 
 
-RULES = ("paper", "floor", "edge default", "edge flank 3", "edge flank 6", "edge flank 10",
+RULES = ("paper", "floor, before", "floor", "edge flank 3", "edge flank 6", "edge flank 10",
          "shallow at least 1", "shallow at least 1.5", "shallow at least 2", "shallow below default",
-         "shallow", "shallow, edge default")
+         "shallow, before", "shallow")
 FIXED = ("fixed 0.6", "fixed 1", "fixed 1.5", "fixed 2", "fixed 2.5", "fixed 3", "fixed 3.5")
 
 
