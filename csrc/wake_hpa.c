@@ -986,12 +986,13 @@ static void step_cutoff(wake_hpa_t *h)
                     h->cutoff = psd_freq(h, edge);
                 } else {
                     /* rules shallow and floor: the PSD minimum at or below min(shallow_high, peak), if 3 bins
-                       or more; rule floor: only a dip well above the noise floor */
+                       or more and above the lowest bin (there the PSD rises into the peak: no dip); rule floor:
+                       only a dip well above the noise floor */
                     const unsigned top = h->cut_shallow < h->peak ? h->cut_shallow : h->peak;
                     h->flag = WAKE_HPA_NO_VALLEY;
                     if (h->cfg.rule != WAKE_HPA_RULE_PAPER && top >= h->cut_lo && top - h->cut_lo + 1u >= 3u) {
                         const unsigned dip = psd_minimum(h, top);
-                        if (!at_floor(h, dip)) {
+                        if (dip > h->cut_lo && !at_floor(h, dip)) {
                             h->flag = WAKE_HPA_SHALLOW_VALLEY;
                             h->cutoff = psd_freq(h, dip);
                         }

@@ -207,9 +207,11 @@ def test_floor_rule_lowers_the_pads_error_and_leaves_few_windows_on_the_default(
                 floor.append(slice_nrmse(tremor, res.tremor[:, c], rec.fs))
                 paper.append(slice_nrmse(tremor, rec.samples[:, c] - v_paper[:, c], rec.fs))
     mean = lambda rows, k: float(np.mean([r[k] for r in rows]))  # noqa: E731
-    # the target: at most 30 % of windows on the constant default cut-off (paper rule: 81 %)
+    # far fewer windows on the constant default cut-off than the paper rule (82 %): 24 % when the rule came
+    # in (its target: at most 30 %), 33 % since a spectrum rising from 0.5 Hz into the tremor peak is no dip
+    # and falls back, which lowers the PADS error (docs/design.md, "Rest tremor with little voluntary motion")
     on_default = sum(f in FALLBACK_FLAGS for f in flags) / len(flags)
-    assert on_default <= 0.30, on_default
+    assert on_default <= 0.35, on_default
     for k in ("whole (from 0.5 s)", "after 5 s"):
         assert mean(floor, k) < 0.95 * mean(paper, k), k
 

@@ -27,7 +27,7 @@ def add_filter_arguments(p: argparse.ArgumentParser) -> None:
                    help=f"how the HPA finds f_d (default: {WakeConfig.cutoff_rule}): 'paper' a 3 dB valley or "
                         "2 Hz; 'shallow' also a shallower dip below a tremor peak, at or below 4 Hz; 'floor' "
                         "as 'shallow', with both compared to the noise floor above the tremor band (on PADS "
-                        "24 %% instead of 82 %% of windows on 2 Hz; docs/design.md, 'Cut-off on real wear')")
+                        "33 %% instead of 82 %% of windows on 2 Hz; docs/design.md, 'Cut-off on real wear')")
 
 
 def make_filter(args, fs, **settings):

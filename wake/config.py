@@ -179,8 +179,8 @@ class WakeConfig:
         tremor band: a shallow dip at the floor gives the default, a valley
         at the floor moves to the floor's low edge (see
         :func:`wake.hpa.find_cutoff`; docs/design.md, "Cut-off on real
-        wear": 24 % instead of 82 % of PADS windows on the default, PADS
-        tremor NRMSE 0.102 instead of 0.112, synthetic 0.0701 instead of
+        wear": 33 % instead of 82 % of PADS windows on the default, PADS
+        tremor NRMSE 0.101 instead of 0.112, synthetic 0.0701 instead of
         0.0725, whole recordings).
     shallow_max : float
         Highest cut-off the ``"shallow"`` and ``"floor"`` rules take from a

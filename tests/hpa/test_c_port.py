@@ -24,13 +24,13 @@ GRID = CONFIG.fs / 1022  # one step of the AR-spectrum grid, Hz
 CSRC = Path(__file__).resolve().parents[2] / "csrc"
 
 
-def both(x, **kw):
+def both(x, config=CONFIG, **kw):
     """Both HPAs on the window the C one reads: x quantised to int16 with its full scale."""
     from wake.hpa.c_port import quantize_window, run_hpa_c, window_full_scale
 
     fs = window_full_scale(x)
     seen = quantize_window(x, fs) * (fs / 32768)
-    return run_hpa(seen, CONFIG, taps=TAPS, **kw), run_hpa_c(x, CONFIG, taps=TAPS, **kw)
+    return run_hpa(seen, config, taps=TAPS, **kw), run_hpa_c(x, config, taps=TAPS, **kw)
 
 
 def windows():
@@ -84,6 +84,24 @@ def test_c_hpa_runs_every_cutoff_rule_like_the_python_hpa():
     # the cases reach the floor rule's three outcomes, and the other rules' own
     assert {("floor", "floor_valley"), ("floor", "shallow_valley"), ("floor", "no_valley"),
             ("shallow", "shallow_valley"), ("paper", "valley"), ("paper", "no_valley")} <= seen, seen
+
+
+def test_c_hpa_finds_no_valley_where_rest_tremor_rises_from_the_lowest_bin_like_the_python_hpa():
+    """Rest tremor on slow drift (docs/design.md, "Rest tremor with little voluntary motion"): the shallow
+    minimum on the search's lowest bin is no dip, in both HPAs, window by window."""
+    from wake.eval.synthetic import make_rest_tremor
+
+    x = make_rest_tremor(seed=2030, drift_db=-20.0).measurement
+    for rule in ("shallow", "floor"):
+        cfg = WakeConfig(backend="reference", cutoff_rule=rule)
+        flags = []
+        for start in range(0, x.size - 500 + 1, 500):
+            py, c = both(x[start:start + 500], cfg)
+            assert (c.cutoff_flag, start, rule) == (py.cutoff_flag, start, rule)
+            assert abs(c.cutoff - py.cutoff) <= GRID, (start, rule)
+            flags.append(c.cutoff_flag)
+            assert c.cutoff > cfg.cutoff_range[0] + GRID, (start, rule)        # never on the lowest bin
+        assert flags.count("no_valley") >= 5, (rule, flags)
 
 
 def test_a_short_window_without_a_clean_valley_keeps_the_weights_like_the_python_hpa():

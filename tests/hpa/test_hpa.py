@@ -45,9 +45,11 @@ def test_shallow_dip_is_not_a_valley():
     psd = 1.0 + 0.1 * np.exp(-((f - 8) ** 2))  # a 0.4 dB bump on a flat floor
     fd, flag = find_cutoff(f, psd, rule="paper")
     assert flag in ("no_valley", "no_tremor_peak") and fd == 2.0
-    # the shallow rule takes the floor's minimum instead, never above shallow_max
-    fd, flag = find_cutoff(f, psd, rule="shallow")
-    assert flag == "shallow_valley" and 0.5 <= fd <= 4.0
+    # the floor rises from 0.5 Hz into the bump: no dip for the shallow rule either
+    assert find_cutoff(f, psd, rule="shallow") == (2.0, "no_valley")
+    # with voluntary content falling into the floor, the shallow rule takes the minimum, never above shallow_max
+    fd, flag = find_cutoff(f, psd + 0.05 * np.exp(-f / 0.5), rule="shallow")
+    assert flag == "shallow_valley" and 0.5 < fd <= 4.0
 
 
 def test_shallow_rule_takes_the_minimum_below_a_tremor_peak():
@@ -127,7 +129,7 @@ def test_floor_rule_takes_a_shallow_dip_only_well_above_the_noise_floor():
     assert find_cutoff(f, shoulder, rule="floor") == find_cutoff(f, shoulder, rule="shallow")
     assert find_cutoff(f, shoulder, rule="floor")[1] == "shallow_valley"
     # a weak tremor bump on a flat floor: the dip is the floor itself, so the default stays
-    flat = 1.0 + 0.1 * np.exp(-((f - 8) ** 2))
+    flat = 1.0 + 0.1 * np.exp(-((f - 8) ** 2)) + 0.05 * np.exp(-f / 0.5)
     assert find_cutoff(f, flat, rule="shallow")[1] == "shallow_valley"
     assert find_cutoff(f, flat, rule="floor") == (2.0, "no_valley")
     # the margin decides: the shoulder's dip lies 30 dB above its floor

@@ -12,6 +12,10 @@ The paper gives the input SNR of its ten signals, ``10 log10(P(s_v) /
 and tremor; :func:`make_signal` takes that split as ``tremor_share`` (the
 fraction of the noise power in the tremor band, 0.5 by default) and scales
 both so that the SNR is met exactly.
+
+:func:`make_rest_tremor` builds the opposite case, rest tremor with little
+voluntary motion: a narrow 4-6 Hz tremor on slow 1/f drift (docs/design.md,
+"Rest tremor with little voluntary motion").
 """
 
 from __future__ import annotations
@@ -22,7 +26,8 @@ import numpy as np
 
 from wake._validation import check_positive
 
-__all__ = ["SyntheticSignal", "PAPER_SNR_DB", "PAPER_WAKE", "make_signal", "paper_dataset"]
+__all__ = ["RestTremorSignal", "SyntheticSignal", "PAPER_SNR_DB", "PAPER_WAKE", "REST_TREMOR_DRIFT_DB",
+           "make_rest_tremor", "make_signal", "paper_dataset", "rest_tremor_dataset"]
 
 #: Input SNR (dB) of the paper's ten synthetic signals (Table "results2").
 PAPER_SNR_DB = (7.5, 5.1, 0.3, -4.0, 4.6, 0.3, -4.9, 20.9, 15.1, 10.0)
@@ -155,3 +160,102 @@ def paper_dataset(seed=2018, **kwargs):
     (10, [7.5, 5.1, 0.3])
     """
     return [make_signal(snr, seed=seed + i, **kwargs) for i, snr in enumerate(PAPER_SNR_DB)]
+
+
+#: Drift-to-tremor power ratios, dB, of :func:`rest_tremor_dataset` (signal ``i`` uses entry ``i % 5``).
+REST_TREMOR_DRIFT_DB = (-20.0, -15.0, -10.0, -5.0, 0.0)
+
+
+@dataclass(frozen=True)
+class RestTremorSignal:
+    """One rest-tremor recording with every component kept apart (:func:`make_rest_tremor`)."""
+
+    measurement: np.ndarray  #: voluntary + white + tremor
+    voluntary: np.ndarray  #: the 1/f drift: slow motion an actuator must not cancel
+    white: np.ndarray  #: sensor noise
+    tremor: np.ndarray  #: the rest tremor
+    fs: float
+    tremor_freq: float  #: centre of the tremor band, Hz
+    drift_db: float  #: drift-to-tremor power ratio reached, dB
+
+
+def make_rest_tremor(*, seed=0, fs=100.0, duration=50.0, drift_db=-10.0, white_db=-30.0, tremor_freq=None,
+                     tremor_width=1.0, drift_band=(0.02, 3.0)):
+    """Rest tremor with little voluntary motion: a 4-6 Hz tremor on 1/f drift.
+
+    The tremor is a bank of sinusoids every 0.02 Hz over ``tremor_width``
+    around ``tremor_freq`` (random amplitudes and phases, unit power).  The
+    voluntary part is slow drift whose power density falls as 1/f over
+    ``drift_band``: sinusoids every 0.02 Hz with amplitudes proportional to
+    ``f**-0.5``, scaled to ``drift_db`` relative to the tremor.  The sensor
+    noise is white (sinusoids every 0.1 Hz up to ``fs/2``) at ``white_db``.
+    A window of it has a spectrum that rises from the drift into the tremor
+    peak with no valley between them.
+
+    Parameters
+    ----------
+    seed : int
+        Seed of ``numpy.random.default_rng``; the same seed gives the same signal.
+    fs, duration : float
+        Sampling rate (Hz) and length (s).
+    drift_db : float
+        Drift power over tremor power, dB.
+    white_db : float
+        White noise power over tremor power, dB.
+    tremor_freq : float, optional
+        Centre of the tremor band, Hz; drawn from U(4.5, 5.5) when omitted, so
+        the band lies within 4-6 Hz.
+    tremor_width : float
+        Width of the tremor band, Hz.
+    drift_band : (float, float)
+        Lowest and highest drift frequency, Hz.
+
+    Returns
+    -------
+    RestTremorSignal
+
+    Examples
+    --------
+    >>> from wake.eval.synthetic import make_rest_tremor
+    >>> s = make_rest_tremor(seed=1, drift_db=-10.0)
+    >>> s.measurement.shape, round(s.drift_db, 6), bool(4.0 <= s.tremor_freq <= 6.0)
+    ((5000,), -10.0, True)
+    """
+    fs = check_positive("fs", fs)
+    duration = check_positive("duration", duration)
+    check_positive("tremor_width", tremor_width)
+    if not 0 < drift_band[0] < drift_band[1] < fs / 2:
+        raise ValueError(f"drift_band must satisfy 0 < low < high < fs/2 = {fs / 2}, got {drift_band!r}")
+    rng = np.random.default_rng(seed)
+    n = int(round(duration * fs))
+    t = np.arange(n) / fs
+    if tremor_freq is None:
+        tremor_freq = float(rng.uniform(4.5, 5.5))
+    if not tremor_width / 2 < tremor_freq < fs / 2 - tremor_width / 2:
+        raise ValueError(f"the tremor band {tremor_freq!r} +- {tremor_width / 2!r} Hz must lie inside (0, fs/2)")
+    step = 0.02
+    tremor = _sinusoid_bank(rng, t, tremor_freq - tremor_width / 2, tremor_freq + tremor_width / 2, step, 1.0, 0.5)
+    freqs = np.arange(drift_band[0], drift_band[1] + step / 2, step)
+    amps = rng.uniform(0.5, 1.5, freqs.size) / np.sqrt(freqs)
+    phases = rng.uniform(0.0, 2 * np.pi, freqs.size)
+    drift = np.sum(amps[:, None] * np.sin(2 * np.pi * freqs[:, None] * t + phases[:, None]), axis=0)
+    white = _sinusoid_bank(rng, t, 0.1, fs / 2, 0.1, 1.0, 0.5)
+    tremor /= np.sqrt(np.mean(tremor**2))
+    drift *= 10 ** (drift_db / 20) / np.sqrt(np.mean(drift**2))
+    white *= 10 ** (white_db / 20) / np.sqrt(np.mean(white**2))
+    return RestTremorSignal(drift + white + tremor, drift, white, tremor, fs, float(tremor_freq),
+                            float(10 * np.log10(np.mean(drift**2) / np.mean(tremor**2))))
+
+
+def rest_tremor_dataset(seed=2030, **kwargs):
+    """Ten rest-tremor signals: signal ``i`` uses seed ``seed + i`` and ``REST_TREMOR_DRIFT_DB[i % 5]``.
+
+    Examples
+    --------
+    >>> from wake.eval.synthetic import rest_tremor_dataset
+    >>> data = rest_tremor_dataset()
+    >>> len(data), [round(s.drift_db) for s in data][:5]
+    (10, [-20, -15, -10, -5, 0])
+    """
+    return [make_rest_tremor(seed=seed + i, drift_db=REST_TREMOR_DRIFT_DB[i % len(REST_TREMOR_DRIFT_DB)], **kwargs)
+            for i in range(10)]
