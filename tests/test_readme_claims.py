@@ -292,6 +292,13 @@ def check_baselines():
     assert len(wins) == int(m[1]) and sorted(set(range(1, 11)) - set(wins)) == [int(m[2])]
     row = rows[int(m[2]) - 1]["methods"]
     assert round(row[m[3]]["nrmse"], 4) == float(m[4]) and round(row["WAKE-ref"]["nrmse"], 4) == float(m[5])
+    from wake.eval.evaluate import ablation_literal_rtp
+
+    abl = ablation_literal_rtp()
+    literal = min(float(np.mean(v)) for k, v in abl["nrmse"].items() if k.startswith("literal"))
+    ratio = abl["ops"]["literal"] / abl["ops"]["wake_inert"]
+    assert f"scores {literal:.3f} against our {float(np.mean(abl['nrmse']['WAKE RTP'])):.3f} and costs about " \
+           f"{round(ratio)}x the multiply-adds" in text
     if pads_dir() is None:
         pytest.skip(f"the synthetic claims hold; the PADS claims need the recordings: {NO_PADS}")
     from wake.eval.datasets import load_pads_folder
