@@ -19,3 +19,12 @@ def signal10():
 @pytest.fixture
 def rng():
     return np.random.default_rng(12345)
+
+
+@pytest.fixture
+def recording(tmp_path):
+    """A 12 s, two-channel CSV (header ``a,b``; ``b = -a``, no time column) and the synthetic signal behind it."""
+    s = make_signal(5.0, seed=1, duration=12.0)
+    path = tmp_path / "rec.csv"
+    np.savetxt(path, np.column_stack([s.measurement, -s.measurement]), delimiter=",", header="a,b", comments="")
+    return path, s

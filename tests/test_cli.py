@@ -5,14 +5,6 @@ from wake.cli import main
 from wake.eval.synthetic import make_signal
 
 
-@pytest.fixture
-def recording(tmp_path):
-    s = make_signal(5.0, seed=1, duration=12.0)
-    path = tmp_path / "rec.csv"
-    np.savetxt(path, np.column_stack([s.measurement, -s.measurement]), delimiter=",", header="a,b", comments="")
-    return path, s
-
-
 def test_demo_prints_the_table(capsys):
     assert main(["demo", "--backend", "reference"]) == 0
     out = capsys.readouterr().out

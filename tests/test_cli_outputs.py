@@ -10,15 +10,6 @@ import pytest
 from wake import WakeFilter
 from wake._files import atomic_write_text
 from wake.cli import main
-from wake.eval.synthetic import make_signal
-
-
-@pytest.fixture
-def recording(tmp_path):
-    s = make_signal(5.0, seed=1, duration=12.0)
-    path = tmp_path / "rec.csv"
-    np.savetxt(path, np.column_stack([s.measurement, -s.measurement]), delimiter=",", header="a,b", comments="")
-    return path, s
 
 
 @pytest.fixture
