@@ -273,8 +273,9 @@ def fit_on_recording(args):
     unit = f" {rec.unit(0)}" if rec.unit(0) else ""
     chosen = "" if args.column else f" (the first of {len(rec.channels)}; choose with --column)" \
         if len(rec.channels) > 1 else ""
+    rate = f"rate from its {rec.timing.unit_note}" if rec.timing.unit_note else rec.timing.describe(rec.fs)
     note = (f"fitted on channel {rec.channels[0]!r}{chosen} of {Path(args.fit).name} at {rec.fs:g} Hz "
-            f"({rec.timing.describe(rec.fs)}); last HPA at sample {last.index}, f_d {last.cutoff:.2f} Hz "
+            f"({rate}); last HPA at sample {last.index}, f_d {last.cutoff:.2f} Hz "
             f"({last.cutoff_flag}), fit error e_L {last.fit_error:.4g}{unit} RMS")
     return last, x, filt, note, rec.fs
 
