@@ -448,7 +448,7 @@ wake_hpa_status_t wake_hpa_init(wake_hpa_t *h, const wake_hpa_config_t *cfg, con
                                                                                             : cfg->cutoff_high);
     /* the floor's bins: above tremor_high up to fs/2 (none when tremor_high reaches fs/2) */
     h->floor_lo = (uint16_t)(last_bin_at_or_below(h, cfg->tremor_high) + 1u);
-    h->gap_len = (uint16_t)((cfg->window + 4u) / 5u);          /* ceil(L / 5): wake.channel.GAP_SHARE */
+    h->gap_len = (uint16_t)((cfg->window + 4u) / 5u);          /* ceil(L / 5): wake.hpa.schedule.GAP_SHARE */
     h->seal = seal_of(h);
     h->magic = WAKE_HPA_MAGIC;
     return WAKE_HPA_OK;
@@ -504,7 +504,7 @@ static int reads_buffer(const wake_hpa_t *h, unsigned b)
 }
 
 /**
- * One sample into the window buffers, and the HPA it completes (wake.channel.Channel.update):
+ * One sample into the window buffers, and the HPA it completes (wake.hpa.schedule.HPASchedule.push):
  * a full window every L samples from the schedule's base, the warm-up points counted from it;
  * none inside a long gap; a long gap's end restarts the schedule there, in a fresh buffer.
  */
@@ -525,7 +525,7 @@ static wake_hpa_status_t feed(wake_hpa_t *h, wake_q15_t sample, int missing)
             }
             h->base = h->count;
             /* from its first point of clean_below samples or more: the weights in use were fitted before
-               the gap, and a shorter fit does not beat them (wake.channel.Channel.point_after) */
+               the gap, and a shorter fit does not beat them (wake.hpa.schedule.HPASchedule.point_after) */
             h->warmup_next = 0;
             while (h->warmup_next < WAKE_HPA_MAX_WARMUP && h->cfg.warmup[h->warmup_next] != 0u &&
                    h->cfg.warmup[h->warmup_next] < h->cfg.clean_below) { /* wcet-loop: WAKE_HPA_MAX_WARMUP */

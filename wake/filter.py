@@ -16,7 +16,6 @@ with ``x`` (``voluntary[k]`` predicts ``x[k]`` from ``x[:k]``).
 
 from __future__ import annotations
 
-import copy
 import threading
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field, fields
@@ -26,7 +25,7 @@ import numpy as np
 from wake._validation import as_sample, as_signal
 from wake.config import BACKENDS, WakeConfig
 from wake.hpa.c_port import check_c_hpa_config
-from wake.channel import Channel, start_weights_for
+from wake.channel import Channel, channel_state_from_unversioned, start_weights_for
 from wake.rtp import load_fixed_point
 from wake.wavelets import filter_bank_taps
 
@@ -94,17 +93,39 @@ class WakeResult:
         return np.array([c.mean() if c.size else np.nan for c in self.cutoffs])
 
 
+#: The layout of :class:`WakeState` (and of :class:`~wake.channel.ChannelState` in it).  Version 0 is the
+#: unversioned snapshot of earlier releases (a dict per channel), still read.
+STATE_VERSION = 1
+
+
 @dataclass
 class WakeState:
     """A snapshot of a stream, taken by :meth:`WakeFilter.get_state`.
 
-    Plain data (picklable): the configuration and, per channel, the HPA
-    bookkeeping and the RTP object.  :meth:`WakeFilter.set_state` continues
-    the stream from it, bit for bit, like scipy's ``zi`` / ``zf``.
+    Plain data (picklable): the configuration and, per channel, a
+    :class:`~wake.channel.ChannelState` (HPA schedule, weights and history,
+    RTP).  :meth:`WakeFilter.set_state` continues the stream from it, bit for
+    bit, like scipy's ``zi`` / ``zf``; a state of another ``version``
+    (:data:`STATE_VERSION`) is refused with a message.
     """
 
     config: WakeConfig
     channels: list
+    version: int = STATE_VERSION
+
+    def __setstate__(self, st):
+        # a state pickled before the layout was versioned has no "version": it is version 0
+        self.__dict__.update({"version": 0, **st})
+
+    def channel_states(self) -> list:
+        """The per-channel states in the current layout (version 0 converted), or ``ValueError``."""
+        if self.version == STATE_VERSION:
+            return list(self.channels)
+        if self.version == 0 and all(isinstance(c, dict) for c in self.channels):
+            return [channel_state_from_unversioned(c) for c in self.channels]
+        raise ValueError(f"this state has layout version {self.version!r}; this version of wake reads "
+                         f"version {STATE_VERSION} (and the unversioned states of earlier releases): "
+                         "load it with the wake release that saved it, or start the stream again")
 
 
 def _out_dtype(x) -> type:
@@ -278,12 +299,13 @@ class WakeFilter:
         vol[1:] = pred[:-1]  # voluntary[k] comes from x[:k]
         cast = lambda a: shape(a).astype(dtype, copy=False)  # noqa: E731
         res = WakeResult(cast(vol), cast(arr - vol), cast(pred), [list(ch.updates) for ch in channels],
-                         self.config.window_samples, self.config.backend, rtp=[ch.rtp for ch in channels])
+                         self.config.window_samples, self.config.backend, rtp=[ch.rtp.core for ch in channels])
         if self.config.backend == "c":
-            res.full_scale = np.array([ch.full_scale if ch.full_scale is not None else np.nan for ch in channels])
-            res.clipped = np.array([getattr(ch.rtp, "clipped", 0) for ch in channels])
-            res.saturations = np.array([getattr(ch.rtp, "saturations", 0) for ch in channels])
-            res.full_scale_changes = np.array([ch.full_scale_changes for ch in channels])
+            rtps = [ch.rtp for ch in channels]
+            res.full_scale = np.array([r.full_scale if r.full_scale is not None else np.nan for r in rtps])
+            res.clipped = np.array([getattr(r.core, "clipped", 0) for r in rtps])
+            res.saturations = np.array([getattr(r.core, "saturations", 0) for r in rtps])
+            res.full_scale_changes = np.array([r.full_scale_changes for r in rtps])
         return res
 
     # -- streaming ---------------------------------------------------------
@@ -347,7 +369,7 @@ class WakeFilter:
     def rtp_states(self) -> list:
         """Per channel, the RTP object of the current stream (covariance, saturations, ...)."""
         with self._lock:
-            return [ch.rtp for ch in (self._channels or [])]
+            return [ch.rtp.core for ch in (self._channels or [])]
 
     @property
     def hpa_history(self) -> list:
@@ -388,21 +410,22 @@ class WakeFilter:
         """
         with self._lock:
             self.flush()
-            return WakeState(self.config, [ch.snapshot() for ch in (self._channels or [])])
+            return WakeState(self.config, [ch.state() for ch in (self._channels or [])])
 
     def set_state(self, state: WakeState) -> None:
-        """Continue the stream from :meth:`get_state` (the configurations must match)."""
+        """Continue the stream from :meth:`get_state` (the configurations and layout versions must match)."""
         if not isinstance(state, WakeState):
             raise TypeError(f"state must be a WakeState from get_state(), got {type(state).__name__}")
+        snapshots = state.channel_states()
         if state.config != self.config:
             raise ValueError("the state was taken from a filter with another configuration; "
                              "build the filter with WakeFilter(config=state.config)")
         with self._lock:
             self.reset()
-            if state.channels:
-                channels = self._new_channels(len(state.channels))
-                for ch, snap in zip(channels, state.channels):
-                    ch.__dict__.update(copy.deepcopy(snap))
+            if snapshots:
+                channels = self._new_channels(len(snapshots))
+                for ch, snap in zip(channels, snapshots):
+                    ch.load(snap)
                 self._channels = channels
                 self._n_channels = len(channels)
 

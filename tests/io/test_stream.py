@@ -137,7 +137,7 @@ def test_processor_aligns_like_run_and_passes_missing_samples(signal3):
 
 def samples_in(filt) -> int:
     channels = filt.get_state().channels
-    return channels[0]["count"] if channels else 0
+    return channels[0].schedule.count if channels else 0
 
 
 def test_answer_goes_out_before_the_filter_takes_the_sample_in(signal3):
