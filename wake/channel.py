@@ -10,7 +10,7 @@ A :class:`Channel` owns three pieces, each deciding one thing:
   the filter's worker thread; this module dispatches it and installs its
   result between two samples.
 
-It holds no number format (:mod:`wake.rtp.fixed`) and no schedule rule.
+It holds no number format (:mod:`wake.rtp.qformat`) and no schedule rule.
 """
 
 from __future__ import annotations

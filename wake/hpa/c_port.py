@@ -137,7 +137,7 @@ def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index:
     'valley'
     """
     ffi, lib = _core()
-    from wake.rtp.fixed import quantize_taps
+    from wake.rtp.qformat import quantize_taps
 
     check_c_hpa_config(config)
     x = np.asarray(window, dtype=float)

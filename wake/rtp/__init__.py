@@ -8,6 +8,9 @@ Two implementations share one interface, :class:`RTP`:
   cffi, the code firmware runs), loaded by :func:`load_fixed_point` only
   when asked for, so that the package works without a compiled core.
 
+:mod:`wake.rtp.qformat` holds the C core's number formats and the quantisers
+into them (no compiled core needed); :mod:`wake.rtp.adaptive` the RTP that
+picks its own full scale and moves from the reference to the C core.
 :mod:`wake.rtp.literal` keeps the paper's literal windowed Algorithm 3 for
 the ablation in the evaluation.
 """
