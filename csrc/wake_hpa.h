@@ -159,7 +159,7 @@ typedef enum {
     WAKE_HPA_FLOOR_VALLEY = 5     /**< rule "floor": a valley at the noise floor; f_d at the floor's low edge */
 } wake_hpa_flag_t;
 
-/** Cut-off rules (wake.hpa.CUTOFF_RULES). */
+/** Cut-off rules (wake.registry, in registration order). */
 typedef enum {
     WAKE_HPA_RULE_PAPER = 0,
     WAKE_HPA_RULE_SHALLOW = 1,

@@ -1,8 +1,10 @@
 """WakeConfig: every setting of a WAKE filter, validated once.
 
-This module is the one place where the limits of the package live: the
-highest decomposition level, the weight bound the HPA keeps, the valid
-choices of every option and the numeric ranges the constructor accepts.
+This module is the one place where the settings are checked: the weight
+bound the HPA keeps, the valid choices of every option and the numeric
+ranges the constructor accepts.  What lower layers share lives below it:
+the highest decomposition level in :mod:`wake.limits`, the cut-off rules in
+:mod:`wake.registry`.
 The C core's own limits (``WAKE_RTP_MAX_LEVEL``, the Q formats) are checked
 against these by the test suite.
 """
@@ -13,13 +15,13 @@ import math
 import numbers
 from dataclasses import dataclass, fields
 
+from wake._core import BUILD_HINT, core_installed
 from wake._validation import check_level, check_mode, check_wavelet
+from wake.limits import MAX_LEVEL
+from wake.registry import cutoff_rule_names
 
 __all__ = ["CoreMissingWarning", "WakeConfig", "MAX_LEVEL", "WEIGHT_LIMIT", "BACKENDS", "HPA_BACKENDS", "HPA_MODES", "FITS", "LIMITS"]
 
-#: Highest decomposition level J, for the float reference and the C core alike
-#: (the C struct is sized by ``WAKE_RTP_MAX_LEVEL``, which must equal it).
-MAX_LEVEL = 6
 #: Largest |weight| the HPA hands over.  The C core holds weights in Q24 and
 #: accepts |w| <= 64; keeping the HPA at half of that leaves room for the
 #: rounding of any later rescaling.
@@ -101,9 +103,7 @@ class CoreMissingWarning(UserWarning):
 
 def _default_backend() -> str:
     """``"c"`` when the compiled core imports, else ``"reference"``, warning (once per process) which."""
-    from wake.rtp import BUILD_HINT, c_backend_available  # here: wake.rtp imports this module
-
-    if c_backend_available():
+    if core_installed():
         return "c"
     import warnings
 
@@ -251,10 +251,9 @@ class WakeConfig:
                 f"the HPA window holds {self.window_samples} samples (window_s * fs); level {self.level} "
                 f"and ar_order {self.ar_order} need at least {need}: lengthen window_s to "
                 f">= {need / self.fs:g} s or lower the level")
-        from wake.hpa.cutoff import CUTOFF_RULES  # here: wake.hpa imports this module
-
-        if self.cutoff_rule not in CUTOFF_RULES:
-            raise ValueError(f"unknown cutoff_rule {self.cutoff_rule!r}; valid choices: {', '.join(CUTOFF_RULES)}")
+        if self.cutoff_rule not in cutoff_rule_names():
+            raise ValueError(f"unknown cutoff_rule {self.cutoff_rule!r}; valid choices: "
+                             f"{', '.join(cutoff_rule_names())}")
         if self.fit not in FITS:
             raise ValueError(f"unknown fit {self.fit!r}; valid choices: {', '.join(FITS)}")
         for name in ("process_noise_ratio", "initial_covariance", "ridge"):

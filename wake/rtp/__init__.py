@@ -21,18 +21,10 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
+from wake._core import BUILD_HINT, CoreUnavailable
 from wake.rtp.reference import ReferenceRTP
 
 __all__ = ["RTP", "ReferenceRTP", "CoreUnavailable", "c_backend_available", "load_fixed_point"]
-
-#: How to get the compiled core, for every message that needs it.
-BUILD_HINT = ("build it with `pip install .` (or `pip install -e .` inside a source tree) on a machine "
-              "with a C compiler, or use backend=\"reference\" (the float64 reference, no compiler needed)")
-
-
-class CoreUnavailable(ImportError):
-    """The compiled fixed-point core ``wake._rtp`` cannot be imported."""
-
 
 @runtime_checkable
 class RTP(Protocol):

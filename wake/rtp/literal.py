@@ -144,7 +144,7 @@ def hpa_schedule(updates, level, n):
     The HPA that ran with ``index`` samples received is in force for the
     step on sample ``index - 1`` and after (see :class:`wake.hpa.schedule.HPASchedule`).
     """
-    from wake.hpa import default_weights
+    from wake.wavelets import default_weights
 
     sched = [(0, default_weights(level), 1.0)]
     for u in updates:

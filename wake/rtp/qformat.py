@@ -24,14 +24,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from wake.limits import MAX_LEVEL
+
 __all__ = ["P_FRAC", "MAX_LEVEL", "SAMPLE_FRAC", "TAP_FRAC", "STATE_FRAC", "WEIGHT_FRAC", "WEIGHT_MAX",
            "TAP_ROW_ABS_MAX", "FIR_FRAC", "quantize_taps", "quantize_weights", "quantize_variance",
            "representable_noise"]
 
 #: Fraction bits of the covariance format (``WAKE_RTP_P_FRAC``).
 P_FRAC = 32
-#: Largest level the compiled struct holds (``WAKE_RTP_MAX_LEVEL``).
-MAX_LEVEL = 6
 #: Fraction bits of the I/O samples (``WAKE_RTP_SAMPLE_FRAC``: Q15 of FS).
 SAMPLE_FRAC = 15
 #: Fraction bits of the filter-bank taps (``WAKE_RTP_TAP_FRAC``).
