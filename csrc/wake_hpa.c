@@ -316,6 +316,9 @@ static inline uint32_t mix(uint32_t v, uint32_t w)
  * re-validating cost 280).  Each step is a bijection of the running value,
  * so a change of any one field is always detected.
  */
+#if WAKE_HPA_HORIZON != 1
+#error "the normal equations (step_bin_end, step_ramp, step_gram) are written for WAKE_HPA_HORIZON 1"
+#endif
 #if WAKE_HPA_MAX_WARMUP != 8
 #error "seal_of() hashes eight warm-up points"
 #endif
@@ -366,7 +369,7 @@ static wake_hpa_status_t check_instance(const wake_hpa_t *h)
     }
     /* a run in progress: every counter that indexes an array within its range */
     N = 1u << h->cfg.level;
-    if (h->work == NULL || h->n > h->cfg.window || h->n < 2u * N || h->rows != h->n - N ||
+    if (h->work == NULL || h->n > h->cfg.window || h->n < 2u * N || h->rows != h->n - N - (WAKE_HPA_HORIZON - 1u) ||
         h->order > h->cfg.ar_order || h->lags > (h->order + 1u > N ? h->order + 1u : N) ||
         h->t > (h->phase == STEP_PSD ? psd_last(h) + 1u : h->n) ||
         h->d > h->lags || h->bins > h->n / 2u || h->m > h->bins + 1u || h->pair > 2u ||
@@ -460,7 +463,7 @@ static void begin(wake_hpa_t *h, const wake_q15_t *window, uint16_t n, uint32_t 
     h->work = window;
     h->n = n;
     h->index = index;
-    h->rows = (uint16_t)(n - N);
+    h->rows = (uint16_t)(n - N - (WAKE_HPA_HORIZON - 1u)); /* a(t), t = N-1 .. n-1-horizon */
     h->order = (uint16_t)(h->cfg.ar_order < (n - 1u) / 2u ? h->cfg.ar_order : (n - 1u) / 2u);
     h->lags = (uint16_t)(h->order + 1u > N ? h->order + 1u : N);
     h->t = 0;

@@ -10,7 +10,8 @@ PACKAGE = Path(__file__).resolve().parents[1] / "wake"
 #: The layers of docs/architecture.md, lowest first.  A module may import from its own layer and below,
 #: never from above; every import counts, inside functions too.
 LAYERS = (
-    ("wake._rtp", "wake._validation", "wake._files", "wake._core", "wake.limits", "wake.registry"),
+    ("wake._rtp", "wake._validation", "wake._files", "wake._core", "wake.limits", "wake.registry",
+     "wake.target"),
     ("wake.io", "wake.wavelets"),
     ("wake.config",),
     ("wake.rtp",),

@@ -27,6 +27,7 @@ from wake.config import BACKENDS, WakeConfig
 from wake.hpa.c_port import check_c_hpa_config
 from wake.channel import Channel, channel_state_from_unversioned, start_weights_for
 from wake.rtp import load_fixed_point
+from wake.target import TARGET
 from wake.wavelets import filter_bank_taps
 
 __all__ = ["WakeFilter", "WakeResult", "WakeState", "BACKENDS", "RateWarning", "TUNED_RATES"]
@@ -295,8 +296,7 @@ class WakeFilter:
 
     def _result(self, arr, pred, channels, one_d, dtype):
         shape = (lambda a: a[:, 0]) if one_d else (lambda a: a)
-        vol = np.zeros_like(pred)
-        vol[1:] = pred[:-1]  # voluntary[k] comes from x[:k]
+        vol = TARGET.voluntary_from(pred)  # voluntary[k] comes from x[:k]
         cast = lambda a: shape(a).astype(dtype, copy=False)  # noqa: E731
         res = WakeResult(cast(vol), cast(arr - vol), cast(pred), [list(ch.updates) for ch in channels],
                          self.config.window_samples, self.config.backend, rtp=[ch.rtp.core for ch in channels])

@@ -16,6 +16,7 @@ from wake.hpa.cutoff import CUTOFF_FLAGS, EDGE_DB, FLOOR_MARGIN_DB, FLOOR_STRIDE
 from wake.hpa.run import HPAUpdate, clean_only_below
 from wake.registry import cutoff_rule_names, cutoff_rules, get_cutoff_rule
 from wake.rtp.full_scale import power_of_two_at_least
+from wake.target import TARGET
 
 __all__ = ["c_flag_name", "c_mirror_problems", "hpa_config", "hpa_config_fields", "quantize_window", "run_hpa_c",
            "check_c_hpa_config", "window_full_scale"]
@@ -49,7 +50,8 @@ def c_mirror_problems(lib) -> list:
     """Where the Python side and the compiled C HPA ``lib`` disagree: the one check of every number the
     two both state.  Each registered cut-off rule (:mod:`wake.registry`) must have its ``c_name`` numbered
     by its place in the registry, each key of :data:`~wake.hpa.CUTOFF_FLAGS` its :func:`c_flag_name`;
-    ``MAX_WARMUP`` and ``FLOOR_STRIDE`` must equal the header's.  Returns one message per problem."""
+    ``MAX_WARMUP``, ``FLOOR_STRIDE`` and the prediction target's horizon (:mod:`wake.target`) must equal
+    the header's.  Returns one message per problem."""
     problems = []
     for number, rule in enumerate(cutoff_rules()):
         have = getattr(lib, rule.c_name, None)
@@ -64,7 +66,8 @@ def c_mirror_problems(lib) -> list:
         if have is None or int(have) != number:
             problems.append(f"cut-off flag {flag!r}: {c_flag_name(flag)} = {have}, expected {number} "
                             "(wake_hpa_flag_t follows the order of wake.hpa.CUTOFF_FLAGS)")
-    for name, value in (("WAKE_HPA_MAX_WARMUP", MAX_WARMUP), ("WAKE_HPA_FLOOR_STRIDE", FLOOR_STRIDE)):
+    for name, value in (("WAKE_HPA_MAX_WARMUP", MAX_WARMUP), ("WAKE_HPA_FLOOR_STRIDE", FLOOR_STRIDE),
+                        ("WAKE_HPA_HORIZON", TARGET.horizon)):
         if int(getattr(lib, name)) != value:
             problems.append(f"{name} = {int(getattr(lib, name))}, the Python side says {value}")
     return problems
