@@ -11,7 +11,7 @@ from support import has_c_backend
 from wake import WakeFilter, WakeState
 from wake.channel import ChannelState
 from wake.eval.synthetic import make_signal
-from wake.filter import STATE_VERSION
+from wake.state import STATE_VERSION
 
 DATA = Path(__file__).parent / "data"
 #: tests/data/state_unversioned_*.pkl: get_state() after this many samples of the signal below, pickled by

@@ -18,115 +18,23 @@ from __future__ import annotations
 
 import threading
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field, fields
+from dataclasses import fields
 
 import numpy as np
 
 from wake._validation import as_sample, as_signal
-from wake.config import BACKENDS, WakeConfig
+from wake.channel import Channel, start_weights_for
+from wake.config import BACKENDS, TUNED_RATES, RateWarning, WakeConfig, warn_if_far_from_tuned_rate
 from wake.hpa.c_port import check_c_hpa_config
-from wake.channel import Channel, channel_state_from_unversioned, start_weights_for
+from wake.result import WakeResult
 from wake.rtp import load_fixed_point
+from wake.state import STATE_VERSION, WakeState  # noqa: F401  (STATE_VERSION: the layout get_state writes)
 from wake.target import TARGET
 from wake.wavelets import filter_bank_taps
 
 __all__ = ["WakeFilter", "WakeResult", "WakeState", "BACKENDS", "RateWarning", "TUNED_RATES"]
 
 _INF = float("inf")
-
-
-#: Sampling rates (Hz) the defaults were measured at and hold for (docs/design.md, "Sampling rates").
-TUNED_RATES = (50.0, 200.0)
-
-
-class RateWarning(UserWarning):
-    """The sampling rate is far from the 100 Hz the defaults were tuned at."""
-
-
-def _warn_if_far_from_tuned_rate(config: WakeConfig) -> None:
-    low, high = TUNED_RATES
-    if low <= config.fs <= high:
-        return
-    import warnings
-
-    span_ms = 1e3 * 2**config.level / config.fs
-    warnings.warn(
-        f"fs = {config.fs:g} Hz is outside {low:g}-{high:g} Hz, where WAKE's defaults were tuned: the level-"
-        f"{config.level} filter bank spans {span_ms:.0f} ms here (320 ms at 100 Hz) and ar_order={config.ar_order} "
-        "resolves the spectrum differently, so voluntary motion and tremor separate worse (measured on a "
-        "synthetic signal: NRMSE 0.082 at 1000 Hz against 0.035 at 100 Hz, whatever the AR order). Resample the "
-        "recording to about 100 Hz first, e.g. scipy.signal.resample_poly(x, 1, 10) for 1000 Hz",
-        RateWarning, stacklevel=3)
-
-
-@dataclass
-class WakeResult:
-    """What :meth:`WakeFilter.run` returns.
-
-    ``prediction[k]`` is the prediction of the voluntary motion at sample
-    ``k + 1`` made from ``x[:k + 1]`` (what ``update(x[k])`` returns);
-    ``voluntary[k]`` is the prediction of sample ``k`` from ``x[:k]``
-    (``voluntary[0] = 0``: nothing is known yet) and
-    ``tremor = x - voluntary``.  Arrays are float32 when the input was
-    float32, float64 otherwise.
-    """
-
-    voluntary: np.ndarray
-    tremor: np.ndarray
-    prediction: np.ndarray
-    hpa: list  #: per channel, the list of :class:`~wake.hpa.HPAUpdate`
-    warmup: int  #: samples before the first HPA (left out of the paper's scores)
-    backend: str
-    rtp: list = field(default=None, repr=False)  #: per channel, the RTP state after the last sample
-    full_scale: np.ndarray = field(default=None)  #: per channel (C backend), else None
-    clipped: np.ndarray = field(default=None)  #: input samples clipped to full scale, per channel
-    saturations: np.ndarray = field(default=None)  #: saturating narrowings inside the C core, per channel
-    full_scale_changes: np.ndarray = field(default=None)  #: rises and falls of the full scale, per channel
-
-    @property
-    def cutoffs(self) -> list:
-        """Per channel, the array of f_d over the HPA runs."""
-        return [np.array([u.cutoff for u in ch]) for ch in self.hpa]
-
-    @property
-    def mean_cutoff(self) -> np.ndarray:
-        """Per channel, the mean f_d over all HPA runs (the paper's offline cut-off)."""
-        return np.array([c.mean() if c.size else np.nan for c in self.cutoffs])
-
-
-#: The layout of :class:`WakeState` (and of :class:`~wake.channel.ChannelState` in it).  Version 0 is the
-#: unversioned snapshot of earlier releases (a dict per channel), still read.
-STATE_VERSION = 1
-
-
-@dataclass
-class WakeState:
-    """A snapshot of a stream, taken by :meth:`WakeFilter.get_state`.
-
-    Plain data (picklable): the configuration and, per channel, a
-    :class:`~wake.channel.ChannelState` (HPA schedule, weights and history,
-    RTP).  :meth:`WakeFilter.set_state` continues the stream from it, bit for
-    bit, like scipy's ``zi`` / ``zf``; a state of another ``version``
-    (:data:`STATE_VERSION`) is refused with a message.
-    """
-
-    config: WakeConfig
-    channels: list
-    version: int = STATE_VERSION
-
-    def __setstate__(self, st):
-        # a state pickled before the layout was versioned has no "version": it is version 0
-        self.__dict__.update({"version": 0, **st})
-
-    def channel_states(self) -> list:
-        """The per-channel states in the current layout (version 0 converted), or ``ValueError``."""
-        if self.version == STATE_VERSION:
-            return list(self.channels)
-        if self.version == 0 and all(isinstance(c, dict) for c in self.channels):
-            return [channel_state_from_unversioned(c) for c in self.channels]
-        raise ValueError(f"this state has layout version {self.version!r}; this version of wake reads "
-                         f"version {STATE_VERSION} (and the unversioned states of earlier releases): "
-                         "load it with the wake release that saved it, or start the stream again")
 
 
 def _out_dtype(x) -> type:
@@ -243,7 +151,7 @@ class WakeFilter:
             load_fixed_point()  # fail here, with how to build the core, not at the first HPA
         if config.hpa_backend == "c":
             check_c_hpa_config(config)
-        _warn_if_far_from_tuned_rate(config)
+        warn_if_far_from_tuned_rate(config)
         self.config = config
         self.taps = filter_bank_taps(config.wavelet, config.level, config.mode)
         self.start_weights = start_weights_for(config, self.taps)  # 0.5 ms: once per filter, not per channel

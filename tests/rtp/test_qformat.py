@@ -42,9 +42,16 @@ def test_the_formats_are_the_headers():
 def test_the_compiled_core_has_the_same_formats():
     if not has_c_backend():
         pytest.skip("the compiled C core wake._rtp is not built")
+    from types import SimpleNamespace
+
     from wake._rtp import lib
 
-    assert (int(lib.WAKE_RTP_P_FRAC), int(lib.WAKE_RTP_STATE_FRAC)) == (qformat.P_FRAC, qformat.STATE_FRAC)
+    assert qformat.format_mismatches(lib) == []
+    names = [n for n in dir(lib) if n.startswith("WAKE_RTP_")]
+    other = SimpleNamespace(**{n: getattr(lib, n) for n in names})
+    other.WAKE_RTP_P_FRAC = qformat.P_FRAC - 2
+    assert qformat.format_mismatches(other) == [f"WAKE_RTP_P_FRAC = {qformat.P_FRAC - 2} (wake.rtp.qformat: "
+                                                f"{qformat.P_FRAC})"]
 
 
 HIDE_CORE = "import sys; sys.modules['wake._rtp'] = None; from wake.cli import main; sys.exit(main({args!r}))"

@@ -16,40 +16,17 @@ import numpy as np
 
 from wake._rtp import ffi, lib
 from wake.rtp.qformat import (  # noqa: F401  (re-exported: the formats of this core)
-    _INT32_MAX,
-    _INT32_MIN,
-    FIR_FRAC,
-    MAX_LEVEL,
-    P_FRAC,
-    SAMPLE_FRAC,
-    STATE_FRAC,
-    TAP_FRAC,
-    TAP_ROW_ABS_MAX,
-    WEIGHT_FRAC,
-    WEIGHT_MAX,
-    quantize_taps,
-    quantize_variance,
-    quantize_weights,
-    representable_noise,
-)
+    _INT32_MAX, _INT32_MIN, FIR_FRAC, MAX_LEVEL, P_FRAC, SAMPLE_FRAC, STATE_FRAC, TAP_FRAC, TAP_ROW_ABS_MAX,
+    WEIGHT_FRAC, WEIGHT_MAX, format_mismatches, quantize_taps, quantize_variance, quantize_weights,
+    representable_noise)
 
 __all__ = ["FixedPointRTP", "P_FRAC", "quantize_taps", "quantize_weights", "quantize_variance", "representable_noise"]
 
 
-def _check_formats():
-    """The compiled core must have the formats :mod:`wake.rtp.qformat` quantises into."""
-    built = {"WAKE_RTP_P_FRAC": P_FRAC, "WAKE_RTP_MAX_LEVEL": MAX_LEVEL, "WAKE_RTP_SAMPLE_FRAC": SAMPLE_FRAC,
-             "WAKE_RTP_TAP_FRAC": TAP_FRAC, "WAKE_RTP_STATE_FRAC": STATE_FRAC, "WAKE_RTP_WEIGHT_FRAC": WEIGHT_FRAC,
-             "WAKE_RTP_WEIGHT_MAX": int(WEIGHT_MAX * 2**WEIGHT_FRAC), "WAKE_RTP_TAP_ROW_ABS_MAX": TAP_ROW_ABS_MAX}
-    wrong = [f"{name} = {int(getattr(lib, name))} (wake.rtp.qformat: {want})"
-             for name, want in built.items() if int(getattr(lib, name)) != want]
-    if wrong:
-        raise ImportError("the compiled core wake._rtp was built with other fixed-point formats than "
-                          "wake.rtp.qformat expects: " + "; ".join(wrong)
-                          + "; rebuild it without -D overrides (python build_ffi.py)")
-
-
-_check_formats()
+if format_mismatches(lib):
+    raise ImportError("the compiled core wake._rtp was built with other fixed-point formats than wake.rtp.qformat "
+                      "expects: " + "; ".join(format_mismatches(lib)) + "; rebuild it without -D overrides "
+                      "(python build_ffi.py)")
 _SAMPLE_SCALE = 2.0**SAMPLE_FRAC
 
 _STATUS_TEXT = {

@@ -28,7 +28,7 @@ from wake.limits import MAX_LEVEL
 
 __all__ = ["P_FRAC", "MAX_LEVEL", "SAMPLE_FRAC", "TAP_FRAC", "STATE_FRAC", "WEIGHT_FRAC", "WEIGHT_MAX",
            "TAP_ROW_ABS_MAX", "FIR_FRAC", "quantize_taps", "quantize_weights", "quantize_variance",
-           "representable_noise"]
+           "representable_noise", "format_mismatches"]
 
 #: Fraction bits of the covariance format (``WAKE_RTP_P_FRAC``).
 P_FRAC = 32
@@ -48,6 +48,15 @@ TAP_ROW_ABS_MAX = (2 << TAP_FRAC) - 1
 FIR_FRAC = 22 if MAX_LEVEL <= 6 else 21
 
 _INT32_MIN, _INT32_MAX = -(2**31), 2**31 - 1
+
+
+def format_mismatches(lib) -> list:
+    """Where a compiled core ``lib`` (``wake._rtp.lib``) has other formats than this module: one line each."""
+    want = {"WAKE_RTP_P_FRAC": P_FRAC, "WAKE_RTP_MAX_LEVEL": MAX_LEVEL, "WAKE_RTP_SAMPLE_FRAC": SAMPLE_FRAC,
+            "WAKE_RTP_TAP_FRAC": TAP_FRAC, "WAKE_RTP_STATE_FRAC": STATE_FRAC, "WAKE_RTP_WEIGHT_FRAC": WEIGHT_FRAC,
+            "WAKE_RTP_WEIGHT_MAX": int(WEIGHT_MAX * 2**WEIGHT_FRAC), "WAKE_RTP_TAP_ROW_ABS_MAX": TAP_ROW_ABS_MAX}
+    return [f"{name} = {int(getattr(lib, name))} (wake.rtp.qformat: {value})"
+            for name, value in want.items() if int(getattr(lib, name)) != value]
 
 
 def quantize_taps(taps):
