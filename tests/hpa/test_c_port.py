@@ -235,6 +235,12 @@ def test_the_device_hpa_follows_the_schedule_around_long_gaps():
     assert [u.index for u in host if 1300 < u.index < 4100] == [1500, 1600, 1700, 1800, 2300, 2800,
                                                                 3700, 3800, 3900, 4000]
     assert skipped == 1                                   # the point 3300, inside the second long gap
+    # the host's schedule object on its own, one to one with the device's feed(): points and skips
+    from wake.hpa.schedule import HPASchedule
+
+    schedule = HPASchedule(CONFIG)
+    points = [schedule.count for v in seen if schedule.push(v) and schedule.take_window() is not None]
+    assert points == [i for i, _ in device] and schedule.gap_skipped == skipped
     for (index, w), u in zip(device, host):
         if index <= 2750 or index >= 3500:                # windows without the short gap
             py, c = u.weights, w
