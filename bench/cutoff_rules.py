@@ -5,7 +5,7 @@
 For each rule: the share of HPA windows per cut-off flag, the PADS tremor
 NRMSE against the independent ground truth (``wake.eval.warmup``) over the
 whole recording from 0.5 s and after 5 s, and the synthetic voluntary NRMSE
-(whole and after 5 s).  The rules (``wake.hpa.cutoff``; every WAKE run uses the C core):
+(whole and after 5 s).  The rules (``wake.hpa.cutoff``; each variant is registered as a cut-off rule of its own, ``wake.registry``; every WAKE run uses the C core):
 
 * ``floor`` - the library's default: ``shallow`` (below), with both dips
   compared to the noise floor, the lowest PSD above the tremor band: a
@@ -24,7 +24,7 @@ whole recording from 0.5 s and after 5 s, and the synthetic voluntary NRMSE
   the cap at F Hz; 6 Hz, the top of ``cutoff_range``, is no cap);
 * ``shallow D`` - the uncapped minimum, only if it lies at least D dB below
   the peak;
-* ``default F`` - the shipped rule with the fallback at F Hz instead of 2 Hz
+* ``default F`` - the paper's rule with the fallback at F Hz instead of 2 Hz
   (is a gain only a higher cut-off?);
 * ``shallow floor`` - as ``shallow``, but never below ``default_cutoff``;
 * ``flank`` - as ``paper``, and when that finds no valley but there is a
@@ -41,82 +41,63 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-import wake.hpa.run as hpa_run  # noqa: E402
+import re  # noqa: E402
+from dataclasses import replace  # noqa: E402
+
 from wake import WakeFilter  # noqa: E402
 from wake.eval.datasets import default_pads_dir, load_pads_folder  # noqa: E402
 from wake.eval.synthetic import paper_dataset  # noqa: E402
 from wake.eval.warmup import independent_ground_truth, slice_nrmse  # noqa: E402
 from wake.hpa import cutoff as cutoff_mod  # noqa: E402
-
-SHIPPED = cutoff_mod.find_cutoff
-
-
-def _peak(freqs, db, band):
-    inner = np.flatnonzero((freqs >= band[0]) & (freqs <= band[1]))
-    inner = inner[(inner > 0) & (inner < freqs.size - 1)]
-    local_max = inner[(db[inner] >= db[inner - 1]) & (db[inner] >= db[inner + 1])]
-    return None if local_max.size == 0 else local_max[np.argmax(db[local_max])]
+from wake.hpa.cutoff import Spectrum, floor_rule, paper_rule, shallow_rule  # noqa: E402
+from wake.registry import register_cutoff_rule, unregister_cutoff_rule  # noqa: E402
 
 
 def make_rule(kind):
-    def find(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0), default_cutoff=2.0,
-             min_depth_db=3.0, rule=None, shallow_max=None):
+    """The variant ``kind`` as a cut-off rule: a function of the window's :class:`Spectrum` (wake.registry)."""
+    def find(s: Spectrum):
+        if kind == "paper":
+            return paper_rule(s)
         if "+default" in kind:  # "shallow+default 3": the shallow rule with the fallback at 3 Hz
             base, fallback = kind.split("+default")
-            return make_rule(base)(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
-                              default_cutoff=float(fallback))
-        if kind == "paper":
-            return SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
-                           default_cutoff=default_cutoff, rule="paper")
+            return make_rule(base)(replace(s, default_cutoff=float(fallback)))
+        if kind.startswith("default "):  # the fallback at F Hz (not the setting: the prior stays at 2 Hz)
+            return paper_rule(replace(s, default_cutoff=float(kind.split()[1])))
         if kind.startswith("floor"):
-            knobs = {}
             if kind.startswith("floor margin "):
-                knobs["floor_margin_db"] = float(kind.split()[2])
+                s = replace(s, floor_margin_db=float(kind.split()[2]))
             if kind.startswith("floor edge "):
-                knobs["edge_db"] = float(kind.split()[2])
-            fd, flag = SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
-                               default_cutoff=default_cutoff, rule="floor", **knobs)
+                s = replace(s, edge_db=float(kind.split()[2]))
+            fd, flag = floor_rule(s)
             half = {"floor shallow-test only": "floor_valley", "floor edge-test only": "shallow_valley"}.get(kind)
             if flag == half:  # that half off: the paper's answer for this window
-                return SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
-                               default_cutoff=default_cutoff, rule="paper")
+                return paper_rule(s)
             return fd, flag
-        if kind.startswith("default "):
-            return SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
-                           default_cutoff=float(kind.split()[1]), rule="paper")
         if kind == "shallow":  # the library's option (WakeConfig(cutoff_rule="shallow"), shallow_max = 4 Hz)
-            return SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
-                           default_cutoff=default_cutoff, rule="shallow")
+            return shallow_rule(s)
         if kind.startswith("shallow max "):  # the library's rule with another shallow_max
-            return SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
-                           default_cutoff=default_cutoff, rule="shallow", shallow_max=float(kind.split()[2]))
+            return shallow_rule(replace(s, shallow_max=float(kind.split()[2])))
         if kind == "depth 1 dB":
-            return SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
-                           default_cutoff=default_cutoff, min_depth_db=1.0, rule="paper")
-        fd, flag = SHIPPED(freqs, psd, tremor_band=tremor_band, cutoff_range=cutoff_range,
-                           default_cutoff=default_cutoff, rule="paper")
-        if flag != "no_valley":
+            return paper_rule(replace(s, min_depth_db=1.0))
+        fd, flag = paper_rule(s)
+        if flag != "no_valley" or s.fallback is not None:
             return fd, flag
-        freqs = np.asarray(freqs, float)
-        db = 10 * np.log10(np.maximum(psd, np.max(psd) * 1e-30))
-        peak = _peak(freqs, db, tremor_band)
-        lo, hi = cutoff_range
+        freqs, db, peak = s.freqs, s.db, s.peak
+        lo, hi = s.cutoff_range
         search = np.flatnonzero((freqs >= lo) & (freqs <= min(hi, freqs[peak])))
-        if search.size < 3:
-            return fd, flag
         if kind == "no left test":
             valley = search[np.argmin(db[search])]
             return (float(freqs[valley]), "valley") if db[valley] <= db[peak] - 3.0 else (fd, flag)
         if kind == "shallow floor":  # the shallow minimum, never below the default cut-off
             valley = search[np.argmin(db[search])]
-            return max(float(freqs[valley]), float(default_cutoff)), "shallow_valley"
+            return max(float(freqs[valley]), float(s.default_cutoff)), "shallow_valley"
         if kind.startswith("shallow "):
             valley = search[np.argmin(db[search])]
             need = float(kind.split()[1])  # "shallow 1": 1 dB below the peak ("shallow 1 floor": >= default)
             if db[valley] > db[peak] - need:
                 return fd, flag
             f = float(freqs[valley])
-            return (max(f, float(default_cutoff)) if kind.endswith(" floor") else f), "shallow_valley"
+            return (max(f, float(s.default_cutoff)) if kind.endswith(" floor") else f), "shallow_valley"
         if kind == "flank":
             below = search[db[search] <= db[peak] - 3.0]
             if below.size == 0:
@@ -124,6 +105,11 @@ def make_rule(kind):
             return float(freqs[below[-1]]), "peak_flank"
         raise ValueError(kind)
     return find
+
+
+def rule_name(kind) -> str:
+    """The registry name of variant ``kind`` ("floor margin 8" -> "bench_floor_margin_8")."""
+    return "bench_" + re.sub(r"\W+", "_", kind).strip("_")
 
 
 RULES = ("paper", "floor", "floor shallow-test only", "floor edge-test only", "floor margin 8", "floor margin 12",
@@ -134,22 +120,24 @@ RULES = ("paper", "floor", "floor shallow-test only", "floor edge-test only", "f
 
 
 def evaluate(kind, pads, synthetic):
-    hpa_run.find_cutoff = make_rule(kind)
+    name = rule_name(kind)
+    register_cutoff_rule(name, c_name=name.upper(), description=f"bench/cutoff_rules.py: {kind}")(make_rule(kind))
+    settings = dict(cutoff_rule=name)
     try:
         flags, pads_scores, syn_scores = [], [], []
         for rec in pads:
             x = rec.samples
-            res = WakeFilter(fs=rec.fs).run(x)
+            res = WakeFilter(fs=rec.fs, **settings).run(x)
             flags += [u.cutoff_flag for ch in res.hpa for u in ch]
             for c in range(x.shape[1]):
                 _, tremor, _ = independent_ground_truth(x[:, c], rec.fs)
                 pads_scores.append(slice_nrmse(tremor, res.tremor[:, c], rec.fs))
         for s in synthetic:
-            res = WakeFilter(fs=s.fs).run(s.measurement)
+            res = WakeFilter(fs=s.fs, **settings).run(s.measurement)
             syn_scores.append(slice_nrmse(s.voluntary, res.voluntary, s.fs))
         return flags, pads_scores, syn_scores
     finally:
-        hpa_run.find_cutoff = SHIPPED
+        unregister_cutoff_rule(name)
 
 
 def main(argv=None):

@@ -5,7 +5,7 @@
 The paper's ten synthetic signals, each streamed sample by sample
 (``WakeFilter.update``) with a run of missing samples (NaN) from 10 s on, of
 0.5, 1, 3, 4.5 and 7 s.  For each gap and each long-gap share
-(``wake.channel.GAP_SHARE``: a run of missing samples at least this share of
+(``wake.schedule.GAP_SHARE``: a run of missing samples at least this share of
 the HPA window is a long gap; "off" interpolates every gap, the behaviour
 before the policy): the mean voluntary NRMSE over the 5 s after the gap and
 from the gap to the end, and whether ``run`` gives the stream's predictions
@@ -23,7 +23,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-import wake.channel as channel  # noqa: E402
+import wake.hpa.schedule as schedule  # noqa: E402
 from wake import WakeFilter  # noqa: E402
 from wake.eval.metrics import nrmse  # noqa: E402
 from wake.eval.synthetic import paper_dataset  # noqa: E402
@@ -37,7 +37,7 @@ def main(argv=None):
     ap.add_argument("--backend", choices=("reference", "c"), default="reference")
     args = ap.parse_args(argv)
     data = paper_dataset()
-    shipped = channel.GAP_SHARE
+    shipped = schedule.GAP_SHARE
     print("| gap | " + " | ".join(SHARES) + " |")
     print("|---|" + "---:|" * len(SHARES))
     with warnings.catch_warnings():
@@ -45,7 +45,7 @@ def main(argv=None):
         for gap in GAPS_S:
             cells = []
             for share in SHARES.values():
-                channel.GAP_SHARE = share
+                schedule.GAP_SHARE = share
                 first, rest, same = [], [], True
                 try:
                     for s in data:
@@ -60,7 +60,7 @@ def main(argv=None):
                         first.append(nrmse(s.voluntary[b:b + 500], vol[b:b + 500], 0))
                         rest.append(nrmse(s.voluntary[b:], vol[b:], 0))
                 finally:
-                    channel.GAP_SHARE = shipped
+                    schedule.GAP_SHARE = shipped
                 cells.append(f"{np.mean(first):.4f} / {np.mean(rest):.4f}" + ("" if same else " (run differs!)"))
             print(f"| {gap:g} s | " + " | ".join(cells) + " |")
 

@@ -31,7 +31,7 @@ from wake.eval.datasets import default_pads_dir, load_pads_folder  # noqa: E402
 from wake.eval.evaluate import baseline_methods  # noqa: E402
 from wake.eval.synthetic import paper_dataset  # noqa: E402
 from wake.eval.warmup import SLICES, independent_ground_truth, mean_slices, slice_nrmse  # noqa: E402
-from wake.hpa.cutoff import CUTOFF_RULES  # noqa: E402
+from wake.registry import cutoff_rule_names  # noqa: E402
 from wake.rtp import c_backend_available  # noqa: E402
 
 #: WAKE variants compared in docs/design.md ("Warm-up"): settings passed to WakeFilter.
@@ -94,7 +94,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--variants", action="store_true", help="also WAKE's warm-up variants")
     ap.add_argument("--pads", help="PADS folder (default: next to the checkout or $WAKE_PADS_DIR)")
-    ap.add_argument("--cutoff-rule", default=WakeConfig.cutoff_rule, choices=CUTOFF_RULES,
+    ap.add_argument("--cutoff-rule", default=WakeConfig.cutoff_rule, choices=cutoff_rule_names(),
                     help=f"WAKE's cut-off rule (default: {WakeConfig.cutoff_rule}, the library's)")
     args = ap.parse_args(argv)
     with warnings.catch_warnings():

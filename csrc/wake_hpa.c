@@ -316,6 +316,9 @@ static inline uint32_t mix(uint32_t v, uint32_t w)
  * re-validating cost 280).  Each step is a bijection of the running value,
  * so a change of any one field is always detected.
  */
+#if WAKE_HPA_HORIZON != 1
+#error "the normal equations (step_bin_end, step_ramp, step_gram) are written for WAKE_HPA_HORIZON 1"
+#endif
 #if WAKE_HPA_MAX_WARMUP != 8
 #error "seal_of() hashes eight warm-up points"
 #endif
@@ -366,7 +369,7 @@ static wake_hpa_status_t check_instance(const wake_hpa_t *h)
     }
     /* a run in progress: every counter that indexes an array within its range */
     N = 1u << h->cfg.level;
-    if (h->work == NULL || h->n > h->cfg.window || h->n < 2u * N || h->rows != h->n - N ||
+    if (h->work == NULL || h->n > h->cfg.window || h->n < 2u * N || h->rows != h->n - N - (WAKE_HPA_HORIZON - 1u) ||
         h->order > h->cfg.ar_order || h->lags > (h->order + 1u > N ? h->order + 1u : N) ||
         h->t > (h->phase == STEP_PSD ? psd_last(h) + 1u : h->n) ||
         h->d > h->lags || h->bins > h->n / 2u || h->m > h->bins + 1u || h->pair > 2u ||
@@ -448,7 +451,7 @@ wake_hpa_status_t wake_hpa_init(wake_hpa_t *h, const wake_hpa_config_t *cfg, con
                                                                                             : cfg->cutoff_high);
     /* the floor's bins: above tremor_high up to fs/2 (none when tremor_high reaches fs/2) */
     h->floor_lo = (uint16_t)(last_bin_at_or_below(h, cfg->tremor_high) + 1u);
-    h->gap_len = (uint16_t)((cfg->window + 4u) / 5u);          /* ceil(L / 5): wake.channel.GAP_SHARE */
+    h->gap_len = (uint16_t)((cfg->window + 4u) / 5u);          /* ceil(L / 5): wake.hpa.schedule.GAP_SHARE */
     h->seal = seal_of(h);
     h->magic = WAKE_HPA_MAGIC;
     return WAKE_HPA_OK;
@@ -460,7 +463,7 @@ static void begin(wake_hpa_t *h, const wake_q15_t *window, uint16_t n, uint32_t 
     h->work = window;
     h->n = n;
     h->index = index;
-    h->rows = (uint16_t)(n - N);
+    h->rows = (uint16_t)(n - N - (WAKE_HPA_HORIZON - 1u)); /* a(t), t = N-1 .. n-1-horizon */
     h->order = (uint16_t)(h->cfg.ar_order < (n - 1u) / 2u ? h->cfg.ar_order : (n - 1u) / 2u);
     h->lags = (uint16_t)(h->order + 1u > N ? h->order + 1u : N);
     h->t = 0;
@@ -504,7 +507,7 @@ static int reads_buffer(const wake_hpa_t *h, unsigned b)
 }
 
 /**
- * One sample into the window buffers, and the HPA it completes (wake.channel.Channel.update):
+ * One sample into the window buffers, and the HPA it completes (wake.hpa.schedule.HPASchedule.push):
  * a full window every L samples from the schedule's base, the warm-up points counted from it;
  * none inside a long gap; a long gap's end restarts the schedule there, in a fresh buffer.
  */
@@ -525,7 +528,7 @@ static wake_hpa_status_t feed(wake_hpa_t *h, wake_q15_t sample, int missing)
             }
             h->base = h->count;
             /* from its first point of clean_below samples or more: the weights in use were fitted before
-               the gap, and a shorter fit does not beat them (wake.channel.Channel.point_after) */
+               the gap, and a shorter fit does not beat them (wake.hpa.schedule.HPASchedule.point_after) */
             h->warmup_next = 0;
             while (h->warmup_next < WAKE_HPA_MAX_WARMUP && h->cfg.warmup[h->warmup_next] != 0u &&
                    h->cfg.warmup[h->warmup_next] < h->cfg.clean_below) { /* wcet-loop: WAKE_HPA_MAX_WARMUP */

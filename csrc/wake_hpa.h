@@ -113,6 +113,9 @@ extern "C" {
 #define WAKE_HPA_MAX_TAPS (1 << WAKE_HPA_MAX_LEVEL)
 /** Warm-up HPA points the configuration can hold. */
 #define WAKE_HPA_MAX_WARMUP 8
+/** The fit target: the voluntary motion this many samples after the newest filter-bank input
+ *  (wake.target.PredictionTarget.horizon); the fit rows pair a(t) with v(t + WAKE_HPA_HORIZON). */
+#define WAKE_HPA_HORIZON 1
 /** FFT length of the Python AR spectrum: 512 frequencies on [0, fs/2]. */
 #define WAKE_HPA_PSD_GRID 1022
 
@@ -159,7 +162,7 @@ typedef enum {
     WAKE_HPA_FLOOR_VALLEY = 5     /**< rule "floor": a valley at the noise floor; f_d at the floor's low edge */
 } wake_hpa_flag_t;
 
-/** Cut-off rules (wake.hpa.CUTOFF_RULES). */
+/** Cut-off rules (wake.registry, in registration order). */
 typedef enum {
     WAKE_HPA_RULE_PAPER = 0,
     WAKE_HPA_RULE_SHALLOW = 1,

@@ -85,10 +85,10 @@ def test_dc_jump_raises_the_full_scale_within_a_few_samples():
     x, _ = _stream("dc_jump")
     f = WakeFilter(fs=100.0)
     f.update_block(x[:2999])
-    before = f._channels[0].full_scale
+    before = f._channels[0].rtp.full_scale
     y = f.update_block(x[2999:3200])
     assert before < 50
-    assert f._channels[0].full_scale >= 16 * 50 and f._channels[0].full_scale_changes == 1
+    assert f._channels[0].rtp.full_scale >= 16 * 50 and f._channels[0].rtp.full_scale_changes == 1
     assert f.rtp_states[0].clipped <= 4          # the samples of the run that raised it
     assert abs(y[-1] - x[3199]) < 10             # the prediction follows the new level
 
@@ -99,7 +99,7 @@ def test_a_fixed_full_scale_stays_and_clipping_warns_at_the_next_hpa():
     f = WakeFilter(fs=100.0, full_scale=0.25)
     with pytest.warns(RuntimeWarning, match=r"clipped at the fixed-point full scale ±0.25 \(raise full_scale"):
         f.update_block(x)
-    assert f._channels[0].full_scale == 0.25 and f._channels[0].full_scale_changes == 0
+    assert f._channels[0].rtp.full_scale == 0.25 and f._channels[0].rtp.full_scale_changes == 0
     assert any("clipping" in u.flags for u in f._channels[0].updates)
 
 
@@ -112,7 +112,7 @@ def test_update_and_update_block_agree_across_a_raise():
     ya = a.update_block(x)
     yb = np.array([b.update(v) for v in x])
     np.testing.assert_array_equal(ya, yb)
-    assert a._channels[0].full_scale == b._channels[0].full_scale
+    assert a._channels[0].rtp.full_scale == b._channels[0].rtp.full_scale
     assert a.rtp_states[0].clipped == b.rtp_states[0].clipped
 
 
@@ -121,9 +121,9 @@ def test_quiet_start_waits_for_a_window_with_signal():
     x, _ = _stream("quiet")
     f = WakeFilter(fs=100.0)
     f.update_block(x[:700])
-    assert not f._channels[0].on_c          # no full scale from a window of zeros
+    assert not f._channels[0].rtp.on_c          # no full scale from a window of zeros
     f.update_block(x[700:1001])
-    assert f._channels[0].on_c and f._channels[0].full_scale == power_of_two_at_least(16 * robust_peak(x[501:1001]))
+    assert f._channels[0].rtp.on_c and f._channels[0].rtp.full_scale == power_of_two_at_least(16 * robust_peak(x[501:1001]))
 
 
 @needs_core
@@ -132,9 +132,9 @@ def test_full_scale_falls_only_after_two_quiet_windows():
     x = s.measurement * np.where(np.arange(s.measurement.size) < 1500, 1.0, 1e-3)
     f = WakeFilter(fs=100.0)
     f.update_block(x[:2001])                       # windows end at 500, 1000, 1500, 2000: one quiet window so far
-    high = f._channels[0].full_scale
+    high = f._channels[0].rtp.full_scale
     f.update_block(x[2001:2600])          # the second quiet window ends at 2500
-    low = f._channels[0].full_scale
+    low = f._channels[0].rtp.full_scale
     assert low <= high / 256
     flags = [u.flags for u in f._channels[0].updates]
     assert any("full_scale_lowered" in fl for fl in flags)

@@ -4,7 +4,7 @@
 import numpy as np
 import pytest
 
-import wake.channel as channel
+import wake.hpa.schedule as schedule
 from wake import WakeConfig, WakeFilter
 from wake.eval.synthetic import make_signal
 from wake.hpa import run_hpa
@@ -73,7 +73,7 @@ def test_the_gap_policy_lowers_the_error_after_a_long_gap(monkeypatch):
     """Measured in docs/design.md: after a 4.5 s gap the first 5 s are much better when the HPA reads only
     the samples after the gap and warms up again (paper's synthetic signals, mean NRMSE 0.0871 -> 0.0732)."""
     def error_after(share):
-        monkeypatch.setattr(channel, "GAP_SHARE", share)
+        monkeypatch.setattr(schedule, "GAP_SHARE", share)
         errs = []
         for seed in (1, 2, 3):
             s = make_signal(7.5, seed=seed, duration=20.0)
@@ -83,7 +83,7 @@ def test_the_gap_policy_lowers_the_error_after_a_long_gap(monkeypatch):
             errs.append(np.sqrt(np.mean(e ** 2)))
         return np.mean(errs)
 
-    assert error_after(channel.GAP_SHARE) < 0.95 * error_after(1e9)   # 1e9: never a long gap
+    assert error_after(schedule.GAP_SHARE) < 0.95 * error_after(1e9)   # 1e9: never a long gap
 
 
 def test_no_fit_on_less_than_two_seconds_after_a_gap(monkeypatch):
@@ -93,7 +93,7 @@ def test_no_fit_on_less_than_two_seconds_after_a_gap(monkeypatch):
     from wake.eval.synthetic import paper_dataset
 
     def error_after(point_after):
-        monkeypatch.setattr(channel.Channel, "point_after", point_after)
+        monkeypatch.setattr(schedule.HPASchedule, "point_after", point_after)
         errs = []
         for s in paper_dataset()[:5]:
             x = _gapped(s, 1000, 1100)
@@ -101,7 +101,7 @@ def test_no_fit_on_less_than_two_seconds_after_a_gap(monkeypatch):
             errs.append(np.sqrt(np.mean((v[1100:1600] - s.voluntary[1100:1600]) ** 2)))
         return np.mean(errs)
 
-    shipped = channel.Channel.point_after
+    shipped = schedule.HPASchedule.point_after
 
     def whole_schedule(self, count):
         return self.config.next_hpa(count) if self.gap_end is None else \

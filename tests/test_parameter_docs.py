@@ -4,7 +4,7 @@ import dataclasses
 import re
 
 from wake import WakeConfig, WakeFilter
-from wake.config import parameters_doc
+from wake._docs import parameters_doc
 
 
 def _documented(doc):

@@ -17,7 +17,7 @@ applies them through a fixed filter bank and a Kalman update.
 True
 """
 
-from wake.channel import ClippingWarning
+from wake.rtp.adaptive import ClippingWarning
 from wake.config import CoreMissingWarning, WakeConfig
 from wake.filter import BACKENDS, WakeFilter, WakeResult, WakeState
 

@@ -1,14 +1,28 @@
-"""Command line: ``wake demo``, ``wake run``, ``wake evaluate``, ``wake profile``, ``wake export-header``, ``wake export-c``, ``wake stream``."""
+"""Command line: ``wake demo``, ``wake run``, ``wake stream``, ``wake evaluate``, ``wake profile``,
+``wake export-header``, ``wake export-c``.
+
+The top layer of the package (docs/architecture.md).  :data:`COMMANDS` is
+the table of commands: each entry names the function that runs it, and each
+function imports its module explicitly (lazily, so that ``wake --help`` loads
+nothing heavy).  ``demo``, ``run`` and ``stream`` are written here; the
+others keep their options next to their code (``cli()`` of their module).
+"""
 
 from __future__ import annotations
 
 import argparse
+import math
+import signal
 import sys
+import threading
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["main"]
+from wake.config import WakeConfig
+from wake.registry import cutoff_rule_names, cutoff_rules
+
+__all__ = ["COMMANDS", "main"]
 
 
 def add_filter_arguments(p: argparse.ArgumentParser) -> None:
@@ -20,14 +34,12 @@ def add_filter_arguments(p: argparse.ArgumentParser) -> None:
     g.add_argument("--ar-order", type=int, default=17, help="Yule-Walker order p (default: 17)")
     g.add_argument("--backend", choices=("c", "reference"), default=None,
                    help="RTP backend (default: c when the compiled core is present, else reference)")
-    from wake.config import WakeConfig
-    from wake.hpa.cutoff import CUTOFF_RULES
+    import wake.hpa.cutoff  # noqa: F401  (registers the built-in cut-off rules)
 
-    g.add_argument("--cutoff-rule", choices=CUTOFF_RULES, default=WakeConfig.cutoff_rule,
-                   help=f"how the HPA finds f_d (default: {WakeConfig.cutoff_rule}): 'paper' a 3 dB valley or "
-                        "2 Hz; 'shallow' also a shallower dip below a tremor peak, at or below 4 Hz; 'floor' "
-                        "as 'shallow', with both compared to the noise floor above the tremor band (on PADS "
-                        "33 %% instead of 82 %% of windows on 2 Hz; docs/design.md, 'Cut-off on real wear')")
+    rules = "; ".join(f"'{r.name}' {r.description}" for r in cutoff_rules()).replace("%", "%%")
+    g.add_argument("--cutoff-rule", choices=cutoff_rule_names(), default=WakeConfig.cutoff_rule,
+                   help=f"how the HPA finds f_d (default: {WakeConfig.cutoff_rule}): {rules} "
+                        "(docs/design.md, 'Cut-off on real wear')")
 
 
 def make_filter(args, fs, **settings):
@@ -137,11 +149,104 @@ def _plot_channel(spec, rec) -> int:
                      f"{', '.join(rec.channels)} (or a 0-based index below {len(rec.channels)})")
 
 
-def _delegate(module: str, argv) -> int:
-    import importlib
+def _stream_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="wake stream",
+        description="Run WAKE on a live stream: voluntary motion and tremor out for every sample in.")
+    src = p.add_mutually_exclusive_group(required=True)
+    src.add_argument("--stdin", action="store_true", help="read one line of comma-separated values per sample")
+    src.add_argument("--lsl-in", metavar="NAME", help="read the Lab Streaming Layer stream of this name")
+    dst = p.add_mutually_exclusive_group(required=True)
+    dst.add_argument("--stdout", action="store_true", help="write one line per sample: voluntary..., tremor...")
+    dst.add_argument("--lsl-out", metavar="NAME", help="publish an LSL stream of this name")
+    p.add_argument("--fs", type=float, default=None,
+                   help="sampling rate in Hz (required with --stdin; default with LSL: the stream's nominal rate)")
+    p.add_argument("--timestamps", action="store_true",
+                   help="--stdin: the first value of each line is its timestamp, copied to the output line")
+    p.add_argument("--header", action="store_true", help="--stdout: write a line of column names first")
+    p.add_argument("--bad-lines", choices=("stop", "missing"), default="stop",
+                   help="a line that is not numbers or has the wrong count: stop with an error (default), "
+                        "or take it as a missing sample (its output line holds the prediction and nan)")
+    p.add_argument("--hpa-mode", choices=("thread", "inline"), default="thread",
+                   help="thread (default): the HPA runs on a worker thread, off the sample path; "
+                        "inline: on the sample path, and the output equals `wake run` bit for bit")
+    p.add_argument("--status", type=float, default=5.0, metavar="S",
+                   help="status line on stderr every S seconds (0: only the final summary)")
+    p.add_argument("--max-samples", type=int, default=0, help="stop after this many samples (0: no limit)")
+    p.add_argument("--lsl-timeout", type=float, default=10.0, metavar="S", help="seconds to find the LSL stream")
+    add_filter_arguments(p)
+    return p
 
-    mod = importlib.import_module(module)
-    return int(mod.cli(argv) or 0)
+
+def _cmd_stream(argv) -> int:
+    """``wake stream``: WAKE on a live stream (:mod:`wake.io.stream`)."""
+    from wake.io.stream import SWITCH_INTERVAL_S, StreamStop, run_lsl, run_pipes
+
+    args = _stream_parser().parse_args(argv)
+    if args.stdin and args.fs is None:
+        raise ValueError("--stdin needs the sampling rate: give it with --fs HZ")
+    if args.fs is not None and not (math.isfinite(args.fs) and args.fs > 0):
+        raise ValueError(f"--fs must be > 0 Hz, got {args.fs}")
+    if args.max_samples < 0 or args.status < 0:
+        raise ValueError("--max-samples and --status must be >= 0")
+    if args.stdin != args.stdout:
+        raise ValueError("use --stdin with --stdout, or --lsl-in with --lsl-out")
+
+    def make(fs):
+        return make_filter(args, fs, hpa_mode=args.hpa_mode)
+
+    make(args.fs or 100.0).close()  # every filter setting checked before the stream starts
+
+    def log(msg):
+        print(msg, file=sys.stderr, flush=True)
+
+    if args.hpa_mode == "thread":
+        # The HPA worker holds the GIL in its Python parts; with the default 5 ms switch interval a
+        # sample arriving then waits up to 5 ms for it.  0.2 ms bounds that wait (bench/stream_end_to_end.py).
+        sys.setswitchinterval(SWITCH_INTERVAL_S)
+    stop = StreamStop()
+    main_thread = threading.current_thread() is threading.main_thread()
+    old = stop.install() if main_thread else []  # signal handlers can only be set from the main thread
+    try:
+        return run_pipes(args, make, stop, log) if args.stdin else run_lsl(args, make, stop, log)
+    finally:
+        for sig, handler in zip((signal.SIGINT, getattr(signal, "SIGTERM", None)), old):
+            signal.signal(sig, handler)
+
+
+def _cmd_evaluate(argv) -> int:
+    from wake.eval.evaluate import cli
+
+    return cli(argv)
+
+
+def _cmd_profile(argv) -> int:
+    from wake.firmware.profile.cli import cli
+
+    return cli(argv)
+
+
+def _cmd_export_header(argv) -> int:
+    from wake.firmware.export import cli
+
+    return cli(argv)
+
+
+def _cmd_export_c(argv) -> int:
+    from wake.firmware.folder import cli
+
+    return cli(argv)
+
+
+#: ``wake COMMAND``: (one line of help, the function that runs it on the rest of the command line).
+#: ``demo`` and ``run`` are parsed by :func:`build_parser` and run by :func:`_cmd_demo` / :func:`_cmd_run`.
+COMMANDS = {
+    "stream": ("run on a live stream: text pipes or Lab Streaming Layer", _cmd_stream),
+    "evaluate": ("baselines vs WAKE on synthetic and real recordings", _cmd_evaluate),
+    "profile": ("Cortex-M instruction count, footprint and stack per sample", _cmd_profile),
+    "export-header": ("write a C header with taps and weights for firmware", _cmd_export_header),
+    "export-c": ("write a drop-in firmware folder: C core, configuration header, README", _cmd_export_c),
+}
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -166,11 +271,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="the channel --plot draws (default: the first); every channel is still filtered and "
                         "written to --out")
     add_filter_arguments(r)
-    for name, helptext in (("evaluate", "baselines vs WAKE on synthetic and real recordings"),
-                           ("profile", "Cortex-M instruction count, footprint and stack per sample"),
-                           ("export-header", "write a C header with taps and weights for firmware"),
-                           ("export-c", "write a drop-in firmware folder: C core, configuration header, README"),
-                           ("stream", "run on a live stream: text pipes or Lab Streaming Layer")):
+    for name, (helptext, _) in COMMANDS.items():
         s = sub.add_parser(name, help=helptext, add_help=False)
         s.add_argument("rest", nargs=argparse.REMAINDER)
     return p
@@ -179,13 +280,10 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
-    delegated = {"evaluate": "wake.eval.evaluate", "profile": "wake.firmware.profile.cli",
-                 "export-header": "wake.firmware.export", "export-c": "wake.firmware.folder",
-                 "stream": "wake.io.stream"}
-    if argv and argv[0] in delegated:
-        module = delegated[argv[0]]
+    if argv and argv[0] in COMMANDS:
+        _, command = COMMANDS[argv[0]]
         try:
-            return _delegate(module, argv[1:])
+            return int(command(argv[1:]) or 0)
         except (ValueError, OSError) as exc:
             print(f"wake {argv[0]}: error: {exc}", file=sys.stderr)
             return 2

@@ -16,95 +16,26 @@ with ``x`` (``voluntary[k]`` predicts ``x[k]`` from ``x[:k]``).
 
 from __future__ import annotations
 
-import copy
 import threading
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field, fields
+from dataclasses import fields
 
 import numpy as np
 
 from wake._validation import as_sample, as_signal
-from wake.config import BACKENDS, WakeConfig, parameters_doc
-from wake.hpa.c_port import check_c_hpa_config
 from wake.channel import Channel, start_weights_for
+from wake._docs import parameters_doc
+from wake.config import BACKENDS, TUNED_RATES, RateWarning, WakeConfig, warn_if_far_from_tuned_rate
+from wake.hpa.c_port import check_c_hpa_config
+from wake.result import WakeResult
 from wake.rtp import load_fixed_point
+from wake.state import STATE_VERSION, WakeState  # noqa: F401  (STATE_VERSION: the layout get_state writes)
+from wake.target import TARGET
 from wake.wavelets import filter_bank_taps
 
 __all__ = ["WakeFilter", "WakeResult", "WakeState", "BACKENDS", "RateWarning", "TUNED_RATES"]
 
 _INF = float("inf")
-
-
-#: Sampling rates (Hz) the defaults were measured at and hold for (docs/design.md, "Sampling rates").
-TUNED_RATES = (50.0, 200.0)
-
-
-class RateWarning(UserWarning):
-    """The sampling rate is far from the 100 Hz the defaults were tuned at."""
-
-
-def _warn_if_far_from_tuned_rate(config: WakeConfig) -> None:
-    low, high = TUNED_RATES
-    if low <= config.fs <= high:
-        return
-    import warnings
-
-    span_ms = 1e3 * 2**config.level / config.fs
-    warnings.warn(
-        f"fs = {config.fs:g} Hz is outside {low:g}-{high:g} Hz, where WAKE's defaults were tuned: the level-"
-        f"{config.level} filter bank spans {span_ms:.0f} ms here (320 ms at 100 Hz) and ar_order={config.ar_order} "
-        "resolves the spectrum differently, so voluntary motion and tremor separate worse (measured on a "
-        "synthetic signal: NRMSE 0.082 at 1000 Hz against 0.035 at 100 Hz, whatever the AR order). Resample the "
-        "recording to about 100 Hz first, e.g. scipy.signal.resample_poly(x, 1, 10) for 1000 Hz",
-        RateWarning, stacklevel=3)
-
-
-@dataclass
-class WakeResult:
-    """What :meth:`WakeFilter.run` returns.
-
-    ``prediction[k]`` is the prediction of the voluntary motion at sample
-    ``k + 1`` made from ``x[:k + 1]`` (what ``update(x[k])`` returns);
-    ``voluntary[k]`` is the prediction of sample ``k`` from ``x[:k]``
-    (``voluntary[0] = 0``: nothing is known yet) and
-    ``tremor = x - voluntary``.  Arrays are float32 when the input was
-    float32, float64 otherwise.
-    """
-
-    voluntary: np.ndarray
-    tremor: np.ndarray
-    prediction: np.ndarray
-    hpa: list  #: per channel, the list of :class:`~wake.hpa.HPAUpdate`
-    warmup: int  #: samples before the first HPA (left out of the paper's scores)
-    backend: str
-    rtp: list = field(default=None, repr=False)  #: per channel, the RTP state after the last sample
-    full_scale: np.ndarray = field(default=None)  #: per channel (C backend), else None
-    clipped: np.ndarray = field(default=None)  #: input samples clipped to full scale, per channel
-    saturations: np.ndarray = field(default=None)  #: saturating narrowings inside the C core, per channel
-    full_scale_changes: np.ndarray = field(default=None)  #: rises and falls of the full scale, per channel
-
-    @property
-    def cutoffs(self) -> list:
-        """Per channel, the array of f_d over the HPA runs."""
-        return [np.array([u.cutoff for u in ch]) for ch in self.hpa]
-
-    @property
-    def mean_cutoff(self) -> np.ndarray:
-        """Per channel, the mean f_d over all HPA runs (the paper's offline cut-off)."""
-        return np.array([c.mean() if c.size else np.nan for c in self.cutoffs])
-
-
-@dataclass
-class WakeState:
-    """A snapshot of a stream, taken by :meth:`WakeFilter.get_state`.
-
-    Plain data (picklable): the configuration and, per channel, the HPA
-    bookkeeping and the RTP object.  :meth:`WakeFilter.set_state` continues
-    the stream from it, bit for bit, like scipy's ``zi`` / ``zf``.
-    """
-
-    config: WakeConfig
-    channels: list
 
 
 def _out_dtype(x) -> type:
@@ -171,7 +102,7 @@ class WakeFilter:
             load_fixed_point()  # fail here, with how to build the core, not at the first HPA
         if config.hpa_backend == "c":
             check_c_hpa_config(config)
-        _warn_if_far_from_tuned_rate(config)
+        warn_if_far_from_tuned_rate(config)
         self.config = config
         self.taps = filter_bank_taps(config.wavelet, config.level, config.mode)
         self.start_weights = start_weights_for(config, self.taps)  # 0.5 ms: once per filter, not per channel
@@ -224,16 +155,16 @@ class WakeFilter:
 
     def _result(self, arr, pred, channels, one_d, dtype):
         shape = (lambda a: a[:, 0]) if one_d else (lambda a: a)
-        vol = np.zeros_like(pred)
-        vol[1:] = pred[:-1]  # voluntary[k] comes from x[:k]
+        vol = TARGET.voluntary_from(pred)  # voluntary[k] comes from x[:k]
         cast = lambda a: shape(a).astype(dtype, copy=False)  # noqa: E731
         res = WakeResult(cast(vol), cast(arr - vol), cast(pred), [list(ch.updates) for ch in channels],
-                         self.config.window_samples, self.config.backend, rtp=[ch.rtp for ch in channels])
+                         self.config.window_samples, self.config.backend, rtp=[ch.rtp.core for ch in channels])
         if self.config.backend == "c":
-            res.full_scale = np.array([ch.full_scale if ch.full_scale is not None else np.nan for ch in channels])
-            res.clipped = np.array([getattr(ch.rtp, "clipped", 0) for ch in channels])
-            res.saturations = np.array([getattr(ch.rtp, "saturations", 0) for ch in channels])
-            res.full_scale_changes = np.array([ch.full_scale_changes for ch in channels])
+            rtps = [ch.rtp for ch in channels]
+            res.full_scale = np.array([r.full_scale if r.full_scale is not None else np.nan for r in rtps])
+            res.clipped = np.array([getattr(r.core, "clipped", 0) for r in rtps])
+            res.saturations = np.array([getattr(r.core, "saturations", 0) for r in rtps])
+            res.full_scale_changes = np.array([r.full_scale_changes for r in rtps])
         return res
 
     # -- streaming ---------------------------------------------------------
@@ -297,7 +228,7 @@ class WakeFilter:
     def rtp_states(self) -> list:
         """Per channel, the RTP object of the current stream (covariance, saturations, ...)."""
         with self._lock:
-            return [ch.rtp for ch in (self._channels or [])]
+            return [ch.rtp.core for ch in (self._channels or [])]
 
     @property
     def hpa_history(self) -> list:
@@ -338,21 +269,22 @@ class WakeFilter:
         """
         with self._lock:
             self.flush()
-            return WakeState(self.config, [ch.snapshot() for ch in (self._channels or [])])
+            return WakeState(self.config, [ch.state() for ch in (self._channels or [])])
 
     def set_state(self, state: WakeState) -> None:
-        """Continue the stream from :meth:`get_state` (the configurations must match)."""
+        """Continue the stream from :meth:`get_state` (the configurations and layout versions must match)."""
         if not isinstance(state, WakeState):
             raise TypeError(f"state must be a WakeState from get_state(), got {type(state).__name__}")
+        snapshots = state.channel_states()
         if state.config != self.config:
             raise ValueError("the state was taken from a filter with another configuration; "
                              "build the filter with WakeFilter(config=state.config)")
         with self._lock:
             self.reset()
-            if state.channels:
-                channels = self._new_channels(len(state.channels))
-                for ch, snap in zip(channels, state.channels):
-                    ch.__dict__.update(copy.deepcopy(snap))
+            if snapshots:
+                channels = self._new_channels(len(snapshots))
+                for ch, snap in zip(channels, snapshots):
+                    ch.load(snap)
                 self._channels = channels
                 self._n_channels = len(channels)
 

@@ -21,9 +21,10 @@ import numpy as np
 import pywt
 
 from wake._validation import check_level, check_mode, check_wavelet
-from wake.config import MAX_LEVEL
+from wake.limits import MAX_LEVEL
 
 __all__ = [
+    "default_weights",
     "wavelet_approximations",
     "filter_bank_taps",
     "filter_bank_outputs",
@@ -149,3 +150,17 @@ def filter_bank_outputs(x, taps):
         raise ValueError(f"need at least {n_taps} samples for the filter bank, got {x.shape[0]}")
     windows = np.lib.stride_tricks.sliding_window_view(x, n_taps)
     return windows @ taps.T
+
+
+def default_weights(level):
+    """Weights of the filter bank's deepest approximation alone, a plain low-pass: the RTP's weights before
+    any HPA fit (:mod:`wake.hpa.fit` re-exports it).
+
+    Examples
+    --------
+    >>> default_weights(3)
+    array([0., 0., 1.])
+    """
+    w = np.zeros(level)
+    w[-1] = 1.0
+    return w

@@ -192,7 +192,7 @@ static void test_bad_input(void)
         CHECK(hpa.n == 200u && hpa.index == 510u);
     }
     /* the default schedule (100, 200, 300, 400) after a long gap: from its first point of clean_below (200)
-       samples or more, the 1-s point is not run (wake.channel.Channel.point_after) */
+       samples or more, the 1-s point is not run (wake.hpa.schedule.HPASchedule.point_after) */
     {
         int k;
         wake_hpa_result_t r;

@@ -121,15 +121,11 @@ def test_a_short_window_without_a_clean_valley_keeps_the_weights_like_the_python
 def test_the_python_mirrors_of_the_c_hpa_constants_agree():
     """c_port and wake.hpa.cutoff restate a few numbers of wake_hpa.h; they must not drift apart."""
     from wake._rtp import lib
-    from wake.hpa.c_port import C_FLAGS, MAX_WARMUP
-    from wake.hpa.cutoff import CUTOFF_RULES, FLOOR_STRIDE
+    from wake.hpa.c_port import c_mirror_problems
+    from wake.registry import cutoff_rule_names
 
-    assert MAX_WARMUP == lib.WAKE_HPA_MAX_WARMUP and FLOOR_STRIDE == lib.WAKE_HPA_FLOOR_STRIDE
-    assert [C_FLAGS.index(f) for f in ("valley", "no_tremor_peak", "no_valley", "silent", "shallow_valley",
-                                       "floor_valley")] == [lib.WAKE_HPA_VALLEY, lib.WAKE_HPA_NO_TREMOR_PEAK,
-                                                            lib.WAKE_HPA_NO_VALLEY, lib.WAKE_HPA_SILENT,
-                                                            lib.WAKE_HPA_SHALLOW_VALLEY, lib.WAKE_HPA_FLOOR_VALLEY]
-    assert [CUTOFF_RULES.index(r) for r in ("paper", "shallow", "floor")] == [
+    assert c_mirror_problems(lib) == []
+    assert [cutoff_rule_names().index(r) for r in ("paper", "shallow", "floor")] == [
         lib.WAKE_HPA_RULE_PAPER, lib.WAKE_HPA_RULE_SHALLOW, lib.WAKE_HPA_RULE_FLOOR]
 
 
@@ -258,6 +254,12 @@ def test_the_device_hpa_follows_the_schedule_around_long_gaps():
     assert [u.index for u in host if 1300 < u.index < 4100] == [1500, 1600, 1700, 1800, 2300, 2800,
                                                                 3700, 3800, 3900, 4000]
     assert skipped == 1                                   # the point 3300, inside the second long gap
+    # the host's schedule object on its own, one to one with the device's feed(): points and skips
+    from wake.hpa.schedule import HPASchedule
+
+    schedule = HPASchedule(CONFIG)
+    points = [schedule.count for v in seen if schedule.push(v) and schedule.take_window() is not None]
+    assert points == [i for i, _ in device] and schedule.gap_skipped == skipped
     for (index, w), u in zip(device, host):
         if index <= 2750 or index >= 3500:                # windows without the short gap
             py, c = u.weights, w

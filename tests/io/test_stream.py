@@ -11,7 +11,8 @@ import pytest
 
 from wake import WakeFilter
 from wake.eval.synthetic import make_signal
-from wake.io.stream import StreamProcessor, cli
+from wake.cli import main
+from wake.io.stream import StreamProcessor
 
 FS = 100.0
 
@@ -137,7 +138,7 @@ def test_processor_aligns_like_run_and_passes_missing_samples(signal3):
 
 def samples_in(filt) -> int:
     channels = filt.get_state().channels
-    return channels[0]["count"] if channels else 0
+    return channels[0].schedule.count if channels else 0
 
 
 def test_answer_goes_out_before_the_filter_takes_the_sample_in(signal3):
@@ -164,7 +165,7 @@ def test_answer_goes_out_before_the_filter_takes_the_sample_in(signal3):
 
 def test_lsl_without_pylsl_says_how_to_install(monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "pylsl", None)
-    assert cli(["--lsl-in", "x", "--lsl-out", "y"]) == 2
+    assert main(["stream", "--lsl-in", "x", "--lsl-out", "y"]) == 2
     assert "pip install pylsl" in capsys.readouterr().err
 
 

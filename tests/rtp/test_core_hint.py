@@ -4,7 +4,7 @@ or no build at all."""
 import importlib.metadata
 from pathlib import Path
 
-import wake.rtp as rtp_pkg
+import wake._core as rtp_pkg
 
 
 class _FakeDist:
@@ -19,9 +19,9 @@ class _FakeDist:
 
 def _source_tree(tmp_path):
     tree = tmp_path / "checkout"
-    (tree / "wake" / "rtp").mkdir(parents=True)
+    (tree / "wake").mkdir(parents=True)
     (tree / "pyproject.toml").write_text("[project]\nname = 'wake-tremor'\n")
-    (tree / "wake" / "rtp" / "__init__.py").write_text("")
+    (tree / "wake" / "_core.py").write_text("")
     return tree
 
 
@@ -34,7 +34,7 @@ def _installed(tmp_path):
 
 def test_a_source_tree_shadowing_the_installed_core_is_named(tmp_path, monkeypatch):
     tree, site = _source_tree(tmp_path), _installed(tmp_path)
-    monkeypatch.setattr(rtp_pkg, "__file__", str(tree / "wake" / "rtp" / "__init__.py"))
+    monkeypatch.setattr(rtp_pkg, "__file__", str(tree / "wake" / "_core.py"))
     monkeypatch.setattr(importlib.metadata, "distribution", lambda name: _FakeDist(site))
     assert rtp_pkg.shadowed_install() == (site / "wake").resolve()
     hint = rtp_pkg.missing_core_hint()
@@ -44,7 +44,7 @@ def test_a_source_tree_shadowing_the_installed_core_is_named(tmp_path, monkeypat
 
 def test_without_an_install_the_hint_is_to_build(tmp_path, monkeypatch):
     tree = _source_tree(tmp_path)
-    monkeypatch.setattr(rtp_pkg, "__file__", str(tree / "wake" / "rtp" / "__init__.py"))
+    monkeypatch.setattr(rtp_pkg, "__file__", str(tree / "wake" / "_core.py"))
 
     def missing(name):
         raise importlib.metadata.PackageNotFoundError(name)
@@ -56,8 +56,7 @@ def test_without_an_install_the_hint_is_to_build(tmp_path, monkeypatch):
 
 def test_an_installed_package_is_not_a_source_tree(tmp_path, monkeypatch):
     site = _installed(tmp_path)
-    (site / "wake" / "rtp").mkdir()
-    monkeypatch.setattr(rtp_pkg, "__file__", str(site / "wake" / "rtp" / "__init__.py"))
+    monkeypatch.setattr(rtp_pkg, "__file__", str(site / "wake" / "_core.py"))
     monkeypatch.setattr(importlib.metadata, "distribution", lambda name: _FakeDist(site))
     assert rtp_pkg.shadowed_install() is None
-    assert Path(rtp_pkg.__file__).parent.parent == site / "wake"
+    assert Path(rtp_pkg.__file__).parent == site / "wake"

@@ -24,7 +24,7 @@ import numpy as np
 from wake._files import atomic_write_text, refuse_same_file
 from wake.config import LIMITS, WakeConfig
 from wake.hpa.prior import prior_weights
-from wake.rtp.fixed import P_FRAC, TAP_FRAC, WEIGHT_FRAC, quantize_taps, quantize_variance, quantize_weights
+from wake.rtp.qformat import P_FRAC, TAP_FRAC, WEIGHT_FRAC, quantize_taps, quantize_variance, quantize_weights
 from wake.rtp.full_scale import power_of_two_at_least, robust_peak
 from wake.wavelets import filter_bank_taps
 

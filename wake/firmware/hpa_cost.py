@@ -125,7 +125,7 @@ def measure_hpa(target="m4f-O2", *, windows=None, build_dir=None, csrc=None) -> 
 def _loaded(img):
     """An emulator on ``img`` with the default filter bank (sym3, J = 5) in ``g_taps``."""
     from wake.firmware.profile.emulator import Emulator
-    from wake.rtp.fixed import quantize_taps
+    from wake.rtp.qformat import quantize_taps
     from wake.wavelets import filter_bank_taps
 
     emu = Emulator(img)

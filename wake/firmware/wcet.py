@@ -39,6 +39,7 @@ import re
 import subprocess
 from dataclasses import dataclass, field
 
+from .cfg import dag_longest, natural_loops
 from .cycles import CONDITIONS, CYCLE_MODELS, CycleModel, base_mnemonic, cycle_model_for, instruction_cycles
 from .profile.build import Image, _emulator_modules, toolchain
 
@@ -287,7 +288,21 @@ class _Analyser:
         return extra_n, extra_c
 
     def _longest(self, name, blocks, entry, stack):
-        # node costs (instructions, cycles) and edges with costs
+        blocks, node, edges = self._graph(blocks, entry, stack)
+        loops = natural_loops(edges, entry)
+        # collapse loops, innermost (smallest) first
+        for h in sorted(loops, key=lambda k: len(loops[k])):
+            self._collapse_loop(name, h, loops, blocks, node, edges)
+        dist = dag_longest(entry, node, edges, inside=None, stop=None)
+        best = [0, 0]
+        for u, (n, c) in dist.items():
+            for v, (en, ec) in edges[u]:
+                if v is None:
+                    best = [max(best[0], n + en), max(best[1], c + ec)]
+        return tuple(best)
+
+    def _graph(self, blocks, entry, stack):
+        """The blocks reachable from ``entry``, their costs (instructions, cycles) and the edges with theirs."""
         reach, work = set(), [entry]
         while work:
             u = work.pop()
@@ -304,110 +319,51 @@ class _Analyser:
                 if isinstance(tgt, tuple):
                     tail, tgt = tgt[1], None
                 edges[b].append((tgt, self._edge_cost(blk, taken, tail)))
-        # back edges by DFS
-        back, state, order = set(), {}, []
+        return blocks, node, edges
 
-        def dfs(u):
-            state[u] = 1
-            for v, _ in edges[u]:
-                if v is None:
-                    continue
-                if state.get(v) == 1:
-                    back.add((u, v))
-                elif v not in state:
-                    dfs(v)
-            state[u] = 2
-            order.append(u)
-
-        dfs(entry)
-        loops = {}
-        for u, h in back:
-            body, work = {h, u}, [u]
-            preds = {b: [a for a in edges if any(t == b for t, _ in edges[a])] for b in edges}
-            while work:
-                x = work.pop()
-                if x == h:
-                    continue
-                for p in preds[x]:
-                    if p not in body:
-                        body.add(p)
-                        work.append(p)
-            loops.setdefault(h, set()).update(body)
-        # collapse loops, innermost (smallest) first
-        for h in sorted(loops, key=lambda k: len(loops[k])):
-            body = loops[h]
-            inner = [k for k in loops if k != h and loops[k] < body]
-            own = set(body)
-            for k in inner:
-                own -= loops[k] - {k}
-            addrs = [i.addr for b in own if b in blocks for i in blocks[b].insns]
-            trips = _loop_bound(self.image, addrs, self.level, f"{name} at {h:#x}")
-            self.loops.append((name, h, trips))
-            dist = self._dag_longest(h, node, edges, inside=body, stop=h)
-            c_back = [0, 0]
-            c_exit = [0, 0]
-            header_exits = False
-            for u in body:
-                if u not in dist:
-                    continue
-                for v, (en, ec) in edges[u]:
-                    if v == h:
-                        c_back = [max(c_back[0], dist[u][0] + en), max(c_back[1], dist[u][1] + ec)]
-                    elif v is None or v not in body:
-                        c_exit = [max(c_exit[0], dist[u][0] + en), max(c_exit[1], dist[u][1] + ec)]
-                        header_exits |= u == h
-            # The header tests at the top (it runs B + 1 times) only if it can leave before the rest of the
-            # body.  A header that is its own latch (one block that ends in the test branching back to
-            # itself) leaves only after a whole iteration: B times.
-            self_latch = any(v == h for v, _ in edges[h])
-            runs = trips + 1 if header_exits and not self_latch else trips
-            cost = ((runs - 1) * c_back[0] + c_exit[0], (runs - 1) * c_back[1] + c_exit[1])
-            exits = {v for u in body for v, _ in edges[u] if v is None or v not in body}
-            # the loop becomes one node: entered at h, leaving to its exits (costs already inside)
-            for u in body:
-                if u != h:
-                    node.pop(u, None)
-                    edges.pop(u, None)
-            node[h] = cost
-            edges[h] = [(v, (0, 0)) for v in exits]
-            for u in edges:
-                edges[u] = [(v if v not in body else h, c) for v, c in edges[u]]
-            for k in loops:
-                if k != h and loops[k] >= body:
-                    loops[k] = (loops[k] - body) | {h}
-        dist = self._dag_longest(entry, node, edges, inside=None, stop=None)
-        best = [0, 0]
-        for u, (n, c) in dist.items():
-            for v, (en, ec) in edges[u]:
-                if v is None:
-                    best = [max(best[0], n + en), max(best[1], c + ec)]
-        return tuple(best)
-
-    @staticmethod
-    def _dag_longest(src, node, edges, *, inside, stop):
-        """Longest (instructions, cycles) from src to each node, node costs included (acyclic part)."""
-        order, seen = [], set()
-
-        def visit(u):
-            seen.add(u)
-            for v, _ in edges.get(u, []):
-                if v is None or v == stop or (inside is not None and v not in inside) or v in seen:
-                    continue
-                visit(v)
-            order.append(u)
-
-        visit(src)
-        dist = {src: node[src]}
-        for u in reversed(order):
+    def _collapse_loop(self, name, h, loops, blocks, node, edges):
+        """Replace the loop headed by ``h`` by one node that costs its bound (``node``, ``edges`` and the
+        bodies of the enclosing ``loops`` are updated in place)."""
+        body = loops[h]
+        inner = [k for k in loops if k != h and loops[k] < body]
+        own = set(body)
+        for k in inner:
+            own -= loops[k] - {k}
+        addrs = [i.addr for b in own if b in blocks for i in blocks[b].insns]
+        trips = _loop_bound(self.image, addrs, self.level, f"{name} at {h:#x}")
+        self.loops.append((name, h, trips))
+        dist = dag_longest(h, node, edges, inside=body, stop=h)
+        c_back = [0, 0]
+        c_exit = [0, 0]
+        header_exits = False
+        for u in body:
             if u not in dist:
                 continue
-            for v, (en, ec) in edges.get(u, []):
-                if v is None or v == stop or (inside is not None and v not in inside):
-                    continue
-                cand = (dist[u][0] + en + node[v][0], dist[u][1] + ec + node[v][1])
-                old = dist.get(v)
-                dist[v] = cand if old is None else (max(old[0], cand[0]), max(old[1], cand[1]))
-        return dist
+            for v, (en, ec) in edges[u]:
+                if v == h:
+                    c_back = [max(c_back[0], dist[u][0] + en), max(c_back[1], dist[u][1] + ec)]
+                elif v is None or v not in body:
+                    c_exit = [max(c_exit[0], dist[u][0] + en), max(c_exit[1], dist[u][1] + ec)]
+                    header_exits |= u == h
+        # The header tests at the top (it runs B + 1 times) only if it can leave before the rest of the
+        # body.  A header that is its own latch (one block that ends in the test branching back to
+        # itself) leaves only after a whole iteration: B times.
+        self_latch = any(v == h for v, _ in edges[h])
+        runs = trips + 1 if header_exits and not self_latch else trips
+        cost = ((runs - 1) * c_back[0] + c_exit[0], (runs - 1) * c_back[1] + c_exit[1])
+        exits = {v for u in body for v, _ in edges[u] if v is None or v not in body}
+        # the loop becomes one node: entered at h, leaving to its exits (costs already inside)
+        for u in body:
+            if u != h:
+                node.pop(u, None)
+                edges.pop(u, None)
+        node[h] = cost
+        edges[h] = [(v, (0, 0)) for v in exits]
+        for u in edges:
+            edges[u] = [(v if v not in body else h, c) for v, c in edges[u]]
+        for k in loops:
+            if k != h and loops[k] >= body:
+                loops[k] = (loops[k] - body) | {h}
 
 
 def static_bound(image: Image, level: int, *, function="wake_rtp_step", exclude=(), model=None) -> Bound:

@@ -12,21 +12,21 @@ from __future__ import annotations
 import numpy as np
 
 from wake.config import WakeConfig
-from wake.hpa.cutoff import CUTOFF_RULES, EDGE_DB, FLOOR_MARGIN_DB
+from wake.hpa.cutoff import CUTOFF_FLAGS, EDGE_DB, FLOOR_MARGIN_DB, FLOOR_STRIDE, MIN_DEPTH_DB
 from wake.hpa.run import HPAUpdate, clean_only_below
+from wake.registry import cutoff_rule_names, cutoff_rules, get_cutoff_rule
 from wake.rtp.full_scale import power_of_two_at_least
+from wake.target import TARGET
 
-__all__ = ["C_FLAGS", "hpa_config", "hpa_config_fields", "quantize_window", "run_hpa_c", "check_c_hpa_config",
-           "window_full_scale"]
+__all__ = ["c_flag_name", "c_mirror_problems", "hpa_config", "hpa_config_fields", "quantize_window", "run_hpa_c",
+           "check_c_hpa_config", "window_full_scale"]
 
-#: wake_hpa_flag_t -> the keys of :data:`wake.hpa.CUTOFF_FLAGS`
-C_FLAGS = ("valley", "no_tremor_peak", "no_valley", "silent", "shallow_valley", "floor_valley")
-#: 10^(-3 dB / 10): the valley depth of :func:`wake.hpa.find_cutoff` as a ratio of PSD values
-MIN_DEPTH_RATIO = 10.0 ** (-3.0 / 10.0)
+#: 10^(-MIN_DEPTH_DB / 10): the valley depth of :func:`wake.hpa.find_cutoff` as a ratio of PSD values
+MIN_DEPTH_RATIO = 10.0 ** (-MIN_DEPTH_DB / 10.0)
 #: 10^(-FLOOR_MARGIN_DB / 10) and 10^(-EDGE_DB / 10): rule "floor"'s margins as ratios of PSD values
 FLOOR_RATIO = 10.0 ** (-FLOOR_MARGIN_DB / 10.0)
 EDGE_RATIO = 10.0 ** (-EDGE_DB / 10.0)
-#: Warm-up points wake_hpa_config_t holds (WAKE_HPA_MAX_WARMUP)
+#: Warm-up points wake_hpa_config_t holds (WAKE_HPA_MAX_WARMUP; :func:`c_mirror_problems` checks it)
 MAX_WARMUP = 8
 _Q15 = 32768.0
 
@@ -38,6 +38,39 @@ def _core():
     from wake._rtp import ffi, lib
 
     return ffi, lib
+
+
+def c_flag_name(flag: str) -> str:
+    """The ``wake_hpa_flag_t`` enumerator of a key of :data:`wake.hpa.CUTOFF_FLAGS` (``"valley"`` ->
+    ``WAKE_HPA_VALLEY``)."""
+    return "WAKE_HPA_" + flag.upper()
+
+
+def c_mirror_problems(lib) -> list:
+    """Where the Python side and the compiled C HPA ``lib`` disagree: the one check of every number the
+    two both state.  Each registered cut-off rule (:mod:`wake.registry`) must have its ``c_name`` numbered
+    by its place in the registry, each key of :data:`~wake.hpa.CUTOFF_FLAGS` its :func:`c_flag_name`;
+    ``MAX_WARMUP``, ``FLOOR_STRIDE`` and the prediction target's horizon (:mod:`wake.target`) must equal
+    the header's.  Returns one message per problem."""
+    problems = []
+    for number, rule in enumerate(cutoff_rules()):
+        have = getattr(lib, rule.c_name, None)
+        if have is None:
+            problems.append(f"cut-off rule {rule.name!r}: {rule.c_name} is not in wake_hpa_rule_t "
+                            "(add it to csrc/wake_hpa.h and its case to csrc/wake_hpa.c)")
+        elif int(have) != number:
+            problems.append(f"cut-off rule {rule.name!r}: {rule.c_name} = {int(have)}, but it is rule number "
+                            f"{number} in wake.registry (register the rules in the enumerators' order)")
+    for number, flag in enumerate(CUTOFF_FLAGS):
+        have = getattr(lib, c_flag_name(flag), None)
+        if have is None or int(have) != number:
+            problems.append(f"cut-off flag {flag!r}: {c_flag_name(flag)} = {have}, expected {number} "
+                            "(wake_hpa_flag_t follows the order of wake.hpa.CUTOFF_FLAGS)")
+    for name, value in (("WAKE_HPA_MAX_WARMUP", MAX_WARMUP), ("WAKE_HPA_FLOOR_STRIDE", FLOOR_STRIDE),
+                        ("WAKE_HPA_HORIZON", TARGET.horizon)):
+        if int(getattr(lib, name)) != value:
+            problems.append(f"{name} = {int(getattr(lib, name))}, the Python side says {value}")
+    return problems
 
 
 def check_c_hpa_config(config: WakeConfig) -> None:
@@ -59,6 +92,9 @@ def check_c_hpa_config(config: WakeConfig) -> None:
     if len(config.hpa_points()) > lib.WAKE_HPA_MAX_WARMUP:
         problems.append(f"{len(config.hpa_points())} warm-up points exceed WAKE_HPA_MAX_WARMUP = "
                         f"{lib.WAKE_HPA_MAX_WARMUP} (pass fewer warmup_hpa_s)")
+    rule = get_cutoff_rule(config.cutoff_rule)
+    if getattr(lib, rule.c_name, None) is None:
+        problems.append(f"cutoff_rule {rule.name!r} has no C function ({rule.c_name} is not in wake_hpa_rule_t)")
     if problems:
         raise ValueError("hpa_backend='c' cannot run this configuration: " + "; ".join(problems)
                          + "; use hpa_backend='python'")
@@ -77,7 +113,7 @@ def hpa_config_fields(config: WakeConfig) -> dict:
             "default_cutoff": config.default_cutoff, "min_depth_ratio": MIN_DEPTH_RATIO,
             "floor_ratio": FLOOR_RATIO, "edge_ratio": EDGE_RATIO, "ridge": config.ridge,
             "process_noise_ratio": config.process_noise_ratio, "window": config.window_samples,
-            "level": config.level, "ar_order": config.ar_order, "rule": CUTOFF_RULES.index(config.cutoff_rule),
+            "level": config.level, "ar_order": config.ar_order, "rule": cutoff_rule_names().index(config.cutoff_rule),
             "clean_below": clean_only_below(config), "warmup": points + [0] * (MAX_WARMUP - len(points))}
 
 
@@ -137,7 +173,7 @@ def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index:
     'valley'
     """
     ffi, lib = _core()
-    from wake.rtp.fixed import quantize_taps
+    from wake.rtp.qformat import quantize_taps
 
     check_c_hpa_config(config)
     x = np.asarray(window, dtype=float)
@@ -180,6 +216,6 @@ def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index:
     if res.notes & lib.WAKE_HPA_NOTE_CLIPPED:
         notes.append("weights_clipped")
     weights = np.array([res.weights[j] for j in range(J)], dtype=float)
-    return HPAUpdate(int(index), float(res.cutoff), C_FLAGS[res.flag], weights,
+    return HPAUpdate(int(index), float(res.cutoff), list(CUTOFF_FLAGS)[res.flag], weights,
                      float(res.measurement_noise) * lsb * lsb, float(np.sqrt(res.fit_mse)) * lsb,
                      float(res.ridge), tuple(notes))

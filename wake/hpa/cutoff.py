@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from wake._validation import check_positive
+from wake.registry import get_cutoff_rule, register_cutoff_rule
 
-__all__ = ["CUTOFF_FLAGS", "CUTOFF_RULES", "FALLBACK_FLAGS", "find_cutoff"]
+__all__ = ["CUTOFF_FLAGS", "FALLBACK_FLAGS", "Spectrum", "find_cutoff"]
 
 #: How a cut-off was found: from the window's spectrum (``"valley"``, ``"floor_valley"``, ``"shallow_valley"``)
 #: or the fallback ``default_cutoff`` (:data:`FALLBACK_FLAGS`).
@@ -24,8 +27,8 @@ CUTOFF_FLAGS = {
 #: The flags whose f_d is ``default_cutoff``, not taken from the window's spectrum.
 FALLBACK_FLAGS = ("no_tremor_peak", "no_valley", "silent")
 
-#: Cut-off rules (docs/design.md, "Cut-off on real wear").  "floor" is the default; "paper" is the paper's.
-CUTOFF_RULES = ("paper", "shallow", "floor")
+#: How deep a dip must be to count as a valley, dB (the paper's 3 dB).
+MIN_DEPTH_DB = 3.0
 
 #: Highest f_d the "shallow" and "floor" rules take from a shallow dip, Hz: a shallow dip above it is not
 #: where voluntary motion ends.
@@ -46,7 +49,7 @@ FLOOR_STRIDE = 8
 
 
 def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
-                default_cutoff=2.0, min_depth_db=3.0, rule="paper", shallow_max=SHALLOW_MAX,
+                default_cutoff=2.0, min_depth_db=MIN_DEPTH_DB, rule="paper", shallow_max=SHALLOW_MAX,
                 floor_margin_db=FLOOR_MARGIN_DB, edge_db=EDGE_DB):
     """Cut-off ``f_d`` at the valley between voluntary and tremor content.
 
@@ -75,7 +78,9 @@ def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
         The fallback, Hz; must lie in ``cutoff_range``.
     min_depth_db : float
         How deep a dip must be to count as a valley.
-    rule : {"paper", "shallow", "floor"}
+    rule : {"paper", "shallow", "floor"} or another registered rule
+        A name in :mod:`wake.registry` (the built-in rules below are
+        :func:`paper_rule`, :func:`shallow_rule` and :func:`floor_rule`).
         ``"paper"`` (this function's default, the paper's rule): the valley
         or ``default_cutoff``.
         ``"shallow"``: where ``"paper"`` finds a tremor peak but no valley
@@ -128,8 +133,7 @@ def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
             f"need 0 < cutoff_range[0] <= default_cutoff <= cutoff_range[1], got "
             f"cutoff_range={cutoff_range!r}, default_cutoff={default_cutoff!r}"
         )
-    if rule not in CUTOFF_RULES:
-        raise ValueError(f"unknown cut-off rule {rule!r}; valid choices: {', '.join(CUTOFF_RULES)}")
+    decide = get_cutoff_rule(rule).function
     if isinstance(shallow_max, bool) or not isinstance(shallow_max, (int, float, np.floating, np.integer)) \
             or not lo <= shallow_max < np.inf:
         raise ValueError(f"shallow_max must be a finite frequency at or above cutoff_range[0] = {lo:g} Hz, "
@@ -138,43 +142,112 @@ def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
     edge_db = check_positive("edge_db", edge_db)
     if not 0 < tremor_band[0] < tremor_band[1]:
         raise ValueError(f"tremor_band must be (low, high) with 0 < low < high, got {tremor_band!r}")
-    freqs = np.asarray(freqs, dtype=float)
-    psd = np.asarray(psd, dtype=float)
+    settings = dict(cutoff_range=(lo, hi), tremor_band=tremor_band, default_cutoff=default_cutoff,
+                    min_depth_db=min_depth_db, shallow_max=shallow_max, floor_margin_db=floor_margin_db,
+                    edge_db=edge_db)
+    return decide(_analyse(np.asarray(freqs, dtype=float), np.asarray(psd, dtype=float), settings))
+
+
+def _analyse(freqs, psd, settings) -> "Spectrum":
+    """The tremor peak and the valley below it, or the fallback flag that says why there is none."""
+    lo, hi = settings["cutoff_range"]
+    tremor_band = settings["tremor_band"]
     if not np.isfinite(psd).all() or psd.max() <= 0:
-        return float(default_cutoff), "silent"
+        return Spectrum(freqs, None, None, None, None, fallback="silent", **settings)
     db = 10 * np.log10(np.maximum(psd, psd.max() * 1e-30))
     inner = np.flatnonzero((freqs >= tremor_band[0]) & (freqs <= tremor_band[1]))
     inner = inner[(inner > 0) & (inner < freqs.size - 1)]
     local_max = inner[(db[inner] >= db[inner - 1]) & (db[inner] >= db[inner + 1])]
     if local_max.size == 0:
-        return float(default_cutoff), "no_tremor_peak"
+        return Spectrum(freqs, db, None, None, None, fallback="no_tremor_peak", **settings)
     peak = local_max[np.argmax(db[local_max])]
     search = np.flatnonzero((freqs >= lo) & (freqs <= min(hi, freqs[peak])))
     if search.size < 3:
-        return float(default_cutoff), "no_valley"
+        return Spectrum(freqs, db, peak, None, None, fallback="no_valley", **settings)
     valley = search[np.argmin(db[search])]
-    left = db[: valley + 1].max()
-    # the noise floor: the lowest PSD above the tremor band, over fs/2 and every FLOOR_STRIDE-th bin below it
-    # (rule "floor"; none without bins there)
-    above = np.flatnonzero(freqs > tremor_band[1])[::-1][::FLOOR_STRIDE]
-    floor = db[above].min() if rule == "floor" and above.size else -np.inf
-    if db[valley] > db[peak] - min_depth_db or db[valley] > left - min_depth_db:
-        if rule in ("shallow", "floor"):
+    return Spectrum(freqs, db, peak, valley, db[: valley + 1].max(), **settings)
+
+
+@dataclass(frozen=True)
+class Spectrum:
+    """What a cut-off rule reads: a window's spectrum in dB, its tremor peak and its valley below it.
+
+    When there is no valley to judge, ``fallback`` says why (``"silent"``, ``"no_tremor_peak"``,
+    ``"no_valley"``: a key of :data:`FALLBACK_FLAGS`) and the fields it leaves unknown are None; a rule
+    then usually answers ``(default_cutoff, fallback)``.
+    """
+
+    freqs: np.ndarray
+    db: np.ndarray | None
+    peak: int | None      #: bin of the tremor peak (the largest local maximum inside tremor_band)
+    valley: int | None    #: bin of the PSD minimum over cutoff_range below the peak
+    left: float | None    #: the largest PSD value at or below the valley (the voluntary content), dB
+    cutoff_range: tuple
+    tremor_band: tuple
+    default_cutoff: float
+    min_depth_db: float
+    shallow_max: float
+    floor_margin_db: float
+    edge_db: float
+    fallback: str | None = None
+
+    @property
+    def deep(self) -> bool:
+        """Whether the valley lies at least ``min_depth_db`` below both the tremor peak and ``left``."""
+        db, v = self.db, self.valley
+        return not (db[v] > db[self.peak] - self.min_depth_db or db[v] > self.left - self.min_depth_db)
+
+    def noise_floor(self) -> float:
+        """The lowest PSD above the tremor band, over fs/2 and every FLOOR_STRIDE-th bin below it (dB;
+        -inf without bins there)."""
+        above = np.flatnonzero(self.freqs > self.tremor_band[1])[::-1][::FLOOR_STRIDE]
+        return self.db[above].min() if above.size else -np.inf
+
+
+@register_cutoff_rule("paper", c_name="WAKE_HPA_RULE_PAPER",
+                      description="the paper's: a 3 dB valley, else default_cutoff")
+def paper_rule(s: Spectrum):
+    """The valley when it is deep, else ``default_cutoff``."""
+    return _valley_or_dip(s, shallow=False, floor=-np.inf)
+
+
+@register_cutoff_rule("shallow", c_name="WAKE_HPA_RULE_SHALLOW",
+                      description="also a shallower dip below a tremor peak, at or below shallow_max")
+def shallow_rule(s: Spectrum):
+    """As ``"paper"``, and a shallower dip below a tremor peak at or below ``shallow_max``."""
+    return _valley_or_dip(s, shallow=True, floor=-np.inf)
+
+
+@register_cutoff_rule("floor", c_name="WAKE_HPA_RULE_FLOOR",
+                      description=("as 'shallow', with both compared to the noise floor above the tremor band "
+                                   "(on PADS 33 % instead of 82 % of windows on 2 Hz)"))
+def floor_rule(s: Spectrum):
+    """As ``"shallow"``, with the dip and the valley compared to the noise floor (:meth:`Spectrum.noise_floor`)."""
+    return _valley_or_dip(s, shallow=True, floor=s.noise_floor() if s.fallback is None else -np.inf)
+
+
+def _valley_or_dip(s: Spectrum, *, shallow: bool, floor: float):
+    if s.fallback is not None:
+        return float(s.default_cutoff), s.fallback
+    freqs, db, valley = s.freqs, s.db, s.valley
+    lo, hi = s.cutoff_range
+    if not s.deep:
+        if shallow:
             # a dip shallower than min_depth_db: its minimum, but only where voluntary motion can end
             # and, rule "floor", only well above the noise floor
-            low = np.flatnonzero((freqs >= lo) & (freqs <= min(hi, shallow_max, freqs[peak])))
+            low = np.flatnonzero((freqs >= lo) & (freqs <= min(hi, s.shallow_max, freqs[s.peak])))
             if low.size >= 3:
                 dip = low[np.argmin(db[low])]
                 # a minimum on the lowest bin is no dip: the PSD rises from there into the tremor peak
                 # (rest tremor on slow drift; docs/design.md, "Rest tremor with little voluntary motion")
-                if dip > low[0] and db[dip] >= floor + floor_margin_db:
+                if dip > low[0] and db[dip] >= floor + s.floor_margin_db:
                     return float(freqs[dip]), "shallow_valley"
-        return float(default_cutoff), "no_valley"
-    if db[valley] < floor + floor_margin_db:
+        return float(s.default_cutoff), "no_valley"
+    if db[valley] < floor + s.floor_margin_db:
         # a valley at the noise floor: where the minimum falls inside the gap is noise; the gap's low
         # edge is where the voluntary content ends
         edge = valley
-        while edge > 0 and freqs[edge - 1] >= lo and db[edge - 1] <= db[valley] + edge_db:
+        while edge > 0 and freqs[edge - 1] >= lo and db[edge - 1] <= db[valley] + s.edge_db:
             edge -= 1
         return float(freqs[edge]), "floor_valley"
     return float(freqs[valley]), "valley"

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from wake.config import WEIGHT_LIMIT
+from wake.wavelets import default_weights  # noqa: F401  (re-exported: the weights before any fit)
 
 __all__ = ["fit_weights", "default_weights"]
 
@@ -72,8 +73,3 @@ def fit_weights(approximations, target, ridge=1e-6, weight_limit=WEIGHT_LIMIT, *
     return w, err, factor
 
 
-def default_weights(level):
-    """Warm-up weights: the deepest approximation alone, a plain low-pass."""
-    w = np.zeros(level)
-    w[-1] = 1.0
-    return w

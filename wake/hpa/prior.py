@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from wake.config import WEIGHT_LIMIT, WakeConfig
+from wake.target import TARGET
 from wake.wavelets import filter_bank_taps
 
 __all__ = ["prior_weights"]
@@ -74,7 +75,7 @@ def prior_weights(config: WakeConfig, taps=None, *, tremor_weight: float = 0.3, 
         return np.exp(-2j * np.pi * np.outer(f, delays) / config.fs) @ taps.T
 
     a_vol, a_trem = response(f_vol), np.sqrt(tremor_weight) * response(f_trem)
-    target = np.exp(2j * np.pi * f_vol / config.fs)  # the next sample
+    target = TARGET.phasor(f_vol, config.fs)  # the sample the RTP predicts (wake.target)
     A = np.vstack([a_vol, a_trem])
     y = np.concatenate([target, np.zeros(n_freqs)])
     # real w: stack real and imaginary parts

@@ -28,6 +28,7 @@ import numpy as np
 
 from wake.config import WakeConfig
 from wake.hpa.cutoff import find_cutoff
+from wake.target import TARGET
 from wake.hpa.fit import default_weights, fit_weights
 from wake.hpa.sharp import detrended_highpass
 from wake.hpa.spectrum import ar_psd, window_order
@@ -134,8 +135,8 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
     # variance so that a window with no tremor still gives S = w'Pw + R > 0.
     measurement_noise = float(max(np.var(tremor_gt), 1e-6 * spread**2))
     if fit == "causal":
-        approx = filter_bank_outputs(x, taps)[:-1]  # a(k) for k = N-1 .. L-2
-        target = voluntary_gt[taps.shape[1]:]  # v_GT(k + 1)
+        # a(k) for k = N-1 .. L-1-h against v_GT(k + h), h = TARGET.horizon (wake.target)
+        approx, target = TARGET.fit_pairs(filter_bank_outputs(x, taps), voluntary_gt, taps.shape[1])
     else:
         approx = wavelet_approximations(x, config.wavelet, level, config.mode)
         target = voluntary_gt

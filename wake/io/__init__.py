@@ -5,8 +5,8 @@
 >>> rec.fs, rec.channels, rec.timing.resampled             # doctest: +SKIP
 (100.0, ('acc_x', 'acc_y', 'acc_z', 'gyro_x', 'gyro_y', 'gyro_z'), True)
 
-``wake stream`` (live data over pipes or Lab Streaming Layer) lives in
-:mod:`wake.io.stream`.
+The streams of ``wake stream`` (live data over pipes or Lab Streaming Layer)
+are in :mod:`wake.io.stream`; the command's options in :mod:`wake.cli`.
 """
 
 from wake.io.readers import FORMATS, PADS_CHANNELS, PADS_UNITS, read_csv, read_mat, read_pads, read_recording

@@ -1,4 +1,7 @@
-"""``wake stream``: WAKE on a live stream, over text pipes or Lab Streaming Layer.
+"""WAKE on a live stream, over text pipes or Lab Streaming Layer (the streams of ``wake stream``).
+
+The command line (its options, checks and signal handling) is in :mod:`wake.cli`;
+this module reads and writes the streams.
 
 Every input sample gets exactly one output sample, in order:
 
@@ -29,7 +32,6 @@ read has its output written, and a summary goes to stderr.
 
 from __future__ import annotations
 
-import argparse
 import gc
 import math
 import signal
@@ -42,7 +44,7 @@ import numpy as np
 
 from wake._files import silence_stdout
 
-__all__ = ["StreamProcessor", "cli"]
+__all__ = ["StreamProcessor", "StreamStop", "run_pipes", "run_lsl", "SWITCH_INTERVAL_S"]
 
 #: GIL switch interval while an HPA thread runs beside the sample path (default Python: 5 ms).
 SWITCH_INTERVAL_S = 2e-4
@@ -123,7 +125,7 @@ class StreamProcessor:
                 f"{self.latency_summary()}")
 
 
-class _Stop:
+class StreamStop:
     """SIGINT/SIGTERM: interrupt a blocking read, but never a sample in flight."""
 
     def __init__(self):
@@ -162,12 +164,6 @@ def _parse(line: str, expect: int | None):
     return out
 
 
-def _make_filter(args, fs):
-    from wake.cli import make_filter
-
-    return make_filter(args, fs, hpa_mode=args.hpa_mode)
-
-
 def _ready(filt):
     """Before the first sample: the HPA worker running, and the objects of the set-up out of the GC's way."""
     filt.start_worker()
@@ -175,9 +171,14 @@ def _ready(filt):
     gc.freeze()  # the set-up's objects (numpy, scipy, ...) are never scanned again: short collections
 
 
-def _run_pipes(args, stop, log) -> int:
+def run_pipes(args, make_filter, stop, log) -> int:
+    """``--stdin`` / ``--stdout``: one line in, one line out, until the input ends or ``stop`` is requested.
+
+    ``args`` holds the options of ``wake stream`` (``wake.cli``), ``make_filter(fs)`` builds the filter,
+    ``stop`` is a :class:`StreamStop`, ``log(message)`` writes a status line.  Returns the exit status.
+    """
     fin, fout = sys.stdin, sys.stdout
-    filt = _make_filter(args, args.fs)
+    filt = make_filter(args.fs)
     try:
         _ready(filt)
         log(f"wake stream: ready, reading stdin at {args.fs:g} Hz")
@@ -304,7 +305,8 @@ def _lsl_lost_error(pylsl):
     return lost
 
 
-def _run_lsl(args, stop, log) -> int:
+def run_lsl(args, make_filter, stop, log) -> int:
+    """``--lsl-in`` / ``--lsl-out``: as :func:`run_pipes`, between two Lab Streaming Layer streams."""
     try:
         import pylsl
     except ImportError:
@@ -333,7 +335,7 @@ def _run_lsl(args, stop, log) -> int:
             c.append_child_value("unit", unit)
             c.append_child_value("type", kind)
     out_info.desc().append_child_value("source", f"wake stream from {args.lsl_in}")
-    proc = StreamProcessor(_make_filter(args, fs), labels)
+    proc = StreamProcessor(make_filter(fs), labels)
     _ready(proc.filt)
     outlet = pylsl.StreamOutlet(out_info)  # visible only once the filter is ready for the first sample
     log(f"wake stream: {args.lsl_in} ({n_ch} channels at {fs:g} Hz) -> {args.lsl_out}")
@@ -366,64 +368,3 @@ def _run_lsl(args, stop, log) -> int:
     _finish(proc, log, why)
     del outlet
     return 0
-
-
-def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
-        prog="wake stream",
-        description="Run WAKE on a live stream: voluntary motion and tremor out for every sample in.")
-    src = p.add_mutually_exclusive_group(required=True)
-    src.add_argument("--stdin", action="store_true", help="read one line of comma-separated values per sample")
-    src.add_argument("--lsl-in", metavar="NAME", help="read the Lab Streaming Layer stream of this name")
-    dst = p.add_mutually_exclusive_group(required=True)
-    dst.add_argument("--stdout", action="store_true", help="write one line per sample: voluntary..., tremor...")
-    dst.add_argument("--lsl-out", metavar="NAME", help="publish an LSL stream of this name")
-    p.add_argument("--fs", type=float, default=None,
-                   help="sampling rate in Hz (required with --stdin; default with LSL: the stream's nominal rate)")
-    p.add_argument("--timestamps", action="store_true",
-                   help="--stdin: the first value of each line is its timestamp, copied to the output line")
-    p.add_argument("--header", action="store_true", help="--stdout: write a line of column names first")
-    p.add_argument("--bad-lines", choices=("stop", "missing"), default="stop",
-                   help="a line that is not numbers or has the wrong count: stop with an error (default), "
-                        "or take it as a missing sample (its output line holds the prediction and nan)")
-    p.add_argument("--hpa-mode", choices=("thread", "inline"), default="thread",
-                   help="thread (default): the HPA runs on a worker thread, off the sample path; "
-                        "inline: on the sample path, and the output equals `wake run` bit for bit")
-    p.add_argument("--status", type=float, default=5.0, metavar="S",
-                   help="status line on stderr every S seconds (0: only the final summary)")
-    p.add_argument("--max-samples", type=int, default=0, help="stop after this many samples (0: no limit)")
-    p.add_argument("--lsl-timeout", type=float, default=10.0, metavar="S", help="seconds to find the LSL stream")
-    from wake.cli import add_filter_arguments
-
-    add_filter_arguments(p)
-    return p
-
-
-def cli(argv=None) -> int:
-    """``wake stream``: see the module docstring."""
-    args = build_parser().parse_args(argv)
-    if args.stdin and args.fs is None:
-        raise ValueError("--stdin needs the sampling rate: give it with --fs HZ")
-    if args.fs is not None and not (math.isfinite(args.fs) and args.fs > 0):
-        raise ValueError(f"--fs must be > 0 Hz, got {args.fs}")
-    if args.max_samples < 0 or args.status < 0:
-        raise ValueError("--max-samples and --status must be >= 0")
-    if args.stdin != args.stdout:
-        raise ValueError("use --stdin with --stdout, or --lsl-in with --lsl-out")
-    _make_filter(args, args.fs or 100.0).close()  # every filter setting checked before the stream starts
-
-    def log(msg):
-        print(msg, file=sys.stderr, flush=True)
-
-    if args.hpa_mode == "thread":
-        # The HPA worker holds the GIL in its Python parts; with the default 5 ms switch interval a
-        # sample arriving then waits up to 5 ms for it.  0.2 ms bounds that wait (bench/stream_end_to_end.py).
-        sys.setswitchinterval(SWITCH_INTERVAL_S)
-    stop = _Stop()
-    main_thread = threading.current_thread() is threading.main_thread()
-    old = stop.install() if main_thread else []  # signal handlers can only be set from the main thread
-    try:
-        return _run_pipes(args, stop, log) if args.stdin else _run_lsl(args, stop, log)
-    finally:
-        for sig, handler in zip((signal.SIGINT, getattr(signal, "SIGTERM", None)), old):
-            signal.signal(sig, handler)

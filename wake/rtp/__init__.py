@@ -8,6 +8,9 @@ Two implementations share one interface, :class:`RTP`:
   cffi, the code firmware runs), loaded by :func:`load_fixed_point` only
   when asked for, so that the package works without a compiled core.
 
+:mod:`wake.rtp.qformat` holds the C core's number formats and the quantisers
+into them (no compiled core needed); :mod:`wake.rtp.adaptive` the RTP that
+picks its own full scale and moves from the reference to the C core.
 :mod:`wake.rtp.literal` keeps the paper's literal windowed Algorithm 3 for
 the ablation in the evaluation.
 """
@@ -18,54 +21,10 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
+from wake._core import BUILD_HINT, CoreUnavailable, missing_core_hint
 from wake.rtp.reference import ReferenceRTP
 
 __all__ = ["RTP", "ReferenceRTP", "CoreUnavailable", "c_backend_available", "load_fixed_point"]
-
-#: How to get the compiled core, for every message that needs it.
-BUILD_HINT = ("build it with `pip install .` (or `pip install -e .` inside a source tree) on a machine "
-              "with a C compiler, or use backend=\"reference\" (the float64 reference, no compiler needed)")
-
-
-def shadowed_install():
-    """Where an installed ``wake`` with the compiled core lies hidden behind this source tree, or None.
-
-    After ``pip install .`` in a checkout, Python started in the checkout imports the source tree (the current
-    directory comes first on ``sys.path``), which has no compiled core, while the installed copy has one.
-    """
-    import importlib.metadata
-    from pathlib import Path
-
-    here = Path(__file__).resolve().parents[1]  # the wake package directory imported
-    if not (here.parent / "pyproject.toml").is_file():
-        return None  # not a source tree
-    try:
-        dist = importlib.metadata.distribution("wake-tremor")
-    except importlib.metadata.PackageNotFoundError:
-        return None
-    for f in dist.files or ():
-        if f.parts[:1] == ("wake",) and f.name.startswith("_rtp") and f.suffix in (".so", ".pyd"):
-            installed = Path(dist.locate_file(f)).resolve().parent
-            return installed if installed != here and installed.is_dir() else None
-    return None
-
-
-def missing_core_hint() -> str:
-    """How to get the compiled core, or, when the source tree shadows an installed one, what happened."""
-    installed = shadowed_install()
-    if installed is None:
-        return BUILD_HINT
-    from pathlib import Path
-
-    tree = Path(__file__).resolve().parents[2]
-    return (f"Python imported the source tree {tree} (the current directory comes first on sys.path), which has "
-            f"no compiled core, instead of the installed package in {installed}, which has it: run from "
-            "another directory, or install the checkout in place with `pip install -e .`")
-
-
-class CoreUnavailable(ImportError):
-    """The compiled fixed-point core ``wake._rtp`` cannot be imported."""
-
 
 @runtime_checkable
 class RTP(Protocol):

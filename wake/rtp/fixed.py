@@ -3,17 +3,9 @@
 :class:`FixedPointRTP` has the interface of
 :class:`wake.rtp.reference.ReferenceRTP` but runs the integer recursion of
 the C library, the one firmware runs.  Values cross the boundary in physical
-units and are quantised with ``full_scale`` (FS):
-
-=====================  ==========================  =====================
-quantity               C format                    valid range
-=====================  ==========================  =====================
-samples, prediction    int16 Q15 of FS             [-1, 1) FS (clipped)
-taps                   int16 Q15                   |tap| < 1, row sum of |taps| < 2
-weights                int32 Q24                   [-64, 64]
-correction d           int32 Q23 of FS             [-256, 256) FS
-P, R, q, p0            int32 Q(P_FRAC) of FS**2    see :data:`P_FRAC`
-=====================  ==========================  =====================
+units and are quantised with ``full_scale`` (FS) into the formats of
+:mod:`wake.rtp.qformat` (which needs no compiled core); importing this module
+checks that the compiled core has those formats.
 
 See ``docs/fixed_point.md`` for the error analysis.
 """
@@ -23,24 +15,18 @@ from __future__ import annotations
 import numpy as np
 
 from wake._rtp import ffi, lib
+from wake.rtp.qformat import (  # noqa: F401  (re-exported: the formats of this core)
+    _INT32_MAX, _INT32_MIN, FIR_FRAC, MAX_LEVEL, P_FRAC, SAMPLE_FRAC, STATE_FRAC, TAP_FRAC, TAP_ROW_ABS_MAX,
+    WEIGHT_FRAC, WEIGHT_MAX, format_mismatches, quantize_taps, quantize_variance, quantize_weights,
+    representable_noise)
 
 __all__ = ["FixedPointRTP", "P_FRAC", "quantize_taps", "quantize_weights", "quantize_variance", "representable_noise"]
 
-#: Fraction bits of the covariance format (``WAKE_RTP_P_FRAC`` of the build).
-P_FRAC = int(lib.WAKE_RTP_P_FRAC)
-#: Largest level the compiled struct holds.
-MAX_LEVEL = int(lib.WAKE_RTP_MAX_LEVEL)
 
-SAMPLE_FRAC = int(lib.WAKE_RTP_SAMPLE_FRAC)
-TAP_FRAC = int(lib.WAKE_RTP_TAP_FRAC)
-STATE_FRAC = int(lib.WAKE_RTP_STATE_FRAC)
-WEIGHT_FRAC = int(lib.WAKE_RTP_WEIGHT_FRAC)
-WEIGHT_MAX = int(lib.WAKE_RTP_WEIGHT_MAX) / 2.0**WEIGHT_FRAC
-TAP_ROW_ABS_MAX = int(lib.WAKE_RTP_TAP_ROW_ABS_MAX)
-#: Fraction bits of the FIR taps h = B'w (``WAKE_RTP_FIR_FRAC``: 22 up to level 6, else 21).
-FIR_FRAC = 22 if MAX_LEVEL <= 6 else 21
-
-_INT32_MIN, _INT32_MAX = -(2**31), 2**31 - 1
+if format_mismatches(lib):
+    raise ImportError("the compiled core wake._rtp was built with other fixed-point formats than wake.rtp.qformat "
+                      "expects: " + "; ".join(format_mismatches(lib)) + "; rebuild it without -D overrides "
+                      "(python build_ffi.py)")
 _SAMPLE_SCALE = 2.0**SAMPLE_FRAC
 
 _STATUS_TEXT = {
@@ -60,60 +46,6 @@ def _check(status, what):
     status = int(status)
     if status != int(lib.WAKE_RTP_OK):
         raise RuntimeError(f"{what} failed: {_STATUS_TEXT.get(status, 'unknown error')} (status {status})")
-
-
-def quantize_taps(taps):
-    """Taps (J, 2**J) -> int16 Q15, checking the C core's overflow bound."""
-    taps = np.array(taps, dtype=float)
-    if taps.ndim != 2 or taps.shape[1] != 2 ** taps.shape[0]:
-        raise ValueError(f"taps must have shape (J, 2**J), got {taps.shape}")
-    if not 1 <= taps.shape[0] <= MAX_LEVEL:
-        raise ValueError(f"the C core supports levels 1..{MAX_LEVEL}, got {taps.shape[0]}")
-    if not np.isfinite(taps).all():
-        raise ValueError("taps must be finite")
-    q = np.round(taps * 2.0**TAP_FRAC)
-    if np.abs(q).max() > 2**15 - 1:
-        raise ValueError(f"taps must lie within ±1 (int16 Q{TAP_FRAC}), got max |tap| {np.abs(taps).max():.6g}")
-    row_abs = np.abs(q).sum(axis=1)
-    if row_abs.max() > TAP_ROW_ABS_MAX:
-        raise ValueError(
-            f"each tap row's sum of |taps| must be below 2.0 (at most {TAP_ROW_ABS_MAX} in Q{TAP_FRAC}) so the "
-            f"C filter-bank accumulator cannot overflow; got {row_abs.max() / 2.0**TAP_FRAC:.6g}"
-        )
-    return np.ascontiguousarray(q, dtype=np.int16)
-
-
-def quantize_weights(weights, level):
-    """HPA weights -> int32 Q24 (|w| <= 64)."""
-    w = np.array(weights, dtype=float).reshape(-1)
-    if w.shape != (level,) or not np.isfinite(w).all():
-        raise ValueError(f"weights must be {level} finite numbers, got {weights!r}")
-    if np.abs(w).max(initial=0.0) > WEIGHT_MAX:
-        raise ValueError(
-            f"weights must lie within ±{WEIGHT_MAX:g} in Q{WEIGHT_FRAC} (int32); got max |w| {np.abs(w).max():.6g}"
-        )
-    return np.ascontiguousarray(np.round(w * 2.0**WEIGHT_FRAC), dtype=np.int32)
-
-
-def quantize_variance(value, full_scale, name, *, positive):
-    """A variance in physical units -> int32 Q(P_FRAC) of full_scale**2."""
-    v = float(value)
-    lsb = full_scale**2 / 2.0**P_FRAC
-    hi = 2.0 ** (31 - P_FRAC) * full_scale**2
-    if not np.isfinite(v) or v < 0 or (positive and v <= 0):
-        raise ValueError(f"{name} must be finite and {'> 0' if positive else '>= 0'}, got {value!r}")
-    q = round(v / lsb)
-    if q > _INT32_MAX:
-        raise ValueError(
-            f"{name} must lie within [0, {hi:.6g}), i.e. below 2**{31 - P_FRAC} full_scale**2 "
-                f"(int32 Q{P_FRAC} of full_scale**2, full_scale = {full_scale:g}); got {v:.6g}"
-        )
-    if v > 0 and q == 0:
-        raise ValueError(
-            f"{name} = {v:.6g} rounds to zero in Q{P_FRAC} of full_scale**2; it must be 0 or at least "
-            f"{lsb / 2:.6g} (half an LSB); raise it or lower full_scale"
-        )
-    return q
 
 
 class FixedPointRTP:
@@ -143,19 +75,19 @@ class FixedPointRTP:
     """
 
     def __init__(self, taps, weights, measurement_noise, process_noise=0.0, initial_covariance=0.0, *, full_scale):
-        fs = float(full_scale)
-        if not np.isfinite(fs) or fs <= 0:
+        scale = float(full_scale)
+        if not np.isfinite(scale) or scale <= 0:
             raise ValueError(f"full_scale must be finite and > 0, got {full_scale!r}")
-        self.full_scale = fs
+        self.full_scale = scale
         self._taps_q = quantize_taps(taps)
         self.level, self.n_taps = self._taps_q.shape
-        self._p0_q = quantize_variance(initial_covariance, fs, "initial_covariance", positive=False)
+        self._p0_q = quantize_variance(initial_covariance, scale, "initial_covariance", positive=False)
         self._state = ffi.new("wake_rtp_t *")
         self._out = ffi.new("int16_t *")  # reused by step(): one allocation per instance, not per sample
         self._taps_c = ffi.from_buffer("int16_t[]", self._taps_q)   # kept alive with self
         w_q = quantize_weights(weights, self.level)
-        r_q = quantize_variance(measurement_noise, fs, "measurement_noise R", positive=True)
-        q_q = quantize_variance(process_noise, fs, "process_noise Q", positive=False)
+        r_q = quantize_variance(measurement_noise, scale, "measurement_noise R", positive=True)
+        q_q = quantize_variance(process_noise, scale, "process_noise Q", positive=False)
         _check(
             lib.wake_rtp_init(self._state, self.level, self._taps_c, ffi.from_buffer("int32_t[]", w_q), r_q, q_q, self._p0_q),
             "wake_rtp_init",
@@ -254,7 +186,7 @@ class FixedPointRTP:
         uses, its variance along ``w``: ``P`` restarts as ``(w'Pw / w'w) I``
         (docs/design.md, "Covariance at a weight change"); ``d`` is kept whole.
         """
-        fs = self.full_scale
+        scale = self.full_scale
         win = np.asarray(window_oldest_first, dtype=float).reshape(-1)
         if win.shape != (self.n_taps,) or not np.isfinite(win).all():
             raise ValueError(f"window must be {self.n_taps} finite samples, oldest first")
@@ -262,9 +194,9 @@ class FixedPointRTP:
         d = np.asarray(correction, dtype=float).reshape(-1)
         if d.shape != (self.level,) or not np.isfinite(d).all():
             raise ValueError(f"correction must be {self.level} finite numbers")
-        d_q = np.round(d / fs * 2.0**STATE_FRAC)
+        d_q = np.round(d / scale * 2.0**STATE_FRAC)
         if np.abs(d_q).max() > _INT32_MAX:
-            raise ValueError(f"correction must lie within ±{2.0 ** (31 - STATE_FRAC) * fs:g} (Q{STATE_FRAC} of full_scale)")
+            raise ValueError(f"correction must lie within ±{2.0 ** (31 - STATE_FRAC) * scale:g} (Q{STATE_FRAC} of full_scale)")
         P = np.asarray(covariance, dtype=float).reshape(-1)
         if P.shape != (self.level**2,) or not np.isfinite(P).all():
             raise ValueError(f"covariance must be {self.level}x{self.level} finite numbers")
@@ -276,9 +208,9 @@ class FixedPointRTP:
         if (np.diag(P_q.reshape(self.level, self.level)) < 0).any():
             raise ValueError("covariance diagonal must be >= 0")
         y = float(last_output)
-        y_q = round(y / fs * 2.0**STATE_FRAC) if np.isfinite(y) else None
+        y_q = round(y / scale * 2.0**STATE_FRAC) if np.isfinite(y) else None
         if y_q is None or not _INT32_MIN <= y_q <= _INT32_MAX:
-            raise ValueError(f"last_output must be finite and within ±{2.0 ** (31 - STATE_FRAC) * fs:g}")
+            raise ValueError(f"last_output must be finite and within ±{2.0 ** (31 - STATE_FRAC) * scale:g}")
         win_q = np.ascontiguousarray(win_q, dtype=np.int16)
         d_q = np.ascontiguousarray(d_q, dtype=np.int32)
         P_q = np.ascontiguousarray(P_q, dtype=np.int32)
@@ -416,13 +348,13 @@ class FixedPointRTP:
         (FixedPointRTP, bool)
             The channel, and whether R or q had to be clamped.
         """
-        fs = float(full_scale)
-        r, q, clamped = representable_noise(self.measurement_noise, self.process_noise, fs)
-        p0 = representable_noise(1.0, self.initial_covariance, fs)[1]
-        new = type(self)(self.taps, self.weights, r, q, p0, full_scale=fs)
+        scale = float(full_scale)
+        r, q, clamped = representable_noise(self.measurement_noise, self.process_noise, scale)
+        p0 = representable_noise(1.0, self.initial_covariance, scale)[1]
+        new = type(self)(self.taps, self.weights, r, q, p0, full_scale=scale)
         if self.primed:
-            top_p = _INT32_MAX * fs**2 / 2.0**P_FRAC
-            top_x = _INT32_MAX * fs / 2.0**STATE_FRAC
+            top_p = _INT32_MAX * scale**2 / 2.0**P_FRAC
+            top_x = _INT32_MAX * scale / 2.0**STATE_FRAC
             new.load_state(self.window, np.clip(self.correction, -top_x, top_x),
                            np.clip(self.covariance, -top_p, top_p),
                            float(np.clip(self.last_output, -top_x, top_x)))
@@ -457,17 +389,3 @@ class FixedPointRTP:
         self._taps_c = ffi.from_buffer("int16_t[]", self._taps_q)
         ffi.buffer(self._state)[:] = st["struct"]
         self._state.taps = self._taps_c  # the pickled pointer belonged to the old process
-
-
-def representable_noise(r, q, full_scale):
-    """Clamp R and q into what the C core holds (Q(P_FRAC) of full_scale**2).
-
-    R below one LSB (a window with no tremor, a large full scale) is raised to
-    one LSB; R or q above the Q format's range (a full scale set below the
-    signal) are lowered to its top.  Returns ``(r, q, clamped)``.
-    """
-    lsb = full_scale**2 / 2.0**P_FRAC
-    top = _INT32_MAX * lsb
-    r2 = min(max(r, lsb), top)
-    q2 = 0.0 if q == 0 else min(max(q, lsb), top)
-    return r2, q2, (r2 != r or q2 != q)

@@ -142,9 +142,9 @@ def hpa_schedule(updates, level, n):
     """(first_sample, w, R) triples as WakeFilter applies them: default weights, R = 1 until the first HPA.
 
     The HPA that ran with ``index`` samples received is in force for the
-    step on sample ``index - 1`` and after (see ``wake.filter._Channel.run``).
+    step on sample ``index - 1`` and after (see :class:`wake.hpa.schedule.HPASchedule`).
     """
-    from wake.hpa import default_weights
+    from wake.wavelets import default_weights
 
     sched = [(0, default_weights(level), 1.0)]
     for u in updates:

@@ -79,57 +79,52 @@ def build_parser():
     return p
 
 
-def cli(argv: list[str] | None = None) -> int:
-    """``wake profile``: print the cost and memory tables; see ``--help``."""
-    args = build_parser().parse_args(argv)
-    targets = [t.strip() for t in args.targets.split(",") if t.strip()]
+def _measure(args, targets, levels, wavelets):
+    """Build, emulate and bound every configuration asked for: (profiles, footprints, hotspots, QEMU
+    cross-check, on-device HPA); ``ProfileUnavailable`` without the toolchain or the emulator."""
+    toolchain()
+    _emulator_modules()
+    build_root = Path(args.build_dir) if args.build_dir else Path(tempfile.mkdtemp(prefix="wake-profile-"))
+    profiles, footprints = [], {}
     for t in targets:
-        if t not in TARGETS:
-            raise ValueError(f"unknown target {t!r}; valid choices: {', '.join(TARGETS)}")
-    levels = [DEFAULT_LEVEL] if args.quick else _parse_levels(args.levels)
-    wavelets = [DEFAULT_WAVELET] if args.quick else [w.strip() for w in args.wavelets.split(",") if w.strip()]
-    try:
-        toolchain()
-        _emulator_modules()
-        build_root = Path(args.build_dir) if args.build_dir else Path(tempfile.mkdtemp(prefix="wake-profile-"))
-        profiles, footprints = [], {}
-        for t in targets:
-            for level in levels:
-                # a firmware for level J builds the core with WAKE_RTP_MAX_LEVEL=J (the struct's size)
-                image = build_image(t, build_dir=Path(build_root) / f"J{level}", csrc=args.csrc,
-                                    defs=[f"-DWAKE_RTP_MAX_LEVEL={level}"])
-                emu = Emulator(image)
-                if level == DEFAULT_LEVEL or t not in footprints:
-                    footprints[t] = footprint(image, emu)
-                    for key, (_label, base, defs) in FOOTPRINT_VARIANTS.items():
-                        if base == t:  # the same target with some code left out: memory only
-                            lean = build_image(t, build_dir=Path(build_root) / f"J{level}-{key}", csrc=args.csrc,
-                                               defs=[f"-DWAKE_RTP_MAX_LEVEL={level}", *defs])
-                            footprints[key] = footprint(lean)
-                n = args.samples or ((2 * 2**level + 16) if args.quick else None)
-                for w in wavelets:
-                    for kalman in (True, False):
-                        prof = profile_configuration(emu, w, level, kalman=kalman, n=n)
-                        profiles.append(prof)
-                        print(f"  {t:9s} J={level} {w:5s} Kalman {'active' if kalman else 'inert '}: "
-                              f"max {prof.max:6,} median {prof.median:8,.0f} min {prof.min:6,} "
-                              f"static bound {prof.bound.instructions:6,} ({prof.bound.cycles:,} cycles)",
-                              file=sys.stderr)
-        hot = None
-        if args.hotspots and DEFAULT_TARGET in targets:
-            emu = Emulator(build_image(DEFAULT_TARGET, build_dir=build_root, csrc=args.csrc))
-            hot = hotspots(emu, DEFAULT_WAVELET, DEFAULT_LEVEL, kalman=True, n=args.samples)
-        qemu = None
-        if args.qemu:
-            qemu = qemu_crosscheck(DEFAULT_LEVEL, DEFAULT_WAVELET, build_dir=build_root, csrc=args.csrc)
-        hpa = None
-        if args.hpa:
-            from wake.firmware.hpa_cost import HPA_TARGETS, measure_hpa
+        for level in levels:
+            # a firmware for level J builds the core with WAKE_RTP_MAX_LEVEL=J (the struct's size)
+            image = build_image(t, build_dir=Path(build_root) / f"J{level}", csrc=args.csrc,
+                                defs=[f"-DWAKE_RTP_MAX_LEVEL={level}"])
+            emu = Emulator(image)
+            if level == DEFAULT_LEVEL or t not in footprints:
+                footprints[t] = footprint(image, emu)
+                for key, (_label, base, defs) in FOOTPRINT_VARIANTS.items():
+                    if base == t:  # the same target with some code left out: memory only
+                        lean = build_image(t, build_dir=Path(build_root) / f"J{level}-{key}", csrc=args.csrc,
+                                           defs=[f"-DWAKE_RTP_MAX_LEVEL={level}", *defs])
+                        footprints[key] = footprint(lean)
+            n = args.samples or ((2 * 2**level + 16) if args.quick else None)
+            for w in wavelets:
+                for kalman in (True, False):
+                    prof = profile_configuration(emu, w, level, kalman=kalman, n=n)
+                    profiles.append(prof)
+                    print(f"  {t:9s} J={level} {w:5s} Kalman {'active' if kalman else 'inert '}: "
+                          f"max {prof.max:6,} median {prof.median:8,.0f} min {prof.min:6,} "
+                          f"static bound {prof.bound.instructions:6,} ({prof.bound.cycles:,} cycles)",
+                          file=sys.stderr)
+    hot = None
+    if args.hotspots and DEFAULT_TARGET in targets:
+        emu = Emulator(build_image(DEFAULT_TARGET, build_dir=build_root, csrc=args.csrc))
+        hot = hotspots(emu, DEFAULT_WAVELET, DEFAULT_LEVEL, kalman=True, n=args.samples)
+    qemu = None
+    if args.qemu:
+        qemu = qemu_crosscheck(DEFAULT_LEVEL, DEFAULT_WAVELET, build_dir=build_root, csrc=args.csrc)
+    hpa = None
+    if args.hpa:
+        from wake.firmware.hpa_cost import HPA_TARGETS, measure_hpa
 
-            hpa = {t: measure_hpa(t, build_dir=build_root, csrc=args.csrc) for t in HPA_TARGETS}
-    except ProfileUnavailable as exc:
-        print(f"wake profile: {exc}", file=sys.stderr)
-        return 3
+        hpa = {t: measure_hpa(t, build_dir=build_root, csrc=args.csrc) for t in HPA_TARGETS}
+    return profiles, footprints, hot, qemu, hpa
+
+
+def _report(profiles, footprints, hot, qemu, hpa):
+    """The Markdown lines of the report, the goals missed and the regression ceilings exceeded."""
     cost, mem = markdown_tables(profiles, footprints)
     clocks = ", ".join(f"{k} {v:g} MHz" for k, v in CLOCKS_MHZ.items())
     notes = [
@@ -181,6 +176,24 @@ def cli(argv: list[str] | None = None) -> int:
                  + ("all met." if not fails else "MISSED: " + "; ".join(fails)), "",
                  "Regression ceilings (what --check holds): "
                  + ("all held." if not regressions else "EXCEEDED: " + "; ".join(regressions)), ""]
+    return text, fails, regressions
+
+
+def cli(argv: list[str] | None = None) -> int:
+    """``wake profile``: print the cost and memory tables; see ``--help``."""
+    args = build_parser().parse_args(argv)
+    targets = [t.strip() for t in args.targets.split(",") if t.strip()]
+    for t in targets:
+        if t not in TARGETS:
+            raise ValueError(f"unknown target {t!r}; valid choices: {', '.join(TARGETS)}")
+    levels = [DEFAULT_LEVEL] if args.quick else _parse_levels(args.levels)
+    wavelets = [DEFAULT_WAVELET] if args.quick else [w.strip() for w in args.wavelets.split(",") if w.strip()]
+    try:
+        profiles, footprints, hot, qemu, hpa = _measure(args, targets, levels, wavelets)
+    except ProfileUnavailable as exc:
+        print(f"wake profile: {exc}", file=sys.stderr)
+        return 3
+    text, fails, regressions = _report(profiles, footprints, hot, qemu, hpa)
     report = "\n".join(text)
     print(report)
     if args.markdown:

@@ -25,15 +25,12 @@ def arithmetic_floor(level):
 
 
 def _quantizers(fmt):
-    """The C wrapper's quantisers when importable for these formats, else equivalent local ones."""
-    p_frac = fmt["p_frac"]
-    try:
-        from wake.rtp import fixed as cb
+    """The package's quantisers (:mod:`wake.rtp.qformat`) for its own formats, else equivalent local ones."""
+    from wake.rtp import qformat as cb
 
-        if (cb.P_FRAC, cb.TAP_FRAC, cb.WEIGHT_FRAC) == (p_frac, fmt["tap_frac"], fmt["weight_frac"]):
-            return cb.quantize_taps, cb.quantize_weights, cb.quantize_variance
-    except ImportError:
-        pass
+    p_frac = fmt["p_frac"]
+    if (cb.P_FRAC, cb.TAP_FRAC, cb.WEIGHT_FRAC) == (p_frac, fmt["tap_frac"], fmt["weight_frac"]):
+        return cb.quantize_taps, cb.quantize_weights, cb.quantize_variance
 
     def q_taps(taps):
         q = np.round(np.asarray(taps, dtype=float) * 2.0 ** fmt["tap_frac"])
