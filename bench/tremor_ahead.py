@@ -112,6 +112,99 @@ def oracles(case, p=P_MAIN):
     return rows
 
 
+def gate_targets(case, P, h, p=P_MAIN):
+    """{gate name: target in [0, 1] per sample} for the chosen predictor's predictions ``P`` (before the ramp)."""
+    W, N, fs = case.windows, len(case.y), case.fs
+    fallback = np.array([0.0 if w.fallback else 1.0 for w in W])
+    coefs = [ahead.ls_direct(case.y[w.start:w.index], w.truth, h, p) for w in W]
+    skill_in = ahead.in_sample_skill(case.y, W, coefs, h, p)
+    gain_ho, skill_ho = ahead.held_out_gain(P, W, h)
+    ratio = ahead.running_ratio(case.y, P, h, fs)
+    on = ahead.step_target(W, N, np.ones(len(W)))
+    t = {}
+    t["none (on from the first HPA)"] = on
+    t["off on a fallback cut-off flag"] = ahead.step_target(W, N, fallback)
+    t["in-sample skill, clipped to [0, 1]"] = ahead.step_target(W, N, np.clip(skill_in, 0, 1))
+    for th in (0.3, 0.5):
+        t[f"in-sample skill > {th:g}"] = ahead.step_target(W, N, (skill_in > th).astype(float))
+    t["held-out gain, clipped to [0, 1]"] = ahead.step_target(W, N, np.clip(np.nan_to_num(gain_ho), 0, 1))
+    t["held-out skill, clipped to [0, 1]"] = ahead.step_target(W, N, np.clip(np.nan_to_num(skill_ho), 0, 1))
+    for th in (0.0, 0.2):
+        t[f"held-out skill > {th:g}"] = ahead.step_target(W, N, (np.nan_to_num(skill_ho, nan=-1) > th).astype(float))
+    t["1 - running error ratio, clipped"] = on * np.clip(1 - ratio, 0, 1)
+    t["held-out gain x fallback flag"] = t["held-out gain, clipped to [0, 1]"] * t["off on a fallback cut-off flag"]
+    t["held-out gain x in-sample skill"] = (t["held-out gain, clipped to [0, 1]"]
+                                            * t["in-sample skill, clipped to [0, 1]"])
+    t["held-out gain x (1 - running ratio)"] = (t["held-out gain, clipped to [0, 1]"]
+                                                * t["1 - running error ratio, clipped"])
+    return t
+
+
+CHOSEN_GATE = "held-out gain, clipped to [0, 1]"
+
+
+def chosen(case):
+    """The chosen design at each ramp time constant, beside the same predictor ungated."""
+    out = {}
+    for h in HORIZONS:
+        P = ahead.predictor_direct_wiener(case.y, case.windows, h, P_MAIN)
+        target = gate_targets(case, P, h)[CHOSEN_GATE]
+        out.setdefault("the predictor ungated (on from the first HPA)", {})[h] = P
+        for tau in (0.1, 0.3, 1.0):
+            out.setdefault(f"gated: {CHOSEN_GATE}, ramp {tau:g} s", {})[h] = ahead.ramp(target, case.fs, tau) * P
+    return out
+
+
+def gated_candidates(case, tau_s=0.3):
+    """Every candidate predictor behind the chosen gate (held-out gain, ramp ``tau_s``)."""
+    y, W, fs = case.y, case.windows, case.fs
+    cands = {f"direct LS, WAKE estimate -> window truth, {P_MAIN} taps":
+             {h: ahead.predictor_direct_wiener(y, W, h, P_MAIN) for h in HORIZONS},
+             f"AR({P_MAIN}) Yule-Walker on the window truth, iterated":
+             {h: ahead.predictor_ar(y, W, h, P_MAIN) for h in HORIZONS},
+             f"direct {P_MAIN}-tap LS, window truth -> truth":
+             {h: ahead.predictor_direct_truth(y, W, h, P_MAIN) for h in HORIZONS}}
+    for bw in (1.0, 2.0, 4.0):
+        cands[f"Kalman oscillator, bandwidth {bw:g} Hz"] = ahead.predictor_oscillator(y, W, fs, HORIZONS, bw)
+    out = {}
+    for name, byh in cands.items():
+        for h, P in byh.items():
+            gain, _ = ahead.held_out_gain(P, W, h)
+            target = ahead.step_target(W, len(y), np.clip(np.nan_to_num(gain), 0, 1))
+            out.setdefault(f"{name}, gated", {})[h] = ahead.ramp(target, fs, tau_s) * P
+    return out
+
+
+def gated(case, tau_s=0.3, p=P_MAIN, taus=False):
+    """{gate: {h: g * P}} for the chosen predictor (direct Wiener, ``p`` taps)."""
+    out = {}
+    for h in HORIZONS:
+        P = ahead.predictor_direct_wiener(case.y, case.windows, h, p)
+        for name, target in gate_targets(case, P, h, p).items():
+            for tau in ((0.1, 0.3, 1.0) if taus else (tau_s,)):
+                key = name if not taus else f"{name}, ramp {tau:g} s"
+                out.setdefault(key, {})[h] = ahead.ramp(target, case.fs, tau) * P
+    return out
+
+
+def print_harm(title, acc, zero):
+    """After 5 s and the worst slice (gated / zero) per horizon; "no harm" when every slice at every h <= 1."""
+    names = [n for n in SLICES if n != "whole (from 0.5 s)"] + ["whole (from 0.5 s)"]
+    print(f"\n{title}\n")
+    print("| gate | " + " | ".join(f"h={h} after 5 s" for h in HORIZONS) + " | "
+          + " | ".join(f"h={h} worst slice / zero" for h in HORIZONS) + " | no harm |")
+    print("|---|" + "---:|" * (2 * len(HORIZONS)) + "---|")
+    for name, byh in acc.items():
+        after, worst = [], []
+        for h in HORIZONS:
+            m, z = mean_slices(byh[h]), mean_slices(zero[h])
+            after.append(m["after 5 s"])
+            worst.append(max((m[n] / z[n], n) for n in names))
+        ok = all(w[0] <= 1.0 + 1e-12 for w in worst)
+        print(f"| {name} | " + " | ".join(f"{a:.3f}" for a in after) + " | "
+              + " | ".join(f"{w[0]:.3f} ({w[1].split(' (')[0]})" for w in worst) + f" | {'yes' if ok else 'no'} |")
+
+
 def score(case, P, h):
     return slice_nrmse(case.T, ahead.command(P, h), case.fs)
 
@@ -189,6 +282,16 @@ def main(argv=None):
                 acc.update(baseline_rows(raw, cases))
             print_by_horizon(f"{label}, {len(cases)} signals: predicted-tremor NRMSE (ungated), mean", acc)
             print_by_horizon(f"{label}: the direct Wiener predictor by order (ungated)", table_rows(cases, orders))
+            z = zero_rows(cases)["zero (the actuator stays off)"]
+            print_harm(f"{label}: gates on the direct Wiener predictor ({P_MAIN} taps), ramp 0.3 s",
+                       table_rows(cases, gated), z)
+            print_harm(f"{label}: every predictor behind the chosen gate (held-out gain, ramp 0.3 s)",
+                       table_rows(cases, gated_candidates), z)
+            best = zero_rows(cases)
+            best.update(table_rows(cases, chosen))
+            print_harm(f"{label}: the chosen gate by ramp time constant", best, z)
+            for h in HORIZONS:
+                print_slices(f"{label}: the chosen design per slice", best, h)
     print(f"\n({time.time() - t0:.0f} s)")
 
 
