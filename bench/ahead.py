@@ -351,3 +351,37 @@ def baselines_ahead(x, fs, horizons):
             P[h][i] = (a * np.sin(rr * ph) + c * np.cos(rr * ph)).sum(axis=0)
     out["WFLC"] = P
     return out
+
+
+# -- variants of the chosen predictor and gate ----------------------------------------------------------------
+
+
+def ls_direct_trimmed(inp, target, h, p, trim, ridge=1e-3):
+    """:func:`ls_direct` without the ``trim`` first and last samples of the window (the FFT truth's edges)."""
+    if trim <= 0 or len(inp) <= 2 * trim + p + h + 2:
+        return ls_direct(inp, target, h, p, ridge)
+    return ls_direct(inp[trim:-trim], target[trim:-trim], h, p, ridge)
+
+
+def predictor_direct_wiener_trimmed(y, windows, h, p, trim, ridge=1e-3):
+    return apply_fir(y, [(w.index, ls_direct_trimmed(y[w.start:w.index], w.truth, h, p, trim, ridge))
+                         for w in windows], p)
+
+
+def split_gain(y, windows, h, p, share=0.3, ridge=1e-3):
+    """Per window, a held-out gain inside the window itself: the predictor fitted on its first ``1 - share``,
+    scored (``<T, P> / <P, P>``) on its last ``share``."""
+    out = []
+    for w in windows:
+        seg, t = y[w.start:w.index], w.truth
+        cut = int(round((1 - share) * len(seg)))
+        if cut < p + h + 8 or len(seg) - cut < p + h + 8:
+            out.append(0.0)
+            continue
+        c = ls_direct(seg[:cut], t[:cut], h, p, ridge)
+        P = lagged(seg, p) @ c
+        n = np.arange(cut, len(seg) - h)
+        q, tt = P[n], t[n + h]
+        qq = float(q @ q)
+        out.append(float(tt @ q) / qq if qq > 0 else 0.0)
+    return np.array(out)

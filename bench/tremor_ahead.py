@@ -132,6 +132,12 @@ def gate_targets(case, P, h, p=P_MAIN):
     for th in (0.0, 0.2):
         t[f"held-out skill > {th:g}"] = ahead.step_target(W, N, (np.nan_to_num(skill_ho, nan=-1) > th).astype(float))
     t["1 - running error ratio, clipped"] = on * np.clip(1 - ratio, 0, 1)
+    split = np.clip(ahead.split_gain(case.y, W, h, p), 0, 1)
+    first = np.isnan(gain_ho)
+    t["split gain (fit on the window's first 70 %, gain on its last 30 %)"] = ahead.step_target(W, N, split)
+    for f in (1.0, 0.5, 0.25):
+        t[f"held-out gain; first window {f:g} x split gain"] = ahead.step_target(
+            W, N, np.where(first, f * split, np.clip(np.nan_to_num(gain_ho), 0, 1)))
     t["held-out gain x fallback flag"] = t["held-out gain, clipped to [0, 1]"] * t["off on a fallback cut-off flag"]
     t["held-out gain x in-sample skill"] = (t["held-out gain, clipped to [0, 1]"]
                                             * t["in-sample skill, clipped to [0, 1]"])
@@ -176,6 +182,22 @@ def gated_candidates(case, tau_s=0.3):
     return out
 
 
+def fit_variants(case, tau_s=0.3):
+    """The chosen predictor fitted without the window's edges or with a larger ridge, behind the chosen gate."""
+    y, W, fs = case.y, case.windows, case.fs
+    out = {}
+    for label, fit in [("as chosen (ridge 1e-3, whole window)", lambda seg, t, h: ahead.ls_direct(seg, t, h, P_MAIN))] + [
+            (f"window edges left out ({trim} samples each end)",
+             (lambda k: lambda seg, t, h: ahead.ls_direct_trimmed(seg, t, h, P_MAIN, k))(trim)) for trim in (10, 25)] + [
+            (f"ridge {r:g}", (lambda r: lambda seg, t, h: ahead.ls_direct(seg, t, h, P_MAIN, r))(r)) for r in (1e-2, 1e-1)]:
+        for h in HORIZONS:
+            P = ahead.apply_fir(y, [(w.index, fit(y[w.start:w.index], w.truth, h)) for w in W], P_MAIN)
+            gain, _ = ahead.held_out_gain(P, W, h)
+            target = ahead.step_target(W, len(y), np.clip(np.nan_to_num(gain), 0, 1))
+            out.setdefault(label, {})[h] = ahead.ramp(target, fs, tau_s) * P
+    return out
+
+
 def gated(case, tau_s=0.3, p=P_MAIN, taus=False):
     """{gate: {h: g * P}} for the chosen predictor (direct Wiener, ``p`` taps)."""
     out = {}
@@ -186,6 +208,17 @@ def gated(case, tau_s=0.3, p=P_MAIN, taus=False):
                 key = name if not taus else f"{name}, ramp {tau:g} s"
                 out.setdefault(key, {})[h] = ahead.ramp(target, case.fs, tau) * P
     return out
+
+
+def print_early(title, acc, zero):
+    """The 1-2 s and 2-5 s slices, gated / zero, per horizon."""
+    print(f"\n{title}\n")
+    print("| gate | " + " | ".join(f"h={h} 1-2 s" for h in HORIZONS) + " | "
+          + " | ".join(f"h={h} 2-5 s" for h in HORIZONS) + " |")
+    print("|---|" + "---:|" * (2 * len(HORIZONS)))
+    for name, byh in acc.items():
+        cells = [mean_slices(byh[h])[sl] for sl in ("1-2 s", "2-5 s") for h in HORIZONS]
+        print(f"| {name} | " + " | ".join(f"{v:.3f}" for v in cells) + " |")
 
 
 def print_harm(title, acc, zero):
@@ -300,10 +333,13 @@ def main(argv=None):
             print_by_horizon(f"{label}, {len(cases)} signals: predicted-tremor NRMSE (ungated), mean", acc)
             print_by_horizon(f"{label}: the direct Wiener predictor by order (ungated)", table_rows(cases, orders))
             z = zero_rows(cases)["zero (the actuator stays off)"]
-            print_harm(f"{label}: gates on the direct Wiener predictor ({P_MAIN} taps), ramp 0.3 s",
-                       table_rows(cases, gated), z)
+            gates = table_rows(cases, gated)
+            print_harm(f"{label}: gates on the direct Wiener predictor ({P_MAIN} taps), ramp 0.3 s", gates, z)
+            print_early(f"{label}: the same gates in the first seconds (NRMSE)", {**zero_rows(cases), **gates}, z)
             print_harm(f"{label}: every predictor behind the chosen gate (held-out gain, ramp 0.3 s)",
                        table_rows(cases, gated_candidates), z)
+            print_harm(f"{label}: fitting variants of the chosen predictor, behind the chosen gate",
+                       table_rows(cases, fit_variants), z)
             best = zero_rows(cases)
             best.update(table_rows(cases, chosen))
             print_harm(f"{label}: the chosen gate by ramp time constant", best, z)
