@@ -385,3 +385,25 @@ def split_gain(y, windows, h, p, share=0.3, ridge=1e-3):
         qq = float(q @ q)
         out.append(float(tt @ q) / qq if qq > 0 else 0.0)
     return np.array(out)
+
+
+def predictor_direct_inputs(signals, truth_windows, h, taps, ridge=1e-3):
+    """Direct h-step least squares from several inputs (each with its own number of taps) to the window's
+    truth: ``signals`` are full-length arrays (WAKE's estimate, the measurement, its first difference...),
+    ``truth_windows`` the :class:`Window` list.  Columns are scaled to unit RMS before the ridge."""
+    N = len(signals[0])
+    X = np.hstack([lagged(s, p) for s, p in zip(signals, taps)])
+    P = np.zeros(N)
+    p = max(taps)
+    bounds = [w.index for w in truth_windows] + [N]
+    for w, e in zip(truth_windows, bounds[1:]):
+        Xw = np.hstack([lagged(s[w.start:w.index], q) for s, q in zip(signals, taps)])[p - 1:len(w.truth) - h]
+        t = w.truth[p - 1 + h:]
+        if Xw.shape[0] < 2:
+            continue
+        sc = np.maximum(np.sqrt((Xw**2).mean(axis=0)), 1e-300)
+        G = (Xw / sc).T @ (Xw / sc)
+        lam = ridge * np.trace(G) / G.shape[0]
+        c = np.linalg.solve(G + lam * np.eye(G.shape[0]), (Xw / sc).T @ t) / sc
+        P[w.index:e] = X[w.index:e] @ c
+    return P

@@ -198,6 +198,26 @@ def fit_variants(case, tau_s=0.3):
     return out
 
 
+def input_variants(case, tau_s=0.3):
+    """Other inputs than WAKE's estimate for the direct least squares, ungated and behind the chosen gate."""
+    y, x, W, fs = case.y, case.x, case.windows, case.fs
+    dx = np.diff(x, prepend=x[0])
+    out = {}
+    for label, sig, taps in (("WAKE's estimate, 8 taps (the chosen input)", (y,), (8,)),
+                             ("the measurement x, 8 taps", (x,), (8,)),
+                             ("its first difference, 8 taps", (dx,), (8,)),
+                             ("WAKE's estimate 8 + x 8 taps", (y, x), (8, 8)),
+                             ("WAKE's estimate 4 + x 4 taps", (y, x), (4, 4)),
+                             ("WAKE's estimate 8 + first difference 8 taps", (y, dx), (8, 8))):
+        for h in HORIZONS:
+            P = ahead.predictor_direct_inputs(sig, W, h, taps)
+            gain, _ = ahead.held_out_gain(P, W, h)
+            target = ahead.step_target(W, len(y), np.clip(np.nan_to_num(gain), 0, 1))
+            out.setdefault(f"{label}, ungated", {})[h] = P
+            out.setdefault(f"{label}, gated", {})[h] = ahead.ramp(target, fs, tau_s) * P
+    return out
+
+
 def gated(case, tau_s=0.3, p=P_MAIN, taus=False):
     """{gate: {h: g * P}} for the chosen predictor (direct Wiener, ``p`` taps)."""
     out = {}
@@ -340,6 +360,8 @@ def main(argv=None):
                        table_rows(cases, gated_candidates), z)
             print_harm(f"{label}: fitting variants of the chosen predictor, behind the chosen gate",
                        table_rows(cases, fit_variants), z)
+            print_harm(f"{label}: inputs of the direct least-squares predictor (columns scaled to unit RMS)",
+                       table_rows(cases, input_variants), z)
             best = zero_rows(cases)
             best.update(table_rows(cases, chosen))
             print_harm(f"{label}: the chosen gate by ramp time constant", best, z)
