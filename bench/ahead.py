@@ -257,6 +257,18 @@ def scipy_lfilter_ema(v, a):
     return scipy.signal.lfilter([a], [1, -(1 - a)], v)
 
 
+#: Cut-off flags of a window without a tremor peak: nothing to predict, the chosen gate stays shut.
+NO_TREMOR_FLAGS = ("no_tremor_peak", "silent")
+
+
+def chosen_gate(P, windows, h, N):
+    """The chosen gate's target per sample: the held-out gain (:func:`held_out_gain`) clipped to [0, 1], and 0
+    while the last HPA window had no tremor peak (:data:`NO_TREMOR_FLAGS`)."""
+    gain, _ = held_out_gain(P, windows, h)
+    peak = np.array([0.0 if w.flag in NO_TREMOR_FLAGS else 1.0 for w in windows])
+    return step_target(windows, N, np.clip(np.nan_to_num(gain), 0, 1) * peak)
+
+
 def step_target(windows, N, values):
     """A per-window value held from the window's index until the next (0 before the first)."""
     out = np.zeros(N)

@@ -138,6 +138,9 @@ def gate_targets(case, P, h, p=P_MAIN):
     for f in (1.0, 0.5, 0.25):
         t[f"held-out gain; first window {f:g} x split gain"] = ahead.step_target(
             W, N, np.where(first, f * split, np.clip(np.nan_to_num(gain_ho), 0, 1)))
+    peak = np.array([0.0 if w.flag in ahead.NO_TREMOR_FLAGS else 1.0 for w in W])
+    t["held-out gain x tremor peak (0 on no_tremor_peak)"] = (t["held-out gain, clipped to [0, 1]"]
+                                                             * ahead.step_target(W, N, peak))
     t["held-out gain x fallback flag"] = t["held-out gain, clipped to [0, 1]"] * t["off on a fallback cut-off flag"]
     t["held-out gain x in-sample skill"] = (t["held-out gain, clipped to [0, 1]"]
                                             * t["in-sample skill, clipped to [0, 1]"])
@@ -146,7 +149,7 @@ def gate_targets(case, P, h, p=P_MAIN):
     return t
 
 
-CHOSEN_GATE = "held-out gain, clipped to [0, 1]"
+CHOSEN_GATE = "held-out gain x tremor peak (0 on no_tremor_peak)"
 
 
 def chosen(case):
@@ -176,8 +179,7 @@ def gated_candidates(case, tau_s=0.3):
     out = {}
     for name, byh in cands.items():
         for h, P in byh.items():
-            gain, _ = ahead.held_out_gain(P, W, h)
-            target = ahead.step_target(W, len(y), np.clip(np.nan_to_num(gain), 0, 1))
+            target = ahead.chosen_gate(P, W, h, len(y))
             out.setdefault(f"{name}, gated", {})[h] = ahead.ramp(target, fs, tau_s) * P
     return out
 
@@ -192,8 +194,7 @@ def fit_variants(case, tau_s=0.3):
             (f"ridge {r:g}", (lambda r: lambda seg, t, h: ahead.ls_direct(seg, t, h, P_MAIN, r))(r)) for r in (1e-2, 1e-1)]:
         for h in HORIZONS:
             P = ahead.apply_fir(y, [(w.index, fit(y[w.start:w.index], w.truth, h)) for w in W], P_MAIN)
-            gain, _ = ahead.held_out_gain(P, W, h)
-            target = ahead.step_target(W, len(y), np.clip(np.nan_to_num(gain), 0, 1))
+            target = ahead.chosen_gate(P, W, h, len(y))
             out.setdefault(label, {})[h] = ahead.ramp(target, fs, tau_s) * P
     return out
 
@@ -211,8 +212,7 @@ def input_variants(case, tau_s=0.3):
                              ("WAKE's estimate 8 + first difference 8 taps", (y, dx), (8, 8))):
         for h in HORIZONS:
             P = ahead.predictor_direct_inputs(sig, W, h, taps)
-            gain, _ = ahead.held_out_gain(P, W, h)
-            target = ahead.step_target(W, len(y), np.clip(np.nan_to_num(gain), 0, 1))
+            target = ahead.chosen_gate(P, W, h, len(y))
             out.setdefault(f"{label}, ungated", {})[h] = P
             out.setdefault(f"{label}, gated", {})[h] = ahead.ramp(target, fs, tau_s) * P
     return out
@@ -259,6 +259,22 @@ def print_harm(title, acc, zero):
               + " | ".join(f"{w[0]:.4f} ({w[1].split(' (')[0]})" for w in worst) + f" | {'yes' if ok else 'no'} |")
 
 
+def print_per_signal(label, best, zero):
+    """How many signals the chosen design harms (NRMSE above zero's) per slice, and by how much at most."""
+    rows = best[f"gated: {CHOSEN_GATE}, ramp 0.3 s"]
+    names = [n for n in SLICES if n not in ("0.5-1 s",)]
+    print(f"\n{label}: signals where the chosen design is above zero (count of {len(zero[1])}, largest ratio)\n")
+    print("| h | " + " | ".join(names) + " |")
+    print("|---:|" + "---|" * len(names))
+    for h in HORIZONS:
+        cells = []
+        for n in names:
+            r = np.array([g[n] / z[n] for g, z in zip(rows[h], zero[h])])
+            worse = r > 1 + 1e-12
+            cells.append(f"{int(worse.sum())} ({np.nanmax(r):.3f})")
+        print(f"| {h} | " + " | ".join(cells) + " |")
+
+
 def print_targets(label, acc, best):
     """The chosen design after 5 s against zero, the oracles and the baselines (ratios, 4 digits)."""
     def after(byh, h):
@@ -266,7 +282,7 @@ def print_targets(label, acc, best):
 
     mine = best[f"gated: {CHOSEN_GATE}, ramp 0.3 s"]
     refs = [n for n in acc if n.startswith(("zero", "oracle", "hindsight")) or "own extrapolation" in n]
-    print(f"\n{label}: the chosen design after 5 s (8-tap direct Wiener, held-out-gain gate, ramp 0.3 s) "
+    print(f"\n{label}: the chosen design after 5 s (8-tap direct Wiener, the chosen gate, ramp 0.3 s) "
           "divided by each reference\n")
     print("| reference | " + " | ".join(f"h={h}" for h in HORIZONS) + " |")
     print("|---|" + "---:|" * len(HORIZONS))
@@ -356,7 +372,7 @@ def main(argv=None):
             gates = table_rows(cases, gated)
             print_harm(f"{label}: gates on the direct Wiener predictor ({P_MAIN} taps), ramp 0.3 s", gates, z)
             print_early(f"{label}: the same gates in the first seconds (NRMSE)", {**zero_rows(cases), **gates}, z)
-            print_harm(f"{label}: every predictor behind the chosen gate (held-out gain, ramp 0.3 s)",
+            print_harm(f"{label}: every predictor behind the chosen gate ({CHOSEN_GATE}, ramp 0.3 s)",
                        table_rows(cases, gated_candidates), z)
             print_harm(f"{label}: fitting variants of the chosen predictor, behind the chosen gate",
                        table_rows(cases, fit_variants), z)
@@ -368,6 +384,7 @@ def main(argv=None):
             for h in HORIZONS:
                 print_slices(f"{label}: the chosen design per slice", best, h)
             print_targets(label, acc, best)
+            print_per_signal(label, best, z)
     print(f"\n({time.time() - t0:.0f} s)")
 
 
