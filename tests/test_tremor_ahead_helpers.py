@@ -73,3 +73,16 @@ def test_baselines_extrapolation_at_one_step_is_their_own_model_tremor():
     P = ahead.baselines_ahead(x, 100.0, (1, 3))
     for name, method in baseline_methods(100.0).items():
         assert np.allclose(P[name][1][:-1], method.run(x).model_tremor[1:], atol=1e-12)
+
+
+def test_chosen_gate_is_the_clipped_held_out_gain_and_shut_without_a_tremor_peak():
+    ahead = _ahead()
+    n, h = 400, 1
+    T = np.sin(np.arange(n + h) * 0.5)
+    P = np.zeros(n)
+    P[100:] = 2.0 * T[100 + h:n + h]                  # over-shoots twice: gain 0.5
+    W = [ahead.Window(100, 0, 2.0, "valley", T[:100]), ahead.Window(200, 0, 2.0, "valley", T[:200]),
+         ahead.Window(300, 0, 2.0, "no_tremor_peak", T[:300])]
+    g = ahead.chosen_gate(P, W, h, n)
+    assert np.all(g[:200] == 0)                       # nothing scored before the second HPA
+    assert np.allclose(g[200:300], 0.5) and np.all(g[300:] == 0)
