@@ -419,3 +419,15 @@ def predictor_direct_inputs(signals, truth_windows, h, taps, ridge=1e-3):
         c = np.linalg.solve(G + lam * np.eye(G.shape[0]), (Xw / sc).T @ t) / sc
         P[w.index:e] = X[w.index:e] @ c
     return P
+
+
+def predictor_ar_on_estimate(y, h, p=20, every=50, window=500, start=50):
+    """The issue's sketch: AR(p) by Yule-Walker on WAKE's own past estimate (the last ``window`` samples),
+    refitted every ``every`` samples from ``start`` on, iterated ``h`` steps."""
+    segs = []
+    for n in range(start, len(y), every):
+        seg = y[max(0, n - window):n]
+        q = min(p, (len(seg) - 1) // 2)
+        c = ar_iterated(yule_walker(seg, q)[0], h)
+        segs.append((n, np.pad(c, (0, p - len(c)))))
+    return apply_fir(y, segs, p)

@@ -95,10 +95,15 @@ def predictions(case, p=P_MAIN, extra=True):
 
 
 def orders(case):
-    """The direct Wiener predictor (WAKE estimate -> window truth) at every order of :data:`ORDERS`."""
-    return {f"direct LS, WAKE estimate -> window truth, {p} taps": {h: ahead.predictor_direct_wiener(case.y, case.windows,
-                                                                                                     h, p)
-                                                                   for h in HORIZONS} for p in ORDERS}
+    """The direct Wiener predictor (WAKE estimate -> window truth) and the iterated AR at every order of
+    :data:`ORDERS`, and the issue's sketch (AR(20) on WAKE's own past estimate, refitted every 0.5 s)."""
+    out = {f"direct LS, WAKE estimate -> window truth, {p} taps":
+           {h: ahead.predictor_direct_wiener(case.y, case.windows, h, p) for h in HORIZONS} for p in ORDERS}
+    out.update({f"AR({p}) Yule-Walker on the window truth, iterated":
+                {h: ahead.predictor_ar(case.y, case.windows, h, p) for h in HORIZONS} for p in ORDERS})
+    out["the issue's sketch: AR(20) on WAKE's past estimate (last 5 s), refitted every 0.5 s, iterated"] = {
+        h: ahead.predictor_ar_on_estimate(case.y, h) for h in HORIZONS}
+    return out
 
 
 def oracles(case, p=P_MAIN):
@@ -176,6 +181,8 @@ def gated_candidates(case, tau_s=0.3):
              {h: ahead.predictor_direct_truth(y, W, h, P_MAIN) for h in HORIZONS}})
     for bw in (1.0, 2.0, 4.0):
         cands[f"Kalman oscillator, bandwidth {bw:g} Hz"] = ahead.predictor_oscillator(y, W, fs, HORIZONS, bw)
+    cands["the issue's sketch: AR(20) on WAKE's past estimate, refitted every 0.5 s"] = {
+        h: ahead.predictor_ar_on_estimate(y, h) for h in HORIZONS}
     out = {}
     for name, byh in cands.items():
         for h, P in byh.items():
@@ -367,7 +374,7 @@ def main(argv=None):
             if not args.no_baselines:
                 acc.update(baseline_rows(raw, cases))
             print_by_horizon(f"{label}, {len(cases)} signals: predicted-tremor NRMSE (ungated), mean", acc)
-            print_by_horizon(f"{label}: the direct Wiener predictor by order (ungated)", table_rows(cases, orders))
+            print_by_horizon(f"{label}: predictors by order (ungated)", table_rows(cases, orders))
             z = zero_rows(cases)["zero (the actuator stays off)"]
             gates = table_rows(cases, gated)
             print_harm(f"{label}: gates on the direct Wiener predictor ({P_MAIN} taps), ramp 0.3 s", gates, z)
