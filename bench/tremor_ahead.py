@@ -1,7 +1,13 @@
 """Tremor ahead (issue 32): predictors of the tremor h samples ahead, their oracle, and gates, by measurement.
 
-    python bench/tremor_ahead.py            # PADS (if found) and the synthetic set, every table
+    python bench/tremor_ahead.py            # PADS (if found) and the synthetic set, every table (about 1.5 min)
     python bench/tremor_ahead.py --quick    # 3 PADS recordings and 3 synthetic signals
+    python bench/tremor_ahead.py --no-baselines   # without the baselines' extrapolation (the slow part)
+
+The tables and the design they chose are in docs/design.md, "Tremor ahead: design study (issue 32)": an 8-tap
+direct least-squares predictor from WAKE's estimate to each HPA window's truth, behind a gate that is the
+previous model's held-out gain on the samples the new window adds, clipped to [0, 1], and 0 while the window
+has no tremor peak, with a 0.3 s first-order ramp.
 
 Truth: PADS, the independent sharp high-pass of the whole recording at its Welch valley between 1.5 and 5 Hz
 (``wake.eval.warmup.independent_ground_truth``, as ``bench/warmup_slices.py``); synthetic, the paper's tremor
@@ -194,13 +200,13 @@ def gated_candidates(case, tau_s=0.3):
 def fit_variants(case, tau_s=0.3):
     """The chosen predictor fitted without the window's edges or with a larger ridge, behind the chosen gate."""
     y, W, fs = case.y, case.windows, case.fs
+    fits = {"as chosen (ridge 1e-3, whole window)": dict(trim=0, ridge=1e-3)}
+    fits.update({f"window edges left out ({k} samples each end)": dict(trim=k, ridge=1e-3) for k in (10, 25)})
+    fits.update({f"ridge {r:g}": dict(trim=0, ridge=r) for r in (1e-2, 1e-1)})
     out = {}
-    for label, fit in [("as chosen (ridge 1e-3, whole window)", lambda seg, t, h: ahead.ls_direct(seg, t, h, P_MAIN))] + [
-            (f"window edges left out ({trim} samples each end)",
-             (lambda k: lambda seg, t, h: ahead.ls_direct_trimmed(seg, t, h, P_MAIN, k))(trim)) for trim in (10, 25)] + [
-            (f"ridge {r:g}", (lambda r: lambda seg, t, h: ahead.ls_direct(seg, t, h, P_MAIN, r))(r)) for r in (1e-2, 1e-1)]:
+    for label, kw in fits.items():
         for h in HORIZONS:
-            P = ahead.apply_fir(y, [(w.index, fit(y[w.start:w.index], w.truth, h)) for w in W], P_MAIN)
+            P = ahead.predictor_direct_wiener_trimmed(y, W, h, P_MAIN, kw["trim"], kw["ridge"])
             target = ahead.chosen_gate(P, W, h, len(y))
             out.setdefault(label, {})[h] = ahead.ramp(target, fs, tau_s) * P
     return out
@@ -225,15 +231,13 @@ def input_variants(case, tau_s=0.3):
     return out
 
 
-def gated(case, tau_s=0.3, p=P_MAIN, taus=False):
-    """{gate: {h: g * P}} for the chosen predictor (direct Wiener, ``p`` taps)."""
+def gated(case, tau_s=0.3, p=P_MAIN):
+    """{gate: {h: g * P}} for the chosen predictor (direct Wiener, ``p`` taps) behind every gate target."""
     out = {}
     for h in HORIZONS:
         P = ahead.predictor_direct_wiener(case.y, case.windows, h, p)
         for name, target in gate_targets(case, P, h, p).items():
-            for tau in ((0.1, 0.3, 1.0) if taus else (tau_s,)):
-                key = name if not taus else f"{name}, ramp {tau:g} s"
-                out.setdefault(key, {})[h] = ahead.ramp(target, case.fs, tau) * P
+            out.setdefault(name, {})[h] = ahead.ramp(target, case.fs, tau_s) * P
     return out
 
 
