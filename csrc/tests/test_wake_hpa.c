@@ -195,13 +195,13 @@ static void test_bad_input(void)
        samples or more, the 1-s point is not run (wake.channel.Channel.point_after) */
     {
         int k;
-        wake_hpa_result_t r;
+        wake_hpa_result_t first;
         init_default(&hpa);
         for (k = 1; k <= 100; ++k) {
             CHECK(wake_hpa_push(&hpa, (wake_q15_t)(k % 7)) == (k == 100 ? WAKE_HPA_STARTED : WAKE_HPA_OK));
         }
         CHECK(hpa.n == 100u);
-        CHECK(wake_hpa_run(&hpa) == WAKE_HPA_DONE && wake_hpa_take(&hpa, &r) == WAKE_HPA_OK);
+        CHECK(wake_hpa_run(&hpa) == WAKE_HPA_DONE && wake_hpa_take(&hpa, &first) == WAKE_HPA_OK);
         for (k = 0; k < 150; ++k) {
             CHECK(wake_hpa_push_missing(&hpa) == WAKE_HPA_OK);   /* points 200 and 300 fall inside */
         }
@@ -347,6 +347,7 @@ static void test_push_and_slices_equal_start_and_run(void)
     }
     CHECK(got);
     CHECK(starts >= 2u);             /* warm-up points and the full window */
+    CHECK(slices >= 1u);             /* the full window ran in slices, not all at once in push */
     CHECK(hpa.overruns == 0u);
     b = analyse(window, L);
     CHECK(memcmp(a.weights, b.weights, sizeof a.weights) == 0);
