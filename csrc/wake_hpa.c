@@ -357,7 +357,7 @@ static wake_hpa_status_t check_instance(const wake_hpa_t *h)
     if (h->magic != WAKE_HPA_MAGIC) {
         return WAKE_HPA_E_UNINIT;
     }
-    if (h->seal != seal_of(h) || h->fill > 1u || h->fill_len > h->cfg.window || h->phase > STEP_SOLVE ||
+    if (h->seal != seal_of(h) || h->fill > 1u || h->fill_len >= h->cfg.window || h->phase > STEP_SOLVE ||
         h->base > h->count) {
         return WAKE_HPA_E_CORRUPT;
     }

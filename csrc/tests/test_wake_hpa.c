@@ -145,6 +145,11 @@ static void test_bad_input(void)
     init_default(&hpa);
     hpa.fill_len = 1000;
     CHECK(wake_hpa_push(&hpa, 1) == WAKE_HPA_E_CORRUPT);
+    init_default(&hpa);
+    hpa.fill_len = hpa.cfg.window;  /* a full buffer is swapped at once: never seen by a call (with L equal to
+                                       WAKE_HPA_MAX_WINDOW the write would land past the buffers; found by Eva) */
+    hpa.fill = 1;
+    CHECK(wake_hpa_push(&hpa, 1) == WAKE_HPA_E_CORRUPT);
     /* any configuration field changed after init breaks the seal */
     init_default(&hpa);
     hpa.cfg.fs = 50.0f;
