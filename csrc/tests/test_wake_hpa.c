@@ -150,6 +150,21 @@ static void test_bad_input(void)
                                        WAKE_HPA_MAX_WINDOW the write would land past the buffers; found by Eva) */
     hpa.fill = 1;
     CHECK(wake_hpa_push(&hpa, 1) == WAKE_HPA_E_CORRUPT);
+    /* a run sliding lag d's diagonal: d < 2^J (else the bank's rows i + d lie past it; found by fuzzing) */
+    {
+        static int16_t ramp[L];
+        int k;
+        for (k = 0; k < L; ++k) {
+            ramp[k] = (int16_t)((k * 37) % 2001 - 1000);
+        }
+        init_default(&hpa);
+        CHECK(wake_hpa_start(&hpa, ramp, L, L) == WAKE_HPA_OK);
+        while (hpa.phase != 0u && hpa.phase != 4u && wake_hpa_slice(&hpa) == WAKE_HPA_RUNNING) {
+        }
+    }
+    CHECK(hpa.phase == 4u);          /* STEP_DIAG (wake_hpa.c) */
+    hpa.d = (uint16_t)(1u << hpa.cfg.level);
+    CHECK(wake_hpa_slice(&hpa) == WAKE_HPA_E_CORRUPT);
     /* any configuration field changed after init breaks the seal */
     init_default(&hpa);
     hpa.cfg.fs = 50.0f;
