@@ -89,6 +89,14 @@ def analyse(unit: str, entry: str, defs: str, timeout: int, slevel: int, extra=(
             "seconds": time.monotonic() - start, "log": out}
 
 
+def analyse_and_print(unit: str, entry: str, config: str, args) -> dict:
+    """One analysis with the options its entry needs; its table row printed."""
+    extra = ("-warn-special-float", "none") if entry in RAW_FLOAT_ENTRIES else ()
+    r = analyse(unit, entry, CONFIGS[config], args.timeout, args.slevel, extra)
+    print(f"| {entry} | {config} | {len(r['alarms'])} | {r['seconds']:.1f} | {r['status']} |", flush=True)
+    return r
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--timeout", type=int, default=300, help="seconds per analysis (default 300)")
@@ -107,22 +115,17 @@ def main(argv=None) -> int:
     if args.only in (None, "hpa"):
         plan += [("hpa", e, c) for e in HPA_ENTRIES for c in ("mul64 K1", "m0split K0")]
     if args.hpa_report:
-        report = [("hpa", e, "mul64 K1") for e in HPA_REPORT_ENTRIES]
         print("| HPA entry (report only) | configuration | alarms | seconds | status |")
         print("|---|---|---:|---:|---|")
-        for unit, entry, config in report:
-            extra = ("-warn-special-float", "none") if entry in RAW_FLOAT_ENTRIES else ()
-            r = analyse(unit, entry, CONFIGS[config], args.timeout, args.slevel, extra)
-            print(f"| {entry} | {config} | {len(r['alarms'])} | {r['seconds']:.1f} | {r['status']} |", flush=True)
+        for entry in HPA_REPORT_ENTRIES:
+            analyse_and_print("hpa", entry, "mul64 K1", args)
         print()
     listed = listed_alarms()
     failures, distinct = [], collections.defaultdict(set)
     print("| entry | configuration | alarms | seconds | status |")
     print("|---|---|---:|---:|---|")
     for unit, entry, config in plan:
-        extra = ("-warn-special-float", "none") if entry in RAW_FLOAT_ENTRIES else ()
-        r = analyse(unit, entry, CONFIGS[config], args.timeout, args.slevel, extra)
-        print(f"| {entry} | {config} | {len(r['alarms'])} | {r['seconds']:.1f} | {r['status']} |", flush=True)
+        r = analyse_and_print(unit, entry, config, args)
         if r["status"] != "ok":
             failures.append(f"{entry} ({config}): {r['status']}")
             if "log" in r:
