@@ -161,10 +161,19 @@ static void test_bad_input(void)
         CHECK(wake_hpa_start(&hpa, ramp, L, L) == WAKE_HPA_OK);
         while (hpa.phase != 0u && hpa.phase != 4u && wake_hpa_slice(&hpa) == WAKE_HPA_RUNNING) {
         }
+        CHECK(hpa.phase == 4u);      /* STEP_DIAG (wake_hpa.c) */
+        hpa.d = (uint16_t)(1u << hpa.cfg.level);
+        CHECK(wake_hpa_slice(&hpa) == WAKE_HPA_E_CORRUPT);
+        /* a bin's start: bins count from m = 1 (m = 0 would divide by sin 0; found by fuzzing) */
+        init_default(&hpa);
+        CHECK(wake_hpa_start(&hpa, ramp, L, L) == WAKE_HPA_OK);
+        while (hpa.phase != 0u && hpa.phase != 10u && wake_hpa_slice(&hpa) == WAKE_HPA_RUNNING) {
+        }
+        CHECK(hpa.phase == 10u);     /* STEP_BIN_START */
+        hpa.m = 0;
+        hpa.d = 0;
+        CHECK(wake_hpa_slice(&hpa) == WAKE_HPA_E_CORRUPT);
     }
-    CHECK(hpa.phase == 4u);          /* STEP_DIAG (wake_hpa.c) */
-    hpa.d = (uint16_t)(1u << hpa.cfg.level);
-    CHECK(wake_hpa_slice(&hpa) == WAKE_HPA_E_CORRUPT);
     /* any configuration field changed after init breaks the seal */
     init_default(&hpa);
     hpa.cfg.fs = 50.0f;
