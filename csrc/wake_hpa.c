@@ -360,7 +360,7 @@ static wake_hpa_status_t check_instance(const wake_hpa_t *h)
     if (h->magic != WAKE_HPA_MAGIC) {
         return WAKE_HPA_E_UNINIT;
     }
-    if (h->seal != seal_of(h) || h->fill > 1u || h->fill_len > h->cfg.window || h->phase > STEP_SOLVE ||
+    if (h->seal != seal_of(h) || h->fill > 1u || h->fill_len >= h->cfg.window || h->phase > STEP_SOLVE ||
         h->base > h->count) {
         return WAKE_HPA_E_CORRUPT;
     }
@@ -375,7 +375,9 @@ static wake_hpa_status_t check_instance(const wake_hpa_t *h)
         h->d > h->lags || h->bins > h->n / 2u || h->m > h->bins + 1u || h->pair > 2u ||
         h->psd_end > psd_last(h) || h->attempts >= WAKE_HPA_RIDGE_STEPS ||
         ((h->phase == STEP_BIN_START || h->phase == STEP_BIN_END) && h->d >= h->pair) ||
+        ((h->phase >= STEP_DFT) && (h->phase <= STEP_BIN_END) && (h->m == 0u)) ||
         (h->phase == STEP_RAMP && h->t >= N) ||
+        ((h->phase == STEP_DIAG) && ((h->d >= N) || (h->t > (N - h->d)))) ||
         (h->phase == STEP_GRAM && (h->d >= h->cfg.level || h->t > h->d))) {
         return WAKE_HPA_E_CORRUPT;
     }

@@ -145,6 +145,35 @@ static void test_bad_input(void)
     init_default(&hpa);
     hpa.fill_len = 1000;
     CHECK(wake_hpa_push(&hpa, 1) == WAKE_HPA_E_CORRUPT);
+    init_default(&hpa);
+    hpa.fill_len = hpa.cfg.window;  /* a full buffer is swapped at once: never seen by a call (with L equal to
+                                       WAKE_HPA_MAX_WINDOW the write would land past the buffers; found by Eva) */
+    hpa.fill = 1;
+    CHECK(wake_hpa_push(&hpa, 1) == WAKE_HPA_E_CORRUPT);
+    /* a run sliding lag d's diagonal: d < 2^J (else the bank's rows i + d lie past it; found by fuzzing) */
+    {
+        static int16_t ramp[L];
+        int k;
+        for (k = 0; k < L; ++k) {
+            ramp[k] = (int16_t)((k * 37) % 2001 - 1000);
+        }
+        init_default(&hpa);
+        CHECK(wake_hpa_start(&hpa, ramp, L, L) == WAKE_HPA_OK);
+        while (hpa.phase != 0u && hpa.phase != 4u && wake_hpa_slice(&hpa) == WAKE_HPA_RUNNING) {
+        }
+        CHECK(hpa.phase == 4u);      /* STEP_DIAG (wake_hpa.c) */
+        hpa.d = (uint16_t)(1u << hpa.cfg.level);
+        CHECK(wake_hpa_slice(&hpa) == WAKE_HPA_E_CORRUPT);
+        /* a bin's start: bins count from m = 1 (m = 0 would divide by sin 0; found by fuzzing) */
+        init_default(&hpa);
+        CHECK(wake_hpa_start(&hpa, ramp, L, L) == WAKE_HPA_OK);
+        while (hpa.phase != 0u && hpa.phase != 10u && wake_hpa_slice(&hpa) == WAKE_HPA_RUNNING) {
+        }
+        CHECK(hpa.phase == 10u);     /* STEP_BIN_START */
+        hpa.m = 0;
+        hpa.d = 0;
+        CHECK(wake_hpa_slice(&hpa) == WAKE_HPA_E_CORRUPT);
+    }
     /* any configuration field changed after init breaks the seal */
     init_default(&hpa);
     hpa.cfg.fs = 50.0f;
@@ -195,13 +224,13 @@ static void test_bad_input(void)
        samples or more, the 1-s point is not run (wake.hpa.schedule.HPASchedule.point_after) */
     {
         int k;
-        wake_hpa_result_t r;
+        wake_hpa_result_t first;
         init_default(&hpa);
         for (k = 1; k <= 100; ++k) {
             CHECK(wake_hpa_push(&hpa, (wake_q15_t)(k % 7)) == (k == 100 ? WAKE_HPA_STARTED : WAKE_HPA_OK));
         }
         CHECK(hpa.n == 100u);
-        CHECK(wake_hpa_run(&hpa) == WAKE_HPA_DONE && wake_hpa_take(&hpa, &r) == WAKE_HPA_OK);
+        CHECK(wake_hpa_run(&hpa) == WAKE_HPA_DONE && wake_hpa_take(&hpa, &first) == WAKE_HPA_OK);
         for (k = 0; k < 150; ++k) {
             CHECK(wake_hpa_push_missing(&hpa) == WAKE_HPA_OK);   /* points 200 and 300 fall inside */
         }
@@ -347,6 +376,7 @@ static void test_push_and_slices_equal_start_and_run(void)
     }
     CHECK(got);
     CHECK(starts >= 2u);             /* warm-up points and the full window */
+    CHECK(slices >= 1u);             /* the full window ran in slices, not all at once in push */
     CHECK(hpa.overruns == 0u);
     b = analyse(window, L);
     CHECK(memcmp(a.weights, b.weights, sizeof a.weights) == 0);

@@ -16,6 +16,7 @@ from pathlib import Path
 
 from wake._files import atomic_write_text
 from wake.firmware.export import add_config_arguments, export_header, resolve_config
+from wake.firmware.layouts import LAYOUTS, layout_files
 from wake.firmware.sources import csrc_dir
 
 __all__ = ["CORE_FILES", "export_folder"]
@@ -127,7 +128,7 @@ The macro prefix of this configuration is `{macro}_`.
 """
 
 
-def export_folder(directory, *, force: bool = False, sources=None, **config) -> list[Path]:
+def export_folder(directory, *, force: bool = False, sources=None, layout: str = "plain", **config) -> list[Path]:
     """Write ``wake_rtp.c``, ``wake_rtp.h``, ``<name>.h`` and ``README.md`` into ``directory``.
 
     Parameters
@@ -139,6 +140,9 @@ def export_folder(directory, *, force: bool = False, sources=None, **config) -> 
     sources : str or Path, optional
         A ``csrc/`` directory to copy the core from (default: the sources
         installed with the package).
+    layout : str
+        One of :data:`wake.firmware.layouts.LAYOUTS`: ``plain`` (default), ``cmake``, ``platformio``,
+        ``arduino`` or ``zephyr`` (docs/packaging.md).
     **config
         Keyword arguments of :func:`wake.firmware.export.export_header`
         (``wavelet``, ``level``, ``measurement_noise``, ``full_scale``, ...).
@@ -170,18 +174,19 @@ def export_folder(directory, *, force: bool = False, sources=None, **config) -> 
     out = Path(directory)
     if out.exists() and not out.is_dir():
         raise FileExistsError(f"{out} exists and is not a directory: give a new or existing folder")
-    names = [*CORE_FILES, f"{name}.h", "README.md"]
+    core = {n: (src / n).read_text(encoding="utf-8") for n in CORE_FILES}
+    core[f"{name}.h"] = header
+    files = layout_files(layout, core, src)
+    names = [*files, "README.md"]
     clash = [n for n in names if (out / n).exists()]
     if clash and not force:
         raise FileExistsError(f"{out} already holds {', '.join(clash)}: pass --force (force=True) to "
                               "overwrite them, or give another folder")
-    out.mkdir(parents=True, exist_ok=True)
     written = []
-    for n in CORE_FILES:
-        atomic_write_text(out / n, (src / n).read_text(encoding="utf-8"), encoding="utf-8")
+    for n, text in files.items():
+        (out / n).parent.mkdir(parents=True, exist_ok=True)
+        atomic_write_text(out / n, text, encoding="utf-8")
         written.append(out / n)
-    atomic_write_text(out / f"{name}.h", header, encoding="ascii")
-    written.append(out / f"{name}.h")
     atomic_write_text(out / "README.md", _readme(name, config), encoding="utf-8")
     written.append(out / "README.md")
     return written
@@ -199,6 +204,9 @@ def cli(argv=None) -> int:
     p.add_argument("--force", action="store_true", help="overwrite files of the same names in the folder")
     p.add_argument("--sources", metavar="CSRC", default=None,
                    help="copy the core from this csrc/ directory (default: the sources installed with wake)")
+    p.add_argument("--layout", choices=LAYOUTS, default="plain",
+                   help="project layout: plain files, a CMake project, a PlatformIO or Arduino library, "
+                        "a Zephyr module (default: plain)")
     add_config_arguments(p)
     args = p.parse_args(argv)
     config = resolve_config(args)
@@ -206,7 +214,7 @@ def cli(argv=None) -> int:
         from wake._files import refuse_same_file
 
         refuse_same_file(Path(args.directory) / f"{args.name}.h", [args.fit], option="directory")
-    files = export_folder(args.directory, force=args.force, sources=args.sources, **config)
+    files = export_folder(args.directory, force=args.force, sources=args.sources, layout=args.layout, **config)
     print(f"wrote {', '.join(f.name for f in files)} to {args.directory} "
           f"({args.wavelet}, J={args.level}, full scale {config['full_scale']:g})")
     if config["provenance"]:

@@ -1,0 +1,15 @@
+# Shared part of the Cortex-M toolchain files (arm-cortex-m4.cmake, arm-cortex-m0plus.cmake):
+# arm-none-eabi-gcc, freestanding, no linking of executables during the compiler checks.
+set(CMAKE_SYSTEM_NAME Generic)
+set(CMAKE_SYSTEM_PROCESSOR arm)
+set(WAKE_ARM_TOOLCHAIN_PREFIX "arm-none-eabi-" CACHE STRING "prefix of the cross tools")
+set(WAKE_ARM_FLOAT_FLAGS "" CACHE STRING "floating-point ABI flags, e.g. -mfloat-abi=hard -mfpu=fpv4-sp-d16")
+set(CMAKE_C_COMPILER ${WAKE_ARM_TOOLCHAIN_PREFIX}gcc)
+set(CMAKE_AR ${WAKE_ARM_TOOLCHAIN_PREFIX}ar CACHE FILEPATH "archiver")
+set(CMAKE_RANLIB ${WAKE_ARM_TOOLCHAIN_PREFIX}ranlib CACHE FILEPATH "ranlib")
+set(CMAKE_TRY_COMPILE_TARGET_TYPE STATIC_LIBRARY)
+set(CMAKE_C_FLAGS_INIT "${WAKE_ARM_CPU_FLAGS} ${WAKE_ARM_FLOAT_FLAGS} -ffreestanding")
+set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
+set(CMAKE_FIND_ROOT_PATH_MODE_LIBRARY ONLY)
+set(CMAKE_FIND_ROOT_PATH_MODE_INCLUDE ONLY)
+set(CMAKE_FIND_ROOT_PATH_MODE_PACKAGE ONLY)

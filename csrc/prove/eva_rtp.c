@@ -1,0 +1,114 @@
+/**
+ * @file eva_rtp.c
+ * @brief Frama-C Eva analysis entries for the fixed-point RTP (csrc/wake_rtp.c): one per public
+ *        function, every input ranged as the API allows (make -C csrc prove; docs/verification.md).
+ *
+ * An instance given to a function other than init has any content at all (the corruption checks
+ * must refuse what they cannot use), with two exceptions the header documents: the caller-owned
+ * taps pointer points to a taps table (of any content), and the Kalman accumulators s, z and
+ * q |w|^2 lie in the ranges the recursion keeps them in (docs/verification.md, "Corrupted state").
+ */
+#include <stdint.h>
+#include <string.h>
+#include "__fc_builtin.h"
+#include "wake_rtp.h"
+
+static wake_q15_t taps[WAKE_RTP_MAX_LEVEL * WAKE_RTP_MAX_TAPS];
+static wake_q24_t weights[WAKE_RTP_MAX_LEVEL];
+static wake_q15_t window[WAKE_RTP_MAX_TAPS];
+static wake_q23_t correction[WAKE_RTP_MAX_LEVEL];
+static wake_cov_t covariance[WAKE_RTP_MAX_LEVEL * WAKE_RTP_MAX_LEVEL];
+static wake_q15_t block[2 * WAKE_RTP_MAX_TAPS];
+static wake_rtp_t rtp;
+
+static void unknown(void *p, size_t n)
+{
+    Frama_C_make_unknown((char *)p, n);
+}
+
+static int32_t any_i32(void)
+{
+    return Frama_C_int_interval(INT32_MIN, INT32_MAX);
+}
+
+/** Any instance content, the taps pointer and the accumulators' documented ranges excepted. */
+static void any_instance(void)
+{
+    unknown(&rtp, sizeof rtp);
+    unknown(taps, sizeof taps);
+    rtp.taps = taps;
+    /* one Eva state per level (the checks refuse every other value): the loop bounds 2^J are then
+       exact and the FIR's int64 sum is bounded per level instead of widened */
+    rtp.level = (uint16_t)Frama_C_interval_split(0, WAKE_RTP_MAX_LEVEL + 1);
+    rtp.s = Frama_C_long_long_interval(-(INT64_C(1) << 50), INT64_C(1) << 50);
+    rtp.z = Frama_C_long_long_interval(-(INT64_C(1) << 40), INT64_C(1) << 40);
+    rtp.q_omega = Frama_C_long_long_interval(0, INT64_C(1) << 47);
+}
+
+void eva_wake_rtp_init(void)
+{
+    unknown(&rtp, sizeof rtp);
+    unknown(taps, sizeof taps);
+    unknown(weights, sizeof weights);
+    {
+        int level = any_i32();
+        if (level >= 1 && level <= WAKE_RTP_MAX_LEVEL) {
+            level = Frama_C_interval_split(1, WAKE_RTP_MAX_LEVEL);   /* the same values, one state each */
+        }
+        (void)wake_rtp_init(&rtp, level, taps, weights, any_i32(), any_i32(), any_i32());
+    }
+}
+
+void eva_wake_rtp_set_weights(void)
+{
+    any_instance();
+    unknown(weights, sizeof weights);
+    (void)wake_rtp_set_weights(&rtp, weights, any_i32(), any_i32());
+}
+
+void eva_wake_rtp_reset(void)
+{
+    any_instance();
+    (void)wake_rtp_reset(&rtp);
+}
+
+void eva_wake_rtp_step(void)
+{
+    wake_q15_t prediction;
+    any_instance();
+    (void)wake_rtp_step(&rtp, Frama_C_short_interval(INT16_MIN, INT16_MAX), &prediction);
+}
+
+void eva_wake_rtp_step_missing(void)
+{
+    wake_q15_t prediction;
+    any_instance();
+    (void)wake_rtp_step_missing(&rtp, &prediction);
+}
+
+void eva_wake_rtp_run(void)
+{
+    any_instance();
+    unknown(block, sizeof block);
+    (void)wake_rtp_run(&rtp, block, block, Frama_C_size_t_interval(0u, sizeof block / sizeof block[0]));
+}
+
+void eva_wake_rtp_load_state(void)
+{
+    any_instance();
+    unknown(window, sizeof window);
+    unknown(correction, sizeof correction);
+    unknown(covariance, sizeof covariance);
+    (void)wake_rtp_load_state(&rtp, window, correction, covariance, any_i32());
+}
+
+void eva_wake_rtp_get_state(void)
+{
+    any_instance();
+    (void)wake_rtp_get_state(&rtp, correction, covariance);
+}
+
+void eva_wake_rtp_reciprocal(void)
+{
+    (void)wake_rtp_reciprocal(Frama_C_unsigned_int_interval(0u, UINT32_MAX));
+}

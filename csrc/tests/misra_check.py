@@ -1,0 +1,93 @@
+"""MISRA C:2012 check of the C core: cppcheck's MISRA addon against the listed deviations.
+
+    python tests/misra_check.py            (from csrc/; or: make -C csrc misra)
+
+Runs ``cppcheck --addon=misra`` over wake_rtp.c and wake_hpa.c (their headers come in through the
+includes), counts the findings per rule and per unit (wake_rtp = wake_rtp.c + wake_rtp.h, wake_hpa =
+wake_hpa.c + wake_hpa.h), and compares them with the deviation table in docs/verification.md
+("MISRA C:2012 deviations"), the one place the deviations are listed with their reasons. A rule
+that is not in the table, or a unit with more findings of a rule than the table allows, is an
+unlisted deviation: exit status 1. Fewer findings than listed are reported, so that the table can be
+tightened. Exit status 3: cppcheck is missing (Debian: apt-get install cppcheck).
+
+The counts are those of cppcheck 2.10 (Debian 12); another version may find more or fewer.
+"""
+
+import collections
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+CSRC = Path(__file__).resolve().parents[1]
+TABLE = CSRC.parent / "docs" / "verification.md"
+SOURCES = ["wake_rtp.c", "wake_hpa.c"]
+UNITS = ["wake_rtp", "wake_hpa"]
+FINDING = re.compile(r"^(?P<file>[^:]+):(?P<line>\d+):\w+:misra-c2012-(?P<rule>\d+\.\d+):")
+# | 10.4 | Required | 7 | 34 | reason |
+ROW = re.compile(r"^\|\s*(?P<rule>\d+\.\d+)\s*\|\s*(?P<cat>\w+)\s*\|\s*(?P<rtp>\d+)\s*\|\s*(?P<hpa>\d+)\s*\|")
+
+
+def listed_deviations(text: str) -> dict:
+    """{(unit, rule): allowed count} from the deviation table's rows."""
+    allowed = {}
+    for line in text.splitlines():
+        m = ROW.match(line)
+        if m:
+            allowed[("wake_rtp", m["rule"])] = int(m["rtp"])
+            allowed[("wake_hpa", m["rule"])] = int(m["hpa"])
+    return allowed
+
+
+def findings(output: str) -> collections.Counter:
+    """Counter of (unit, rule) over cppcheck's template output."""
+    found = collections.Counter()
+    for line in output.splitlines():
+        m = FINDING.match(line)
+        if m:
+            found[(Path(m["file"]).stem, m["rule"])] += 1
+    return found
+
+
+def run_cppcheck() -> str:
+    cmd = ["cppcheck", "--addon=misra", "--std=c99", "-q", "--inline-suppr",
+           "--template={file}:{line}:{severity}:{id}:{message}", "-I", str(CSRC)]
+    proc = subprocess.run(cmd + [str(CSRC / s) for s in SOURCES], capture_output=True, text=True)
+    if proc.returncode != 0:
+        sys.exit(f"misra_check: cppcheck failed:\n{proc.stdout}{proc.stderr}")
+    return proc.stdout + proc.stderr
+
+
+def main() -> int:
+    if shutil.which("cppcheck") is None:
+        print("misra_check: cppcheck not found (Debian: apt-get install cppcheck)", file=sys.stderr)
+        return 3
+    allowed = listed_deviations(TABLE.read_text())
+    if not allowed:
+        print(f"misra_check: no deviation table found in {TABLE}", file=sys.stderr)
+        return 1
+    found = findings(run_cppcheck())
+    unlisted = {k: n for k, n in found.items() if n > allowed.get(k, 0)}
+    print("| rule | wake_rtp found / listed | wake_hpa found / listed |")
+    print("|---|---:|---:|")
+    for rule in sorted({r for _, r in set(found) | set(allowed)}, key=lambda r: tuple(map(int, r.split(".")))):
+        cells = [f"{found[(u, rule)]} / {allowed.get((u, rule), 0)}" for u in UNITS]
+        print(f"| {rule} | {cells[0]} | {cells[1]} |")
+    total = sum(found.values())
+    print(f"\n{total} findings over {len({r for _, r in found})} rules")
+    for (unit, rule), n in sorted(allowed.items()):
+        if found[(unit, rule)] < n:
+            print(f"note: {unit} has {found[(unit, rule)]} findings of rule {rule}, {n} listed: "
+                  f"lower the count in {TABLE.name}")
+    if unlisted:
+        for (unit, rule), n in sorted(unlisted.items()):
+            print(f"error: {unit}: {n} findings of MISRA C:2012 rule {rule}, {allowed.get((unit, rule), 0)} "
+                  f"listed in {TABLE.name}: fix them or list the deviation with its reason", file=sys.stderr)
+        return 1
+    print("misra: OK (no unlisted deviation)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
