@@ -421,6 +421,18 @@ def check_faults_record():
         assert (ROOT / test_file).is_file(), test_file
 
 
+@claim("packaging")
+def check_packaging():
+    text = tagged("packaging")
+    for path in ("csrc/CMakeLists.txt", "csrc/cmake/arm-cortex-m4.cmake", "csrc/cmake/arm-cortex-m0plus.cmake",
+                 "library.json", "zephyr/module.yml", "docs/packaging.md", "docs/verification.md"):
+        assert (ROOT / path).is_file(), path
+    from wake.firmware.layouts import LAYOUTS
+
+    said = re.search(r"--layout \{([\w,]+)\}", text)[1].split(",")
+    assert said == list(LAYOUTS), (said, LAYOUTS)
+
+
 @claim("export-compiles")
 def check_export_compiles():
     text = tagged("export-compiles")
