@@ -123,7 +123,8 @@ def _typed(name, text, default):
             return {"true": True, "false": False}[text.lower()]
         return kind(float(text)) if kind is int and float(text).is_integer() else kind(text)
     except (KeyError, ValueError):
-        raise ValueError(f"--grid: {name}={text!r} is not a {kind.__name__}") from None
+        what = {bool: "true or false", int: "an integer", float: "a number"}.get(kind, "a name")
+        raise ValueError(f"--grid: {name}={text} is not {what}") from None
 
 
 def _parser():
@@ -141,7 +142,7 @@ def _parser():
     p.add_argument("--synthetic-only", action="store_true", help="skip the real recordings")
     p.add_argument("--synthetic", metavar="N", type=int, default=None,
                    help="a generated cohort of N synthetic signals instead of the paper's ten (seed and SNR "
-                        "drawn per signal); no PADS folder unless given")
+                        "drawn per signal; 0: recordings only); no PADS folder unless given")
     p.add_argument("--duration", metavar="S", type=float, default=50.0, help="length of --synthetic signals (s)")
     p.add_argument("--backend", choices=("c", "reference", "both"), default="both",
                    help="WAKE RTP backend(s) (default: both; 'both' runs the C one only when it is built)")

@@ -85,8 +85,8 @@ def cohort_sources(count, seed=0, duration_s=50.0):
     ``numpy.random.default_rng([seed, i])``: the same ``(seed, i)`` always
     gives the same signal, whatever the cohort size.
     """
-    if int(count) < 1:
-        raise ValueError(f"--synthetic needs a count >= 1, got {count}")
+    if int(count) < 0:
+        raise ValueError(f"--synthetic needs a count >= 0 (0: no synthetic signal), got {count}")
     out = []
     for i in range(int(count)):
         snr = float(np.random.default_rng([seed, i]).uniform(*COHORT_SNR_DB))
