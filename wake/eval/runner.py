@@ -9,6 +9,8 @@ does not matter: the report reads the store in task order.
 
 from __future__ import annotations
 
+import importlib
+import importlib.util
 import os
 import sys
 
@@ -31,8 +33,6 @@ def require(module, purpose):
     ...
     ValueError: this needs no_such_package_xyz: pip install no_such_package_xyz
     """
-    import importlib
-
     try:
         return importlib.import_module(module)
     except ImportError:
@@ -62,11 +62,15 @@ def _dask(tasks, scheduler, jobs):
     distributed = require("distributed", "--scheduler")
     if scheduler == "local":
         workers = os.cpu_count() if jobs in (None, -1) else jobs
+        # the dashboard needs bokeh (the dask extra brings it); without it, no dashboard
+        dashboard = ":0" if importlib.util.find_spec("bokeh") is not None else None
         cluster = distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                           dashboard_address=None)
+                                           dashboard_address=dashboard)
         client = distributed.Client(cluster)
     else:
         cluster, client = None, distributed.Client(scheduler)
+    if client.dashboard_link and (scheduler != "local" or dashboard):
+        print(f"wake evaluate: Dask dashboard at {client.dashboard_link}", file=sys.stderr)
     try:
         futures = client.map(_pair, tasks, pure=False)
         for future in distributed.as_completed(futures):
