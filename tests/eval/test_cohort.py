@@ -199,6 +199,19 @@ def test_inputs_from_folders_files_and_globs(tmp_path):
         file_sources([tmp_path / "missing*.txt"])
 
 
+def test_plain_csv_needs_and_takes_its_rate(tmp_path, capsys):
+    t = np.arange(1000) / 100.0
+    data = np.column_stack([np.sin(2 * np.pi * 0.3 * t) + 0.1 * np.sin(2 * np.pi * 7 * t), np.cos(2 * np.pi * 0.5 * t)])
+    path = tmp_path / "plain.csv"
+    path.write_text("left,right\n" + "\n".join(f"{a:.6f},{b:.6f}" for a, b in data) + "\n")
+    common = ["--synthetic", "0", "--backend", "reference", "--no-progress"]
+    assert cli([tmp_path / "no-rate", path, *common]) == 1
+    assert "plain.csv: ValueError:" in capsys.readouterr().err and "--fs HZ" in (tmp_path / "no-rate/report.md").read_text()
+    assert cli([tmp_path / "rate", path, "--fs", "100", *common]) == 0
+    text = (tmp_path / "rate" / "report.md").read_text()
+    assert "| plain | left |" in text and "| plain | right |" in text
+
+
 def test_bad_jobs_and_cohort_size_are_clear_errors(tmp_path, capsys):
     assert cli([tmp_path, "--synthetic", "-1", "--no-progress"]) == 2
     assert "--synthetic needs a count >= 0" in capsys.readouterr().err

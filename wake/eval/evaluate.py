@@ -136,6 +136,8 @@ def _parser():
     p.add_argument("out_dir", metavar="OUT_DIR", help="folder for report.md, results.json, store/ and the figures")
     p.add_argument("inputs", metavar="INPUT", nargs="*",
                    help="recordings: files (any format wake.io reads), folders or glob patterns (quoted)")
+    p.add_argument("--fs", metavar="HZ", type=float, default=None,
+                   help="sampling rate of INPUT files without a time column")
     p.add_argument("--pads", metavar="DIR", default=None,
                    help="PADS recordings folder (default when no INPUT: $WAKE_PADS_DIR, else ../shared/data/pads "
                         "relative to the current directory if present, else synthetic only)")
@@ -176,7 +178,7 @@ def _sources(args, notes):
                  else paper_sources(2 if args.quick else None))
     recordings, pads_dir = [], None
     if args.inputs:
-        recordings += file_sources(args.inputs)
+        recordings += file_sources(args.inputs, fs=args.fs)
     if not args.synthetic_only and (args.pads or not (args.inputs or args.synthetic is not None)):
         pads_dir = default_pads_dir(args.pads)
         if pads_dir is not None:

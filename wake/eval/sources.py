@@ -53,6 +53,7 @@ class Source:
     seed: int = 0
     snr_db: float = float("nan")
     duration_s: float = 50.0
+    fs: float = None  #: sampling rate of a file without a time column (``--fs``)
 
     @property
     def synthetic(self) -> bool:
@@ -111,7 +112,7 @@ def _files_in(pattern):
     return matches
 
 
-def file_sources(patterns, kind="file"):
+def file_sources(patterns, kind="file", fs=None):
     """Files from folders, files and glob patterns, in the order given (each folder/glob sorted), no repeats.
 
     Examples
@@ -128,7 +129,7 @@ def file_sources(patterns, kind="file"):
             key = str(f.resolve())
             if key not in seen:
                 seen.add(key)
-                out.append(Source(kind, key, index=len(out), path=key))
+                out.append(Source(kind, key if fs is None else f"{key}@{fs:g}Hz", index=len(out), path=key, fs=fs))
     return out
 
 
@@ -149,5 +150,5 @@ def load_source(source: Source) -> Loaded:
         s = make_signal(source.snr_db, seed=source.seed, duration=source.duration_s)
         name = f"signal {source.index + 1}" if source.kind == "paper" else f"cohort signal {source.index}"
         return Loaded(name, s.fs, s.measurement[:, None], ("x",), s.voluntary, s.snr_db)
-    rec = read_pads(source.path) if source.kind == "pads" else read_recording(source.path)
+    rec = read_pads(source.path) if source.kind == "pads" else read_recording(source.path, fs=source.fs)
     return Loaded(rec.name, rec.fs, rec.samples, tuple(rec.channels))
