@@ -57,7 +57,7 @@ from wake.eval.runner import run_tasks
 from wake.eval.sources import cohort_sources, file_sources, pads_sources, paper_sources
 from wake.eval.store import ResultStore
 from wake.eval.synthetic import PAPER_SNR_DB
-from wake.eval.tables import grid_ranking, real_summary, synthetic_summary
+from wake.eval.tables import compact_row, grid_ranking, real_summary, synthetic_summary
 from wake.rtp import c_backend_available
 
 __all__ = ["cli", "c_backend_available", "baseline_methods", "ablation_literal_rtp", "evaluate_synthetic",
@@ -254,7 +254,7 @@ def cli(argv: list[str] | None = None) -> int:
 
 
 def _write_outputs(args, argv, out_dir, store, tasks, configs, backends, notes, pads_dir, t0):
-    rows = store.rows([t.key for t in tasks])
+    rows = store.rows([t.key for t in tasks], convert=compact_row)
     labels = [config_label(c) for c in configs]
     parts = _summaries(rows, labels[0])
     failures = [r for r in rows if r["error"]]

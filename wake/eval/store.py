@@ -94,13 +94,17 @@ class ResultStore:
         return {name: kind(row[name]) for name, kind in self.columns.items()}
 
     def _read(self, path, columns=None):
+        """The rows of one file, one at a time (a batch of Python objects at most: memory stays flat)."""
         names = list(self.columns) if columns is None else columns
         if path.suffix == ".parquet":
             import pyarrow.parquet as pq
 
-            return pq.read_table(path, columns=names).to_pylist()
+            for batch in pq.ParquetFile(path).iter_batches(batch_size=4096, columns=names):
+                yield from batch.to_pylist()
+            return
         with open(path, newline="") as fh:
-            return [{k: self.columns[k](r[k]) for k in names} for r in csv.DictReader(fh)]
+            for r in csv.DictReader(fh):
+                yield {k: self.columns[k](r[k]) for k in names}
 
     # ------------------------------------------------------------------ API
     def add(self, task_key, rows):
@@ -108,12 +112,12 @@ class ResultStore:
         name = hashlib.sha1(task_key.encode()).hexdigest()[:20]
         self._write(self.parts / f"{name}.{self.format}", rows)
 
-    def _by_task(self, columns=None):
+    def _by_task(self, columns=None, convert=None):
         by_task = {}
         for path in self._files():
             grouped = {}
             for row in self._read(path, columns):
-                grouped.setdefault(row["task"], []).append(row)
+                grouped.setdefault(row["task"], []).append(row if convert is None else convert(row))
             by_task.update(grouped)
         return by_task
 
@@ -121,9 +125,14 @@ class ResultStore:
         """Keys of the tasks recorded without an error."""
         return {k for k, rows in self._by_task(["task", "error"]).items() if not any(r["error"] for r in rows)}
 
-    def rows(self, task_keys):
-        """The rows of ``task_keys``, in that order (tasks not in the store are left out)."""
-        by_task = self._by_task()
+    def rows(self, task_keys, convert=None):
+        """The rows of ``task_keys``, in that order (tasks not in the store are left out).
+
+        ``convert``: applied to each row as it is read (to keep a large store's rows small).
+        """
+        wanted = set(task_keys)
+        by_task = self._by_task(convert=lambda r: None if r["task"] not in wanted else
+                                (r if convert is None else convert(r)))
         return [r for k in task_keys for r in by_task.get(k, ())]
 
     def compact(self):
@@ -131,8 +140,38 @@ class ResultStore:
         files = self._files()
         if not any(f.parent == self.parts for f in files):
             return
-        by_task = self._by_task()
-        self._write(self.folder / f"results.{self.format}", [r for rows in by_task.values() for r in rows])
+        target = self.folder / f"results.{self.format}"
+        if self.format == "parquet" and all(f.suffix == ".parquet" for f in files):
+            self._compact_parquet(files, target)     # in Arrow: no Python object per row
+        else:
+            self._write(target, [r for rows in self._by_task().values() for r in rows])
         for f in files:
             if f.parent == self.parts or f.suffix != f".{self.format}":
                 f.unlink()
+
+    def _compact_parquet(self, files, target, rows_per_group=8192):
+        """Stream every part, and the merged file less the tasks the parts redo, into ``target``."""
+        import pyarrow as pa
+        import pyarrow.compute as pc
+        import pyarrow.parquet as pq
+
+        parts = [f for f in files if f.parent == self.parts]
+        redone = pa.array([next(self._read(f, ["task"]))["task"] for f in parts], pa.string())
+        tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")
+        pending, count = [], 0
+        with pq.ParquetWriter(tmp, pq.read_schema(parts[0])) as writer:
+            for f in files:
+                if f.parent == self.parts:
+                    batches = pq.read_table(f).to_batches()
+                else:
+                    batches = (b.filter(pc.invert(pc.is_in(b["task"], value_set=redone)))
+                               for b in pq.ParquetFile(f).iter_batches(batch_size=rows_per_group))
+                for batch in batches:
+                    pending.append(batch)
+                    count += batch.num_rows
+                    if count >= rows_per_group:
+                        writer.write_table(pa.Table.from_batches(pending))
+                        pending, count = [], 0
+            if pending:
+                writer.write_table(pa.Table.from_batches(pending))
+        os.replace(tmp, target)

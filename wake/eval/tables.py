@@ -9,13 +9,14 @@ the same, digit for digit, as the one written when the rows were computed.
 from __future__ import annotations
 
 import json
+import sys
 
 import numpy as np
 
 from wake.eval.compute import TRIVIAL
 from wake.eval.warmup import SLICES, mean_curve, mean_slices
 
-__all__ = ["synthetic_summary", "real_summary", "grid_ranking", "curve_of", "WHOLE", "AFTER"]
+__all__ = ["synthetic_summary", "real_summary", "grid_ranking", "curve_of", "compact_row", "WHOLE", "AFTER"]
 
 #: The two slices a configuration is ranked by: the whole recording and after the warm-up.
 WHOLE, AFTER = "whole (from 0.5 s)", "after 5 s"
@@ -25,9 +26,23 @@ def _slices_of(row):
     return {name: row[f"slice {name}"] for name in SLICES}
 
 
+def compact_row(row):
+    """A stored row made small for holding thousands: repeated names shared, the error curve as an array.
+
+    Examples
+    --------
+    >>> from wake.eval.tables import compact_row
+    >>> compact_row({"task": "a", "curve": "[0.5, 0.25]", "nrmse": 0.1})["curve"].tolist()
+    [0.5, 0.25]
+    """
+    out = {k: sys.intern(v) if isinstance(v, str) and k != "curve" and len(v) < 200 else v for k, v in row.items()}
+    out["curve"] = np.asarray(json.loads(row["curve"] or "[]"), dtype=float)
+    return out
+
+
 def curve_of(row, bin_s=0.5):
     """The stored error curve of a row as :func:`wake.eval.warmup.error_curve` returned it: (t, err)."""
-    err = np.asarray(json.loads(row["curve"]), dtype=float)
+    err = row["curve"] if isinstance(row["curve"], np.ndarray) else np.asarray(json.loads(row["curve"]), dtype=float)
     return (np.arange(err.size) + 0.5) * bin_s, err
 
 
