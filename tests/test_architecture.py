@@ -111,8 +111,6 @@ MAX_FUNCTION_BODY_LINES = 80
 #: Left out of the size check, each with why: a whole module, or ``module::function``.  Remove an entry once
 #: its reason is gone (test_the_exemptions_are_still_needed says when).
 SIZE_EXEMPT = {
-    "wake/eval/evaluate.py": "being split into smaller modules on another branch (the evaluation's own "
-                             "issue); the check applies to it once that branch is merged",
 }
 
 

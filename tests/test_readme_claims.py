@@ -301,10 +301,9 @@ def check_baselines():
            f"{round(ratio)}x the multiply-adds" in text
     if pads_dir() is None:
         pytest.skip(f"the synthetic claims hold; the PADS claims need the recordings: {NO_PADS}")
-    from wake.eval.datasets import load_pads_folder
     from wake.eval.evaluate import evaluate_real
 
-    real = evaluate_real(load_pads_folder(pads_dir()), ["reference", "c"] if _has_core() else ["reference"])[0]["rows"]
+    real = evaluate_real(pads_dir(), ["reference", "c"] if _has_core() else ["reference"])["rows"]
     pads_row = table("baselines", "PADS, 60 recording-axes (tremor)")
     cols = ("BMFLC", "E-BMFLC", "WFLC", "WAKE-ref", "WAKE")
     assert [number(c) for c in pads_row] == [round(float(np.mean([r["methods"][n] for r in real])), 4) for n in cols]

@@ -78,3 +78,10 @@ def test_plot_counts_rest_tremor_without_a_valley_as_fallen_back(tmp_path):
     last = res.hpa[0][-1]
     if last.cutoff_flag in FALLBACK_FLAGS:
         assert any(f"({last.cutoff_flag}: default used)" in t for t in seen["texts"]), seen["texts"]
+
+
+def test_the_reference_error_curve_is_drawn_above_the_c_core_and_dashed():
+    from wake.eval.figures import _error_line_style
+
+    ref, c = _error_line_style("WAKE-ref"), _error_line_style("WAKE")
+    assert ref["zorder"] > c["zorder"] and ref["ls"] != "-" and ref["lw"] < c["lw"]

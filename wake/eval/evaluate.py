@@ -60,7 +60,7 @@ from wake.eval.synthetic import PAPER_SNR_DB
 from wake.eval.tables import compact_row, grid_ranking, real_summary, synthetic_summary
 from wake.rtp import c_backend_available
 
-__all__ = ["cli", "c_backend_available", "baseline_methods", "ablation_literal_rtp", "evaluate_synthetic",
+__all__ = ["cli", "c_backend_available", "baseline_methods", "ablation_literal_rtp", "evaluate_synthetic", "evaluate_real",
            "parse_grid", "WAKE_PARAMS"]
 
 
@@ -76,6 +76,16 @@ def evaluate_synthetic(backends, quick=False):
     """
     tasks = [Task(s, tuple(WAKE_PARAMS.items()), tuple(backends)) for s in paper_sources(2 if quick else None)]
     return synthetic_summary([row for task in tasks for row in compute_task(task)])
+
+
+def evaluate_real(folder, backends):
+    """The PADS recordings in ``folder`` scored in this process, as the report's recordings summary.
+
+    ``rows``: one per recording axis, tremor NRMSE per method against the paper's offline ground truth
+    (samples before the first full HPA window left out), as the report's per-axis table.
+    """
+    tasks = [Task(s, tuple(WAKE_PARAMS.items()), tuple(backends)) for s in pads_sources(folder)]
+    return real_summary([row for task in tasks for row in compute_task(task)])
 
 
 def parse_grid(items):

@@ -113,6 +113,16 @@ def _tremor_figure(plt, out_dir, names, row, source, settings, backends):
     return fname
 
 
+def _error_line_style(name):
+    """How a method's error curve is drawn.  The C core and the float reference agree to a few digits, so the
+    reference is drawn dashed and above the C core's solid line: both stay visible where they coincide."""
+    if name == "WAKE-ref":
+        return dict(lw=1.4, ls=(0, (4, 3)), color="k", zorder=4)
+    if name.startswith("WAKE"):
+        return dict(lw=2.6, ls="-", color="C0", zorder=3)
+    return dict(lw=1, ls="--" if name in TRIVIAL else "-", zorder=2)
+
+
 def _error_time_figure(plt, path, parts):
     titles = {"synthetic": "Synthetic set: voluntary error", "cohort": "Synthetic cohort: voluntary error",
               "real": "PADS: tremor error (independent truth)"}
@@ -121,7 +131,7 @@ def _error_time_figure(plt, path, parts):
     for ax, (title, part) in zip(axes[0], shown):
         for name in method_order(part["curves"]) + [n for n in TRIVIAL if n in part["curves"]]:
             t, e = part["curves"][name]
-            ax.plot(t, e, lw=2 if name.startswith("WAKE") else 1, ls="--" if name in TRIVIAL else "-", label=name)
+            ax.plot(t, e, **_error_line_style(name), label=name)
         ax.axvline(WAKE_PARAMS["window_s"], color="0.6", lw=0.8)
         ax.set_xlabel("time since start (s)")
         ax.set_yscale("log")
