@@ -316,7 +316,7 @@ static inline uint32_t mix(uint32_t v, uint32_t w)
  * re-validating cost 280).  Each step is a bijection of the running value,
  * so a change of any one field is always detected.
  */
-#if WAKE_HPA_HORIZON != 1
+#if WAKE_HPA_HORIZON != 1u
 #error "the normal equations (step_bin_end, step_ramp, step_gram) are written for WAKE_HPA_HORIZON 1"
 #endif
 #if WAKE_HPA_MAX_WARMUP != 8
@@ -997,7 +997,7 @@ static void step_cutoff(wake_hpa_t *h)
                     h->flag = WAKE_HPA_NO_VALLEY;
                     if (h->cfg.rule != WAKE_HPA_RULE_PAPER && top >= h->cut_lo && top - h->cut_lo + 1u >= 3u) {
                         const unsigned dip = psd_minimum(h, top);
-                        if (dip > h->cut_lo && !at_floor(h, dip)) {
+                        if ((dip > h->cut_lo) && !at_floor(h, dip)) {
                             h->flag = WAKE_HPA_SHALLOW_VALLEY;
                             h->cutoff = psd_freq(h, dip);
                         }

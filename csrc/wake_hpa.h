@@ -115,7 +115,7 @@ extern "C" {
 #define WAKE_HPA_MAX_WARMUP 8
 /** The fit target: the voluntary motion this many samples after the newest filter-bank input
  *  (wake.target.PredictionTarget.horizon); the fit rows pair a(t) with v(t + WAKE_HPA_HORIZON). */
-#define WAKE_HPA_HORIZON 1
+#define WAKE_HPA_HORIZON 1u
 /** FFT length of the Python AR spectrum: 512 frequencies on [0, fs/2]. */
 #define WAKE_HPA_PSD_GRID 1022
 
