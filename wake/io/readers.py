@@ -9,8 +9,15 @@ its header names it so (``t``, ``time``, ``timestamp``, ``time_s``,
 ``time [ms]``, ...) or, without such a name, when it is shaped like a clock:
 non-decreasing, advancing, with at least 90 % of its steps within 50 % of the
 median step, and not a plain row counter (integers stepping by exactly 1:
-those are read as an index and dropped, and the rate must be given).  A time
-column in milliseconds must say so in its name (``time_ms``, ``t [ms]``).
+those are read as an index and dropped, and the rate must be given).  Its
+unit (s, ms, us, ns) comes from its header (``t [ms]``, ``timestamp_ms``) or,
+when the header says none, from its step size
+(:mod:`wake.io.time_column`); ``Recording.timing`` says which and why.
+
+Delimited text (:mod:`wake.io.text_table`): only the columns asked for are
+parsed as numbers, so text columns beside the signals (a subject id, a
+label) are no obstacle; a decimal comma is detected or given
+(``decimal=","``).
 
 Rate: ``fs`` when given, else the time column's (:func:`nominal_rate`); a
 file with neither is refused with a message that names both fixes.

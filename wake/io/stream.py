@@ -36,7 +36,6 @@ import gc
 import math
 import signal
 import sys
-import threading
 import time
 from collections import deque
 
