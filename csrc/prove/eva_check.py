@@ -16,6 +16,7 @@ frama-c-base).
 
 import argparse
 import collections
+import os
 import re
 import shutil
 import subprocess
@@ -74,7 +75,9 @@ def analyse(unit: str, entry: str, defs: str, timeout: int, slevel: int, extra=(
            "-eva-msg-key=-initial-state,-final-states", "-eva-warn-key", "garbled-mix=active"]
     start = time.monotonic()
     try:
-        proc = subprocess.run(cmd, cwd=CSRC, capture_output=True, text=True, timeout=timeout)
+        # Frama-C resolves relative source names against $PWD, which `make -C csrc` leaves at the caller's folder
+        proc = subprocess.run(cmd, cwd=CSRC, capture_output=True, text=True, timeout=timeout,
+                              env={**os.environ, "PWD": str(CSRC)})
     except subprocess.TimeoutExpired:
         return {"status": "timeout", "alarms": [], "seconds": timeout}
     out = proc.stdout + proc.stderr
