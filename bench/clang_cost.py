@@ -14,7 +14,6 @@ code shapes (clang's tail calls break it), so only measured maxima compare.
 
 from __future__ import annotations
 
-import shutil
 import sys
 import tempfile
 from pathlib import Path
@@ -34,7 +33,7 @@ def measure(image):
 
 
 def main():
-    if shutil.which("clang") is None or not Path(B.NEWLIB_INCLUDE).is_dir():
+    if B.clang_command() is None or not Path(B.NEWLIB_INCLUDE).is_dir():
         print("clang or the newlib headers (gcc-arm-none-eabi, libnewlib-arm-none-eabi) are missing")
         return 3
     out = Path(tempfile.mkdtemp(prefix="wake-clang-"))

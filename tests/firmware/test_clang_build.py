@@ -9,7 +9,8 @@ from wake.firmware.profile import build as B
 
 def _missing() -> str | None:
     """Exactly what is missing for this comparison, or None."""
-    missing = [tool for tool in ("clang", "arm-none-eabi-gcc") if shutil.which(tool) is None]
+    missing = [] if B.clang_command() else ["clang (or clang-14)"]
+    missing += [tool for tool in ("arm-none-eabi-gcc",) if shutil.which(tool) is None]
     if not Path(B.NEWLIB_INCLUDE).is_dir():
         missing.append(f"the newlib headers ({B.NEWLIB_INCLUDE})")
     if not missing:

@@ -168,6 +168,13 @@ COMPILERS = ("gcc", "clang")
 NEWLIB_INCLUDE = "/usr/lib/arm-none-eabi/include"
 
 
+def clang_command():
+    """The clang on PATH: ``clang``, else Debian's versioned ``clang-14`` (the one CI installs); None without."""
+    import shutil
+
+    return shutil.which("clang") or shutil.which("clang-14")
+
+
 def build_image(target="m4-O2", *, board="generic", build_dir=None, csrc=None, defs=(), debug=True,
                 compiler="gcc") -> Image:
     """Cross-compile the core and the harness for ``target`` and link an ELF image.
@@ -202,7 +209,7 @@ def build_image(target="m4-O2", *, board="generic", build_dir=None, csrc=None, d
         run([tools["gcc"], *WARN_FLAGS, *flags, "-fstack-usage", "-fcallgraph-info=su",
              "-c", str(src / "wake_rtp.c"), "-o", str(core_o)])
     else:
-        run(["clang", "--target=arm-none-eabi", *WARN_FLAGS, *flags, "-isystem", NEWLIB_INCLUDE,
+        run([clang_command() or "clang", "--target=arm-none-eabi", *WARN_FLAGS, *flags, "-isystem", NEWLIB_INCLUDE,
              "-c", str(src / "wake_rtp.c"), "-o", str(core_o)])
     harness_flags = ["-std=c99", "-Wall", "-Wextra", *flags, "-fno-tree-loop-distribute-patterns", "-I", str(src)]
     run([tools["gcc"], *harness_flags, "-c", str(prof / "harness.c"), "-o", "harness.o"])
