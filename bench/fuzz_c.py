@@ -5,7 +5,7 @@
     python bench/fuzz_c.py --seconds 600 --only fuzz_hpa
 
 Builds the harnesses (``make -C csrc fuzz``: clang with ``-fsanitize=fuzzer,address,undefined``),
-copies the committed seed corpus (csrc/fuzz/seeds/{rtp,hpa}) into a working corpus under
+copies the committed seed corpus (csrc/tests/fuzz/seeds/{rtp,hpa}) into a working corpus under
 csrc/build/fuzz/corpus/ (the repository's seeds are never written), runs each harness for
 ``--seconds`` on one core and prints a Markdown table: executions, executions per second, edges
 covered (libFuzzer's ``cov``) out of the instrumented ones (harness, library and libFuzzer's own
@@ -54,7 +54,7 @@ def run(harness: str, seconds: int) -> dict:
     """One harness for ``seconds``; its final statistics and whether it found something."""
     corpus = OUT / "corpus" / harness
     corpus.mkdir(parents=True, exist_ok=True)
-    for seed in (CSRC / "fuzz" / "seeds" / HARNESSES[harness]).iterdir():
+    for seed in (CSRC / "tests" / "fuzz" / "seeds" / HARNESSES[harness]).iterdir():
         shutil.copy(seed, corpus / f"seed-{seed.name}")
     cmd = [str(OUT / harness), f"-max_total_time={seconds}", "-print_final_stats=1",
            f"-artifact_prefix={OUT}/", str(corpus)]

@@ -1,9 +1,9 @@
 """Frama-C Eva over every public function of the C core and the C HPA (make -C csrc prove).
 
-    python prove/eva_check.py              (from csrc/)
-    python prove/eva_check.py --timeout 120 --only rtp
+    python tests/prove/eva_check.py              (from csrc/)
+    python tests/prove/eva_check.py --timeout 120 --only rtp
 
-Runs ``frama-c -eva`` once per analysis entry (prove/eva_rtp.c, prove/eva_hpa.c: one ``eva_<function>``
+Runs ``frama-c -eva`` once per analysis entry (tests/prove/eva_rtp.c, tests/prove/eva_hpa.c: one ``eva_<function>``
 per public function, inputs ranged as the API allows) and per configuration (the 64-bit multiply and
 the Cortex-M0+ split arithmetic, WAKE_RTP_KALMAN 1 and 0; the -O2 and -Os source paths), each bounded
 by ``--timeout`` seconds, on the ILP32 data model of a Cortex-M (machdep gcc_x86_32). It prints a
@@ -24,7 +24,7 @@ import sys
 import time
 from pathlib import Path
 
-CSRC = Path(__file__).resolve().parents[1]
+CSRC = Path(__file__).resolve().parents[2]
 DOC = CSRC.parent / "docs" / "verification.md"
 RTP_ENTRIES = ["wake_rtp_init", "wake_rtp_set_weights", "wake_rtp_reset", "wake_rtp_step",
                "wake_rtp_step_missing", "wake_rtp_run", "wake_rtp_load_state", "wake_rtp_get_state",
@@ -67,9 +67,9 @@ def listed_alarms() -> set:
 
 
 def analyse(unit: str, entry: str, defs: str, timeout: int, slevel: int, extra=()) -> dict:
-    sources = ["wake_rtp.c", f"prove/eva_{unit}.c"] + (["wake_hpa.c"] if unit == "hpa" else [])
+    sources = ["wake_rtp.c", f"tests/prove/eva_{unit}.c"] + (["wake_hpa.c"] if unit == "hpa" else [])
     cmd = ["frama-c", "-machdep", "gcc_x86_32",
-           "-cpp-extra-args=-I. -include prove/eva_builtins.h " + defs, *sources,
+           "-cpp-extra-args=-I. -include tests/prove/eva_builtins.h " + defs, *sources,
            "-eva", "-main", f"eva_{entry}", "-eva-slevel", str(slevel), "-eva-auto-loop-unroll", "400",
            "-eva-split-return", "full", *extra,
            "-eva-msg-key=-initial-state,-final-states", "-eva-warn-key", "garbled-mix=active"]

@@ -1,8 +1,8 @@
-"""Write the libFuzzer seed corpus (csrc/fuzz/seeds/{rtp,hpa}/) in the harnesses' input encoding.
+"""Write the libFuzzer seed corpus (csrc/tests/fuzz/seeds/{rtp,hpa}/) in the harnesses' input encoding.
 
 Each seed is a readable scenario the fuzzer mutates from: a valid configuration followed by a
 realistic call sequence (see the decoders in fuzz_rtp.c and fuzz_hpa.c). Run from anywhere:
-``python csrc/fuzz/make_seeds.py``; the files are committed, so this only runs when the encoding
+``python csrc/tests/fuzz/make_seeds.py``; the files are committed, so this only runs when the encoding
 changes.
 """
 
