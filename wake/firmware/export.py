@@ -286,9 +286,9 @@ def resolve_config(args) -> dict:
     r = args.measurement_noise
     fs_value = None if args.full_scale is None else _checked_full_scale(args.full_scale)
     note = ""
-    if args.fs is not None and not args.fs > 0:
-        raise ValueError(f"--fs must be > 0 Hz, got {args.fs}")
-    sample_rate = DEFAULT_SAMPLE_RATE if args.fs is None else float(args.fs)
+    from wake.io.options import checked_fs
+
+    sample_rate = DEFAULT_SAMPLE_RATE if checked_fs(args) is None else float(args.fs)
     if args.fit:
         last, x, filt, note, sample_rate = fit_on_recording(args)
         weights = last.weights

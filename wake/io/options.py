@@ -11,7 +11,7 @@ from __future__ import annotations
 from wake.io.readers import FORMATS, read_recording
 from wake.io.text_table import DECIMAL_MARKS
 
-__all__ = ["add_reading_arguments", "column_list", "read_from_arguments"]
+__all__ = ["add_reading_arguments", "checked_fs", "column_list", "read_from_arguments"]
 
 
 def add_reading_arguments(p, *, what: str = "the recording", fs_help: str | None = None) -> None:
@@ -51,10 +51,16 @@ def column_list(values):
     return out
 
 
-def read_from_arguments(path, args, *, option: str = "file"):
-    """Read ``path`` with the options of :func:`add_reading_arguments` (``option`` names it in errors)."""
+def checked_fs(args):
+    """``args.fs`` (None when not given), refused unless it is > 0."""
     if args.fs is not None and not args.fs > 0:
         raise ValueError(f"--fs must be > 0 Hz, got {args.fs}")
+    return args.fs
+
+
+def read_from_arguments(path, args, *, option: str = "file"):
+    """Read ``path`` with the options of :func:`add_reading_arguments` (``option`` names it in errors)."""
+    checked_fs(args)
     units = None
     if args.units is not None:
         cells = [u.strip() for u in args.units.split(",")]

@@ -38,7 +38,7 @@ import numpy as np
 
 from wake._validation import check_positive
 from wake.io.recording import Recording, Timing, analyse_time, nominal_rate, resample_uniform
-from wake.io.text_table import DECIMAL_MARKS, read_text_table
+from wake.io.text_table import check_decimal_mark, read_text_table
 from wake.io.time_column import (TimeUnit, is_row_counter, is_time_name, shaped_like_time, unit_from_name,
                                  unit_from_steps)
 
@@ -355,8 +355,7 @@ def read_recording(path, *, format="auto", fs=None, time_column="auto", columns=
     """
     if format not in FORMATS:
         raise ValueError(f"format must be one of {', '.join(FORMATS)}, got {format!r}")
-    if decimal not in DECIMAL_MARKS:
-        raise ValueError(f"decimal must be one of {', '.join(repr(d) for d in DECIMAL_MARKS)}, got {decimal!r}")
+    check_decimal_mark(decimal)  # before the format is chosen: a .mat file is refused a bad one too
     path = Path(path)
     if format == "mat" or (format == "auto" and path.suffix.lower() == ".mat"):
         rec = read_mat(path, fs=fs, time_column=time_column, columns=columns)

@@ -19,13 +19,20 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["DECIMAL_MARKS", "TextTable", "read_text_table"]
+__all__ = ["DECIMAL_MARKS", "TextTable", "check_decimal_mark", "read_text_table"]
 
 #: Accepted values of ``decimal``.
 DECIMAL_MARKS = ("auto", ".", ",")
 
 _DECIMAL_COMMA = re.compile(r"\d,\d")
 _STRAY_COMMA = re.compile(r"(?<!\d),|,(?!\d)")
+
+
+def check_decimal_mark(decimal: str) -> str:
+    """``decimal`` if it is one of :data:`DECIMAL_MARKS`, else ValueError naming them."""
+    if decimal not in DECIMAL_MARKS:
+        raise ValueError(f"decimal must be one of {', '.join(repr(d) for d in DECIMAL_MARKS)}, got {decimal!r}")
+    return decimal
 
 
 def _to_float(cell: str, comma: bool) -> float:
@@ -111,8 +118,7 @@ def _lines(path: Path):
 def _dialect(sample_lines, decimal: str):
     """``(delimiter, decimal_comma)`` of the file, from its first lines (module docstring)."""
     sample = "\n".join(sample_lines)
-    if decimal not in DECIMAL_MARKS:
-        raise ValueError(f"decimal must be one of {', '.join(repr(d) for d in DECIMAL_MARKS)}, got {decimal!r}")
+    check_decimal_mark(decimal)
     other = ";" if ";" in sample else ("\t" if "\t" in sample else None)
     if decimal == ",":
         return other, True
