@@ -176,6 +176,12 @@ def check_demo_table():
     assert f"the mean is {below} % below it" in text
 
 
+#: The WAKE runs the slice table's rows and its "paper -> floor" sentence name: today's default, the first
+#: release's schedule and start-up weights with the paper's rule, and the default with the paper's rule.
+WAKE_RUNS = {"WAKE": {}, "first release": dict(warmup_hpa_s=(), initial_weights="deepest", cutoff_rule="paper"),
+             "paper rule": dict(cutoff_rule="paper")}
+
+
 def _slice_means(rows):
     from wake.eval.warmup import mean_slices
 
@@ -190,10 +196,8 @@ def _synthetic_slices():
     from wake.eval.warmup import slice_nrmse
 
     rows = {}
-    runs = {"WAKE": {}, "first release": dict(warmup_hpa_s=(), initial_weights="deepest", cutoff_rule="paper"),
-            "paper rule": dict(cutoff_rule="paper")}
     for s in paper_dataset():
-        for name, settings in runs.items():
+        for name, settings in WAKE_RUNS.items():
             rows.setdefault(name, []).append(
                 slice_nrmse(s.voluntary, WakeFilter(fs=s.fs, **settings).run(s.measurement).voluntary, s.fs))
         for name, m in baseline_methods(s.fs).items():
@@ -208,13 +212,11 @@ def _pads_runs():
     from wake.eval.evaluate import baseline_methods
     from wake.eval.warmup import independent_ground_truth, slice_nrmse
 
-    runs = {"WAKE": {}, "first release": dict(warmup_hpa_s=(), initial_weights="deepest", cutoff_rule="paper"),
-            "paper rule": dict(cutoff_rule="paper")}
     rows, flags = {}, {}
     for rec in load_pads_folder(pads_dir()):
         x = rec.samples
         vols = {}
-        for name, settings in runs.items():
+        for name, settings in WAKE_RUNS.items():
             res = WakeFilter(fs=rec.fs, **settings).run(x)
             vols[name] = res.voluntary
             flags.setdefault(name, []).extend(u.cutoff_flag for ch in res.hpa for u in ch)
