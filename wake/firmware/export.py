@@ -252,8 +252,9 @@ def add_config_arguments(p) -> None:
 def fit_on_recording(args):
     """The last HPA over one channel of ``args.fit``, read as ``wake run`` reads it.
 
-    Returns ``(update, x, filt, note)``: the :class:`~wake.hpa.HPAUpdate`, the channel's samples, the filter
-    and a one-line account of what was fitted on (file, channel, rate, HPA time, cut-off, fit error).
+    Returns ``(update, x, filt, note, fs)``: the :class:`~wake.hpa.HPAUpdate`, the channel's samples, the
+    filter, a one-line account of what was fitted on (file, channel, rate, HPA time, cut-off, fit error) and
+    the recording's sampling rate.
     """
     from wake.filter import WakeFilter
     from wake.io.options import read_from_arguments

@@ -122,7 +122,7 @@ def _finish(path, name, column, names, units, time_index, time_unit, fs, columns
     values = np.column_stack([column(i) for i in idx])
     ch_names = tuple(names[i] for i in idx)
     ch_units = tuple(units[i] for i in idx) if any(units) else ()
-    skipped = [names[i] for i in text if i not in idx]
+    skipped = [names[i] for i in text]  # with no columns asked for, every text column is left out
     if skipped and columns is None:
         notes = (*notes, f"text column{'s' if len(skipped) > 1 else ''} {', '.join(skipped)} left out")
     if time_index is None:
