@@ -13,7 +13,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "wake"
 #: never from above; every import counts, inside functions too.
 LAYERS = (
     ("wake._rtp", "wake._validation", "wake._files", "wake._core", "wake._docs", "wake.limits", "wake.registry",
-     "wake.target"),
+     "wake.target", "wake.ahead"),
     ("wake.io", "wake.wavelets"),
     ("wake.config",),
     ("wake.rtp",),

@@ -1,0 +1,214 @@
+"""The tremor ahead: what an actuator is sent for sample ``n + h``, and the gate that says when to send it.
+
+One definition, read by every place that predicts the tremor ahead: the HPA
+fits the predictor and scores the previous one (:func:`fit_predictor`,
+:func:`held_out_gain`, :func:`gate_target`), the float reference and the C
+core run it per sample (:class:`AheadStep`, the twin of the C code), and the
+evaluation scores it.  The design and the numbers behind every constant are
+in docs/design.md, "Tremor ahead: design study (issue 32)"
+(``python bench/tremor_ahead.py``).
+
+Per HPA window (``y``: WAKE's own tremor estimate ``x - voluntary`` over the
+window; ``T``: the window's sharp high-pass tremor truth, the same samples)::
+
+    c    = argmin sum_k (T(k + h) - c . y(k .. k-p+1))^2 + lam |c|^2      direct h-step Wiener predictor
+    lam  = RIDGE * trace(G) / p,  G = Y'Y                                 ridge relative to the Gram diagonal
+    gain = <T, P> / <P, P> over the samples new since the previous HPA,   P: the previous model's predictions
+           clipped to [0, 1]                                               (held out: it was not fitted on them)
+    goal = gain, or 0 when the window has no tremor peak                  (cut-off flag in NO_TREMOR_FLAGS)
+
+Per sample (``y(n)``: the newest tremor estimate)::
+
+    P(n)       = c . y(n .. n-p+1)                                         the tremor predicted for n + h
+    g(n)       = g(n-1) + (goal - g(n-1)) / max(1, tau fs)                 the gate, a first-order ramp
+    command(n) = g(n) P(n)                                                 what the actuator plays at n + h
+
+Examples
+--------
+>>> import numpy as np
+>>> from wake.ahead import fit_predictor, AheadStep
+>>> t = np.arange(500) / 100.0
+>>> tremor = np.sin(2 * np.pi * 6.0 * t)
+>>> c = fit_predictor(tremor, tremor, horizon=5)
+>>> step = AheadStep(c, fs=100.0)
+>>> step.set_goal(1.0)
+>>> for v in tremor[:400]:
+...     predicted, confidence, command = step.step(v)
+>>> bool(abs(predicted - tremor[404]) < 0.05), round(confidence, 3)
+(True, 1.0)
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["TAPS", "RIDGE", "GATE_TAU_S", "NO_TREMOR_FLAGS", "MIN_HELD_OUT", "COEFFICIENT_LIMIT",
+           "fit_predictor", "lagged",
+           "predictions", "held_out_gain", "gate_target", "ramp_step", "AheadStep"]
+
+#: Taps of the direct predictor: the knee on the synthetic set, as good as any order on PADS.
+TAPS = 8
+
+#: Ridge of the least squares, relative to the mean diagonal of the Gram matrix.
+RIDGE = 1e-3
+
+#: Time constant of the gate's ramp in seconds: no step an actuator would feel, and the gate still opens
+#: within a tremor burst.
+GATE_TAU_S = 0.3
+
+#: Cut-off flags of a window without a tremor peak in the tremor band: nothing to predict, the gate shuts.
+NO_TREMOR_FLAGS = ("no_tremor_peak", "silent")
+
+#: Fewer held-out samples than this give no evidence: the gate's goal is 0.
+MIN_HELD_OUT = 10
+
+#: Each coefficient is clipped to +-this (a fixed-point range for the C core).  On the ten PADS recordings
+#: and the paper's synthetic set, every HPA window at h = 1, 2, 5, 10, 20 gives |c| <= 3.5 (99th
+#: percentile 2.3) and sum |c| <= 14.1: the clip only bounds a degenerate window.
+COEFFICIENT_LIMIT = 8.0
+
+
+def lagged(s, taps: int = TAPS):
+    """Rows ``[s[k], s[k-1], ..., s[k-taps+1]]`` for every ``k`` (zeros before the start), newest first."""
+    s = np.asarray(s, dtype=float)
+    pad = np.concatenate((np.zeros(taps - 1), s))
+    return np.lib.stride_tricks.sliding_window_view(pad, taps)[:, ::-1]
+
+
+def fit_predictor(estimate, truth, horizon: int, taps: int = TAPS, ridge: float = RIDGE):
+    """The direct ``horizon``-step predictor from WAKE's tremor estimate to the tremor truth.
+
+    Parameters
+    ----------
+    estimate, truth : array_like, shape (n,)
+        The tremor estimate and the tremor truth of the same samples, oldest first.
+    horizon : int
+        Samples ahead, >= 1.
+    taps, ridge : int, float
+        Order and relative ridge (:data:`TAPS`, :data:`RIDGE`).
+
+    Returns
+    -------
+    numpy.ndarray, shape (taps,)
+        ``c``, newest estimate first: ``truth[k + horizon] ~ c . estimate[k], ..., estimate[k - taps + 1]``,
+        fitted on every ``k`` with a full history inside the window, each clipped to
+        +-:data:`COEFFICIENT_LIMIT`.  Zeros when the window has fewer than two
+        such rows, or no power.
+    """
+    y = np.asarray(estimate, dtype=float)
+    t = np.asarray(truth, dtype=float)
+    if y.shape != t.shape or y.ndim != 1:
+        raise ValueError(f"estimate and truth must be 1-D and of one length, got shapes {y.shape} and {t.shape}")
+    if horizon < 1:
+        raise ValueError(f"horizon must be at least 1 sample, got {horizon}")
+    X = lagged(y, taps)[taps - 1:y.size - horizon]
+    target = t[taps - 1 + horizon:]
+    if X.shape[0] < 2:
+        return np.zeros(taps)
+    G = X.T @ X
+    scale = np.trace(G) / taps
+    if not scale > 0:
+        return np.zeros(taps)
+    c = np.linalg.solve(G + ridge * scale * np.eye(taps), X.T @ target)
+    return np.clip(c, -COEFFICIENT_LIMIT, COEFFICIENT_LIMIT)
+
+
+def predictions(estimate, coefficients):
+    """``P[k] = c . estimate[k .. k-p+1]`` for every ``k`` (zeros before the start of ``estimate``)."""
+    c = np.asarray(coefficients, dtype=float)
+    return lagged(estimate, c.size) @ c
+
+
+def held_out_gain(estimate, truth, previous, horizon: int, new_samples: int) -> float:
+    """The least-squares scale of the previous model's predictions on samples it was not fitted on.
+
+    Parameters
+    ----------
+    estimate, truth : array_like, shape (n,)
+        This window's tremor estimate and truth (the same samples, oldest first).
+    previous : array_like or None
+        The previous HPA's coefficients; ``None`` for the first HPA (nothing to score: 0).
+    horizon : int
+        Samples ahead.
+    new_samples : int
+        Samples this window adds since the previous HPA: the targets scored are the last ``new_samples``
+        of the window whose prediction had a full history inside it.
+
+    Returns
+    -------
+    float
+        ``<T, P> / <P, P>`` clipped to [0, 1]: 1 when the predictor carries over, below 1 when it
+        over-shoots, 0 when it is uncorrelated or anti-correlated, or with fewer than
+        :data:`MIN_HELD_OUT` samples to score.
+    """
+    if previous is None:
+        return 0.0
+    y = np.asarray(estimate, dtype=float)
+    t = np.asarray(truth, dtype=float)
+    c = np.asarray(previous, dtype=float)
+    first_target = max(y.size - int(new_samples), c.size - 1 + horizon)
+    if y.size - first_target < MIN_HELD_OUT:
+        return 0.0
+    p = predictions(y, c)[first_target - horizon:y.size - horizon]
+    target = t[first_target:]
+    pp = float(p @ p)
+    if not pp > 0:
+        return 0.0
+    return float(np.clip(float(target @ p) / pp, 0.0, 1.0))
+
+
+def gate_target(gain: float, cutoff_flag: str) -> float:
+    """The gate's goal after an HPA: the held-out gain, or 0 when the window has no tremor peak."""
+    return 0.0 if cutoff_flag in NO_TREMOR_FLAGS else float(gain)
+
+
+def ramp_step(fs: float, tau_s: float = GATE_TAU_S) -> float:
+    """The gate's ramp coefficient ``1 / max(1, tau fs)``."""
+    return 1.0 / max(1.0, tau_s * fs)
+
+
+class AheadStep:
+    """The per-sample half in float64: a delay line of tremor estimates, the FIR and the gate.
+
+    Parameters
+    ----------
+    coefficients : array_like, shape (taps,)
+        The predictor, newest estimate first (:func:`fit_predictor`).
+    fs : float
+        Sampling rate in Hz (sets the ramp, :func:`ramp_step`).
+    tau_s : float
+        The ramp's time constant.
+
+    Examples
+    --------
+    >>> step = AheadStep([0.5, 0.5], fs=100.0)
+    >>> step.step(1.0)
+    (0.5, 0.0, 0.0)
+    """
+
+    def __init__(self, coefficients, fs: float, tau_s: float = GATE_TAU_S):
+        self.coefficients = np.asarray(coefficients, dtype=float).copy()
+        self.history = np.zeros(self.coefficients.size)
+        self.alpha = ramp_step(fs, tau_s)
+        self.goal = 0.0
+        self.gate = 0.0
+
+    def set_model(self, coefficients, goal: float):
+        """Install an HPA's predictor and gate goal (the delay line and the gate's value carry over)."""
+        c = np.asarray(coefficients, dtype=float)
+        if c.shape != self.coefficients.shape:
+            raise ValueError(f"expected {self.coefficients.size} coefficients, got shape {c.shape}")
+        self.coefficients = c.copy()
+        self.set_goal(goal)
+
+    def set_goal(self, goal: float):
+        """Set the gate's goal, clipped to [0, 1] (0 shuts it: after a gap, a reset, or no tremor peak)."""
+        self.goal = float(np.clip(goal, 0.0, 1.0))
+
+    def step(self, estimate: float):
+        """Take the newest tremor estimate; return ``(predicted, confidence, command)`` for ``n + h``."""
+        self.history[1:] = self.history[:-1]
+        self.history[0] = estimate
+        predicted = float(self.coefficients @ self.history)
+        self.gate += self.alpha * (self.goal - self.gate)
+        return predicted, self.gate, self.gate * predicted
