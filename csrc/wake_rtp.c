@@ -409,6 +409,11 @@ WAKE_RTP_COLD static void materialise(const wake_rtp_t *s, wake_q23_t *d, wake_c
                 int64_t p = (i == j ? (int64_t)lambda : 0)
                             - shift_right_round(multiply_wide_by32(row, w[j], 24u), XF);
                 P[i * J + j] = narrow_saturate(p, events);
+                /* P is PSD, so P_ii >= 0; with |w| below about 0.05, |w|^2 in Q24 has few bits and the
+                 * rounding of c can leave P_ii a few LSB below 0, which load_state would refuse */
+                if ((i == j) && (P[i * J + j] < 0)) {
+                    P[i * J + j] = 0;
+                }
                 P[j * J + i] = P[i * J + j];
             }
         }

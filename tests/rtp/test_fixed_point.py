@@ -260,6 +260,21 @@ def test_load_state_round_trip():
     np.testing.assert_array_equal(c.run(x[:500]), d.run(x[:500]))
 
 
+@pytest.mark.parametrize("weight", [0.004530577744975932, 1e-3, 0.02])
+def test_a_state_read_after_tiny_weights_loads_again(weight):
+    # with |w| << 1, |w|^2 in Q24 has few bits and the covariance form once read P_ii = -25 LSB back,
+    # which load_state refuses: a saved state that could not be restored
+    c = FixedPointRTP([[0.0, 0.0]], [6.0], 2**-8, 0.0, 1e-4, full_scale=1.0)
+    c.run(np.tile([1.0, -1.0], 10))
+    c.set_weights([weight], 2**-8, 0.0)
+    P = c.covariance
+    assert (np.diag(P.reshape(1, 1)) >= 0).all()
+    d = FixedPointRTP([[0.0, 0.0]], [weight], 2**-8, 0.0, 1e-4, full_scale=1.0)
+    d.load_state(c.window, c.correction, P, c.last_output)
+    x = np.sin(np.arange(50.0))
+    np.testing.assert_allclose(d.run(x), c.run(x), atol=2**-14)
+
+
 def test_set_weights_keeps_state():
     rng = np.random.default_rng(4)
     fs, level = 2.0, 4
