@@ -64,7 +64,7 @@ from wake.hpa.schedule import prepare_window
 from wake.hpa.sharp import end_point_line, sharp_highpass
 
 __all__ = ["ENVELOPE_K", "NARROW_HALF_BAND_HZ", "PEAK_RATIO", "REASONS", "TABLE_FIELDS", "TremorStats",
-           "characterise_window", "tremor_table"]
+           "characterise_window", "summarise", "tremor_table"]
 
 #: A periodogram maximum is a tremor peak when it is this many times the band's median power (13 dB).
 PEAK_RATIO = 20.0
@@ -326,3 +326,38 @@ def tremor_table(x, fs, updates, window_samples, tremor_band=(2.5, 15.0)) -> np.
         rows.append((u.index, u.index / fs, window.size, u.cutoff, s.frequency, s.rms, s.peak_to_peak,
                      s.band_power, s.time_share, s.tsi, s.reason))
     return np.array(rows, dtype=dtype)
+
+
+def summarise(table, window_samples) -> dict:
+    """A channel's tremor in a few numbers: the full windows of a :func:`tremor_table`, summed up.
+
+    Only full windows (``samples == window_samples``) count: the warm-up
+    windows overlap the first full one.  ``frequency``, ``peak_to_peak``
+    and ``tsi`` are medians over the windows with a tremor peak (NaN when
+    there is none); ``rms`` is the median over the non-silent windows;
+    ``time_share`` the mean over them (each full window is as long as the
+    next, so it is the share of the time they cover).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wake import WakeFilter
+    >>> from wake.hpa.characterise import summarise
+    >>> t = np.arange(1500) / 100.0
+    >>> x = np.sin(2 * np.pi * 0.3 * t) + 0.2 * np.sin(2 * np.pi * 6 * t)
+    >>> s = summarise(WakeFilter(backend="reference").run(x).tremor_stats(100.0)[0], 500)
+    >>> s["windows"], s["tremor_windows"], round(s["frequency"], 1), round(s["time_share"], 2)
+    (3, 3, 6.0, 1.0)
+    """
+    full = table[table["samples"] == int(window_samples)]
+    heard = full[full["reason"] != "silent"]
+    peaked = heard[np.isfinite(heard["frequency"])]
+
+    def median(values):
+        values = values[np.isfinite(values)]
+        return float(np.median(values)) if values.size else _NAN
+
+    return {"windows": int(full.size), "tremor_windows": int(peaked.size),
+            "frequency": median(peaked["frequency"]), "rms": median(heard["rms"]),
+            "peak_to_peak": median(peaked["peak_to_peak"]), "tsi": median(peaked["tsi"]),
+            "time_share": float(np.mean(heard["time_share"])) if heard.size else _NAN}
