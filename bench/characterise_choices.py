@@ -159,7 +159,7 @@ def tsi_table(rng):
     print("\nTSI of f(t) = 6 + dev sin(2 pi fm t) (40 s): measured / exact, clean and with noise at 10 dB, "
           "by the band-pass's half width; last column: a steady 6 Hz tone with noise at 10 dB")
     try:
-        for half in (1.0, 2.0, 3.0):
+        for half in (1.0, 1.5, 2.0, 3.0):
             characterise.NARROW_HALF_BAND_HZ = half
             cells = []
             for fm, dev in ((0.5, 0.5), (0.25, 1.0), (0.3, 0.3)):

@@ -3,8 +3,7 @@
     python bench/characterise_pads.py [--pads DIR] [--markdown]
 
 Each recording is read as ``wake run`` reads it (resampled onto a 100 Hz
-grid), filtered with the default settings (the HPA's cut-off f_d and flag
-do not depend on the RTP backend), and summed up per axis with
+grid), filtered with the default settings (:data:`BACKEND`), and summed up per axis with
 :func:`wake.hpa.characterise.summarise` over the full 5 s HPA windows (two
 per recording: 0-5 s and 5-10 s, the whole recording but its last 0.24 s;
 the warm-up windows overlap the first and are left out).  The condition
@@ -25,6 +24,10 @@ from wake import WakeFilter  # noqa: E402
 from wake.eval.datasets import default_pads_dir, load_pads_folder  # noqa: E402
 from wake.hpa.characterise import summarise  # noqa: E402
 
+#: The RTP backend: the reference, so that the table is the same with or without the compiled core (the HPA's
+#: f_d and flag, all the characterisation reads besides the samples, are Python either way).
+BACKEND = "reference"
+
 #: PADS's condition label per subject (the data folder's README, from the PADS patient metadata).
 CONDITION = {"066": "ET", "070": "ET", "079": "ET", "088": "ET", "019": "PD", "040": "PD", "087": "PD",
              "105": "PD", "027": "HC", "052": "HC"}
@@ -36,7 +39,7 @@ def rows(folder):
     for rec in load_pads_folder(folder):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # a reference backend's CoreMissingWarning is not the point here
-            filt = WakeFilter(fs=rec.fs)
+            filt = WakeFilter(fs=rec.fs, backend=BACKEND)
             tables = filt.run(rec.samples).tremor_stats(rec.fs, filt.config.tremor_band, x=rec.samples)
         for c, name in enumerate(rec.channels):
             out.append((rec.name, CONDITION.get(rec.name[:3], "?"), name, rec.unit(c),

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
+from support import NO_PADS, pads_dir
 from wake import WakeConfig, WakeFilter
 from wake.hpa import run_hpa
 from wake.hpa.characterise import REASONS, TABLE_FIELDS, characterise_window, tremor_table
@@ -187,3 +188,36 @@ def test_result_tremor_stats_per_channel():
     assert given[0]["frequency"][-1] == pytest.approx(tables[0]["frequency"][-1], abs=1e-9)
     with pytest.raises(ValueError, match="x has 1 channel"):
         res.tremor_stats(FS, x=x[:, 0])
+
+
+def test_a_stream_is_characterised_from_its_history_and_the_samples_kept():
+    """WakeFilter keeps its HPA updates, not its samples: tremor_table on the samples kept gives the rows run()
+    gives."""
+    t = _time(1500)
+    x = np.sin(2 * np.pi * 0.3 * t) + 0.2 * np.sin(2 * np.pi * 7 * t)
+    filt = WakeFilter(backend="reference", hpa_mode="inline")
+    filt.update_block(x)
+    streamed = tremor_table(x, FS, filt.hpa_history[0], filt.config.window_samples, filt.config.tremor_band)
+    whole = filt.run(x).tremor_stats(FS, filt.config.tremor_band, x=x)[0]
+    assert streamed.tolist() == whole.tolist()
+    assert np.all(np.abs(streamed["frequency"][streamed["samples"] == 500] - 7.0) < 0.1)
+
+
+@pytest.mark.realdata
+@pytest.mark.skipif(pads_dir() is None, reason=NO_PADS)
+def test_pads_tremor_where_the_data_shows_one_and_none_in_the_controls():
+    """The table of docs/characterisation.md, in its main lines: 040 (PD) has a 7.1-7.3 Hz tremor on its
+    gyroscope, 070 (ET) a 5 Hz one, and neither healthy control has a tremor peak on any axis."""
+    from wake.eval.datasets import load_pads_folder
+    from wake.hpa.characterise import summarise
+
+    found = {}
+    for rec in load_pads_folder(pads_dir()):
+        filt = WakeFilter(fs=rec.fs, backend="reference")
+        tables = filt.run(rec.samples).tremor_stats(rec.fs, filt.config.tremor_band, x=rec.samples)
+        for c, axis in enumerate(rec.channels):
+            found[rec.name[:3], axis] = summarise(tables[c], filt.config.window_samples)
+    assert all(found[k]["tremor_windows"] == 0 for k in found if k[0] in ("027", "052"))
+    assert all(7.0 < found["040", a]["frequency"] < 7.4 for a in ("gyro_x", "gyro_y", "gyro_z"))
+    assert all(4.8 < found["070", a]["frequency"] < 5.2 and found["070", a]["time_share"] > 0.7
+               for a in ("gyro_x", "gyro_y", "gyro_z"))
