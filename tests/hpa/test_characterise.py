@@ -221,3 +221,18 @@ def test_pads_tremor_where_the_data_shows_one_and_none_in_the_controls():
     assert all(7.0 < found["040", a]["frequency"] < 7.4 for a in ("gyro_x", "gyro_y", "gyro_z"))
     assert all(4.8 < found["070", a]["frequency"] < 5.2 and found["070", a]["time_share"] > 0.7
                for a in ("gyro_x", "gyro_y", "gyro_z"))
+
+
+def test_unknown_flag_is_refused_naming_the_flags():
+    with pytest.raises(ValueError, match="cutoff_flag must be one of valley, no_tremor_peak"):
+        characterise_window(np.sin(np.arange(500.0)), FS, 2.0, "valey")
+
+
+@pytest.mark.parametrize("n", [8, 12, 30])
+def test_a_very_short_window_gives_an_answer_not_an_error(n):
+    """Too short to resolve the band: no peak, and the band's RMS still measured."""
+    rng = np.random.default_rng(n)
+    s = characterise_window(rng.normal(size=n), FS, 2.0)
+    assert s.reason in REASONS and np.isfinite(s.rms)
+    if n == 8:
+        assert s.reason == "no_tremor_peak"

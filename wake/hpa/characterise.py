@@ -60,6 +60,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from wake._validation import check_positive
+from wake.hpa.cutoff import CUTOFF_FLAGS
 from wake.hpa.schedule import prepare_window
 from wake.hpa.sharp import end_point_line, sharp_highpass
 
@@ -154,6 +155,8 @@ def _peak(x, fs, cutoff, low, top):
     trend = np.zeros_like(p)
     trend[fit] = _trend(f[fit], p[fit])
     band = fit[f[fit] > cutoff]
+    if band.size < 3 or fit.size < 3:  # a window too short to resolve the band: no peak can stand out
+        return _NAN, float(np.mean(p[band])) if band.size else 0.0
     inner = band[(band > band[0]) & (band < band[-1])]
     local = inner[(p[inner] >= p[inner - 1]) & (p[inner] >= p[inner + 1])]
     if local.size == 0:
@@ -244,6 +247,8 @@ def characterise_window(window, fs, cutoff, cutoff_flag="valley", tremor_band=(2
     'no_tremor_peak'
     """
     fs, cutoff, low, top = _check_band(fs, cutoff, tremor_band)
+    if cutoff_flag not in CUTOFF_FLAGS:
+        raise ValueError(f"cutoff_flag must be one of {', '.join(CUTOFF_FLAGS)}, got {cutoff_flag!r}")
     x = np.asarray(window, dtype=float)
     if x.ndim != 1 or x.size < 8 or not np.all(np.isfinite(x)):
         raise ValueError(f"window must be 1-D, finite and at least 8 samples long, got shape {x.shape}"
