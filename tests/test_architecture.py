@@ -17,7 +17,7 @@ LAYERS = (
     ("wake.io", "wake.wavelets"),
     ("wake.config",),
     ("wake.rtp",),
-    ("wake.hpa",),
+    ("wake.hpa", "wake.hpa.characterise"),
     ("wake.channel",),
     ("wake.filter", "wake.state", "wake.result"),
     ("wake",),

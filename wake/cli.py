@@ -107,8 +107,12 @@ def _cmd_run(args) -> int:
         from wake.eval.plotting import require_matplotlib
 
         require_matplotlib()  # before the work, not after it
-    if args.out:
-        refuse_same_file(args.out, [args.file])
+    for option, out in (("--out", args.out), ("--tremor-out", args.tremor_out)):
+        if out:
+            refuse_same_file(out, [args.file], option=option)
+    if args.out and args.tremor_out and Path(args.out).resolve() == Path(args.tremor_out).resolve():
+        raise ValueError(f"--tremor-out {args.tremor_out} is also --out: the tremor table would overwrite the "
+                         "filtered signals; choose another path")
     rec = read_from_arguments(args.file, args)
     plot_channel = _plot_channel(args.plot_channel, rec) if args.plot else 0
     x = rec.samples
@@ -127,14 +131,44 @@ def _cmd_run(args) -> int:
     print(f"cut-off rule {args.cutoff_rule}: {counts} (wake.hpa.CUTOFF_FLAGS says what each means)")
     if res.clipped is not None and np.any(res.clipped):
         print(f"warning: {int(np.sum(res.clipped))} input samples were clipped at full scale", file=sys.stderr)
+    tables = res.tremor_stats(rec.fs, filt.config.tremor_band, x=x)
+    _print_tremor_summary(rec, tables, filt.config)
+    if args.tremor_out:
+        from wake.io import write_tremor_csv
+
+        rows = write_tremor_csv(args.tremor_out, rec.channels, rec.units, tables)
+        print(f"wrote {rows} rows to {args.tremor_out} (one per HPA window and channel: frequency, rms, "
+              "peak_to_peak, band_power, time_share, tsi, reason)")
     if args.plot:
-        from wake.eval.plotting import plot_result
+        from wake.eval.plotting import plot_result, plot_tremor, tremor_figure_path
 
         name = rec.channels[plot_channel]
         plot_result(args.plot, x, res, rec.fs, ar_order=filt.ar_order, unit=rec.unit(plot_channel),
                     channel=plot_channel, channel_name=name, title=f"{Path(args.file).name}: {name}")
+        second = tremor_figure_path(args.plot)
+        plot_tremor(second, tables[plot_channel], filt.config.window_samples, unit=rec.unit(plot_channel),
+                    channel_name=name, title=f"{Path(args.file).name}: {name}")
         print(f"figure written to {args.plot} (channel {name})")
+        print(f"the tremor over time (frequency, amplitude, TSI, time share) written to {second}")
     return 0
+
+
+def _print_tremor_summary(rec, tables, config) -> None:
+    """One paragraph per channel: the tremor of the full HPA windows (wake.hpa.characterise.summarise)."""
+    from wake.hpa.characterise import summarise
+
+    low, top = config.tremor_band
+    print(f"tremor per channel, over the full HPA windows ({config.window_s:g} s; the tremor lies between f_d "
+          f"and {top:g} Hz; docs/characterisation.md):")
+    for c, (name, table) in enumerate(zip(rec.channels, tables)):
+        s = summarise(table, config.window_samples)
+        unit = f" {rec.unit(c)}" if rec.unit(c) else ""
+        text = f"  {name}: a tremor peak in {s['tremor_windows']} of {s['windows']} windows"
+        if s["tremor_windows"]:
+            text += (f"; median frequency {s['frequency']:.2f} Hz, TSI {s['tsi']:.2f} Hz, "
+                     f"peak-to-peak {s['peak_to_peak']:.3g}{unit}")
+        text += f"; RMS {s['rms']:.3g}{unit}; in tremor {100 * s['time_share']:.0f} % of the time"
+        print(text)
 
 
 def _plot_channel(spec, rec) -> int:
@@ -266,7 +300,13 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--out", metavar="CSV", help="write time, then per channel measurement, voluntary, tremor "
                                                 "(names and units in the header; every value written so that "
                                                 "it reads back exactly)")
-    r.add_argument("--plot", metavar="PNG", help="draw one channel (needs matplotlib; checked before the work)")
+    r.add_argument("--tremor-out", metavar="CSV",
+                   help="write the tremor characterisation of every HPA window, one row per window and channel: "
+                        "channel, unit, index, end_time, samples, cutoff, frequency, rms, peak_to_peak, "
+                        "band_power, time_share, tsi, reason (a NaN field's reason); docs/characterisation.md")
+    r.add_argument("--plot", metavar="PNG", help="draw one channel, and its tremor over time (frequency, "
+                                                 "amplitude, TSI, time share) beside it in PNG's name with "
+                                                 "'-tremor' (needs matplotlib; checked before the work)")
     r.add_argument("--plot-channel", metavar="NAME|INDEX", default=None,
                    help="the channel --plot draws (default: the first); every channel is still filtered and "
                         "written to --out")

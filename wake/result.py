@@ -33,6 +33,44 @@ class WakeResult:
     saturations: np.ndarray = field(default=None)  #: saturating narrowings inside the C core, per channel
     full_scale_changes: np.ndarray = field(default=None)  #: rises and falls of the full scale, per channel
 
+    def tremor_stats(self, fs: float, tremor_band=(2.5, 15.0), x=None) -> list:
+        """Per channel, the tremor of each HPA window (:func:`wake.hpa.characterise.tremor_table`).
+
+        Parameters
+        ----------
+        fs : float
+            The filter's sampling rate in Hz.
+        tremor_band : pair of float
+            The filter's ``WakeConfig.tremor_band``.
+        x : array_like, optional
+            The input; by default ``voluntary + tremor`` (the input up to
+            rounding, NaN where a sample was missing).
+
+        Returns
+        -------
+        list of numpy.ndarray
+            Per channel, a structured array with one row per HPA run
+            (``end_time``, ``frequency``, ``rms``, ``peak_to_peak``,
+            ``band_power``, ``time_share``, ``tsi``, ``reason``, ...).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from wake import WakeFilter
+        >>> t = np.arange(1000) / 100.0
+        >>> x = np.sin(2 * np.pi * 0.3 * t) + 0.2 * np.sin(2 * np.pi * 6 * t)
+        >>> table = WakeFilter(backend="reference").run(x).tremor_stats(100.0)[0]
+        >>> float(table["end_time"][-1]), round(float(table["frequency"][-1]), 2)
+        (10.0, 6.0)
+        """
+        from wake.hpa.characterise import tremor_table
+
+        data = np.asarray(self.voluntary, dtype=float) + np.asarray(self.tremor, dtype=float) if x is None else x
+        data = np.asarray(data, dtype=float).reshape(len(data), -1)
+        if data.shape[1] != len(self.hpa):
+            raise ValueError(f"x has {data.shape[1]} channel(s), the result {len(self.hpa)}")
+        return [tremor_table(data[:, c], fs, self.hpa[c], self.warmup, tremor_band) for c in range(len(self.hpa))]
+
     @property
     def cutoffs(self) -> list:
         """Per channel, the array of f_d over the HPA runs."""

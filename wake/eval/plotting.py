@@ -132,3 +132,67 @@ def plot_result(path, x, result, fs, *, voluntary_truth=None, tremor_truth=None,
     fig.tight_layout()
     fig.savefig(path, dpi=100, bbox_inches="tight")
     plt.close(fig)
+
+
+def tremor_figure_path(path) -> str:
+    """Where ``wake run --plot PATH`` draws the tremor over time: PATH's name with ``-tremor`` before the suffix.
+
+    Examples
+    --------
+    >>> from wake.eval.plotting import tremor_figure_path
+    >>> tremor_figure_path("out/fig.png")
+    'out/fig-tremor.png'
+    """
+    from pathlib import Path
+
+    p = Path(path)
+    return str(p.with_name(f"{p.stem}-tremor{p.suffix or '.png'}"))
+
+
+def plot_tremor(path, table, window_samples, *, unit="", channel_name="", title=""):
+    """The tremor of one channel over time: one point per HPA window (``wake.hpa.characterise.tremor_table``).
+
+    1. dominant tremor frequency, with the window's cut-off ``f_d`` beneath;
+    2. amplitude: RMS and median peak-to-peak, in the input's units;
+    3. the tremor stability index (TSI);
+    4. the share of each window in tremor.
+
+    Points sit at the window's end time; warm-up windows (shorter than
+    ``window_samples``) are drawn hollow.  A window without a tremor peak
+    has no frequency, peak-to-peak or TSI point (its reason is counted in
+    the title).  Legends stand beside the panels.
+    """
+    plt = _pyplot()
+    t = table["end_time"]
+    warm = table["samples"] < int(window_samples)
+    what = channel_name or "signal"
+    fig, ax = plt.subplots(4, 1, figsize=(13, 10), sharex=True)
+
+    def points(axis, values, color, label, marker="o"):
+        axis.plot(t, values, color=color, lw=0.8, alpha=0.6)
+        axis.plot(t[~warm], values[~warm], marker, color=color, ms=5, ls="none", label=label)
+        if warm.any():
+            axis.plot(t[warm], values[warm], marker, color=color, ms=5, ls="none", mfc="none",
+                      label=f"{label}, warm-up window")
+
+    points(ax[0], table["frequency"], "C1", "dominant tremor frequency")
+    ax[0].plot(t, table["cutoff"], "_", color="C3", ms=12, label="f_d of the window (the tremor lies above)")
+    ax[0].set_ylabel("frequency (Hz)")
+    ax[0].set_ylim(bottom=0.0)
+    missing = int(np.sum(table["reason"] == "no_tremor_peak"))
+    ax[0].set_title(f"{title}: {missing} of {len(table)} windows without a tremor peak" if title
+                    else f"{missing} of {len(table)} windows without a tremor peak", fontsize=10)
+    points(ax[1], table["rms"], "C0", "RMS")
+    points(ax[1], table["peak_to_peak"], "C2", "median peak-to-peak", marker="s")
+    ax[1].set_ylabel(f"{what} tremor ({unit})" if unit else f"{what} tremor")
+    points(ax[2], table["tsi"], "C4", "TSI: IQR of the cycle-to-cycle frequency change")
+    ax[2].set_ylabel("TSI (Hz)")
+    points(ax[3], table["time_share"], "C5", "share of the window in tremor")
+    ax[3].set_ylim(-0.05, 1.05)
+    ax[3].set_ylabel("time share")
+    ax[3].set_xlabel("time (s), end of the HPA window")
+    for a in ax:
+        _legend(a)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100, bbox_inches="tight")
+    plt.close(fig)

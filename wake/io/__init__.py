@@ -11,8 +11,8 @@ are in :mod:`wake.io.stream`; the command's options in :mod:`wake.cli`.
 
 from wake.io.readers import FORMATS, PADS_CHANNELS, PADS_UNITS, read_csv, read_mat, read_pads, read_recording
 from wake.io.recording import Recording, Timing, analyse_time, nominal_rate, resample_uniform
-from wake.io.writers import result_columns, write_result_csv
+from wake.io.writers import result_columns, write_result_csv, write_tremor_csv
 
 __all__ = ["FORMATS", "PADS_CHANNELS", "PADS_UNITS", "Recording", "Timing", "analyse_time", "nominal_rate",
            "read_csv", "read_mat", "read_pads", "read_recording", "resample_uniform", "result_columns",
-           "write_result_csv"]
+           "write_result_csv", "write_tremor_csv"]

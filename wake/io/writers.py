@@ -19,7 +19,7 @@ import numpy as np
 
 from wake._files import atomic_write_text
 
-__all__ = ["EXACT_FORMAT", "result_columns", "write_result_csv"]
+__all__ = ["EXACT_FORMAT", "TREMOR_COLUMNS", "result_columns", "write_result_csv", "write_tremor_csv"]
 
 #: printf format with which a float64 reads back bit for bit (17 significant digits).
 EXACT_FORMAT = "%.17g"
@@ -57,3 +57,32 @@ def write_result_csv(path, recording, result) -> int:
                header=",".join(result_columns(recording.channels, recording.units)), comments="")
     atomic_write_text(path, buf.getvalue())
     return n
+
+
+#: Header cells of :func:`write_tremor_csv` after ``channel`` and ``unit``: the fields of a
+#: ``wake.hpa.characterise.tremor_table`` row, with their units (``unit`` is the channel's).
+TREMOR_COLUMNS = (("index", "index"), ("end_time", "end_time [s]"), ("samples", "samples"),
+                  ("cutoff", "cutoff [Hz]"), ("frequency", "frequency [Hz]"), ("rms", "rms [unit]"),
+                  ("peak_to_peak", "peak_to_peak [unit]"), ("band_power", "band_power [unit^2]"),
+                  ("time_share", "time_share"), ("tsi", "tsi [Hz]"), ("reason", "reason"))
+
+
+def write_tremor_csv(path, channels, units, tables) -> int:
+    """Write the tremor characterisation of every HPA window, one row per window and channel; returns the rows.
+
+    ``tables`` holds per channel the structured array of
+    ``wake.hpa.characterise.tremor_table``.  Columns: ``channel``, ``unit``,
+    then :data:`TREMOR_COLUMNS`; numbers with 17 significant digits, NaN as
+    ``nan``, written atomically.
+    """
+    if len(tables) != len(channels):
+        raise ValueError(f"{len(tables)} tables for {len(channels)} channels")
+    lines = [",".join(["channel", "unit"] + [cell for _, cell in TREMOR_COLUMNS])]
+    for c, (name, table) in enumerate(zip(channels, tables)):
+        unit = units[c] if c < len(units) else ""
+        for row in table:
+            cells = [str(row[f]) if f in ("index", "samples", "reason") else EXACT_FORMAT % row[f]
+                     for f, _ in TREMOR_COLUMNS]
+            lines.append(",".join([name, unit] + cells))
+    atomic_write_text(path, "\n".join(lines) + "\n")
+    return len(lines) - 1
