@@ -132,3 +132,31 @@ def test_c_core_within_1_percent_of_the_reference_at_every_rate(fs):
     x, v = _signal(fs, seconds=20.0)
     scores = [nrmse(v, WakeFilter(fs=float(fs), backend=b).run(x).voluntary, 5 * fs) for b in ("reference", "c")]
     assert abs(scores[1] - scores[0]) <= 0.01 * scores[0], scores
+
+
+@pytest.mark.skipif(not has_c_backend(), reason=NO_CORE)
+@pytest.mark.parametrize("factor", [1, 2, 3, 10, 1000])
+def test_c_front_end_gives_the_python_means_rounded(factor, rng):
+    """csrc/wake_rate.c (firmware) against wake.rate.FrontEnd on Q15 samples: the same groups, the
+    means rounded halves away from zero, all-missing groups flagged."""
+    from wake._rtp import ffi, lib
+
+    s = ffi.new("wake_rate_t *")
+    assert lib.wake_rate_init(s, factor) == lib.WAKE_RATE_OK
+    group, mean = ffi.new("wake_rate_group_t *"), ffi.new("wake_q15_t *")
+    n = max(40 * factor, 2000)
+    q = rng.integers(-32768, 32768, n)
+    q[rng.random(n) < 0.05] = rng.choice([-32768, 32767], 1)[0]
+    missing = rng.random(n) < (0.5 if factor < 10 else 0.05)
+    x = np.where(missing, np.nan, q.astype(float))
+    ends, values = FrontEnd(factor).block(x)
+    got_ends, got = [], []
+    for i in range(n):
+        assert lib.wake_rate_push(s, int(q[i]), int(not missing[i]), group, mean) == lib.WAKE_RATE_OK
+        if group[0] != lib.WAKE_RATE_OPEN:
+            got_ends.append(i)
+            got.append(mean[0] if group[0] == lib.WAKE_RATE_GROUP else np.nan)
+    assert got_ends == ends.tolist()
+    want = np.where(np.isnan(values), np.nan, np.sign(values) * np.floor(np.abs(values) + 0.5))
+    assert np.array_equal(np.array(got, dtype=float), want, equal_nan=True)
+    assert lib.wake_rate_init(s, 0) == lib.WAKE_RATE_E_FACTOR
