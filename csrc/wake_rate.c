@@ -4,16 +4,27 @@
  */
 #include "wake_rate.h"
 
-/** round(num / (2 den)) for the rounded mean: num = 2|sum| + den, quotient < 2^16 (16 fixed turns). */
+/* 1: the mean by a 16-turn restoring division (cores without a divide instruction: Cortex-M0/M0+,
+ * whose `/` would call a libgcc helper); 0: by `/` (Cortex-M3/M4/M7 UDIV, hosts). */
+#ifndef WAKE_RATE_SOFT_DIVIDE
+#if defined(__arm__) && !defined(__ARM_FEATURE_IDIV)
+#define WAKE_RATE_SOFT_DIVIDE 1
+#else
+#define WAKE_RATE_SOFT_DIVIDE 0
+#endif
+#endif
+
+/** floor(num / (2 den)) = round(|sum| / den), halves up, for num = 2|sum| + den < 2^26; quotient < 2^16. */
 static inline uint32_t divide_small(uint32_t num, uint32_t den)
 {
+#if WAKE_RATE_SOFT_DIVIDE
     /* restoring division, one quotient bit per turn, most significant first:
      * q = floor(num / (2 den)) = round(|sum| / den), halves up                */
     const uint32_t twice = den << 1u;           /* 2 den <= 2000 */
     uint32_t rem = num;
     uint32_t q = 0u;
     int bit;
-    for (bit = 15; bit >= 0; --bit) {
+    for (bit = 15; bit >= 0; --bit) {                   /* wcet-loop: 16 */
         const uint32_t step = twice << (uint32_t)bit;   /* < 2000 2^15 < 2^26 */
         if (rem >= step) {
             rem -= step;
@@ -21,6 +32,9 @@ static inline uint32_t divide_small(uint32_t num, uint32_t den)
         }
     }
     return q;
+#else
+    return num / (den << 1u);
+#endif
 }
 
 /** The fields a push relies on: the phase inside the group, the sum within present Q15 samples. */

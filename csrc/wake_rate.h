@@ -21,8 +21,11 @@
  *     output y (held)
  * @endcode
  *
- * Portable C99, integer arithmetic only (no division instruction: the mean
- * is a fixed 16-turn restoring division), no allocation, no global state.
+ * Portable C99, integer arithmetic only, no allocation, no global state.  The
+ * mean takes one unsigned division: the divide instruction where the core has
+ * one (Cortex-M3/M4/M7, hosts), else (Cortex-M0/M0+) a fixed 16-turn
+ * restoring division, so no libgcc helper is called (WAKE_RATE_SOFT_DIVIDE in
+ * wake_rate.c).
  */
 #ifndef WAKE_RATE_H
 #define WAKE_RATE_H
