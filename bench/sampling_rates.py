@@ -150,7 +150,7 @@ def pads_scores(fs, method, recordings):
 
 def cost(name, fs):
     """(multiply-adds per input sample in the RTP, worst sample / mean; state words per channel)."""
-    D = max(1, round(fs / 100.0))
+    D = int(name.split(" D=")[1]) if " D=" in name else max(1, round(fs / 100.0))
     J = 5 + round(math.log2(fs / 100.0)) if name == "level" else (4 if name.startswith("level 4") else 5)
     N = 2**J
     step = J * N + J + 3 * J * J              # bank, w'(a+d), Kalman u, S, P
@@ -159,7 +159,7 @@ def cost(name, fs):
         return step, step, state
     if name == "a-trous":
         return step, step, D * N + J + J * J + J * N
-    fe = 2 if name.startswith("cic2") else 1
+    fe = 2 if name.startswith("cic2") else 1  # adds per input sample; + 2 for the group's mean and output
     return step + fe + 2, (step + D * (fe + 2)) / D, state + 2 * fe + 2
 
 
@@ -171,7 +171,7 @@ def compare(pads):
         for name, method in structures(fs).items():
             sa, sw = synthetic_scores(fs, method)
             pa, pw = pads_scores(fs, method, pads) if pads else (math.nan, math.nan)
-            worst, mean, state = cost(name.split(" D=")[0], fs)
+            worst, mean, state = cost(name, fs)
             print(f"| {fs} | {name} | {sa:.4f} | {sw:.4f} | {pa:.4f} | {pw:.4f} | {worst} / {mean:.0f} | {state} |",
                   flush=True)
 
