@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 import pickle
 
 import numpy as np
@@ -160,3 +161,28 @@ def test_c_front_end_gives_the_python_means_rounded(factor, rng):
     want = np.where(np.isnan(values), np.nan, np.sign(values) * np.floor(np.abs(values) + 0.5))
     assert np.array_equal(np.array(got, dtype=float), want, equal_nan=True)
     assert lib.wake_rate_init(s, 0) == lib.WAKE_RATE_E_FACTOR
+
+
+def test_export_header_runs_the_core_at_the_bank_rate():
+    from wake.firmware.export import export_header
+
+    kw = dict(wavelet="sym3", level=5, measurement_noise=1e-3, full_scale=4.0)
+    fast = export_header(io.StringIO(), sample_rate=1000.0, **kw)
+    assert "#define WAKE_CONFIG_DECIMATION 10" in fast and "wake_config_rate_init" in fast
+    assert "at 100 Hz, L = 500 samples" in fast  # the C HPA at the bank rate, not 5,000 samples
+    slow = export_header(io.StringIO(), sample_rate=100.0, **kw)
+    assert "DECIMATION" not in slow and "at 100 Hz, L = 500 samples" in slow
+    # the start-up weights are the 100 Hz ones at both rates
+    start = lambda text: text.split("start_weights[5] = {")[1].split("}")[0]  # noqa: E731
+    assert start(fast) == start(slow)
+
+
+def test_wake_run_reports_the_rate_and_its_cost(tmp_path, capsys):
+    from wake.cli import main
+
+    x, _ = _signal(1000, seconds=6.0)
+    path = tmp_path / "rec.csv"
+    np.savetxt(path, x[:, None], header="acc", comments="")
+    assert main(["run", str(path), "--fs", "1000", "--backend", "reference"]) == 0
+    out = capsys.readouterr().out
+    assert "at 100 Hz (decimation 10)" in out and "per second 1000 adds and 100 RTP steps" in out

@@ -21,6 +21,7 @@ import numpy as np
 
 from wake.config import WakeConfig
 from wake.registry import cutoff_rule_names, cutoff_rules
+from wake.sampling import rate_note
 
 __all__ = ["COMMANDS", "main"]
 
@@ -122,6 +123,7 @@ def _cmd_run(args) -> int:
         print(f"wrote {rows} rows to {args.out} (time, then per channel: measurement, voluntary, tremor)")
     cut = ", ".join(f"{c:.2f}" for c in res.mean_cutoff)
     print(f"{len(res.hpa[0])} HPA runs per channel, mean cut-off f_d = {cut} Hz, backend {res.backend}")
+    print(rate_note(rec.fs))
     flags = [u.cutoff_flag for channel in res.hpa for u in channel]
     counts = ", ".join(f"{f} {flags.count(f)}" for f in sorted(set(flags), key=lambda f: (-flags.count(f), f)))
     print(f"cut-off rule {args.cutoff_rule}: {counts} (wake.hpa.CUTOFF_FLAGS says what each means)")
@@ -196,6 +198,8 @@ def _cmd_stream(argv) -> int:
         return make_filter(args, fs, hpa_mode=args.hpa_mode)
 
     make(args.fs or 100.0).close()  # every filter setting checked before the stream starts
+    if args.fs is not None:
+        print(rate_note(args.fs), file=sys.stderr, flush=True)
 
     def log(msg):
         print(msg, file=sys.stderr, flush=True)

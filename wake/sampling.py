@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["BANK_RATE", "TUNED_RATES", "RateWarning", "decimation_for", "warn_if_far_from_tuned_rate"]
+__all__ = ["BANK_RATE", "TUNED_RATES", "RateWarning", "decimation_for", "rate_note", "warn_if_far_from_tuned_rate"]
 
 #: The filter bank's own rate (Hz) that :func:`decimation_for` aims at: the rate level 5,
 #: ``ar_order`` 17 and the 5 s window were designed and measured at.
@@ -56,3 +56,26 @@ def warn_if_far_from_tuned_rate(config) -> None:
             config.level, 1e3 * 2**config.level / bank) if bank < low else "")
         + f". Resample the recording into {low:g}-{high:g} Hz first (e.g. scipy.signal.resample_poly)",
         RateWarning, stacklevel=3)
+
+
+def rate_note(fs: float) -> str:
+    """One line on what ``fs`` costs per input sample and per second (``wake run``, ``wake stream``).
+
+    Examples
+    --------
+    >>> from wake.sampling import rate_note
+    >>> print(rate_note(1000.0))
+    rate 1000 Hz: filter bank, HPA and RTP at 100 Hz (decimation 10): per input sample one front-end add, every 10th also one RTP step; per second 1000 adds and 100 RTP steps (Cortex-M instructions: wake profile --fs 1000)
+    >>> print(rate_note(100.0))
+    rate 100 Hz: filter bank, HPA and RTP at 100 Hz (no front end): per input sample one RTP step; per second 100 RTP steps (Cortex-M instructions: wake profile --fs 100)
+    """
+    D = decimation_for(fs)
+    bank = fs / D
+    if D == 1:
+        work = f"per input sample one RTP step; per second {fs:g} RTP steps"
+        how = "no front end"
+    else:
+        work = (f"per input sample one front-end add, every {D}th also one RTP step; "
+                f"per second {fs:g} adds and {bank:g} RTP steps")
+        how = f"decimation {D}"
+    return f"rate {fs:g} Hz: filter bank, HPA and RTP at {bank:g} Hz ({how}): {work} (Cortex-M instructions: wake profile --fs {fs:g})"
