@@ -120,6 +120,11 @@ def structures(fs):
     if fs == 50:
         out["level 4"] = lambda x, f: _wake(x, f, level=4)
         out["level 4, p 9"] = lambda x, f: _wake(x, f, level=4, ar_order=9)
+        out["level 6"] = lambda x, f: _wake(x, f, level=6)
+        for p in (9, 12, 25):
+            out[f"p {p}"] = lambda x, f, p=p: _wake(x, f, ar_order=p)
+        for w in (4.0, 6.0):
+            out[f"window {w:g} s"] = lambda x, f, w=w: _wake(x, f, window_s=w)
     return out
 
 
@@ -151,11 +156,12 @@ def pads_scores(fs, method, recordings):
 def cost(name, fs):
     """(multiply-adds per input sample in the RTP, worst sample / mean; state words per channel)."""
     D = int(name.split(" D=")[1]) if " D=" in name else max(1, round(fs / 100.0))
-    J = 5 + round(math.log2(fs / 100.0)) if name == "level" else (4 if name.startswith("level 4") else 5)
+    J = 5 + round(math.log2(fs / 100.0)) if name == "level" else (4 if name.startswith("level 4") else
+                                                                   6 if name == "level 6" else 5)
     N = 2**J
     step = J * N + J + 3 * J * J              # bank, w'(a+d), Kalman u, S, P
     state = N + J + J * J + J * N             # ring, d, P, taps (int16 words, roughly)
-    if name in ("today", "level") or name.startswith("level 4") or D == 1:
+    if name in ("today", "level", "level 6") or name.startswith("level 4") or D == 1:
         return step, step, state
     if name == "a-trous":
         return step, step, D * N + J + J * J + J * N

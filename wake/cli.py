@@ -198,8 +198,6 @@ def _cmd_stream(argv) -> int:
         return make_filter(args, fs, hpa_mode=args.hpa_mode)
 
     make(args.fs or 100.0).close()  # every filter setting checked before the stream starts
-    if args.fs is not None:
-        print(rate_note(args.fs), file=sys.stderr, flush=True)
 
     def log(msg):
         print(msg, file=sys.stderr, flush=True)
