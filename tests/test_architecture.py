@@ -13,12 +13,12 @@ PACKAGE = Path(__file__).resolve().parents[1] / "wake"
 #: never from above; every import counts, inside functions too.
 LAYERS = (
     ("wake._rtp", "wake._validation", "wake._files", "wake._core", "wake._docs", "wake.limits", "wake.registry",
-     "wake.target", "wake.ahead"),
+     "wake.target", "wake.ahead", "wake.sampling"),
     ("wake.io", "wake.wavelets"),
     ("wake.config",),
     ("wake.rtp",),
     ("wake.hpa", "wake.hpa.characterise"),
-    ("wake.channel",),
+    ("wake.channel", "wake.rate"),
     ("wake.filter", "wake.state", "wake.result"),
     ("wake",),
     ("wake.eval",),

@@ -146,14 +146,15 @@ def test_update_refuses_inf_and_empty():
         f.update([])
 
 
-def test_a_rate_far_from_100_hz_warns_with_the_fix():
+def test_a_rate_outside_the_supported_range_warns_naming_it():
     import warnings
 
     from wake.filter import RateWarning
 
-    with pytest.warns(RateWarning, match="resample_poly\\(x, 1, 10\\) for 1000 Hz"):
-        WakeFilter(fs=1000.0, backend="reference")
+    for fs in (40.0, 2000.0):
+        with pytest.warns(RateWarning, match="outside the supported 50-1000 Hz"):
+            WakeFilter(fs=fs, backend="reference", tremor_band=(2.5, 15.0))
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        for fs in (50.0, 100.0, 200.0):
+        for fs in (50.0, 100.0, 200.0, 250.0, 500.0, 1000.0):
             WakeFilter(fs=fs, backend="reference")

@@ -21,6 +21,7 @@ import numpy as np
 
 from wake.config import WakeConfig
 from wake.registry import cutoff_rule_names, cutoff_rules
+from wake.sampling import rate_note
 
 __all__ = ["COMMANDS", "main"]
 
@@ -126,6 +127,7 @@ def _cmd_run(args) -> int:
         print(f"wrote {rows} rows to {args.out} (time, then per channel: measurement, voluntary, tremor)")
     cut = ", ".join(f"{c:.2f}" for c in res.mean_cutoff)
     print(f"{len(res.hpa[0])} HPA runs per channel, mean cut-off f_d = {cut} Hz, backend {res.backend}")
+    print(rate_note(rec.fs))
     flags = [u.cutoff_flag for channel in res.hpa for u in channel]
     counts = ", ".join(f"{f} {flags.count(f)}" for f in sorted(set(flags), key=lambda f: (-flags.count(f), f)))
     print(f"cut-off rule {args.cutoff_rule}: {counts} (wake.hpa.CUTOFF_FLAGS says what each means)")

@@ -18,6 +18,7 @@ from dataclasses import dataclass, fields
 from wake._core import BUILD_HINT, core_installed, missing_core_hint
 from wake._validation import check_level, check_mode, check_wavelet
 from wake.limits import MAX_LEVEL
+from wake.sampling import TUNED_RATES, RateWarning, decimation_for, warn_if_far_from_tuned_rate  # noqa: F401
 from wake.registry import cutoff_rule_names
 
 __all__ = ["CoreMissingWarning", "RateWarning", "TUNED_RATES", "WakeConfig", "MAX_LEVEL",
@@ -52,8 +53,8 @@ LIMITS = {
     "headroom": (1.0, 1e4),
     "hpa_history_limit": (1, 10**9),
     "shallow_max": (0.0, 1e5),        # Hz, exclusive low; at least cutoff_range[0] (checked beside it)
+    "decimation": (1, 1000),
 }
-
 
 def _number(name: str, value, *, integer: bool = False, low_open: bool = False):
     lo, hi = LIMITS[name]
@@ -211,6 +212,14 @@ class WakeConfig:
         Weights before the first HPA: ``"prior"`` the designed one-step-ahead
         predictor of :func:`wake.hpa.prior.prior_weights`; ``"deepest"`` the
         deepest approximation alone (the first release).
+    decimation : int or None
+        Input samples per filter-bank sample ``D``: the bank, HPA and RTP run
+        at ``fs / D`` behind a causal boxcar front end (:mod:`wake.rate`;
+        docs/design.md, "Sampling rates other than 100 Hz").  ``None`` (the
+        default): :func:`~wake.sampling.decimation_for`, ``fs / 100`` rounded
+        halves up, at least 1: the bank runs at 67-150 Hz, where ``level``,
+        ``ar_order`` and ``window_s`` keep their 100 Hz meaning, and below
+        150 Hz there is no front end (100 Hz runs as before).
     hpa_history_limit : int
         Streaming only: how many HPA updates per channel
         :attr:`~wake.WakeFilter.hpa_history` keeps (the newest; one update
@@ -253,6 +262,7 @@ class WakeConfig:
     warmup_hpa_s: tuple | None = None
     initial_weights: str = "prior"
     hpa_history_limit: int = 1000
+    decimation: int | None = None
 
     def __post_init__(self):
         put = lambda name, value: object.__setattr__(self, name, value)  # noqa: E731 (frozen)
@@ -307,6 +317,14 @@ class WakeConfig:
             raise ValueError(f"unknown initial_weights {self.initial_weights!r}; valid choices: "
                              f"{', '.join(INITIAL_WEIGHTS)}")
         put("hpa_history_limit", _number("hpa_history_limit", self.hpa_history_limit, integer=True))
+        if self.decimation is not None:
+            put("decimation", _number("decimation", self.decimation, integer=True))
+        if self.decimation_factor > 1:  # every setting valid at the rate the bank runs at, too
+            try:
+                self.bank_config()
+            except ValueError as exc:
+                raise ValueError(f"with decimation {self.decimation_factor} the filter bank runs at "
+                                 f"{self.fs / self.decimation_factor:g} Hz, where {exc}") from None
 
     def _warmup_points(self) -> tuple:
         if self.warmup_hpa_s is None:
@@ -349,6 +367,24 @@ class WakeConfig:
         return int(round(self.window_s * self.fs))
 
     @property
+    def decimation_factor(self) -> int:
+        """``D``: ``decimation``, or :func:`decimation_for` of ``fs`` when it is None."""
+        return decimation_for(self.fs) if self.decimation is None else self.decimation
+
+    def bank_config(self) -> "WakeConfig":
+        """The settings of the filter bank, HPA and RTP: these at ``fs / D`` (``self`` when ``D`` is 1).
+
+        Examples
+        --------
+        >>> from wake import WakeConfig
+        >>> cfg = WakeConfig(fs=1000.0, backend="reference")
+        >>> cfg.decimation_factor, cfg.bank_config().fs, cfg.bank_config().window_samples
+        (10, 100.0, 500)
+        """
+        D = self.decimation_factor
+        return self if D == 1 else self.replace(fs=self.fs / D, decimation=1)
+
+    @property
     def n_taps(self) -> int:
         """``2**J``, the RTP window in samples."""
         return 2**self.level
@@ -361,28 +397,3 @@ class WakeConfig:
             raise TypeError(f"unknown setting(s) {sorted(unknown)}; valid: {', '.join(values)}")
         values.update(changes)
         return WakeConfig(**values)
-
-
-#: Sampling rates (Hz) the defaults were measured at and hold for (docs/design.md, "Sampling rates").
-TUNED_RATES = (50.0, 200.0)
-
-
-class RateWarning(UserWarning):
-    """The sampling rate is far from the 100 Hz the defaults were tuned at."""
-
-
-def warn_if_far_from_tuned_rate(config: "WakeConfig") -> None:
-    """Warn (:class:`RateWarning`) when ``config.fs`` is outside :data:`TUNED_RATES`."""
-    low, high = TUNED_RATES
-    if low <= config.fs <= high:
-        return
-    import warnings
-
-    span_ms = 1e3 * 2**config.level / config.fs
-    warnings.warn(
-        f"fs = {config.fs:g} Hz is outside {low:g}-{high:g} Hz, where WAKE's defaults were tuned: the level-"
-        f"{config.level} filter bank spans {span_ms:.0f} ms here (320 ms at 100 Hz) and ar_order={config.ar_order} "
-        "resolves the spectrum differently, so voluntary motion and tremor separate worse (measured on a "
-        "synthetic signal: NRMSE 0.082 at 1000 Hz against 0.035 at 100 Hz, whatever the AR order). Resample the "
-        "recording to about 100 Hz first, e.g. scipy.signal.resample_poly(x, 1, 10) for 1000 Hz",
-        RateWarning, stacklevel=3)

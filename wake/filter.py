@@ -24,6 +24,7 @@ import numpy as np
 
 from wake._validation import as_sample, as_signal
 from wake.channel import Channel, start_weights_for
+from wake.rate import make_channel
 from wake._docs import parameters_doc
 from wake.config import BACKENDS, TUNED_RATES, RateWarning, WakeConfig, warn_if_far_from_tuned_rate
 from wake.hpa.c_port import check_c_hpa_config
@@ -100,12 +101,13 @@ class WakeFilter:
                                 **settings)
         if config.backend == "c" or config.hpa_backend == "c":
             load_fixed_point()  # fail here, with how to build the core, not at the first HPA
+        bank = config.bank_config()  # the settings at the rate the bank runs at (wake.rate)
         if config.hpa_backend == "c":
-            check_c_hpa_config(config)
+            check_c_hpa_config(bank)
         warn_if_far_from_tuned_rate(config)
         self.config = config
         self.taps = filter_bank_taps(config.wavelet, config.level, config.mode)
-        self.start_weights = start_weights_for(config, self.taps)  # 0.5 ms: once per filter, not per channel
+        self.start_weights = start_weights_for(bank, self.taps)  # 0.5 ms: once per filter, not per channel
         self._pool = None
         self._lock = threading.RLock()
         self._channels: list[Channel] | None = None
@@ -120,7 +122,7 @@ class WakeFilter:
 
     def _new_channels(self, n: int, *, streaming: bool = True) -> list:
         limit = self.config.hpa_history_limit if streaming else None
-        return [Channel(self.config, self.taps, self.start_weights, limit) for _ in range(n)]
+        return [make_channel(self.config, self.taps, self.start_weights, limit) for _ in range(n)]
 
     # -- whole recordings --------------------------------------------------
     def run(self, x) -> WakeResult:

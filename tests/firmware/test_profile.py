@@ -223,3 +223,18 @@ def test_static_bound_holds_and_is_tight_on_cortex_m4(tmp_path, kalman):
     image = profile.build_image("m4-O2", build_dir=tmp_path, csrc=CSRC, defs=["-DWAKE_RTP_MAX_LEVEL=5"])
     prof = profile.profile_configuration(profile.Emulator(image), "sym3", 5, kalman=kalman)
     assert prof.max <= prof.bound.instructions <= 1.05 * prof.max, (prof.max, prof.bound.instructions)
+
+
+@needs_gcc
+def test_front_end_cost_at_1khz(tmp_path):
+    """docs/design.md, "In firmware": the front end's push beside the RTP step, from the static bounds."""
+    from wake.firmware.rate_cost import rate_cost
+    from wake.firmware.wcet import static_bound
+
+    image = profile.build_image("m4-O2", build_dir=tmp_path, csrc=CSRC, defs=["-DWAKE_RTP_MAX_LEVEL=5"])
+    push = static_bound(image, 5, function="wake_rate_push").instructions
+    step = static_bound(image, 5).instructions
+    fast, slow = rate_cost(1000.0, step, push), rate_cost(100.0, step, None)
+    assert fast["per_sample"] == step + push and slow["per_sample"] == step
+    assert push <= 0.2 * step, (push, step)  # 63 against 493 measured: UDIV, no 16-turn loop
+    assert fast["per_second"] <= 10 * slow["per_second"]  # issue 33: at most 10x the work per second

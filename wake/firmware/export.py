@@ -97,7 +97,8 @@ def export_header(
     taps = filter_bank_taps(wavelet, level)
     taps_q = quantize_taps(taps)
     J, N = taps_q.shape
-    hpa_cfg = WakeConfig(fs=sample_rate, wavelet=wavelet, level=J, window_s=window_s, backend="reference")
+    rate_cfg = WakeConfig(fs=sample_rate, wavelet=wavelet, level=J, window_s=window_s, backend="reference")
+    hpa_cfg = rate_cfg.bank_config()  # the core and the HPA run at the bank rate (wake.rate)
     start = prior_weights(hpa_cfg, taps)
     start_q = quantize_weights(start, J)
     weights_said = provenance or ("the start-up weights" if weights is None else "given")
@@ -145,7 +146,7 @@ static const int32_t {name}_weights[{J}] = {{
 }};
 
 /* Start-up weights (before the first HPA, after a reset): the filter bank as a one-step-ahead
- * predictor below the default cut-off at {float(sample_rate)!r} Hz (wake.hpa.prior.prior_weights). */
+ * predictor below the default cut-off at {float(hpa_cfg.fs)!r} Hz (wake.hpa.prior.prior_weights). */
 static const int32_t {name}_start_weights[{J}] = {{
 {_c_array(start_q, 8)}
 }};
@@ -158,7 +159,7 @@ static inline wake_rtp_status_t {name}_init(wake_rtp_t *rtp)
     return wake_rtp_init(rtp, {macro}_LEVEL, {name}_taps, {name}_weights, {macro}_R, {macro}_Q, {macro}_P0);
 }}
 
-{_hpa_section(name, hpa_cfg, start)}
+{_hpa_section(name, hpa_cfg, start)}{_rate_section(name, rate_cfg)}
 #endif /* {macro}_H */
 """
     if isinstance(path_or_file, (str, os.PathLike)):
@@ -204,6 +205,29 @@ static inline wake_hpa_status_t {name}_hpa_init(wake_hpa_t *hpa)
     (void)wake_hpa_default_config(&c);
 {body}
     return wake_hpa_init(hpa, &c, {name}_taps, start);
+}}
+#endif
+"""
+
+
+def _rate_section(name: str, cfg: WakeConfig) -> str:
+    """Above 150 Hz: ``NAME_DECIMATION`` and ``name_rate_init``, the front end (wake_rate.c) before the core."""
+    D = cfg.decimation_factor
+    if D == 1:
+        return ""
+    macro = name.upper()
+    return f"""
+/* Input at {cfg.fs:g} Hz: the core and the HPA above run at {cfg.fs / D:g} Hz on the mean of each group of
+ * {D} input samples (wake_rate.c); step them when wake_rate_push ends a group and hold the prediction
+ * until the next group ends (docs/design.md, "Sampling rates other than 100 Hz").  Include "wake_rate.h"
+ * before this header:
+ *     static wake_rate_t fe;
+ *     if ({name}_rate_init(&fe) != WAKE_RATE_OK) {{ ... }}                           */
+#define {macro}_DECIMATION {D}
+#ifdef WAKE_RATE_H
+static inline wake_rate_status_t {name}_rate_init(wake_rate_t *fe)
+{{
+    return wake_rate_init(fe, {macro}_DECIMATION);
 }}
 #endif
 """

@@ -53,7 +53,7 @@ def library_json(src_dir: str | None = None) -> str:
     build = {"flags": [HPA_FLAG]}
     if src_dir is not None:
         build.update(srcDir=src_dir, includeDir=src_dir,
-                     srcFilter=["-<*>", "+<wake_rtp.c>", "+<wake_hpa.c>"])
+                     srcFilter=["-<*>", "+<wake_rtp.c>", "+<wake_hpa.c>", "+<wake_rate.c>"])
     manifest = {
         "name": NAME,
         "version": VERSION,
@@ -63,7 +63,7 @@ def library_json(src_dir: str | None = None) -> str:
         "license": LICENSE,
         "frameworks": "*",
         "platforms": "*",
-        "headers": ["wake_rtp.h", "wake_hpa.h"],
+        "headers": ["wake_rtp.h", "wake_hpa.h", "wake_rate.h"],
         "build": build,
     }
     return json.dumps(manifest, indent=2) + "\n"
@@ -81,7 +81,7 @@ def library_properties() -> str:
         "category": "Signal Input/Output",
         "url": HOMEPAGE,
         "architectures": "*",
-        "includes": "wake_rtp.h,wake_hpa.h",
+        "includes": "wake_rtp.h,wake_hpa.h,wake_rate.h",
     }
     return "".join(f"{k}={v}\n" for k, v in fields.items())
 
@@ -93,7 +93,7 @@ def zephyr_files(src_dir: str = ".") -> dict[str, str]:
     cmake = f"""# Zephyr glue for the WAKE C core (module.yml: build.cmake). Enabled by CONFIG_WAKE.
 if(CONFIG_WAKE)
   zephyr_library()
-  zephyr_library_sources({base}/wake_rtp.c {base}/wake_hpa.c)
+  zephyr_library_sources({base}/wake_rtp.c {base}/wake_hpa.c {base}/wake_rate.c)
   zephyr_include_directories({base})
   # the HPA's fixed evaluation order (docs/hpa_c.md)
   zephyr_library_compile_options({HPA_FLAG})
@@ -102,8 +102,9 @@ endif()
     kconfig = """config WAKE
 \tbool "WAKE real-time tremor extraction (fixed-point RTP, single-precision HPA)"
 \thelp
-\t  Builds the WAKE C core: wake_rtp.c (fixed-point predictor) and wake_hpa.c
-\t  (hyper-parameter adjustment, single precision).
+\t  Builds the WAKE C core: wake_rtp.c (fixed-point predictor), wake_hpa.c
+\t  (hyper-parameter adjustment, single precision) and wake_rate.c (the
+\t  front end for input rates above 150 Hz).
 """
     return {"zephyr/module.yml": module, "zephyr/CMakeLists.txt": cmake, "zephyr/Kconfig": kconfig}
 

@@ -41,6 +41,7 @@ from collections import deque
 
 import numpy as np
 
+from wake.sampling import rate_note
 from wake._files import silence_stdout
 
 __all__ = ["StreamProcessor", "StreamStop", "run_pipes", "run_lsl", "SWITCH_INTERVAL_S"]
@@ -181,6 +182,7 @@ def run_pipes(args, make_filter, stop, log) -> int:
     try:
         _ready(filt)
         log(f"wake stream: ready, reading stdin at {args.fs:g} Hz")
+        log(rate_note(args.fs))  # after the ready line, which a producer waits for
         return _pipe_loop(args, stop, log, filt, fin, fout)
     finally:
         filt.close()  # also on an early error return: the worker never outlives the command
@@ -338,6 +340,7 @@ def run_lsl(args, make_filter, stop, log) -> int:
     _ready(proc.filt)
     outlet = pylsl.StreamOutlet(out_info)  # visible only once the filter is ready for the first sample
     log(f"wake stream: {args.lsl_in} ({n_ch} channels at {fs:g} Hz) -> {args.lsl_out}")
+    log(rate_note(fs))
     last_status = time.monotonic()
     why = "end of stream"
     try:

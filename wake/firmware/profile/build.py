@@ -211,13 +211,17 @@ def build_image(target="m4-O2", *, board="generic", build_dir=None, csrc=None, d
     else:
         run([clang_command() or "clang", "--target=arm-none-eabi", *WARN_FLAGS, *flags, "-isystem", NEWLIB_INCLUDE,
              "-c", str(src / "wake_rtp.c"), "-o", str(core_o)])
+    objects = [str(core_o)]
+    if (src / "wake_rate.c").is_file():  # the decimating front end (input rates above 150 Hz)
+        run([tools["gcc"], *WARN_FLAGS, *flags, "-c", str(src / "wake_rate.c"), "-o", "wake_rate.o"])
+        objects.append("wake_rate.o")
     harness_flags = ["-std=c99", "-Wall", "-Wextra", *flags, "-fno-tree-loop-distribute-patterns", "-I", str(src)]
     run([tools["gcc"], *harness_flags, "-c", str(prof / "harness.c"), "-o", "harness.o"])
     run([tools["gcc"], *harness_flags, "-c", str(prof / "startup.c"), "-o", "startup.o"])
     elf = out / "profile.elf"
     run([tools["gcc"], *TARGETS[target][1], "-nostdlib", "-ffreestanding", "-T", str(prof / scripts[board]),
          "-L", str(prof), "-Wl,-Map=profile.map",
-         "startup.o", "harness.o", str(core_o), "-lgcc", "-o", str(elf)])
+         "startup.o", "harness.o", *objects, "-lgcc", "-o", str(elf)])
     ci = out / "wake_rtp.ci"
     img = Image.read(elf, core_o, target, ci if ci.is_file() else None)
     img.source = src / "wake_rtp.c"

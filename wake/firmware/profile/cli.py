@@ -3,6 +3,7 @@
 
 import argparse
 import json
+import math
 import re
 import sys
 import tempfile
@@ -72,6 +73,9 @@ def build_parser():
     p.add_argument("--hpa", action="store_true",
                    help="also the on-device HPA (wake_hpa.c): instructions of one whole HPA and of the largest "
                         "slice on Cortex-M4F (hard float) and Cortex-M0+ (soft float), RAM, stack (about a minute)")
+    p.add_argument("--fs", type=float, default=None, metavar="HZ",
+                   help="also the cost at this input rate: the front end's push (csrc/wake_rate.c) beside the "
+                        "RTP step, the worst input sample and the instructions per second (J = 5)")
     p.add_argument("--json", metavar="PATH", help="write every number as JSON")
     p.add_argument("--markdown", metavar="PATH", help="write the tables as Markdown")
     p.add_argument("--build-dir", metavar="DIR", help="keep the objects and images here (default: a temp dir)")
@@ -115,12 +119,29 @@ def _measure(args, targets, levels, wavelets):
     qemu = None
     if args.qemu:
         qemu = qemu_crosscheck(DEFAULT_LEVEL, DEFAULT_WAVELET, build_dir=build_root, csrc=args.csrc)
+    rate = None
+    if args.fs is not None:
+        rate = _rate_bounds(args, targets, build_root)
     hpa = None
     if args.hpa:
         from wake.firmware.hpa_cost import HPA_TARGETS, measure_hpa
 
         hpa = {t: measure_hpa(t, build_dir=build_root, csrc=args.csrc) for t in HPA_TARGETS}
-    return profiles, footprints, hot, qemu, hpa
+    return profiles, footprints, hot, qemu, hpa, rate
+
+
+def _rate_bounds(args, targets, build_root) -> dict:
+    """target -> (static bound of wake_rtp_step, of wake_rate_push or None) at J = 5, active Kalman."""
+    from wake.firmware.wcet import static_bound
+
+    out = {}
+    for t in targets:
+        image = build_image(t, build_dir=Path(build_root) / "rate", csrc=args.csrc,
+                            defs=[f"-DWAKE_RTP_MAX_LEVEL={DEFAULT_LEVEL}"])
+        push = static_bound(image, DEFAULT_LEVEL, function="wake_rate_push") if "wake_rate_push" in image.symbols \
+            else None
+        out[t] = (static_bound(image, DEFAULT_LEVEL), push)
+    return out
 
 
 def _report(profiles, footprints, hot, qemu, hpa):
@@ -188,12 +209,18 @@ def cli(argv: list[str] | None = None) -> int:
             raise ValueError(f"unknown target {t!r}; valid choices: {', '.join(TARGETS)}")
     levels = [DEFAULT_LEVEL] if args.quick else _parse_levels(args.levels)
     wavelets = [DEFAULT_WAVELET] if args.quick else [w.strip() for w in args.wavelets.split(",") if w.strip()]
+    if args.fs is not None and not (math.isfinite(args.fs) and 0 < args.fs <= 1e5):
+        raise ValueError(f"--fs must lie in (0, 100000] Hz, got {args.fs}")
     try:
-        profiles, footprints, hot, qemu, hpa = _measure(args, targets, levels, wavelets)
+        profiles, footprints, hot, qemu, hpa, rate = _measure(args, targets, levels, wavelets)
     except ProfileUnavailable as exc:
         print(f"wake profile: {exc}", file=sys.stderr)
         return 3
     text, fails, regressions = _report(profiles, footprints, hot, qemu, hpa)
+    if rate is not None:
+        from wake.firmware.rate_cost import rate_lines
+
+        text += rate_lines(args.fs, rate)
     report = "\n".join(text)
     print(report)
     if args.markdown:
@@ -207,6 +234,8 @@ def cli(argv: list[str] | None = None) -> int:
             "hotspots": hot,
             "qemu": qemu,
             "hpa": hpa,
+            "rate": None if rate is None else {t: {"step": s.instructions, "push": None if p is None else p.instructions}
+                                               for t, (s, p) in rate.items()},
             "clocks_mhz": CLOCKS_MHZ, "targets": TARGET_LIMITS, "failed": fails,
             "ceilings": CEILING_LIMITS, "regressions": regressions,
         }, indent=2))
