@@ -862,9 +862,12 @@ static inline int64_t ahead_dot(const int32_t *c, const wake_q15_t *line)
  * The tremor ahead of one sample (wake.ahead.AheadStep.step), @p tremor the estimate e(n) in Q23:
  *
  *   line  <- e(n), rounded to Q15 of FS (saturated)         newest first
- *   P(n)   = c . line                                       Q27 x Q15, exact, rounded once to Q15
+ *   P(n)   = c . line                                       Q27 x Q15, exact, rounded once to Q23
  *   g(n)   = g(n-1) + (goal - g(n-1)) alpha                 Q30 x Q30, rounded once to Q30
- *   cmd(n) = g(n) P(n)                                      Q30 x Q15, rounded once to Q15
+ *   cmd(n) = g(n) P(n)                                      Q30 x Q23, rounded once to Q23
+ *
+ * P and the command keep 8 guard bits (Q23, as y(n)): a tremor far below the full scale
+ * (which has headroom for the voluntary motion) would lose a percent to a Q15 rounding.
  *
  * Every narrowing saturates and is counted in ahead_saturations; any value of the
  * ahead fields but ahead_head (checked by every step) is safe.
@@ -875,14 +878,14 @@ static void ahead_step(wake_rtp_t *s, wake_q23_t tremor)
     const unsigned head = (s->ahead_head + (unsigned)WAKE_RTP_AHEAD_TAPS - 1u) & ((unsigned)WAKE_RTP_AHEAD_TAPS - 1u);
     /* e(n): Q23 -> Q15 of FS, |.| < 2^24 before the saturation */
     const wake_q15_t e = narrow_saturate16((int32_t)shift_right_round(tremor, SIGNAL_GUARD_BITS), &ev);
-    wake_q15_t predicted;
+    wake_q23_t predicted;
     int32_t gate, goal, diff;
     s->ahead_line[head] = e;
     s->ahead_line[head + (unsigned)WAKE_RTP_AHEAD_TAPS] = e;
     s->ahead_head = (uint16_t)head;
-    /* P = c . line: Q42, |.| < 2^49; rounded to Q15, |.| < 2^22 fits int32, then saturated to int16 */
-    predicted = narrow_saturate16((int32_t)shift_right_round(ahead_dot(s->ahead_coef, &s->ahead_line[head]),
-                                                             WAKE_RTP_AHEAD_COEF_FRAC), &ev);
+    /* P = c . line: Q42, |.| < 2^49; rounded to Q23, |.| < 2^30 fits int32 (|P| <= 64 FS for |c| <= 8) */
+    predicted = (int32_t)shift_right_round(ahead_dot(s->ahead_coef, &s->ahead_line[head]),
+                                           WAKE_RTP_AHEAD_COEF_FRAC + WAKE_RTP_SAMPLE_FRAC - WAKE_RTP_STATE_FRAC);
     /* g += (goal - g) alpha.  With goal, g in [0, 2^30] and alpha in (0, 2^30] (what every setter
      * checks) the new g lies between g and goal: |round((goal - g) alpha / 2^30)| <= |goal - g|, so
      * g never leaves [0, 1] and nothing can saturate.  A corrupted value must still be safe: g, goal
@@ -896,9 +899,8 @@ static void ahead_step(wake_rtp_t *s, wake_q23_t tremor)
                                                          WAKE_RTP_GATE_FRAC)) & UINT32_C(0x7FFFFFFF));
     s->ahead_gate = gate;
     s->ahead_predicted = predicted;
-    /* command = g P: Q45, |.| < 2^46; rounded to Q15 (<= |P| for g <= 1; < 2^16), saturated to int16 */
-    s->ahead_command = narrow_saturate16((int32_t)shift_right_round(multiply_wide(gate, predicted),
-                                                                    WAKE_RTP_GATE_FRAC), &ev);
+    /* command = g P: Q53, |.| < 2^61; rounded to Q23 (<= |P| for g <= 1; < 2^31 for the 31-bit g) */
+    s->ahead_command = (int32_t)shift_right_round(multiply_wide(gate, predicted), WAKE_RTP_GATE_FRAC);
     count_events(&s->ahead_saturations, ev);
 }
 #endif
@@ -1079,8 +1081,8 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_ahead_ramp(wake_rtp_t *s, wake_rati
     return WAKE_RTP_OK;
 }
 
-wake_rtp_status_t wake_rtp_ahead_output(const wake_rtp_t *s, wake_q15_t *predicted, wake_ratio_t *gate,
-                                        wake_q15_t *command)
+wake_rtp_status_t wake_rtp_ahead_output(const wake_rtp_t *s, wake_q23_t *predicted, wake_ratio_t *gate,
+                                        wake_q23_t *command)
 {
     wake_rtp_status_t st = check_structure(s);
     if (st != WAKE_RTP_OK) {

@@ -51,7 +51,8 @@
  * | P, lambda, R, q, p0, s          | ::wake_cov_t      | Q(WAKE_RTP_P_FRAC) of FS^2 | default Q32: [-0.5, 0.5) FS^2 |
  * | rho = s/S, tau = R/S            | ::wake_ratio_t    | Q30                        | [-2, 2)            |
  * | ahead coefficients c            | int32_t           | Q27                        | [-8, 8]            |
- * | tremor estimate e, P(n), g P(n) | ::wake_q15_t      | Q15 of FS                  | [-1, 1) FS         |
+ * | tremor estimate e (delay line)  | ::wake_q15_t      | Q15 of FS                  | [-1, 1) FS         |
+ * | ahead P(n), command g P(n)      | ::wake_q23_t      | Q23 of FS                  | [-256, 256) FS     |
  * | gate g, goal, ramp alpha        | ::wake_ratio_t    | Q30                        | [0, 1]             |
  */
 #ifndef WAKE_RTP_H
@@ -260,9 +261,9 @@ typedef struct {
     uint32_t ahead_saturations;                /**< narrowings of the ahead part that saturated (sticks at
                                                     UINT32_MAX); kept apart from saturations, which
                                                     describe the voluntary prediction */
+    wake_q23_t ahead_predicted;                /**< P(n), the tremor predicted for n + h, Q23 of FS (|P| <= 64 FS) */
+    wake_q23_t ahead_command;                  /**< g(n) P(n), Q23 of FS */
     uint16_t ahead_head;                       /**< index of the newest estimate in ahead_line, 0..7 */
-    wake_q15_t ahead_predicted;                /**< P(n), the tremor predicted for n + h, Q15 of FS */
-    wake_q15_t ahead_command;                  /**< g(n) P(n), Q15 of FS */
     uint16_t ahead_reserved;                   /**< 0 */
     wake_q15_t ahead_line[2 * WAKE_RTP_AHEAD_TAPS];  /**< tremor estimates e, Q15 of FS, each stored twice
                                                           (k and k + 8): newest first they are the
@@ -454,15 +455,15 @@ wake_rtp_status_t wake_rtp_set_ahead_ramp(wake_rtp_t *s, wake_ratio_t ramp);
  *
  * Before the first step (and after reset) all three are 0.
  * @param[in]  s          initialised instance (not modified)
- * @param[out] predicted  P(n), the tremor predicted for n + h, Q15 of FS (may be NULL)
+ * @param[out] predicted  P(n), the tremor predicted for n + h, Q23 of FS (may be NULL)
  * @param[out] gate       g(n), the confidence, Q30 in [0, 2^30] (may be NULL)
- * @param[out] command    g(n) P(n), Q15 of FS (may be NULL)
+ * @param[out] command    g(n) P(n), Q23 of FS (may be NULL)
  * @return WAKE_RTP_OK, WAKE_RTP_E_NULL, _UNINIT or _CORRUPT.
  * @par Scaling and overflow
  * Reads only.
  */
-wake_rtp_status_t wake_rtp_ahead_output(const wake_rtp_t *s, wake_q15_t *predicted, wake_ratio_t *gate,
-                                        wake_q15_t *command);
+wake_rtp_status_t wake_rtp_ahead_output(const wake_rtp_t *s, wake_q23_t *predicted, wake_ratio_t *gate,
+                                        wake_q23_t *command);
 
 /**
  * @brief Set the tremor-ahead state (hand-over from a float warm-up or another full scale).

@@ -98,8 +98,8 @@ static void test_status_codes(void)
     static int16_t taps[J * N];
     const int32_t w[J] = {0, 0, 0, 1 << 24};
     int32_t c[TAPS] = {0};
-    int16_t line[TAPS], p, cmd;
-    int32_t g;
+    int16_t line[TAPS];
+    int32_t g, p, cmd;
     wake_rtp_t s;
     make_taps(taps);
     CHECK(wake_rtp_set_ahead(NULL, c, 0) == WAKE_RTP_E_NULL, "null instance");
@@ -132,7 +132,7 @@ static void test_status_codes(void)
 
 /* The core against the double twin over a stream with a gate that opens, changes goal and shuts,
  * with the Kalman inert and active.  Bound (units of Q15 LSB):
- *   P:       the estimate rounded to Q15 (1/2 LSB each, times sum |c|) + P rounded once (1/2)
+ *   P:       the estimate rounded to Q15 (1/2 LSB each, times sum |c|) + P rounded once to Q23 (1/512)
  *            + the coefficients rounded to Q27 (1/2 2^-27 each, times |e| <= 2^15 LSB: < 2^-10)
  *   gate:    the ramp rounded to Q30 per step: within 1/(2 alpha) + 1 units of Q30 of the twin's
  *            path, plus alpha's own rounding (1/2 unit of Q30 relative, over a few hundred steps)
@@ -159,11 +159,11 @@ static void test_against_double(int live)
         sum_c += fabs(r.c[i]);
     }
     CHECK(wake_rtp_set_ahead(&s, c_q, 0) == WAKE_RTP_OK, "the predictor from the start, the gate shut");
-    bound_p = 0.5 * sum_c + 0.5 + 1e-3;
+    bound_p = 0.5 * sum_c + 1.0 / 512.0 + 1e-3;
     bound_gate = 1.0 / (2.0 * r.alpha) + 2.0 + 400.0 * 0.5;     /* units of Q30 */
     for (n = 0; n < 1200; ++n) {
-        int16_t m = signal_at(n, 0.1), y, p, cmd;
-        int32_t g;
+        int16_t m = signal_at(n, 0.1), y;
+        int32_t g, p, cmd;
         double e, p_ref, cmd_ref;
         if (n == 100) {
             r.goal = 0.8;
@@ -180,16 +180,17 @@ static void test_against_double(int live)
         CHECK(wake_rtp_step(&s, m, &y) == WAKE_RTP_OK, "step");
         ref_step(&r, e, &p_ref, &cmd_ref);
         CHECK(wake_rtp_ahead_output(&s, &p, &g, &cmd) == WAKE_RTP_OK, "output");
-        worst_p = fmax(worst_p, fabs(p - p_ref * Q15));
+        worst_p = fmax(worst_p, fabs(p / 256.0 - p_ref * Q15));         /* Q23 -> Q15 LSB */
         worst_gate = fmax(worst_gate, fabs(g - r.gate * Q30));
-        worst_cmd = fmax(worst_cmd, fabs(cmd - cmd_ref * Q15));
+        worst_cmd = fmax(worst_cmd, fabs(cmd / 256.0 - cmd_ref * Q15));
         CHECK(g >= 0 && g <= WAKE_RTP_GATE_ONE, "gate in [0, 1] (%ld)", (long)g);
     }
     printf("ahead vs double (%s Kalman): max |P err| %.3f LSB (bound %.3f), |gate err| %.1f Q30 units (bound %.1f), "
            "|command err| %.3f LSB\n", live ? "active" : "inert", worst_p, bound_p, worst_gate, bound_gate, worst_cmd);
     CHECK(worst_p <= bound_p, "P within its bound: %.3f > %.3f LSB", worst_p, bound_p);
     CHECK(worst_gate <= bound_gate, "gate within its bound: %.1f > %.1f", worst_gate, bound_gate);
-    CHECK(worst_cmd <= bound_p + 32768.0 * bound_gate / Q30 + 0.5, "command within its bound: %.3f LSB", worst_cmd);
+    CHECK(worst_cmd <= bound_p + 32768.0 * bound_gate / Q30 + 1.0 / 512.0, "command within its bound: %.3f LSB",
+          worst_cmd);
     CHECK(s.ahead_saturations == 0u, "no saturation in range (%u)", (unsigned)s.ahead_saturations);
     /* 300 samples after the goal went to 0 from 0.35: 0.35 (29/30)^300 = 1.4e-5 */
     CHECK(s.ahead_gate < (int32_t)(2e-5 * Q30), "the gate closes (%ld)", (long)s.ahead_gate);
@@ -202,8 +203,8 @@ static void test_missing_reset_and_voluntary(void)
     static int16_t taps[J * N];
     const int32_t w[J] = {0, 1 << 23, 0, 1 << 23};
     int32_t c[TAPS];
-    int16_t line[TAPS], y1, y2, p, cmd;
-    int32_t g;
+    int16_t line[TAPS], y1, y2;
+    int32_t g, p, cmd;
     wake_rtp_t a, b;
     int n, i;
     make_taps(taps);
@@ -244,7 +245,8 @@ static void test_state_round_trip(void)
     static int16_t taps[J * N];
     const int32_t w[J] = {0, 0, 0, 1 << 24};
     int32_t c[TAPS] = {0};
-    int16_t line[TAPS], back[TAPS], y, p;
+    int16_t line[TAPS], back[TAPS], y;
+    int32_t p;
     wake_rtp_t s;
     int i;
     make_taps(taps);
@@ -256,7 +258,7 @@ static void test_state_round_trip(void)
     c[1] = 1 << 27;                                         /* P = the estimate one step older */
     CHECK(wake_rtp_set_ahead(&s, c, WAKE_RTP_GATE_ONE / 2) == WAKE_RTP_OK, "set");
     CHECK(wake_rtp_step(&s, 0, &y) == WAKE_RTP_OK, "step");   /* first sample: estimate 0 enters */
-    CHECK(wake_rtp_ahead_output(&s, &p, NULL, NULL) == WAKE_RTP_OK && p == 1000, "P reads the loaded line (%d)", p);
+    CHECK(wake_rtp_ahead_output(&s, &p, NULL, NULL) == WAKE_RTP_OK && p == 1000 * 256, "P reads the loaded line (%ld)", (long)p);
 }
 
 /* Corrupted ahead fields: the index is refused by the step; any other value runs UBSan-clean
@@ -287,7 +289,7 @@ static void test_corrupted(void)
     CHECK(s.ahead_saturations > 0u, "saturations counted");
     CHECK(wake_rtp_set_weights(&s, w, 1000, 0) == WAKE_RTP_E_CORRUPT, "set_weights refuses corrupted ahead fields");
     CHECK(wake_rtp_set_ahead(&s, c, 0) == WAKE_RTP_E_CORRUPT, "set_ahead refuses them too");
-    /* in range, the largest values saturate only the estimate and P, never the gate */
+    /* in range, the largest values saturate only the estimate, never P, the gate or the command */
     CHECK(wake_rtp_init(&s, J, taps, w, 1000, 0, 0) == WAKE_RTP_OK, "init");
     CHECK(wake_rtp_set_ahead(&s, c, WAKE_RTP_GATE_ONE) == WAKE_RTP_OK && wake_rtp_set_ahead_ramp(&s, WAKE_RTP_GATE_ONE)
           == WAKE_RTP_OK, "set, ramp 1");
@@ -295,7 +297,8 @@ static void test_corrupted(void)
         CHECK(wake_rtp_step(&s, (int16_t)((i & 1) ? 32767 : -32768), &y) == WAKE_RTP_OK, "step");
     }
     CHECK(s.ahead_gate == WAKE_RTP_GATE_ONE, "ramp 1: the gate is the goal at once");
-    CHECK(s.ahead_predicted == INT16_MAX || s.ahead_predicted == INT16_MIN, "P saturates (%d)", s.ahead_predicted);
+    /* the estimate saturates at +-1 FS; P = 64 FS at most, held by Q23 (+-256 FS) without saturating */
+    CHECK(labs((long)s.ahead_predicted) >= (long)(60.0 * 8388608.0), "P reaches 60 of its 64 FS (%ld)", (long)s.ahead_predicted);
 }
 
 int main(void)
