@@ -105,6 +105,14 @@ static inline int64_t shift_right_floor(int64_t v, unsigned sh)
     return -1 - ((-1 - v) >> sh);
 }
 
+#if WAKE_RTP_AHEAD
+/** floor(v / 2^sh) for 0 <= sh <= 31, in 32 bits (one arithmetic shift), without shifting a negative value. */
+static inline int32_t shift_right_floor32(int32_t v, unsigned sh)
+{
+    return (v >= 0) ? (v >> sh) : (-1 - ((-1 - v) >> sh));
+}
+#endif
+
 /** round(v / 2^sh), halves up, for 1 <= sh <= 62 and |v| <= 2^62 (cannot overflow). */
 WAKE_RTP_INLINE_UNLESS_OS int64_t shift_right_round(int64_t v, unsigned sh)
 {
@@ -876,8 +884,11 @@ static void ahead_step(wake_rtp_t *s, wake_q23_t tremor)
 {
     uint32_t ev = 0u;
     const unsigned head = (s->ahead_head + (unsigned)WAKE_RTP_AHEAD_TAPS - 1u) & ((unsigned)WAKE_RTP_AHEAD_TAPS - 1u);
-    /* e(n): Q23 -> Q15 of FS, |.| < 2^24 before the saturation */
-    const wake_q15_t e = narrow_saturate16((int32_t)shift_right_round(tremor, SIGNAL_GUARD_BITS), &ev);
+    /* e(n): Q23 -> Q15 of FS, round(t / 2^8) = floor((floor(t / 2) + 2^6) / 2^7) in 32 bits (no
+     * overflow: |floor(t / 2)| <= 2^30), |.| < 2^24 before the saturation */
+    const int32_t half = shift_right_floor32(tremor, 1u);
+    const wake_q15_t e = narrow_saturate16(shift_right_floor32(half + (INT32_C(1) << (SIGNAL_GUARD_BITS - 2)),
+                                                               SIGNAL_GUARD_BITS - 1u), &ev);
     wake_q23_t predicted;
     int32_t gate, goal, diff;
     s->ahead_line[head] = e;
