@@ -8,6 +8,10 @@ taps                   int16 Q15                   |tap| < 1, row sum of |taps| 
 weights                int32 Q24                   [-64, 64]
 correction d           int32 Q23 of FS             [-256, 256) FS
 P, R, q, p0            int32 Q(P_FRAC) of FS**2    see :data:`P_FRAC`
+ahead coefficients     int32 Q27                   [-8, 8]
+ahead delay line       int16 Q15 of FS             [-1, 1) FS (saturated)
+ahead P, command       int32 Q23 of FS             [-256, 256) FS
+gate, goal, ramp       int32 Q30                   [0, 1]
 =====================  ==========================  =====================
 
 FS is the full scale: the physical value mapped to the int16 full scale.
