@@ -8,7 +8,8 @@ rather than written out a second time: :func:`cdef_from_header` keeps the
 ``#define WAKE_...`` constants (as ``#define NAME ...``, cffi reads the
 values from the compiled code), enum and struct typedefs (array sizes become
 ``[...]``) and function prototypes, and drops comments, other preprocessor
-lines, conditional blocks and ``static inline`` helpers.  A public header
+lines, conditional blocks (but ``#if WAKE_RTP_AHEAD``, on by default) and
+``static inline`` helpers.  A public header
 therefore holds only those four kinds of declaration.
 """
 
@@ -23,7 +24,7 @@ CSRC = "csrc"
 
 
 def _strip_conditionals(lines):
-    """Drop #if/#ifdef blocks (C++ guards, configuration checks); keep #ifndef ones (guard, defaults)."""
+    """Drop #if/#ifdef blocks (C++ guards, configuration checks); keep #ifndef ones and ``#if WAKE_RTP_AHEAD``."""
     out, stack = [], []  # stack of "keep"/"drop" per open conditional
     for line in lines:
         s = line.strip()
@@ -31,8 +32,10 @@ def _strip_conditionals(lines):
         if m:
             kind = m.group(1)
             if kind in ("if", "ifdef", "ifndef"):
-                # keep the include guard and `#ifndef NAME / #define NAME default` blocks
-                stack.append("keep" if kind == "ifndef" else "drop")
+                # keep the include guard, `#ifndef NAME / #define NAME default` blocks and the optional
+                # parts the Python build compiles in (its defaults: the tremor ahead, WAKE_RTP_AHEAD 1)
+                keep = kind == "ifndef" or re.fullmatch(r"#\s*if\s+WAKE_RTP_AHEAD", s) is not None
+                stack.append("keep" if keep else "drop")
             elif kind == "endif":
                 stack.pop()
             continue

@@ -76,6 +76,7 @@
 /* The ring is 4-byte aligned inside the struct (prime_window stores words). */
 typedef char wake_rtp_ring_is_aligned[(offsetof(wake_rtp_t, ring) % 4u == 0u) ? 1 : -1];
 
+
 #define P_FRAC WAKE_RTP_P_FRAC
 #define RATIO_ONE (INT32_C(1) << WAKE_RTP_RATIO_FRAC)
 /* Q15 sample -> Q23 signal: 8 guard bits */
@@ -104,6 +105,14 @@ static inline int64_t shift_right_floor(int64_t v, unsigned sh)
     return -1 - ((-1 - v) >> sh);
 }
 
+#if WAKE_RTP_AHEAD
+/** floor(v / 2^sh) for 0 <= sh <= 31, in 32 bits (one arithmetic shift), without shifting a negative value. */
+static inline int32_t shift_right_floor32(int32_t v, unsigned sh)
+{
+    return (v >= 0) ? (v >> sh) : (-1 - ((-1 - v) >> sh));
+}
+#endif
+
 /** round(v / 2^sh), halves up, for 1 <= sh <= 62 and |v| <= 2^62 (cannot overflow). */
 WAKE_RTP_INLINE_UNLESS_OS int64_t shift_right_round(int64_t v, unsigned sh)
 {
@@ -126,7 +135,7 @@ WAKE_RTP_INLINE_UNLESS_OS int16_t narrow_saturate16(int32_t v, uint32_t *events)
     return (int16_t)((v > INT16_MAX) ? INT16_MAX : (v < INT16_MIN) ? INT16_MIN : v);
 }
 
-#if WAKE_RTP_KALMAN
+#if WAKE_RTP_KALMAN || WAKE_RTP_AHEAD
 /** a * b exactly, for int32 operands (a 32 x 32 -> 64-bit multiply). */
 static inline int64_t multiply_wide(int32_t a, int32_t b)
 {
@@ -298,8 +307,40 @@ static wake_rtp_status_t check_structure(const wake_rtp_t *s)
         || (!WAKE_RTP_KALMAN && s->inert != 1u)) {
         return WAKE_RTP_E_CORRUPT;
     }
+#if WAKE_RTP_AHEAD
+    if (s->ahead_head >= (unsigned)WAKE_RTP_AHEAD_TAPS) {           /* the step indexes the line with it */
+        return WAKE_RTP_E_CORRUPT;
+    }
+#endif
     return WAKE_RTP_OK;
 }
+
+#if WAKE_RTP_AHEAD
+/** 1 when every coefficient lies within +-8 (Q27). */
+static int ahead_coefficients_in_range(const int32_t *c)
+{
+    unsigned i;
+    for (i = 0; i < (unsigned)WAKE_RTP_AHEAD_TAPS; ++i) {
+        if (c[i] > WAKE_RTP_AHEAD_COEF_MAX || c[i] < -WAKE_RTP_AHEAD_COEF_MAX) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/** 1 when v lies in [lo, 2^30] (a gate, goal or ramp in Q30). */
+static int gate_in_range(wake_ratio_t v, wake_ratio_t lo)
+{
+    return (v >= lo && v <= WAKE_RTP_GATE_ONE) ? 1 : 0;
+}
+
+/** The ahead fields every function but the per-sample ones checks (the step indexes with ahead_head only). */
+static int ahead_consistent(const wake_rtp_t *s)
+{
+    return ahead_coefficients_in_range(s->ahead_coef) && gate_in_range(s->ahead_goal, 0)
+           && gate_in_range(s->ahead_gate, 0) && gate_in_range(s->ahead_ramp, 1);
+}
+#endif
 
 /** check_structure plus the weights' range and the variance's sign (every function but the per-sample ones). */
 static wake_rtp_status_t check_instance(const wake_rtp_t *s)
@@ -308,6 +349,11 @@ static wake_rtp_status_t check_instance(const wake_rtp_t *s)
     if (st == WAKE_RTP_OK && (!weights_in_range(s->weights, s->level) || s->variance < 0)) {
         return WAKE_RTP_E_CORRUPT;
     }
+#if WAKE_RTP_AHEAD
+    if (st == WAKE_RTP_OK && !ahead_consistent(s)) {
+        return WAKE_RTP_E_CORRUPT;
+    }
+#endif
     return st;
 }
 
@@ -541,6 +587,9 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const wa
     s->q = q;
     s->p0 = p0;
     s->inert = (q == 0) ? 1u : 0u;   /* consistent before reset's check (s = 0); restart sets it */
+#if WAKE_RTP_AHEAD
+    s->ahead_ramp = WAKE_RTP_AHEAD_RAMP_DEFAULT;   /* coefficients, goal and gate 0 (memset) */
+#endif
     s->magic = WAKE_RTP_MAGIC;
     return wake_rtp_reset(s);
 }
@@ -583,6 +632,16 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_reset(wake_rtp_t *s)
     s->primed = 0u;
     s->last_output = 0;
     s->saturations = 0u;
+#if WAKE_RTP_AHEAD
+    /* the tremor ahead forgets its samples and shuts; its coefficients and ramp stay */
+    memset(s->ahead_line, 0, sizeof(s->ahead_line));
+    s->ahead_head = 0u;
+    s->ahead_goal = 0;
+    s->ahead_gate = 0;
+    s->ahead_predicted = 0;
+    s->ahead_command = 0;
+    s->ahead_saturations = 0u;
+#endif
     restart(s, s->correction, s->p0);                           /* d = 0, P(0) = p0 I */
     return WAKE_RTP_OK;
 }
@@ -781,6 +840,87 @@ static inline void time_update_only(wake_rtp_t *s, uint32_t *events)
 #endif
 }
 
+#if WAKE_RTP_AHEAD
+/**
+ * P = c . line, newest estimate first: Q27 x Q15 products, exact in int64.
+ * |c_i| < 2^31 and |e_i| <= 2^15 (any value of the struct): |P| < 2^49.
+ */
+static inline int64_t ahead_dot(const int32_t *c, const wake_q15_t *line)
+{
+#if WAKE_RTP_NO_LONG_MULTIPLY
+    /* c = hi 2^16 + lo, lo in [0, 2^16): hi e and lo e are single 32-bit products (|.| < 2^31),
+     * summed in int64 so that 8 of them cannot overflow: no __aeabi_lmul on the Cortex-M0+ */
+    int64_t acc_hi = 0, acc_lo = 0;
+    unsigned i;
+    for (i = 0; i < (unsigned)WAKE_RTP_AHEAD_TAPS; ++i) {                /* wcet-loop: 8 */
+        const int32_t e = line[i];
+        acc_hi += (int32_t)shift_right_floor(c[i], 16u) * e;
+        acc_lo += (int32_t)((uint32_t)c[i] & 0xFFFFu) * e;
+    }
+    return acc_hi * 65536 + acc_lo;
+#else
+    /* written out: eight multiply-accumulates, no loop overhead (a quarter of the ahead's cost) */
+    int64_t acc0 = (int64_t)c[0] * line[0], acc1 = (int64_t)c[1] * line[1];
+    acc0 += (int64_t)c[2] * line[2];
+    acc1 += (int64_t)c[3] * line[3];
+    acc0 += (int64_t)c[4] * line[4];
+    acc1 += (int64_t)c[5] * line[5];
+    acc0 += (int64_t)c[6] * line[6];
+    acc1 += (int64_t)c[7] * line[7];
+    return acc0 + acc1;
+#endif
+}
+
+/**
+ * The tremor ahead of one sample (wake.ahead.AheadStep.step), @p tremor the estimate e(n) in Q23:
+ *
+ *   line  <- e(n), rounded to Q15 of FS (saturated)         newest first
+ *   P(n)   = c . line                                       Q27 x Q15, exact, rounded once to Q23
+ *   g(n)   = g(n-1) + (goal - g(n-1)) alpha                 Q30 x Q30, rounded once to Q30
+ *   cmd(n) = g(n) P(n)                                      Q30 x Q23, rounded once to Q23
+ *
+ * P and the command keep 8 guard bits (Q23, as y(n)): a tremor far below the full scale
+ * (which has headroom for the voluntary motion) would lose a percent to a Q15 rounding.
+ *
+ * Every narrowing saturates and is counted in ahead_saturations; any value of the
+ * ahead fields but ahead_head (checked by every step) is safe.
+ */
+static void ahead_step(wake_rtp_t *s, wake_q23_t tremor)
+{
+    uint32_t ev = 0u;
+    const unsigned head = (s->ahead_head + (unsigned)WAKE_RTP_AHEAD_TAPS - 1u) & ((unsigned)WAKE_RTP_AHEAD_TAPS - 1u);
+    /* e(n): Q23 -> Q15 of FS, round(t / 2^8) = floor((floor(t / 2) + 2^6) / 2^7) in 32 bits (no
+     * overflow: |floor(t / 2)| <= 2^30), |.| < 2^24 before the saturation */
+    const int32_t half = shift_right_floor32(tremor, 1u);
+    const wake_q15_t e = narrow_saturate16(shift_right_floor32(half + (INT32_C(1) << (SIGNAL_GUARD_BITS - 2)),
+                                                               SIGNAL_GUARD_BITS - 1u), &ev);
+    wake_q23_t predicted;
+    int32_t gate, goal, diff;
+    s->ahead_line[head] = e;
+    s->ahead_line[head + (unsigned)WAKE_RTP_AHEAD_TAPS] = e;
+    s->ahead_head = (uint16_t)head;
+    /* P = c . line: Q42, |.| < 2^49; rounded to Q23, |.| < 2^30 fits int32 (|P| <= 64 FS for |c| <= 8) */
+    predicted = (int32_t)shift_right_round(ahead_dot(s->ahead_coef, &s->ahead_line[head]),
+                                           WAKE_RTP_AHEAD_COEF_FRAC + WAKE_RTP_SAMPLE_FRAC - WAKE_RTP_STATE_FRAC);
+    /* g += (goal - g) alpha.  With goal, g in [0, 2^30] and alpha in (0, 2^30] (what every setter
+     * checks) the new g lies between g and goal: |round((goal - g) alpha / 2^30)| <= |goal - g|, so
+     * g never leaves [0, 1] and nothing can saturate.  A corrupted value must still be safe: g, goal
+     * and alpha are read through a 31-bit mask (one AND each), so goal - g fits int32, the product
+     * < 2^62, and the sum (< 2^32) is stored through the same mask (defined; no branch). */
+    gate = (int32_t)((uint32_t)s->ahead_gate & UINT32_C(0x7FFFFFFF));
+    goal = (int32_t)((uint32_t)s->ahead_goal & UINT32_C(0x7FFFFFFF));
+    diff = goal - gate;
+    gate = (int32_t)((uint32_t)(gate + shift_right_round(multiply_wide(diff, (int32_t)((uint32_t)s->ahead_ramp
+                                                                                      & UINT32_C(0x7FFFFFFF))),
+                                                         WAKE_RTP_GATE_FRAC)) & UINT32_C(0x7FFFFFFF));
+    s->ahead_gate = gate;
+    s->ahead_predicted = predicted;
+    /* command = g P: Q53, |.| < 2^61; rounded to Q23 (<= |P| for g <= 1; < 2^31 for the 31-bit g) */
+    s->ahead_command = (int32_t)shift_right_round(multiply_wide(gate, predicted), WAKE_RTP_GATE_FRAC);
+    count_events(&s->ahead_saturations, ev);
+}
+#endif
+
 /**
  * One sample of a checked instance, with @p ev events counted before it.
  * @p measured 0: a missing sample of a primed stream, @p sample the stand-in
@@ -789,6 +929,9 @@ static inline void time_update_only(wake_rtp_t *s, uint32_t *events)
 static wake_q15_t step_validated(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev)
 {
     wake_q15_t y;
+#if WAKE_RTP_AHEAD
+    wake_q23_t tremor = 0;                 /* e(n): 0 for the first sample and a missing one */
+#endif
     if (!s->primed || !measured) {
         /* No measurement update, only the time update P = P + q I: a missing sample has no
          * innovation, and neither has the first sample of a stream (no prediction preceded it;
@@ -799,6 +942,9 @@ static wake_q15_t step_validated(wake_rtp_t *s, wake_q15_t sample, int measured,
         time_update_only(s, &ev);
     } else {
         const wake_q23_t e = innovation(s, sample, &ev); /* its saturation is counted even when inert */
+#if WAKE_RTP_AHEAD
+        tremor = e;                                       /* the tremor estimate m(n) - y(n-1) */
+#endif
         push(s, sample);
 #if WAKE_RTP_KALMAN
         if (!s->inert) {
@@ -811,6 +957,9 @@ static wake_q15_t step_validated(wake_rtp_t *s, wake_q15_t sample, int measured,
     s->steps += (uint32_t)(s->steps != UINT32_MAX);      /* P gains q I per sample */
     y = predict(s, &ev);
     count_events(&s->saturations, ev);
+#if WAKE_RTP_AHEAD
+    ahead_step(s, tremor);
+#endif
     return y;
 }
 
@@ -826,8 +975,14 @@ static WAKE_RTP_OUTLINE_AT_OS wake_rtp_status_t step_checked(wake_rtp_t *s, wake
         return WAKE_RTP_E_NULL;
     }
     if (!measured) {
+#if WAKE_RTP_AHEAD
+        s->ahead_goal = 0;                         /* the held-out gain needs a window's worth of samples again */
+#endif
         if (!s->primed) {
             *prediction = 0;                       /* a missing sample before the first: nothing to predict from */
+#if WAKE_RTP_AHEAD
+            ahead_step(s, 0);                      /* the tremor ahead still takes its estimate 0 */
+#endif
             return WAKE_RTP_OK;
         }
         /* the last prediction stands in for the missing sample */
@@ -910,3 +1065,92 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q1
     s->primed = 1u;
     return WAKE_RTP_OK;
 }
+
+#if WAKE_RTP_AHEAD
+WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_ahead(wake_rtp_t *s, const int32_t *coefficients, wake_ratio_t goal)
+{
+    wake_rtp_status_t st = check_instance(s);
+    if (st != WAKE_RTP_OK) {
+        return st;
+    }
+    if (coefficients == NULL) {
+        return WAKE_RTP_E_NULL;
+    }
+    if (!ahead_coefficients_in_range(coefficients) || !gate_in_range(goal, 0)) {
+        return WAKE_RTP_E_AHEAD;
+    }
+    memcpy(s->ahead_coef, coefficients, sizeof(s->ahead_coef));
+    s->ahead_goal = goal;
+    return WAKE_RTP_OK;
+}
+
+WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_ahead_ramp(wake_rtp_t *s, wake_ratio_t ramp)
+{
+    wake_rtp_status_t st = check_instance(s);
+    if (st != WAKE_RTP_OK) {
+        return st;
+    }
+    if (!gate_in_range(ramp, 1)) {
+        return WAKE_RTP_E_AHEAD;
+    }
+    s->ahead_ramp = ramp;
+    return WAKE_RTP_OK;
+}
+
+wake_rtp_status_t wake_rtp_ahead_output(const wake_rtp_t *s, wake_q23_t *predicted, wake_ratio_t *gate,
+                                        wake_q23_t *command)
+{
+    wake_rtp_status_t st = check_structure(s);
+    if (st != WAKE_RTP_OK) {
+        return st;
+    }
+    if (predicted != NULL) {
+        *predicted = s->ahead_predicted;
+    }
+    if (gate != NULL) {
+        *gate = s->ahead_gate;
+    }
+    if (command != NULL) {
+        *command = s->ahead_command;
+    }
+    return WAKE_RTP_OK;
+}
+
+WAKE_RTP_COLD wake_rtp_status_t wake_rtp_load_ahead_state(wake_rtp_t *s, const wake_q15_t *line, wake_ratio_t gate)
+{
+    unsigned i;
+    wake_rtp_status_t st = check_instance(s);
+    if (st != WAKE_RTP_OK) {
+        return st;
+    }
+    if (line == NULL) {
+        return WAKE_RTP_E_NULL;
+    }
+    if (!gate_in_range(gate, 0)) {
+        return WAKE_RTP_E_AHEAD;
+    }
+    for (i = 0; i < (unsigned)WAKE_RTP_AHEAD_TAPS; ++i) {
+        s->ahead_line[i] = line[i];
+        s->ahead_line[i + (unsigned)WAKE_RTP_AHEAD_TAPS] = line[i];
+    }
+    s->ahead_head = 0u;
+    s->ahead_gate = gate;
+    return WAKE_RTP_OK;
+}
+
+WAKE_RTP_COLD wake_rtp_status_t wake_rtp_get_ahead_state(const wake_rtp_t *s, wake_q15_t *line)
+{
+    unsigned i;
+    wake_rtp_status_t st = check_instance(s);
+    if (st != WAKE_RTP_OK) {
+        return st;
+    }
+    if (line == NULL) {
+        return WAKE_RTP_E_NULL;
+    }
+    for (i = 0; i < (unsigned)WAKE_RTP_AHEAD_TAPS; ++i) {
+        line[i] = s->ahead_line[s->ahead_head + i];
+    }
+    return WAKE_RTP_OK;
+}
+#endif

@@ -50,6 +50,10 @@
  * | d, z, e, y(n-1)                 | ::wake_q23_t      | Q23 of FS                  | [-256, 256) FS     |
  * | P, lambda, R, q, p0, s          | ::wake_cov_t      | Q(WAKE_RTP_P_FRAC) of FS^2 | default Q32: [-0.5, 0.5) FS^2 |
  * | rho = s/S, tau = R/S            | ::wake_ratio_t    | Q30                        | [-2, 2)            |
+ * | ahead coefficients c            | int32_t           | Q27                        | [-8, 8]            |
+ * | tremor estimate e (delay line)  | ::wake_q15_t      | Q15 of FS                  | [-1, 1) FS         |
+ * | ahead P(n), command g P(n)      | ::wake_q23_t      | Q23 of FS                  | [-256, 256) FS     |
+ * | gate g, goal, ramp alpha        | ::wake_ratio_t    | Q30                        | [0, 1]             |
  */
 #ifndef WAKE_RTP_H
 #define WAKE_RTP_H
@@ -81,6 +85,37 @@ extern "C" {
 #ifndef WAKE_RTP_KALMAN
 #define WAKE_RTP_KALMAN 1
 #endif
+
+/**
+ * 1 (default): the tremor-ahead predictor and gate (issue 32) are compiled in:
+ * each step also takes the tremor estimate e(n) = m(n) - y(n-1) into a delay
+ * line of WAKE_RTP_AHEAD_TAPS values, predicts the tremor h samples ahead,
+ * P(n) = c . line (c fitted per horizon by the HPA, wake_rtp_set_ahead),
+ * ramps the gate g += (goal - g) alpha and makes the command g P
+ * (wake_rtp_ahead_output).  The float twin is wake/ahead.py (AheadStep).
+ * 0: the core is exactly the one without it (same struct, code and cost);
+ * the voluntary prediction is the same, bit for bit, in both builds.
+ */
+#ifndef WAKE_RTP_AHEAD
+#define WAKE_RTP_AHEAD 1
+#endif
+
+/** Taps of the tremor-ahead predictor (wake.ahead.TAPS); fixed: the step writes its eight products out and wraps the line index with a mask. */
+#define WAKE_RTP_AHEAD_TAPS 8
+/**
+ * Fraction bits of the predictor's coefficients (Q27, range +-16): the HPA
+ * clips each to +-8 (wake.ahead.COEFFICIENT_LIMIT), which Q28 would hold only
+ * up to 8 - 2^-28; Q27 holds +-8 itself with a resolution of 7.5e-9.
+ */
+#define WAKE_RTP_AHEAD_COEF_FRAC 27
+/** Largest accepted |coefficient| in Q27 (8.0). */
+#define WAKE_RTP_AHEAD_COEF_MAX (INT32_C(8) << WAKE_RTP_AHEAD_COEF_FRAC)
+/** Fraction bits of the gate, its goal and its ramp coefficient (Q30, [0, 1]). */
+#define WAKE_RTP_GATE_FRAC 30
+/** 1.0 in the gate's format. */
+#define WAKE_RTP_GATE_ONE (INT32_C(1) << WAKE_RTP_GATE_FRAC)
+/** The ramp coefficient init sets: 1 / (0.3 s x 100 Hz) = 1/30 in Q30 (wake.ahead.ramp_step(100)). */
+#define WAKE_RTP_AHEAD_RAMP_DEFAULT INT32_C(35791394)
 
 /** Ring length for the largest level: 2^WAKE_RTP_MAX_LEVEL samples. */
 #define WAKE_RTP_MAX_TAPS (1 << WAKE_RTP_MAX_LEVEL)
@@ -170,7 +205,9 @@ typedef enum {
     WAKE_RTP_E_UNINIT = -6,       /**< the struct was never initialised (bad magic) */
     WAKE_RTP_E_CORRUPT = -7,      /**< magic present but fields inconsistent (weights included) */
     WAKE_RTP_E_STATE = -8,        /**< load_state: covariance diagonal negative */
-    WAKE_RTP_E_NO_KALMAN = -9     /**< a Kalman setting (q, p0, d or P non-zero) in a WAKE_RTP_KALMAN 0 build */
+    WAKE_RTP_E_NO_KALMAN = -9,    /**< a Kalman setting (q, p0, d or P non-zero) in a WAKE_RTP_KALMAN 0 build */
+    WAKE_RTP_E_AHEAD = -10        /**< a tremor-ahead value out of range: |coefficient| > 8 (Q27), goal or
+                                       gate outside [0, 1] (Q30), ramp outside (0, 1] (Q30) */
 } wake_rtp_status_t;
 
 /**
@@ -215,6 +252,23 @@ typedef struct {
     wake_q15_t ring[2 * WAKE_RTP_MAX_TAPS];      /**< the newest N samples, each stored twice (at k and
                                                       k + N) so that the window, oldest first, is the
                                                       contiguous ring[head .. head + N - 1] */
+#if WAKE_RTP_AHEAD
+    /* the tremor ahead (WAKE_RTP_AHEAD): set by wake_rtp_set_ahead, stepped by every step */
+    int32_t ahead_coef[WAKE_RTP_AHEAD_TAPS];   /**< predictor c, newest estimate first, Q27, |c| <= 8 */
+    wake_ratio_t ahead_goal;                   /**< the gate's goal, Q30, [0, 1] */
+    wake_ratio_t ahead_gate;                   /**< the gate g, Q30, [0, 1] */
+    wake_ratio_t ahead_ramp;                   /**< alpha = 1 / max(1, 0.3 fs), Q30, (0, 1] */
+    uint32_t ahead_saturations;                /**< narrowings of the ahead part that saturated (sticks at
+                                                    UINT32_MAX); kept apart from saturations, which
+                                                    describe the voluntary prediction */
+    wake_q23_t ahead_predicted;                /**< P(n), the tremor predicted for n + h, Q23 of FS (|P| <= 64 FS) */
+    wake_q23_t ahead_command;                  /**< g(n) P(n), Q23 of FS */
+    uint16_t ahead_head;                       /**< index of the newest estimate in ahead_line, 0..7 */
+    uint16_t ahead_reserved;                   /**< 0 */
+    wake_q15_t ahead_line[2 * WAKE_RTP_AHEAD_TAPS];  /**< tremor estimates e, Q15 of FS, each stored twice
+                                                          (k and k + 8): newest first they are the
+                                                          contiguous ahead_line[ahead_head .. + 7] */
+#endif
 } wake_rtp_t;
 
 /**
@@ -369,6 +423,70 @@ wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q15_t *window,
  * counted: the instance is const).
  */
 wake_rtp_status_t wake_rtp_get_state(const wake_rtp_t *s, wake_q23_t *correction, wake_cov_t *covariance);
+
+#if WAKE_RTP_AHEAD
+/**
+ * @brief Install an HPA's tremor-ahead predictor and the gate's goal between two samples.
+ *
+ * The delay line and the gate's value carry over; the gate ramps from its
+ * value towards @p goal.  (wake.ahead.AheadStep.set_model)
+ * @param[in,out] s             initialised instance
+ * @param[in]     coefficients  WAKE_RTP_AHEAD_TAPS values c, newest estimate first, Q27, |c| <= 8
+ * @param[in]     goal          the gate's goal, Q30, in [0, 2^30]
+ * @return WAKE_RTP_OK, WAKE_RTP_E_NULL, _UNINIT, _CORRUPT or _AHEAD (on
+ *         error nothing changes).
+ * @par Scaling and overflow
+ * Copies only; the ranges are what wake_rtp_step's bounds assume.
+ */
+wake_rtp_status_t wake_rtp_set_ahead(wake_rtp_t *s, const int32_t *coefficients, wake_ratio_t goal);
+
+/**
+ * @brief Set the gate's ramp coefficient alpha = 1 / max(1, 0.3 fs) (init sets 1/30, fs = 100 Hz).
+ * @param[in,out] s     initialised instance
+ * @param[in]     ramp  alpha, Q30, in [1, 2^30]
+ * @return WAKE_RTP_OK, WAKE_RTP_E_NULL, _UNINIT, _CORRUPT or _AHEAD.
+ * @par Scaling and overflow
+ * A copy; alpha <= 2^30 keeps every gate step within [0, 1].
+ */
+wake_rtp_status_t wake_rtp_set_ahead_ramp(wake_rtp_t *s, wake_ratio_t ramp);
+
+/**
+ * @brief The tremor ahead made by the last step: P(n), g(n) and g(n) P(n).
+ *
+ * Before the first step (and after reset) all three are 0.
+ * @param[in]  s          initialised instance (not modified)
+ * @param[out] predicted  P(n), the tremor predicted for n + h, Q23 of FS (may be NULL)
+ * @param[out] gate       g(n), the confidence, Q30 in [0, 2^30] (may be NULL)
+ * @param[out] command    g(n) P(n), Q23 of FS (may be NULL)
+ * @return WAKE_RTP_OK, WAKE_RTP_E_NULL, _UNINIT or _CORRUPT.
+ * @par Scaling and overflow
+ * Reads only.
+ */
+wake_rtp_status_t wake_rtp_ahead_output(const wake_rtp_t *s, wake_q23_t *predicted, wake_ratio_t *gate,
+                                        wake_q23_t *command);
+
+/**
+ * @brief Set the tremor-ahead state (hand-over from a float warm-up or another full scale).
+ * @param[in,out] s     initialised instance
+ * @param[in]     line  WAKE_RTP_AHEAD_TAPS tremor estimates, newest first, Q15 of FS
+ * @param[in]     gate  the gate's value, Q30, in [0, 2^30]
+ * @return WAKE_RTP_OK, WAKE_RTP_E_NULL, _UNINIT, _CORRUPT or _AHEAD (nothing changes).
+ *         The coefficients and the goal are wake_rtp_set_ahead's.
+ * @par Scaling and overflow
+ * Copies only.
+ */
+wake_rtp_status_t wake_rtp_load_ahead_state(wake_rtp_t *s, const wake_q15_t *line, wake_ratio_t gate);
+
+/**
+ * @brief Read the tremor-ahead state: the delay line newest first (Q15 of FS).
+ * @param[in]  s     initialised instance (not modified)
+ * @param[out] line  WAKE_RTP_AHEAD_TAPS tremor estimates, newest first
+ * @return WAKE_RTP_OK, WAKE_RTP_E_NULL, _UNINIT or _CORRUPT.
+ * @par Scaling and overflow
+ * Reads only.
+ */
+wake_rtp_status_t wake_rtp_get_ahead_state(const wake_rtp_t *s, wake_q15_t *line);
+#endif
 
 /**
  * @brief 2^61 / x for x in [2^30, 2^31), by Newton-Raphson (no division).

@@ -377,7 +377,7 @@ def check_profile(tmp_path):
     for target, label in (("m4-O2", "Cortex-M4 @ 64 MHz"), ("m0plus-O2", "Cortex-M0+ @ 16 MHz")):
         for kalman, kind in ((False, "inert (`q = 0`, the default)" if target == "m4-O2" else "inert"),
                              (True, "active (`q > 0`)" if target == "m4-O2" else "active")):
-            p = next(p for p in data["profiles"] if p["target"] == target and p["kalman"] is kalman)
+            p = next(p for p in data["profiles"] if p["target"] == target and p["kalman"] is kalman and not p["build"])
             row = re.search(re.escape(f"| {label} | {kind} |") + r"([^|]*)\|([^|]*)\|([^|]*)\|", text)
             assert row, (label, kind)
             assert (number(row[1]), number(row[2]), number(row[3])) == \
@@ -386,6 +386,20 @@ def check_profile(tmp_path):
     assert f"`sizeof(wake_rtp_t)` = {fp['m4-O2']['state']} B" in text
     assert f"code {fp['m4-O2']['code']:,} B at `-O2`, {fp['m4-Os']['code']:,} B at `-Os`" in text
     assert f"{fp['m4-Os-no-kalman']['code']:,} B at `-Os` for firmware that keeps the Kalman inert" in text
+    lean = {(p["target"], p["kalman"]): p for p in data["profiles"] if p["build"] == "WAKE_RTP_AHEAD=0"}
+    assert f"{fp['m4-O2']['state'] - fp['m4-O2-no-ahead']['state']} B of it the tremor ahead" in text
+    assert f"with the predictor and the gate {p_m4_active(data):,} ≤ 650" in text
+    assert f"(active {lean[('m4-O2', True)]['bound_instructions']:,} ≤ 800, inert " \
+           f"{lean[('m4-O2', False)]['bound_instructions']:,} ≤ 450)" in text
+    assert f"the M0+ active bound ({lean[('m0plus-O2', True)]['bound_instructions']:,} ≤ 2,000)" in text
+    assert f"state {fp['m4-O2-no-ahead']['state']} B ≤ 512 B" in text
+    assert f"({fp['m4-Os-no-ahead']['code']:,} B, 12 B to spare" in text
+
+
+def p_m4_active(data):
+    """The static bound of the default build's step on Cortex-M4 -O2 with the Kalman active."""
+    return next(p["bound_instructions"] for p in data["profiles"]
+                if p["target"] == "m4-O2" and p["kalman"] and not p["build"])
 
 
 # --- records: measurements that depend on the machine --------------------------------------------------

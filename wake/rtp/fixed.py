@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from wake._rtp import ffi, lib
+from wake.rtp.fixed_ahead import AheadMixin
 from wake.rtp.qformat import (  # noqa: F401  (re-exported: the formats of this core)
     _INT32_MAX, _INT32_MIN, FIR_FRAC, MAX_LEVEL, P_FRAC, SAMPLE_FRAC, STATE_FRAC, TAP_FRAC, TAP_ROW_ABS_MAX,
     WEIGHT_FRAC, WEIGHT_MAX, format_mismatches, quantize_taps, quantize_variance, quantize_weights,
@@ -39,6 +40,7 @@ _STATUS_TEXT = {
     int(lib.WAKE_RTP_E_CORRUPT): "corrupted state",
     int(lib.WAKE_RTP_E_STATE): "bad state values",
     int(lib.WAKE_RTP_E_NO_KALMAN): "a Kalman setting in a core built without the Kalman update (WAKE_RTP_KALMAN 0)",
+    int(lib.WAKE_RTP_E_AHEAD): "a tremor-ahead value out of range",
 }
 
 
@@ -48,7 +50,7 @@ def _check(status, what):
         raise RuntimeError(f"{what} failed: {_STATUS_TEXT.get(status, 'unknown error')} (status {status})")
 
 
-class FixedPointRTP:
+class FixedPointRTP(AheadMixin):
     """One channel of the RTP on the fixed-point C core.
 
     Parameters
@@ -59,6 +61,8 @@ class FixedPointRTP:
         Physical value mapped to 1.0 in Q15.  Samples beyond ±full_scale are
         clipped (and counted in :attr:`clipped`); choose it with headroom
         above the largest expected |sample|.
+    fs : float
+        Sampling rate in Hz: the ramp of the tremor ahead's gate (:class:`~wake.rtp.fixed_ahead.AheadMixin`).
 
     Attributes
     ----------
@@ -74,7 +78,8 @@ class FixedPointRTP:
     [1.0, 1.0, 1.0]
     """
 
-    def __init__(self, taps, weights, measurement_noise, process_noise=0.0, initial_covariance=0.0, *, full_scale):
+    def __init__(self, taps, weights, measurement_noise, process_noise=0.0, initial_covariance=0.0, *, full_scale,
+                 fs=100.0):
         scale = float(full_scale)
         if not np.isfinite(scale) or scale <= 0:
             raise ValueError(f"full_scale must be finite and > 0, got {full_scale!r}")
@@ -94,6 +99,7 @@ class FixedPointRTP:
         )
         self.clipped = 0
         self._carried_saturations = 0  # counted at an earlier full scale (rescaled)
+        self._init_ahead(fs)
 
     # -- quantised parameters in physical units (what the C core really uses)
     @property
@@ -325,6 +331,7 @@ class FixedPointRTP:
         r, q, clamped = representable_noise(measurement_noise, process_noise, full_scale)
         p0 = representable_noise(1.0, initial_covariance, full_scale)[1]
         rtp = cls(reference.taps, reference.weights, r, q, p0, full_scale=full_scale)
+        rtp._carry_ahead_from(reference)   # the tremor ahead (reference.ahead) and fs carry over
         if reference.primed:
             window = np.concatenate((reference.buffer[reference.head:], reference.buffer[: reference.head]))
             top_p = _INT32_MAX * full_scale**2 / 2.0**P_FRAC
@@ -351,7 +358,8 @@ class FixedPointRTP:
         scale = float(full_scale)
         r, q, clamped = representable_noise(self.measurement_noise, self.process_noise, scale)
         p0 = representable_noise(1.0, self.initial_covariance, scale)[1]
-        new = type(self)(self.taps, self.weights, r, q, p0, full_scale=scale)
+        new = type(self)(self.taps, self.weights, r, q, p0, full_scale=scale, fs=self.fs)
+        new._carry_ahead_from(self)
         if self.primed:
             top_p = _INT32_MAX * scale**2 / 2.0**P_FRAC
             top_x = _INT32_MAX * scale / 2.0**STATE_FRAC
@@ -372,7 +380,7 @@ class FixedPointRTP:
     def __getstate__(self):
         return {"full_scale": self.full_scale, "taps_q": self._taps_q, "clipped": self.clipped,
                 "p0_q": self._p0_q, "struct": bytes(ffi.buffer(self._state)),
-                "carried": self._carried_saturations}
+                "carried": self._carried_saturations, "fs": self.fs}
 
     def __setstate__(self, st):
         self.full_scale = st["full_scale"]
@@ -380,12 +388,13 @@ class FixedPointRTP:
         self.level, self.n_taps = self._taps_q.shape
         self._p0_q = st["p0_q"]
         self.clipped = st["clipped"]
-        if len(st["struct"]) != ffi.sizeof("wake_rtp_t") or not isinstance(st["carried"], int):
+        if len(st["struct"]) not in self._STRUCT_SIZES or not isinstance(st["carried"], int):
             raise ValueError("this state was saved by another version of the C core (its struct layout "
                              "differs); re-create the filter and run it again instead of loading the state")
         self._carried_saturations = st["carried"]
         self._state = ffi.new("wake_rtp_t *")
         self._out = ffi.new("int16_t *")
         self._taps_c = ffi.from_buffer("int16_t[]", self._taps_q)
-        ffi.buffer(self._state)[:] = st["struct"]
+        ffi.buffer(self._state)[:len(st["struct"])] = st["struct"]
         self._state.taps = self._taps_c  # the pickled pointer belonged to the old process
+        self._restore_ahead(st)

@@ -8,6 +8,10 @@ taps                   int16 Q15                   |tap| < 1, row sum of |taps| 
 weights                int32 Q24                   [-64, 64]
 correction d           int32 Q23 of FS             [-256, 256) FS
 P, R, q, p0            int32 Q(P_FRAC) of FS**2    see :data:`P_FRAC`
+ahead coefficients     int32 Q27                   [-8, 8]
+ahead delay line       int16 Q15 of FS             [-1, 1) FS (saturated)
+ahead P, command       int32 Q23 of FS             [-256, 256) FS
+gate, goal, ramp       int32 Q30                   [0, 1]
 =====================  ==========================  =====================
 
 FS is the full scale: the physical value mapped to the int16 full scale.
@@ -24,11 +28,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from wake.ahead import COEFFICIENT_LIMIT
 from wake.limits import MAX_LEVEL
 
 __all__ = ["P_FRAC", "MAX_LEVEL", "SAMPLE_FRAC", "TAP_FRAC", "STATE_FRAC", "WEIGHT_FRAC", "WEIGHT_MAX",
            "TAP_ROW_ABS_MAX", "FIR_FRAC", "quantize_taps", "quantize_weights", "quantize_variance",
-           "representable_noise", "format_mismatches"]
+           "representable_noise", "format_mismatches", "AHEAD_TAPS", "AHEAD_COEF_FRAC", "GATE_FRAC",
+           "quantize_ahead"]
 
 #: Fraction bits of the covariance format (``WAKE_RTP_P_FRAC``).
 P_FRAC = 32
@@ -47,6 +53,13 @@ TAP_ROW_ABS_MAX = (2 << TAP_FRAC) - 1
 #: Fraction bits of the FIR taps h = B'w (``WAKE_RTP_FIR_FRAC``: 22 up to level 6, else 21).
 FIR_FRAC = 22 if MAX_LEVEL <= 6 else 21
 
+#: Taps of the tremor-ahead predictor (``WAKE_RTP_AHEAD_TAPS``, :data:`wake.ahead.TAPS`).
+AHEAD_TAPS = 8
+#: Fraction bits of the predictor's coefficients (``WAKE_RTP_AHEAD_COEF_FRAC``: Q27, holds +-8).
+AHEAD_COEF_FRAC = 27
+#: Fraction bits of the gate, its goal and its ramp (``WAKE_RTP_GATE_FRAC``: Q30, [0, 1]).
+GATE_FRAC = 30
+
 _INT32_MIN, _INT32_MAX = -(2**31), 2**31 - 1
 
 
@@ -54,7 +67,9 @@ def format_mismatches(lib) -> list:
     """Where a compiled core ``lib`` (``wake._rtp.lib``) has other formats than this module: one line each."""
     want = {"WAKE_RTP_P_FRAC": P_FRAC, "WAKE_RTP_MAX_LEVEL": MAX_LEVEL, "WAKE_RTP_SAMPLE_FRAC": SAMPLE_FRAC,
             "WAKE_RTP_TAP_FRAC": TAP_FRAC, "WAKE_RTP_STATE_FRAC": STATE_FRAC, "WAKE_RTP_WEIGHT_FRAC": WEIGHT_FRAC,
-            "WAKE_RTP_WEIGHT_MAX": int(WEIGHT_MAX * 2**WEIGHT_FRAC), "WAKE_RTP_TAP_ROW_ABS_MAX": TAP_ROW_ABS_MAX}
+            "WAKE_RTP_WEIGHT_MAX": int(WEIGHT_MAX * 2**WEIGHT_FRAC), "WAKE_RTP_TAP_ROW_ABS_MAX": TAP_ROW_ABS_MAX,
+            "WAKE_RTP_AHEAD_TAPS": AHEAD_TAPS, "WAKE_RTP_AHEAD_COEF_FRAC": AHEAD_COEF_FRAC,
+            "WAKE_RTP_GATE_FRAC": GATE_FRAC}
     return [f"{name} = {int(getattr(lib, name))} (wake.rtp.qformat: {value})"
             for name, value in want.items() if int(getattr(lib, name)) != value]
 
@@ -127,3 +142,26 @@ def representable_noise(r, q, full_scale):
     r2 = min(max(r, lsb), top)
     q2 = 0.0 if q == 0 else min(max(q, lsb), top)
     return r2, q2, (r2 != r or q2 != q)
+
+
+def quantize_ahead(coefficients, goal):
+    """A tremor-ahead predictor and gate goal -> (int32 Q27 coefficients, int32 Q30 goal).
+
+    Examples
+    --------
+    >>> c, g = quantize_ahead([1.0, -0.5, 0, 0, 0, 0, 0, 8.0], 0.5)
+    >>> int(c[0]) == 2**27, int(c[7]) == 2**30, g == 2**29
+    (True, True, True)
+    """
+    c = np.array(coefficients, dtype=float).reshape(-1)
+    if c.shape != (AHEAD_TAPS,) or not np.isfinite(c).all():
+        raise ValueError(f"the tremor-ahead predictor must be {AHEAD_TAPS} finite coefficients (newest "
+                         f"estimate first), got {coefficients!r}")
+    if np.abs(c).max() > COEFFICIENT_LIMIT:
+        raise ValueError(f"tremor-ahead coefficients must lie within +-{COEFFICIENT_LIMIT:g} "
+                         f"(wake.ahead.fit_predictor clips to it), got max |c| {np.abs(c).max():.6g}")
+    g = float(goal)
+    if not 0.0 <= g <= 1.0:
+        raise ValueError(f"the gate's goal must lie in [0, 1], got {goal!r}")
+    c_q = np.ascontiguousarray(np.round(c * 2.0**AHEAD_COEF_FRAC), dtype=np.int32)
+    return c_q, int(round(g * 2.0**GATE_FRAC))

@@ -5,7 +5,8 @@
  * The input is decoded as: an init (level, taps, weights, R, q, p0, each either raw or scaled into
  * the range the API accepts, so that both the refusals and the accepted configurations are reached),
  * then a sequence of calls: step, step_missing, run, set_weights, reset, load_state (arbitrary bytes),
- * get_state, and "corrupt", which overwrites part of the instance with input bytes (the caller-owned
+ * get_state, the tremor ahead's set_ahead (coefficients raw or scaled into +-8), set_ahead_ramp,
+ * ahead_output, load_ahead_state and get_ahead_state, and "corrupt", which overwrites part of the instance with input bytes (the caller-owned
  * taps pointer excepted: no check can validate a pointer) before the calls that must then refuse it
  * or run without undefined behaviour (the Kalman accumulators excepted, see keep_accumulators_in_range). Built with ASan and UBSan (csrc/Makefile, target fuzz).
  *
@@ -19,14 +20,17 @@
 #include "wake_rtp.h"
 #include "fuzz_input.h"
 
-enum { OP_STEP, OP_MISSING, OP_RUN, OP_SET_WEIGHTS, OP_RESET, OP_LOAD_STATE, OP_GET_STATE, OP_CORRUPT,
-       OP_COUNT };
+enum { OP_STEP, OP_MISSING, OP_RUN, OP_SET_WEIGHTS, OP_RESET, OP_LOAD_STATE, OP_GET_STATE,
+#if WAKE_RTP_AHEAD
+       OP_SET_AHEAD, OP_SET_AHEAD_RAMP, OP_AHEAD_OUTPUT, OP_LOAD_AHEAD, OP_GET_AHEAD,
+#endif
+       OP_CORRUPT, OP_COUNT };
 
 static wake_q15_t taps[WAKE_RTP_MAX_LEVEL * WAKE_RTP_MAX_TAPS];
 
 static int status_known(wake_rtp_status_t st)
 {
-    return st <= WAKE_RTP_OK && st >= WAKE_RTP_E_NO_KALMAN;
+    return st <= WAKE_RTP_OK && st >= WAKE_RTP_E_AHEAD;
 }
 
 /** J weights: raw int32 or scaled into [-64, 64] Q24 (|raw| >> 1 <= 2^30 = 64 in Q24). */
@@ -86,6 +90,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     wake_cov_t covariance[WAKE_RTP_MAX_LEVEL * WAKE_RTP_MAX_LEVEL];
     wake_q15_t window[WAKE_RTP_MAX_TAPS];
     wake_q15_t block[64];
+#if WAKE_RTP_AHEAD
+    wake_q15_t line[WAKE_RTP_AHEAD_TAPS];
+#endif
     wake_q15_t prediction;
     wake_rtp_status_t st;
     unsigned level, n, i, ops = 0;
@@ -152,6 +159,41 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             FUZZ_REQUIRE(status_known(st));
             FUZZ_REQUIRE(memcmp(&copy, &rtp, sizeof rtp) == 0);   /* const */
             break;
+#if WAKE_RTP_AHEAD
+        case OP_SET_AHEAD: {
+            int32_t c[WAKE_RTP_AHEAD_TAPS];
+            const int scaled = (fuzz_u8(&in) & 1u) == 0u;   /* raw, or |c| <= 2^30 (8.0 in Q27) */
+            for (i = 0; i < (unsigned)WAKE_RTP_AHEAD_TAPS; ++i) {
+                const int32_t raw = fuzz_i32(&in);
+                c[i] = scaled ? raw / 2 : raw;
+            }
+            st = wake_rtp_set_ahead(&rtp, c, fuzz_i32(&in));
+            check_unchanged_on_error(st, &copy, &rtp);
+            break;
+        }
+        case OP_SET_AHEAD_RAMP:
+            st = wake_rtp_set_ahead_ramp(&rtp, fuzz_i32(&in));
+            check_unchanged_on_error(st, &copy, &rtp);
+            break;
+        case OP_AHEAD_OUTPUT: {
+            wake_q23_t predicted, command;
+            wake_ratio_t gate;
+            st = wake_rtp_ahead_output(&rtp, &predicted, &gate, &command);
+            FUZZ_REQUIRE(status_known(st));
+            FUZZ_REQUIRE(memcmp(&copy, &rtp, sizeof rtp) == 0);   /* const */
+            break;
+        }
+        case OP_LOAD_AHEAD:
+            fuzz_bytes(&in, line, sizeof line);
+            st = wake_rtp_load_ahead_state(&rtp, line, fuzz_i32(&in));
+            check_unchanged_on_error(st, &copy, &rtp);
+            break;
+        case OP_GET_AHEAD:
+            st = wake_rtp_get_ahead_state(&rtp, line);
+            FUZZ_REQUIRE(status_known(st));
+            FUZZ_REQUIRE(memcmp(&copy, &rtp, sizeof rtp) == 0);   /* const */
+            break;
+#endif
         default: {   /* OP_CORRUPT: overwrite up to 16 bytes at an offset, keep the taps pointer */
             const wake_q15_t *keep = rtp.taps;
             const size_t offset = fuzz_u16(&in) % sizeof rtp;

@@ -28,7 +28,8 @@ CSRC = Path(__file__).resolve().parents[2]
 DOC = CSRC.parent / "docs" / "verification.md"
 RTP_ENTRIES = ["wake_rtp_init", "wake_rtp_set_weights", "wake_rtp_reset", "wake_rtp_step",
                "wake_rtp_step_missing", "wake_rtp_run", "wake_rtp_load_state", "wake_rtp_get_state",
-               "wake_rtp_reciprocal"]
+               "wake_rtp_reciprocal", "wake_rtp_set_ahead", "wake_rtp_set_ahead_ramp", "wake_rtp_ahead_output",
+               "wake_rtp_load_ahead_state", "wake_rtp_get_ahead_state"]
 #: HPA entries whose analysis is checked (every alarm listed and justified)
 HPA_ENTRIES = ["wake_hpa_default_config", "wake_hpa_init", "wake_hpa_slice", "wake_hpa_take", "wake_hpa_to_rtp"]
 #: HPA entries analysed on request only (--hpa-report): their alarms come from Eva's imprecision on

@@ -112,3 +112,42 @@ void eva_wake_rtp_reciprocal(void)
 {
     (void)wake_rtp_reciprocal(Frama_C_unsigned_int_interval(0u, UINT32_MAX));
 }
+
+#if WAKE_RTP_AHEAD
+static int32_t ahead_coefficients[WAKE_RTP_AHEAD_TAPS];
+static wake_q15_t ahead_line[WAKE_RTP_AHEAD_TAPS];
+
+void eva_wake_rtp_set_ahead(void)
+{
+    any_instance();
+    unknown(ahead_coefficients, sizeof ahead_coefficients);
+    (void)wake_rtp_set_ahead(&rtp, ahead_coefficients, any_i32());
+}
+
+void eva_wake_rtp_set_ahead_ramp(void)
+{
+    any_instance();
+    (void)wake_rtp_set_ahead_ramp(&rtp, any_i32());
+}
+
+void eva_wake_rtp_ahead_output(void)
+{
+    wake_q23_t predicted, command;
+    wake_ratio_t gate;
+    any_instance();
+    (void)wake_rtp_ahead_output(&rtp, &predicted, &gate, &command);
+}
+
+void eva_wake_rtp_load_ahead_state(void)
+{
+    any_instance();
+    unknown(ahead_line, sizeof ahead_line);
+    (void)wake_rtp_load_ahead_state(&rtp, ahead_line, any_i32());
+}
+
+void eva_wake_rtp_get_ahead_state(void)
+{
+    any_instance();
+    (void)wake_rtp_get_ahead_state(&rtp, ahead_line);
+}
+#endif

@@ -149,6 +149,7 @@ class StepProfile:
     update_at: int
     cycles: dict = None  #: input kind -> list of cycles per step (the image's cycle model)
     bound: object = None  #: wake.firmware.wcet.Bound of this configuration (static)
+    build: str = ""  #: "" for the default build, else the variant's name (LEAN_BUILD: "WAKE_RTP_AHEAD=0")
 
     def all_counts(self, *, priming=True):
         return np.concatenate([np.asarray(c[0 if priming else 1:]) for c in self.counts.values()])
@@ -195,8 +196,8 @@ class StepProfile:
     def as_dict(self):
         kind, idx, _ = self.worst()
         return {
-            "target": self.target, "level": self.level, "wavelet": self.wavelet, "kalman": self.kalman,
-            "max": self.max, "median": self.median, "min": self.min, "steady_max": self.steady_max,
+            "target": self.target, "build": self.build, "level": self.level, "wavelet": self.wavelet,
+            "kalman": self.kalman, "max": self.max, "median": self.median, "min": self.min, "steady_max": self.steady_max,
             "priming": self.priming, "after_update": self.after_update, "worst_input": kind,
             "worst_index": idx, "set_weights": self.set_weights, "stack_bytes": self.stack_bytes,
             "floor_macs": arithmetic_floor(self.level),
