@@ -393,7 +393,7 @@ def check_profile(tmp_path):
            f"{lean[('m4-O2', False)]['bound_instructions']:,} ≤ 450)" in text
     assert f"the M0+ active bound ({lean[('m0plus-O2', True)]['bound_instructions']:,} ≤ 2,000)" in text
     assert f"state {fp['m4-O2-no-ahead']['state']} B ≤ 512 B" in text
-    assert f"({fp['m4-Os-no-ahead']['code']:,} B, 12 B to spare" in text
+    assert f"({fp['m4-Os-no-ahead']['code']:,} B, {3072 - fp['m4-Os-no-ahead']['code']} B to spare" in text
 
 
 def p_m4_active(data):
