@@ -45,7 +45,8 @@ def test_the_state_is_explicit_data_with_a_version():
     assert state.version == STATE_VERSION
     assert all(isinstance(c, ChannelState) for c in state.channels)
     assert {f.name for f in dataclasses.fields(ChannelState)} == {"weights", "measurement_noise", "updates",
-                                                                  "schedule", "rtp"}
+                                                                  "schedule", "rtp", "ahead_coefficients",
+                                                                  "ahead_index"}
 
 
 def test_a_state_of_another_version_is_refused_with_the_version_named():

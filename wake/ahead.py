@@ -42,12 +42,15 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["TAPS", "RIDGE", "GATE_TAU_S", "NO_TREMOR_FLAGS", "MIN_HELD_OUT", "COEFFICIENT_LIMIT",
+__all__ = ["TAPS", "MAX_HORIZON", "RIDGE", "GATE_TAU_S", "NO_TREMOR_FLAGS", "MIN_HELD_OUT", "COEFFICIENT_LIMIT",
            "fit_predictor", "lagged",
            "predictions", "held_out_gain", "gate_target", "ramp_step", "AheadStep"]
 
 #: Taps of the direct predictor: the knee on the synthetic set, as good as any order on PADS.
 TAPS = 8
+
+#: The longest horizon in samples (``WakeConfig.horizon``, the C HPA's ``horizon``): 320 ms at 100 Hz.
+MAX_HORIZON = 32
 
 #: Ridge of the least squares, relative to the mean diagonal of the Gram matrix.
 RIDGE = 1e-3
