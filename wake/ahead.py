@@ -5,7 +5,7 @@ fits the predictor and scores the previous one (:func:`fit_predictor`,
 :func:`held_out_gain`, :func:`gate_target`), the float reference and the C
 core run it per sample (:class:`AheadStep`, the twin of the C code), and the
 evaluation scores it.  The design and the numbers behind every constant are
-in docs/design.md, "Tremor ahead: design study (issue 32)"
+in docs/design.md, "Tremor ahead (issue 32)"
 (``python bench/tremor_ahead.py``).
 
 Per HPA window (``y``: WAKE's own tremor estimate ``x - voluntary`` over the
@@ -183,7 +183,8 @@ def horizon_from_ms(horizon_ms: float, fs: float) -> int:
     samples = int(np.floor(ms * fs / 1000.0 + 0.5)) if np.isfinite(ms) else 0
     if not 1 <= samples <= MAX_HORIZON:
         raise ValueError(f"a horizon of {ms:g} ms is {ms * fs / 1000.0:g} samples at {fs:g} Hz; it must "
-                         f"round to 1..{MAX_HORIZON} samples: {500.0 / fs:g} to <{(MAX_HORIZON + 0.5) * 1000.0 / fs:g} ms")
+                         f"round to 1..{MAX_HORIZON} samples: {500.0 / fs:g} to "
+                         f"<{(MAX_HORIZON + 0.5) * 1000.0 / fs:g} ms")
     return samples
 
 

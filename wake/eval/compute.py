@@ -27,7 +27,8 @@ from wake.eval.warmup import SLICES, error_curve, independent_ground_truth, slic
 from wake.filter import WakeFilter
 from wake.rtp.literal import hpa_schedule, literal_rtp_predict, literal_rtp_run, operation_counts
 
-__all__ = ["AHEAD_SET", "AHEAD_AT", "WAKE_PARAMS", "ZERO", "ZERO_PREDICTION", "TRIVIAL", "ROW_COLUMNS", "Task", "baseline_methods",
+__all__ = ["AHEAD_SET", "AHEAD_AT", "WAKE_PARAMS", "ZERO", "ZERO_PREDICTION", "TRIVIAL", "ROW_COLUMNS", "Task",
+           "baseline_methods",
            "wake_name", "run_methods", "compute_task", "ablation_literal_rtp"]
 
 #: WAKE as the paper configures it (the WakeFilter defaults; not tuned here).

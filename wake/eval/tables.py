@@ -16,7 +16,8 @@ import numpy as np
 from wake.eval.compute import AHEAD_AT, AHEAD_SET, TRIVIAL
 from wake.eval.warmup import SLICES, mean_curve, mean_slices
 
-__all__ = ["ahead_summary", "synthetic_summary", "real_summary", "grid_ranking", "curve_of", "compact_row", "WHOLE", "AFTER"]
+__all__ = ["ahead_summary", "synthetic_summary", "real_summary", "grid_ranking", "curve_of", "compact_row", "WHOLE",
+           "AFTER"]
 
 #: The two slices a configuration is ranked by: the whole recording and after the warm-up.
 WHOLE, AFTER = "whole (from 0.5 s)", "after 5 s"
