@@ -188,3 +188,32 @@ def test_the_gate_opens_at_the_second_hpa_and_the_goal_is_the_hpas(signal):
     # between two HPAs the gate ramps towards the goal, never past it
     step = AheadStep(np.zeros(TAPS), 100.0)
     assert step.alpha == pytest.approx(1 / 30)
+
+
+@pytest.mark.skipif(not has_c_backend(), reason=NO_CORE)
+def test_beside_a_c_core_the_tremor_ahead_follows_the_same_rule():
+    from wake.rtp.adaptive import AdaptiveRTP
+
+    taps = filter_bank_taps("sym3", 5, "constant")
+    rtp = AdaptiveRTP(taps, np.full(5, 0.2), 1.0, backend="c", full_scale=8.0)   # the C core from sample 1
+    assert rtp.on_c
+    rtp.set_ahead(np.r_[1.0, np.zeros(TAPS - 1)], 1.0)
+    y = rtp.step(2.0)
+    assert rtp.last_ahead[0] == 0.0                        # the first sample has no estimate
+    rtp.step(3.0)
+    assert rtp.last_ahead[0] == 3.0 - y                     # e(n) = m(n) - y(n-1), y from the C core
+    gate = rtp.last_ahead[1]
+    rtp.step(float("nan"))
+    assert rtp.last_ahead[0] == 0.0 and rtp.last_ahead[1] < gate
+    with pytest.raises(ValueError, match=r"goal must be a number in \[0, 1\]"):
+        rtp.set_ahead(np.zeros(TAPS), -0.5)
+
+
+@pytest.mark.skipif(not has_c_backend(), reason=NO_CORE)
+def test_a_fixed_full_scale_stream_equals_its_batch_for_the_tremor_ahead(signal):
+    res = WakeFilter(backend="c", full_scale=8.0, horizon=4).run(signal)
+    f = WakeFilter(backend="c", full_scale=8.0, horizon=4)
+    rows = np.array([(f.update(float(v)),) + f.last_ahead for v in signal])
+    np.testing.assert_array_equal(rows[:, 0], res.prediction)
+    np.testing.assert_array_equal(rows[:-4, 3], res.command[4:])
+    assert res.confidence.max() > 0.3

@@ -136,30 +136,33 @@ class AdaptiveRTP:
         else:
             self.shadow.set_model(*check_ahead(coefficients, goal))
 
-    def _shadow_step(self, sample: float, y: float) -> None:
-        if sample != sample:
-            self.shadow.set_goal(0.0)
-        self.shadow_last = self.shadow.step(0.0 if sample != sample else sample - self.shadow_previous)
-        self.shadow_previous = y
-
-    def _shadow_block(self, x, y) -> np.ndarray:
-        """The shadow's ``(n, 3)`` outputs over block ``x`` whose voluntary outputs are ``y``."""
+    def _shadow_block(self, x, y, primed: bool) -> np.ndarray:
+        """The shadow's ``(n, 3)`` outputs over block ``x`` whose voluntary outputs are ``y`` (``primed``: the
+        core had a sample before the block): as :class:`~wake.rtp.reference.ReferenceRTP`, the estimate is
+        ``m(n) - y(n-1)``, 0 for a missing sample (which also shuts the goal) and for the very first one."""
         previous = np.concatenate(([self.shadow_previous], y[:-1]))
         out = np.empty((x.shape[0], 3))
         for k, (v, p) in enumerate(zip(x.tolist(), previous.tolist())):
-            if v != v:
-                self.shadow.set_goal(0.0)
-            out[k] = self.shadow.step(0.0 if v != v else v - p)
+            out[k] = self._shadow_step(v, p, primed)
+            primed = primed or v == v
         if x.shape[0]:
-            self.shadow_last = tuple(out[-1].tolist())
             self.shadow_previous = float(y[-1])
         return out
 
+    def _shadow_step(self, sample: float, previous: float, primed: bool) -> tuple:
+        """One sample of the shadow, ``previous`` the core's output before it: its ``last_ahead``."""
+        if sample != sample:
+            self.shadow.set_goal(0.0)
+        self.shadow_last = self.shadow.step(sample - previous if primed and sample == sample else 0.0)
+        return self.shadow_last
+
     def step(self, sample: float) -> float:
         """One sample (NaN: missing) through the overflow rule and the RTP; the prediction of the next."""
+        primed = self.core.primed
         y = self._step(sample)
         if self.shadow is not None:
-            self._shadow_step(sample, y)
+            self._shadow_step(sample, self.shadow_previous, primed)
+            self.shadow_previous = y
         return y
 
     def _step(self, sample: float) -> float:
@@ -194,8 +197,9 @@ class AdaptiveRTP:
         """``(n, 4)``: the core's voluntary outputs and tremor ahead over ``x`` (no full-scale move)."""
         if self.shadow is None:
             return np.column_stack(self.core.run_ahead(x))
+        primed = self.core.primed
         y = self.core.run(x)
-        return np.column_stack((y, self._shadow_block(x, y)))
+        return np.column_stack((y, self._shadow_block(x, y, primed)))
 
     def _run(self, x) -> np.ndarray:
         if not (self.on_c and self.fixed_full_scale is None):
