@@ -278,91 +278,9 @@ def step_target(windows, N, values):
     return out
 
 
-# -- the baselines' own extrapolation -------------------------------------------------------------------------
+# -- the baselines' own extrapolation: library code now (wake.eval.tremor_ahead, read by wake evaluate) ----------
 
-
-def baselines_ahead(x, fs, horizons):
-    """BMFLC, E-BMFLC and WFLC (the tuned defaults of :func:`wake.eval.evaluate.baseline_methods`) extrapolating
-    their tremor model: the weights after sample ``n``, the reference sinusoids at ``n + h``.
-
-    Their update loops are re-run here from the instances' parameters (the library classes return only the
-    one-step outputs); ``P_1[n]`` equals the class's ``model_tremor[n + 1]`` (checked by the bench).
-    Returns {name: {h: array (n, channels)}}."""
-    from wake.eval.evaluate import baseline_methods
-
-    x = np.asarray(x, dtype=float)
-    n, ch = x.shape
-    H = max(horizons)
-    m = baseline_methods(fs)
-    out = {}
-    # BMFLC: bank over the tremor band + bias, LMS
-    b = m["BMFLC"]
-    k = np.arange(n + H)[:, None]
-    arg = 2 * np.pi * b.freqs[None, :] * k / b.fs
-    phi = np.concatenate((np.sin(arg), np.cos(arg)), axis=1)
-    w = np.zeros((phi.shape[1], ch))
-    bias = np.zeros(ch)
-    P = {h: np.zeros((n, ch)) for h in horizons}
-    for i in range(n):
-        e = x[i] - phi[i] @ w - bias
-        w += 2 * b.mu * np.outer(phi[i], e)
-        bias = bias + 2 * b.mu_bias * e
-        for h in horizons:
-            P[h][i] = phi[i + h] @ w
-    out["BMFLC"] = P
-    # E-BMFLC: full-band bank, exponentially weighted least squares; tremor part = bins above f_cut
-    eb = m["E-BMFLC"]
-    from scipy.linalg import cho_factor, cho_solve
-
-    phi = eb._regressors(n + H)
-    p = phi.shape[1]
-    nv = eb._split()
-    rho = eb.rho
-    delta = max(eb.ridge * 0.5 / (1 - rho), 1e-12)
-    G = delta * np.eye(p)
-    leak = (1 - rho) * delta
-    r = np.zeros((p, ch))
-    P = {h: np.zeros((n, ch)) for h in horizons}
-    for i in range(n):
-        f = phi[i]
-        G *= rho
-        G += f[:, None] * f[None, :]
-        G.flat[:: p + 1] += leak
-        r *= rho
-        r += f[:, None] * x[i][None, :]
-        w = cho_solve(cho_factor(G, check_finite=False), r, check_finite=False)
-        for h in horizons:
-            P[h][i] = phi[i + h][nv:] @ w[nv:]
-    out["E-BMFLC"] = P
-    # WFLC: M harmonics of an adapted frequency, accumulated phase
-    wf = m["WFLC"]
-    M = wf.n_harmonics
-    rr = np.arange(1, M + 1)[:, None]
-    lo, hi = (2 * np.pi * f / wf.fs for f in wf.f_range)
-    omega = np.full(ch, 2 * np.pi * wf.f0 / wf.fs)
-    theta = np.zeros(ch)
-    a = np.zeros((M, ch))
-    c = np.zeros((M, ch))
-    bias = np.zeros(ch)
-    power = np.zeros(ch)
-    P = {h: np.zeros((n, ch)) for h in horizons}
-    for i in range(n):
-        sn, cs = np.sin(rr * theta), np.cos(rr * theta)
-        t = (a * sn + c * cs).sum(axis=0)
-        e = x[i] - t - bias
-        dev = x[i] - bias
-        power = dev * dev if i == 0 else power + wf.beta * (dev * dev - power)
-        z = (rr * (a * cs - c * sn)).sum(axis=0)
-        omega = np.clip(omega + 2 * wf.mu0 * e * z / (power + 1e-300), lo, hi)
-        a += 2 * wf.mu * sn * e
-        c += 2 * wf.mu * cs * e
-        bias = bias + 2 * wf.mu_bias * e
-        theta = np.mod(theta + omega, 2 * np.pi)
-        for h in horizons:
-            ph = theta + (h - 1) * omega
-            P[h][i] = (a * np.sin(rr * ph) + c * np.cos(rr * ph)).sum(axis=0)
-    out["WFLC"] = P
-    return out
+from wake.eval.tremor_ahead import baselines_ahead  # noqa: E402,F401  (bench/tremor_ahead.py reads it from here)
 
 
 # -- variants of the chosen predictor and gate ----------------------------------------------------------------

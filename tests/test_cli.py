@@ -163,3 +163,28 @@ def test_run_takes_the_cutoff_rule_and_reports_the_flags(tmp_path, capsys):
         np.testing.assert_allclose(written[:, 2], want.voluntary, rtol=1e-6, atol=1e-9)
         seen[rule] = set(flags)
     assert "no_valley" in seen["paper"] and "shallow_valley" in seen["shallow"]
+
+
+def test_run_with_a_horizon_writes_the_tremor_ahead_columns_and_says_the_rounding(recording, tmp_path, capsys):
+    from wake import WakeFilter
+
+    path, s = recording
+    out = tmp_path / "out.csv"
+    assert main(["run", str(path), "--fs", "100", "--column", "0", "--out", str(out), "--horizon-ms", "24",
+                 "--backend", "reference"]) == 0
+    assert "horizon: 24 ms at 100 Hz is 2 sample(s) (20 ms; rounded to the nearest sample)" in capsys.readouterr().out
+    assert out.read_text().splitlines()[0] == ("time [s],a,a_voluntary,a_tremor,a_tremor_ahead,a_confidence,"
+                                               "a_command")
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    ref = WakeFilter(fs=100.0, horizon=2, backend="reference").run(data[:, 1])
+    np.testing.assert_array_equal(data[:, 4], ref.tremor_ahead)
+    np.testing.assert_array_equal(data[:, 6], ref.command)
+    assert 0 < data[:, 5].max() <= 1
+
+
+@pytest.mark.parametrize("ms", ["4", "330", "nan"])
+def test_run_refuses_a_horizon_outside_1_to_32_samples(recording, ms, capsys):
+    path, _ = recording
+    assert main(["run", str(path), "--fs", "100", "--column", "0", "--horizon-ms", ms]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("wake run: error: a horizon of") and "must round to 1..32 samples: 5 to <325 ms" in err

@@ -45,7 +45,8 @@ def test_the_state_is_explicit_data_with_a_version():
     assert state.version == STATE_VERSION
     assert all(isinstance(c, ChannelState) for c in state.channels)
     assert {f.name for f in dataclasses.fields(ChannelState)} == {"weights", "measurement_noise", "updates",
-                                                                  "schedule", "rtp"}
+                                                                  "schedule", "rtp", "ahead_coefficients",
+                                                                  "ahead_index"}
 
 
 def test_a_state_of_another_version_is_refused_with_the_version_named():
@@ -70,3 +71,23 @@ def test_a_loaded_state_can_be_loaded_again():
         g.set_state(state)
         outs.append(g.update_block(x[900:]))
     np.testing.assert_array_equal(outs[0], outs[1])
+
+
+@pytest.mark.parametrize("backend", ["reference", "c"])
+def test_a_state_of_layout_1_continues_with_the_gate_shut_until_the_next_hpa(backend):
+    """tests/data/state_v1_*.pkl: get_state() after SAVED_AT samples, pickled by the release before the
+    tremor ahead (layout version 1)."""
+    if backend == "c" and not has_c_backend():
+        pytest.skip("the compiled C core wake._rtp is not built")
+    x = _signal()
+    state = pickle.loads((DATA / f"state_v1_{backend}.pkl").read_bytes())
+    assert state.version == 1
+    g = WakeFilter(config=state.config)
+    g.set_state(state)
+    f = WakeFilter(config=state.config)
+    f.update_block(x[:SAVED_AT])
+    continued = g.update_block_ahead(x[SAVED_AT:])
+    np.testing.assert_array_equal(continued[0], f.update_block(x[SAVED_AT:]))
+    next_hpa = 1500 - SAVED_AT     # the first HPA after the state: it fits the first predictor
+    assert not continued[2][:next_hpa].any() and not continued[3][:next_hpa].any()
+    assert continued[2][-1] > 0     # later HPAs score it and open the gate

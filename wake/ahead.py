@@ -5,7 +5,7 @@ fits the predictor and scores the previous one (:func:`fit_predictor`,
 :func:`held_out_gain`, :func:`gate_target`), the float reference and the C
 core run it per sample (:class:`AheadStep`, the twin of the C code), and the
 evaluation scores it.  The design and the numbers behind every constant are
-in docs/design.md, "Tremor ahead: design study (issue 32)"
+in docs/design.md, "Tremor ahead (issue 32)"
 (``python bench/tremor_ahead.py``).
 
 Per HPA window (``y``: WAKE's own tremor estimate ``x - voluntary`` over the
@@ -42,12 +42,15 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["TAPS", "RIDGE", "GATE_TAU_S", "NO_TREMOR_FLAGS", "MIN_HELD_OUT", "COEFFICIENT_LIMIT",
+__all__ = ["TAPS", "MAX_HORIZON", "RIDGE", "GATE_TAU_S", "NO_TREMOR_FLAGS", "MIN_HELD_OUT", "COEFFICIENT_LIMIT",
            "fit_predictor", "lagged",
-           "predictions", "held_out_gain", "gate_target", "ramp_step", "AheadStep"]
+           "predictions", "held_out_gain", "gate_target", "ramp_step", "horizon_from_ms", "AheadStep"]
 
 #: Taps of the direct predictor: the knee on the synthetic set, as good as any order on PADS.
 TAPS = 8
+
+#: The longest horizon in samples (``WakeConfig.horizon``, the C HPA's ``horizon``): 320 ms at 100 Hz.
+MAX_HORIZON = 32
 
 #: Ridge of the least squares, relative to the mean diagonal of the Gram matrix.
 RIDGE = 1e-3
@@ -165,6 +168,24 @@ def gate_target(gain: float, cutoff_flag: str) -> float:
 def ramp_step(fs: float, tau_s: float = GATE_TAU_S) -> float:
     """The gate's ramp coefficient ``1 / max(1, tau fs)``."""
     return 1.0 / max(1.0, tau_s * fs)
+
+
+def horizon_from_ms(horizon_ms: float, fs: float) -> int:
+    """The horizon in samples of ``horizon_ms`` milliseconds at ``fs`` Hz, rounded to the nearest sample
+    (halves up); ``ValueError`` outside 1..:data:`MAX_HORIZON` samples, naming the range in ms.
+
+    Examples
+    --------
+    >>> horizon_from_ms(50, 100.0), horizon_from_ms(25, 100.0), horizon_from_ms(20, 128.0)
+    (5, 3, 3)
+    """
+    ms = float(horizon_ms)
+    samples = int(np.floor(ms * fs / 1000.0 + 0.5)) if np.isfinite(ms) else 0
+    if not 1 <= samples <= MAX_HORIZON:
+        raise ValueError(f"a horizon of {ms:g} ms is {ms * fs / 1000.0:g} samples at {fs:g} Hz; it must "
+                         f"round to 1..{MAX_HORIZON} samples: {500.0 / fs:g} to "
+                         f"<{(MAX_HORIZON + 0.5) * 1000.0 / fs:g} ms")
+    return samples
 
 
 class AheadStep:

@@ -22,6 +22,7 @@ from functools import partial
 
 import numpy as np
 
+from wake.ahead import TAPS
 from wake.config import WakeConfig
 from wake.hpa import HPAUpdate, default_weights, run_hpa
 from wake.hpa.c_port import run_hpa_c
@@ -41,6 +42,8 @@ class ChannelState:
     updates: list              #: the HPA history kept (:class:`~wake.hpa.HPAUpdate`, oldest first)
     schedule: ScheduleState
     rtp: AdaptiveRTPState
+    ahead_coefficients: np.ndarray | None = None  #: the last HPA's tremor-ahead predictor (None: no HPA yet)
+    ahead_index: int = 0                          #: the sample count of that HPA
 
 
 class Channel:
@@ -55,7 +58,11 @@ class Channel:
         self.measurement_noise = 1.0
         self.rtp = AdaptiveRTP(taps, self.weights, self.measurement_noise,
                                self.process_noise(self.measurement_noise), config.initial_covariance,
-                               backend=config.backend, full_scale=config.full_scale, headroom=config.headroom)
+                               backend=config.backend, full_scale=config.full_scale, headroom=config.headroom,
+                               fs=config.fs)
+        # the last HPA's tremor-ahead predictor and sample count: the next HPA scores it on the samples since
+        self.ahead_coefficients = None
+        self.ahead_index = 0
         self.schedule = HPASchedule(config)
         # the newest history_limit HPA updates (None: all of them, for run())
         self.updates: deque[HPAUpdate] = deque(maxlen=history_limit)
@@ -74,7 +81,8 @@ class Channel:
             # the C HPA reads the int16 samples the RTP reads (its full scale once on the C path)
             hpa, extra = run_hpa_c, dict(full_scale=self.rtp.full_scale if self.rtp.on_c else None)
         else:
-            hpa, extra = run_hpa, dict(start_weights=self.start_weights)
+            hpa, extra = run_hpa, dict(start_weights=self.start_weights, previous_ahead=self.ahead_coefficients,
+                                       new_samples=self.schedule.count - self.ahead_index)
         return partial(hpa, window, self.config, taps=self.taps, previous_weights=self.weights.copy(),
                        index=self.schedule.count, **extra)
 
@@ -94,6 +102,10 @@ class Channel:
         notes = self.rtp.install(self.weights, upd.measurement_noise, self.process_noise(upd.measurement_noise),
                                  window)
         self.measurement_noise = self.rtp.measurement_noise if self.rtp.on_c else upd.measurement_noise
+        # an HPA without a predictor (the C HPA until it fits one) shuts the gate
+        coefficients = upd.ahead_coefficients
+        self.rtp.set_ahead(np.zeros(TAPS) if coefficients is None else coefficients, upd.ahead_goal)
+        self.ahead_coefficients, self.ahead_index = coefficients, upd.index
         self.updates.append(replace(upd, applied_at=first_sample, flags=upd.flags + notes))
 
     def swap_if_ready(self, wait=False, first_sample=None):
@@ -107,22 +119,23 @@ class Channel:
 
     # -- samples -------------------------------------------------------------
     def process(self, x):
-        """A block of samples continuing the stream: ``y[i]`` is what
-        ``update(x[i])`` would return (the prediction for the next sample)."""
+        """A block of samples continuing the stream: ``y[0, i]`` is what ``update(x[i])`` would return (the
+        prediction for the next sample), ``y[1:, i]`` the RTP's ``last_ahead`` then (predicted tremor at
+        ``n + h``, confidence, command); shape ``(4, n)``."""
         n = x.shape[0]
-        y = np.empty(n)
+        y = np.empty((4, n))
         if self.config.hpa_mode == "thread":
             self.swap_if_ready(wait=True, first_sample=self.schedule.count + 1)
         start = 0
         for stop, window in self.schedule.block(x):
             # the HPA at this point runs before the RTP step of x[stop]
             if start < stop:
-                y[start:stop] = self.rtp.run(x[start:stop])
+                y[:, start:stop] = self.rtp.run_ahead(x[start:stop])
                 start = stop
             if window is not None:
                 self.hpa(window)
         if start < n:
-            y[start:] = self.rtp.run(x[start:])
+            y[:, start:] = self.rtp.run_ahead(x[start:])
         return y
 
     def update(self, sample: float, executor) -> float:
@@ -158,7 +171,8 @@ class Channel:
     def state(self) -> ChannelState:
         """Plain-data copy of everything but the in-flight HPA (see WakeFilter.get_state)."""
         return ChannelState(self.weights.copy(), self.measurement_noise, copy.deepcopy(list(self.updates)),
-                            self.schedule.state(), self.rtp.state())
+                            self.schedule.state(), self.rtp.state(), copy.deepcopy(self.ahead_coefficients),
+                            self.ahead_index)
 
     def load(self, state: ChannelState) -> None:
         """Continue from :meth:`state` (copies: the state can be loaded again)."""
@@ -168,6 +182,8 @@ class Channel:
         self.updates.extend(copy.deepcopy(state.updates))
         self.schedule.load(state.schedule)
         self.rtp.load(state.rtp)
+        self.ahead_coefficients = copy.deepcopy(state.ahead_coefficients)
+        self.ahead_index = state.ahead_index
 
 
 def channel_state_from_unversioned(snapshot: dict) -> ChannelState:

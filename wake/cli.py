@@ -43,6 +43,27 @@ def add_filter_arguments(p: argparse.ArgumentParser) -> None:
                         "(docs/design.md, 'Cut-off on real wear')")
 
 
+def add_horizon_argument(p: argparse.ArgumentParser) -> None:
+    """``--horizon-ms`` (run, stream): the tremor-ahead columns, predicted that far ahead."""
+    p.add_argument("--horizon-ms", type=float, default=None, metavar="MS",
+                   help="also write the tremor predicted MS ms ahead, its confidence (0..1) and the gated "
+                        "command (confidence x tremor ahead) per channel; rounded to whole samples at the "
+                        "sampling rate, 1..32 samples (docs/design.md, 'How a firmware uses the command and "
+                        "the confidence')")
+
+
+def horizon_setting(args, fs) -> dict:
+    """``{"horizon": samples}`` from ``--horizon-ms`` at ``fs`` (empty without it), and a line saying the
+    rounding (``""`` without it)."""
+    if getattr(args, "horizon_ms", None) is None:
+        return {}, ""
+    from wake.ahead import horizon_from_ms
+
+    h = horizon_from_ms(args.horizon_ms, fs)
+    return {"horizon": h}, (f"horizon: {args.horizon_ms:g} ms at {fs:g} Hz is {h} sample(s) "
+                            f"({1000.0 * h / fs:g} ms; rounded to the nearest sample)")
+
+
 def make_filter(args, fs, **settings):
     """The WakeFilter of the options of :func:`add_filter_arguments` (and ``settings``) at ``fs``."""
     from wake.filter import WakeFilter
@@ -120,11 +141,15 @@ def _cmd_run(args) -> int:
     notes = "".join(f"; {note}" for note in rec.notes)
     print(f"{rec.name}: {x.shape[0]} samples x {x.shape[1]} channel(s) ({', '.join(rec.channels)}); "
           f"{rec.timing.describe(rec.fs)}{notes}")
-    filt = make_filter(args, rec.fs)
+    horizon, said = horizon_setting(args, rec.fs)
+    if said:
+        print(said)
+    filt = make_filter(args, rec.fs, **horizon)
     res = filt.run(x if x.shape[1] > 1 else x[:, 0])
     if args.out:
-        rows = write_result_csv(args.out, rec, res)
-        print(f"wrote {rows} rows to {args.out} (time, then per channel: measurement, voluntary, tremor)")
+        rows = write_result_csv(args.out, rec, res, ahead=bool(horizon))
+        ahead = ", tremor_ahead, confidence, command" if horizon else ""
+        print(f"wrote {rows} rows to {args.out} (time, then per channel: measurement, voluntary, tremor{ahead})")
     cut = ", ".join(f"{c:.2f}" for c in res.mean_cutoff)
     print(f"{len(res.hpa[0])} HPA runs per channel, mean cut-off f_d = {cut} Hz, backend {res.backend}")
     print(rate_note(rec.fs))
@@ -211,6 +236,7 @@ def _stream_parser() -> argparse.ArgumentParser:
     p.add_argument("--max-samples", type=int, default=0, help="stop after this many samples (0: no limit)")
     p.add_argument("--lsl-timeout", type=float, default=10.0, metavar="S", help="seconds to find the LSL stream")
     add_filter_arguments(p)
+    add_horizon_argument(p)
     return p
 
 
@@ -228,13 +254,17 @@ def _cmd_stream(argv) -> int:
     if args.stdin != args.stdout:
         raise ValueError("use --stdin with --stdout, or --lsl-in with --lsl-out")
 
-    def make(fs):
-        return make_filter(args, fs, hpa_mode=args.hpa_mode)
-
-    make(args.fs or 100.0).close()  # every filter setting checked before the stream starts
-
     def log(msg):
         print(msg, file=sys.stderr, flush=True)
+
+    def make(fs, quiet=False):
+        horizon, said = horizon_setting(args, fs)
+        if said and not quiet:
+            log(f"wake stream: {said}")   # stdout carries the samples
+        return make_filter(args, fs, hpa_mode=args.hpa_mode, **horizon)
+
+    if args.fs is not None or args.horizon_ms is None:   # an LSL rate is known only once the stream is found
+        make(args.fs or 100.0, quiet=True).close()  # every filter setting checked before the stream starts
 
     if args.hpa_mode == "thread":
         # The HPA worker holds the GIL in its Python parts; with the default 5 ms switch interval a
@@ -313,6 +343,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="the channel --plot draws (default: the first); every channel is still filtered and "
                         "written to --out")
     add_filter_arguments(r)
+    add_horizon_argument(r)
     for name, (helptext, _) in COMMANDS.items():
         s = sub.add_parser(name, help=helptext, add_help=False)
         s.add_argument("rest", nargs=argparse.REMAINDER)

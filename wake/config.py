@@ -17,6 +17,7 @@ from dataclasses import dataclass, fields
 
 from wake._core import BUILD_HINT, core_installed, missing_core_hint
 from wake._validation import check_level, check_mode, check_wavelet
+from wake.ahead import MAX_HORIZON
 from wake.limits import MAX_LEVEL
 from wake.sampling import TUNED_RATES, RateWarning, decimation_for, warn_if_far_from_tuned_rate  # noqa: F401
 from wake.registry import cutoff_rule_names
@@ -52,6 +53,7 @@ LIMITS = {
     "full_scale": (0.0, 1e100),       # exclusive low
     "headroom": (1.0, 1e4),
     "hpa_history_limit": (1, 10**9),
+    "horizon": (1, MAX_HORIZON),      # samples
     "shallow_max": (0.0, 1e5),        # Hz, exclusive low; at least cutoff_range[0] (checked beside it)
     "decimation": (1, 1000),
 }
@@ -226,6 +228,12 @@ class WakeConfig:
         is about 420 B, so the default 1,000 is ~0.4 MB per channel, 83 min
         at 100 Hz with 5 s windows).  :meth:`~wake.WakeFilter.run` keeps
         every update of the recording it returns.
+    horizon : int
+        Samples ahead of the tremor prediction, 1..32 (an actuator's delay
+        ``h``): ``tremor_ahead``, ``confidence`` and ``command`` of the result
+        are the tremor at ``n + h`` predicted at ``n``, the gate and the gated
+        command (:mod:`wake.ahead`; docs/design.md, "Tremor ahead").  The
+        voluntary outputs do not depend on it.
 
     Examples
     --------
@@ -263,6 +271,7 @@ class WakeConfig:
     initial_weights: str = "prior"
     hpa_history_limit: int = 1000
     decimation: int | None = None
+    horizon: int = 1
 
     def __post_init__(self):
         put = lambda name, value: object.__setattr__(self, name, value)  # noqa: E731 (frozen)
@@ -325,6 +334,7 @@ class WakeConfig:
             except ValueError as exc:
                 raise ValueError(f"with decimation {self.decimation_factor} the filter bank runs at "
                                  f"{self.fs / self.decimation_factor:g} Hz, where {exc}") from None
+        put("horizon", _number("horizon", self.horizon, integer=True))
 
     def _warmup_points(self) -> tuple:
         if self.warmup_hpa_s is None:

@@ -31,7 +31,7 @@ from wake.hpa.c_port import check_c_hpa_config
 from wake.result import WakeResult
 from wake.rtp import load_fixed_point
 from wake.state import STATE_VERSION, WakeState  # noqa: F401  (STATE_VERSION: the layout get_state writes)
-from wake.target import TARGET
+from wake.target import TARGET, PredictionTarget
 from wake.wavelets import filter_bank_taps
 
 __all__ = ["WakeFilter", "WakeResult", "WakeState", "BACKENDS", "RateWarning", "TUNED_RATES"]
@@ -152,15 +152,19 @@ class WakeFilter:
                 f"{self.config.window_samples} samples (window_s * fs = {self.config.window_s:g} s * "
                 f"{self.config.fs:g} Hz){transposed}")
         channels = self._new_channels(arr.shape[1], streaming=False)
-        pred = np.column_stack([ch.process(arr[:, c]) for c, ch in enumerate(channels)])
-        return self._result(arr, pred, channels, one_d, _out_dtype(x))
+        out = np.stack([ch.process(arr[:, c]) for c, ch in enumerate(channels)], axis=-1)  # (4, n, channels)
+        return self._result(arr, out, channels, one_d, _out_dtype(x))
 
-    def _result(self, arr, pred, channels, one_d, dtype):
+    def _result(self, arr, out, channels, one_d, dtype):
         shape = (lambda a: a[:, 0]) if one_d else (lambda a: a)
+        pred = out[0]
         vol = TARGET.voluntary_from(pred)  # voluntary[k] comes from x[:k]
+        ahead = PredictionTarget(self.config.horizon)  # tremor_ahead[k] comes from x[:k - h + 1]
         cast = lambda a: shape(a).astype(dtype, copy=False)  # noqa: E731
         res = WakeResult(cast(vol), cast(arr - vol), cast(pred), [list(ch.updates) for ch in channels],
-                         self.config.window_samples, self.config.backend, rtp=[ch.rtp.core for ch in channels])
+                         self.config.window_samples, self.config.backend, rtp=[ch.rtp.core for ch in channels],
+                         tremor_ahead=cast(ahead.voluntary_from(out[1])), confidence=cast(ahead.voluntary_from(out[2])),
+                         command=cast(ahead.voluntary_from(out[3])), horizon=self.config.horizon)
         if self.config.backend == "c":
             rtps = [ch.rtp for ch in channels]
             res.full_scale = np.array([r.full_scale if r.full_scale is not None else np.nan for r in rtps])
@@ -220,11 +224,37 @@ class WakeFilter:
             ``out[i]`` is the prediction of the voluntary motion at the sample
             after ``x[i]`` (float32 for float32 input, else float64).
         """
+        return self.update_block_ahead(x)[0]
+
+    def update_block_ahead(self, x) -> tuple:
+        """:meth:`update_block` with the tremor ahead: ``(prediction, tremor_ahead, confidence, command)``.
+
+        Each is shaped like ``x``; row ``i`` is what :meth:`update` returns for ``x[i]`` and
+        :attr:`last_ahead` after it: the tremor predicted for ``h = horizon`` samples after ``x[i]``, the
+        gate's confidence and the gated command an actuator plays then (not shifted: :class:`WakeResult`
+        aligns them to the sample they are for).
+        """
         arr, one_d = as_signal(x, allow_nan=True)
         with self._lock:
             self._ensure_channels(arr.shape[1], "a block")
-            out = np.column_stack([ch.process(arr[:, c]) for c, ch in enumerate(self._channels)])
-        return (out[:, 0] if one_d else out).astype(_out_dtype(x), copy=False)
+            out = np.stack([ch.process(arr[:, c]) for c, ch in enumerate(self._channels)], axis=-1)
+        dtype = _out_dtype(x)
+        return tuple((o[:, 0] if one_d else o).astype(dtype, copy=False) for o in out)
+
+    @property
+    def last_ahead(self) -> tuple:
+        """After :meth:`update`: ``(tremor_ahead, confidence, command)`` for ``horizon`` samples after the
+        last sample, floats for a one-channel stream, else arrays of shape ``(channels,)``.
+
+        ``tremor_ahead`` is the tremor predicted there, ``confidence`` the gate in [0, 1] (0 until the
+        second HPA, after a gap or a window without a tremor peak), ``command = confidence * tremor_ahead``
+        what an actuator plays then (docs/design.md, "How a firmware uses the command and the confidence").
+        """
+        with self._lock:
+            rows = np.array([ch.rtp.last_ahead for ch in (self._channels or [])]).reshape(-1, 3)
+            if self._n_channels == 1:
+                return tuple(float(v) for v in rows[0])
+            return tuple(rows[:, i].copy() for i in range(3))
 
     @property
     def rtp_states(self) -> list:

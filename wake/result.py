@@ -17,8 +17,12 @@ class WakeResult:
     ``k + 1`` made from ``x[:k + 1]`` (what ``update(x[k])`` returns);
     ``voluntary[k]`` is the prediction of sample ``k`` from ``x[:k]``
     (``voluntary[0] = 0``: nothing is known yet) and
-    ``tremor = x - voluntary``.  Arrays are float32 when the input was
-    float32, float64 otherwise.
+    ``tremor = x - voluntary``.  The tremor ahead (:mod:`wake.ahead`) is
+    aligned the same way, to the sample it is for: ``tremor_ahead[k]`` is the
+    tremor at ``k`` predicted from ``x[:k - h + 1]`` (``h = horizon``; 0 for
+    ``k < h``), ``confidence[k]`` the gate then and ``command[k]`` their
+    product, what an actuator commanded ``h`` samples earlier plays at ``k``.
+    Arrays are float32 when the input was float32, float64 otherwise.
     """
 
     voluntary: np.ndarray
@@ -32,6 +36,10 @@ class WakeResult:
     clipped: np.ndarray = field(default=None)  #: input samples clipped to full scale, per channel
     saturations: np.ndarray = field(default=None)  #: saturating narrowings inside the C core, per channel
     full_scale_changes: np.ndarray = field(default=None)  #: rises and falls of the full scale, per channel
+    tremor_ahead: np.ndarray = field(default=None)  #: the tremor at k predicted h samples before
+    confidence: np.ndarray = field(default=None)  #: the gate in [0, 1] of that prediction
+    command: np.ndarray = field(default=None)  #: confidence * tremor_ahead: what the actuator plays at k
+    horizon: int = 1  #: h, samples ahead (WakeConfig.horizon)
 
     def tremor_stats(self, fs: float, tremor_band=(2.5, 15.0), x=None) -> list:
         """Per channel, the tremor of each HPA window (:func:`wake.hpa.characterise.tremor_table`).

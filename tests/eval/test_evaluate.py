@@ -174,3 +174,26 @@ def test_operation_counts():
     assert c == {"wake_general": 2 + 2 + 4, "wake_inert": 2 + 2, "literal": 2 + 2 * (2 + 4) + 1}
     c5 = operation_counts(5)
     assert c5["literal"] > 10 * c5["wake_inert"]
+
+
+def test_quick_run_reports_the_tremor_ahead_per_horizon_and_slice(quick_report):
+    import json
+
+    _, out = quick_report
+    section = (out / "report.md").read_text().split("## Tremor ahead")[1].split("\n## ")[0]
+    header = "| method | 0.5-1 s | 1-2 s | 2-5 s | after 5 s | whole (from 0.5 s) |"
+    assert section.count(header) == 2 * 4                   # synthetic and PADS, at 10, 20, 50 and 100 ms
+    for method in ("WAKE command (gated)", "zero (the actuator stays off)", "BMFLC, own extrapolation",
+                   "E-BMFLC, own extrapolation", "WFLC, own extrapolation",
+                   "oracle: hindsight 8-tap LS on the true tremor, fed the true past",
+                   "limit: hindsight 8-tap Wiener, WAKE estimate -> true tremor"):
+        assert section.count(f"| {method} |") == 8
+    assert section.count("| h | 0.5-1 s | 1-2 s | 2-5 s | after 5 s | whole (from 0.5 s) | no harm |") == 2
+    res = json.loads((out / "results.json").read_text())["ahead"]
+    assert res["real"]["axes"] == 2 * 6 and res["paper"]["axes"] == 2
+    for part in res.values():
+        assert sorted(float(ms) for ms in part["horizons"]) == [10, 20, 50, 100]
+        for methods in part["horizons"].values():
+            zero, oracle = methods["zero (the actuator stays off)"], methods[
+                "oracle: hindsight 8-tap LS on the true tremor, fed the true past"]
+            assert oracle["after 5 s"] < zero["after 5 s"]

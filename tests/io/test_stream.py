@@ -215,3 +215,27 @@ def test_lsl_loopback_every_sample_in_order_equal_to_run(signal3):
     np.testing.assert_array_equal(g[:, 3:], ref.tremor)
     np.testing.assert_allclose(got_t, stamps, rtol=0, atol=1e-6)  # the input's timestamps, in order
     assert "the input stream ended: 1200 samples" in err
+
+
+def test_pipes_with_a_horizon_write_the_tremor_ahead_of_each_sample_as_run_aligns_it(signal3):
+    x = signal3[:, :2]
+    res = stream(["--stdin", "--stdout", "--fs", "100", "--hpa-mode", "inline", "--header", "--horizon-ms", "47"],
+                 lines_of(x))
+    assert res.returncode == 0, res.stderr
+    assert "horizon: 47 ms at 100 Hz is 5 sample(s) (50 ms; rounded to the nearest sample)" in res.stderr
+    out = res.stdout.splitlines()
+    assert out[0] == ("ch0_voluntary,ch1_voluntary,ch0_tremor,ch1_tremor,ch0_tremor_ahead,ch1_tremor_ahead,"
+                      "ch0_confidence,ch1_confidence,ch0_command,ch1_command")
+    got = np.array([[float(v) for v in line.split(",")] for line in out[1:]])
+    ref = WakeFilter(fs=FS, horizon=5).run(x)
+    np.testing.assert_array_equal(got[:, :2], ref.voluntary)
+    # the line of sample n carries what the filter predicts for n + 5: run() aligns it 5 rows later
+    for i, name in enumerate(("tremor_ahead", "confidence", "command")):
+        np.testing.assert_array_equal(got[:-5, 4 + 2 * i:6 + 2 * i], getattr(ref, name)[5:])
+    assert got[:, 6:8].max() > 0.3
+
+
+def test_a_horizon_outside_1_to_32_samples_is_refused_before_reading():
+    res = stream(["--stdin", "--stdout", "--fs", "100", "--horizon-ms", "400"], "1\n2\n")
+    assert res.returncode == 2 and res.stdout == ""
+    assert "400 ms is 40 samples at 100 Hz; it must round to 1..32 samples" in res.stderr

@@ -57,7 +57,7 @@ from wake.eval.runner import run_tasks
 from wake.eval.sources import cohort_sources, file_sources, pads_sources, paper_sources
 from wake.eval.store import ResultStore
 from wake.eval.synthetic import PAPER_SNR_DB
-from wake.eval.tables import compact_row, grid_ranking, real_summary, synthetic_summary
+from wake.eval.tables import ahead_summary, compact_row, grid_ranking, real_summary, synthetic_summary
 from wake.rtp import c_backend_available
 
 __all__ = ["cli", "c_backend_available", "baseline_methods", "ablation_literal_rtp", "evaluate_synthetic", "evaluate_real",
@@ -267,6 +267,7 @@ def _write_outputs(args, argv, out_dir, store, tasks, configs, backends, notes, 
     rows = store.rows([t.key for t in tasks], convert=compact_row)
     labels = [config_label(c) for c in configs]
     parts = _summaries(rows, labels[0])
+    ahead = ahead_summary([r for r in rows if r["config"] == labels[0] and not r["error"]])
     failures = [r for r in rows if r["error"]]
     abl = _ablation(store.folder, args.quick) if parts["synthetic"] else None
     real_rows = [r for r in rows if r["set"] == "real" and r["config"] == labels[0] and r["hpa"]]
@@ -281,11 +282,11 @@ def _write_outputs(args, argv, out_dir, store, tasks, configs, backends, notes, 
     command = " ".join(str(a) for a in (argv if argv is not None else sys.argv[1:]))
     text = markdown_report(command=command, quick=args.quick, settings=configs[0], backends=backends, notes=notes,
                            parts=parts, ablation=abl, pads_dir=pads_dir, figures=figs, rankings=rankings,
-                           failures=failures, run_time=time.perf_counter() - t0)
+                           failures=failures, run_time=time.perf_counter() - t0, ahead=ahead)
     (out_dir / "report.md").write_text(text)
     (out_dir / "results.json").write_text(json.dumps(jsonable(
         {"backends": backends, "synthetic": parts["synthetic"], "cohort": parts["cohort"], "real": parts["real"],
-         "ablation": abl, "notes": notes, "wake_params": configs[0], "paper_snr_db": PAPER_SNR_DB,
+         "ablation": abl, "ahead": ahead, "notes": notes, "wake_params": configs[0], "paper_snr_db": PAPER_SNR_DB,
          "grid": [{**e, "method": m, "set": t} for t, m, ranking in rankings for e in ranking],
          "failures": [{"recording": r["recording"], "error": r["error"]} for r in failures]}), indent=1))
     for line in text.split("## Headline\n\n", 1)[-1].split("\n\n")[:2] if any(parts.values()) else ():

@@ -203,6 +203,32 @@ def _time_section(parts):
     return "\n".join(out)
 
 
+def _ahead_section(ahead):
+    """The tremor ahead: per set and horizon, each method's NRMSE per slice, and WAKE's command against zero."""
+    from wake.eval.tremor_ahead import GATED, ZERO as OFF
+
+    names = list(SLICES)
+    titles = {"paper": "Synthetic set (truth: the tremor component s_t)", "cohort": "Synthetic cohort (s_t)",
+              "real": "Recordings (truth: the tremor independent of WAKE)"}
+    out = ["## Tremor ahead", "",
+           "What an actuator plays at sample m is the tremor predicted at m - h (docs/design.md, \"Tremor "
+           f"ahead\"). NRMSE per slice of time since start, mean over axes. \"{GATED}\" is WakeResult.command "
+           "(the prediction times the gate); \"zero\" sends nothing; the baselines extrapolate their own "
+           "sinusoid models; the two hindsight rows are limits, not methods. \"/ zero\" is the command's "
+           "NRMSE over zero's: at most 1 in every slice is \"no harm\".", ""]
+    for key, part in ahead.items():
+        out += [f"**{titles.get(key, key)}**, {part['axes']} axes", ""]
+        harm = []
+        for ms, methods in part["horizons"].items():
+            rows = [[m] + [_fmt(methods[m][n], 3) for n in names] for m in methods]
+            out += [f"h = {ms:g} ms", "", _table(["method"] + names, rows), ""]
+            ratio = [methods[GATED][n] / methods[OFF][n] for n in names]
+            harm.append([f"{ms:g} ms"] + [_fmt(r, 3) for r in ratio]
+                        + ["yes" if all(not r > 1.0 for r in ratio) else "**no**"])
+        out += ["WAKE's command / zero", "", _table(["h"] + names + ["no harm"], harm), ""]
+    return "\n".join(out)
+
+
 def _flag_section(real):
     total = sum(real["flags"].values())
     rows = [[f, str(k), f"{100 * k / total:.0f} %"] for f, k in sorted(real["flags"].items(), key=lambda kv: -kv[1])]
@@ -255,7 +281,7 @@ def _failure_section(failures):
 
 
 def markdown_report(*, command, quick, settings, backends, notes, parts, ablation, pads_dir, figures,
-                    rankings, failures, run_time):
+                    rankings, failures, run_time, ahead=None):
     """The whole ``report.md``, from the summaries of :mod:`wake.eval.tables`."""
     params = "; ".join(repr(m) for m in baseline_methods(100.0).values())
     out = ["# WAKE evaluation", "",
@@ -280,6 +306,8 @@ def markdown_report(*, command, quick, settings, backends, notes, parts, ablatio
         out += [_ablation_section(ablation)]
     if any(parts.values()):
         out += [_time_section(parts), ""]
+    if ahead:
+        out += [_ahead_section(ahead)]
     if real and real["flags"]:
         out += [_flag_section(real), ""]
     if rankings:

@@ -70,6 +70,7 @@ class Loaded:
     channels: tuple
     voluntary: np.ndarray = None  #: (n,) known voluntary motion, synthetic only
     snr_db: float = float("nan")
+    tremor: np.ndarray = None  #: (n,) the tremor component s_t alone (without the white noise), synthetic only
 
 
 def paper_sources(count=None):
@@ -149,6 +150,6 @@ def load_source(source: Source) -> Loaded:
     if source.synthetic:
         s = make_signal(source.snr_db, seed=source.seed, duration=source.duration_s)
         name = f"signal {source.index + 1}" if source.kind == "paper" else f"cohort signal {source.index}"
-        return Loaded(name, s.fs, s.measurement[:, None], ("x",), s.voluntary, s.snr_db)
+        return Loaded(name, s.fs, s.measurement[:, None], ("x",), s.voluntary, s.snr_db, s.tremor)
     rec = read_pads(source.path) if source.kind == "pads" else read_recording(source.path, fs=source.fs)
     return Loaded(rec.name, rec.fs, rec.samples, tuple(rec.channels))

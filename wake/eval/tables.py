@@ -13,13 +13,19 @@ import sys
 
 import numpy as np
 
-from wake.eval.compute import TRIVIAL
+from wake.eval.compute import AHEAD_AT, AHEAD_SET, TRIVIAL
 from wake.eval.warmup import SLICES, mean_curve, mean_slices
 
-__all__ = ["synthetic_summary", "real_summary", "grid_ranking", "curve_of", "compact_row", "WHOLE", "AFTER"]
+__all__ = ["ahead_summary", "synthetic_summary", "real_summary", "grid_ranking", "curve_of", "compact_row", "WHOLE",
+           "AFTER"]
 
 #: The two slices a configuration is ranked by: the whole recording and after the warm-up.
 WHOLE, AFTER = "whole (from 0.5 s)", "after 5 s"
+
+
+def _not_ahead(rows):
+    """The rows of the voluntary / tremor estimates (the tremor ahead's have their own summary)."""
+    return [r for r in rows if not r["set"].startswith(AHEAD_SET)]
 
 
 def _slices_of(row):
@@ -60,6 +66,7 @@ def synthetic_summary(rows):
     Returns ``{"rows": [{"signal", "snr_in", "methods": {name: {nrmse, prf, snr_out}}}], "lags",
     "slices", "curves"}``.
     """
+    rows = _not_ahead(rows)
     if not rows:
         return None
     table, lags, by_source = [], {}, {}
@@ -94,6 +101,7 @@ def _flag_windows(rows):
 
 def real_summary(rows):
     """The recordings' part of the report (tremor against the offline truth), or None without rows."""
+    rows = _not_ahead(rows)
     if not rows:
         return None
     table, lags, vlags, current = [], {}, {}, None
@@ -129,3 +137,31 @@ def grid_ranking(rows, configs, method):
             stats[label] = (float(np.nanmean(v)), float(np.nanstd(v)), float(np.nanmax(v)))
         out.append({"config": config, "count": len(sel), "order": order, **stats})
     return sorted(out, key=lambda e: (e["whole"][0], e["after"][0], e["order"]))
+
+
+def ahead_summary(rows):
+    """The tremor ahead's part of the report (:mod:`wake.eval.tremor_ahead`), or None without its rows.
+
+    Returns ``{set: {"axes": count, "horizons": {ms: {method: mean slices}}}}``, methods in the order stored
+    (WAKE's gated command first, zero, the limits, the baselines).
+
+    Examples
+    --------
+    >>> row = {"set": "ahead-paper", "method": "zero @ 10 ms", "channel_index": 0, "source": "s",
+    ...        **{f"slice {k}": 0.5 for k in SLICES}}
+    >>> ahead_summary([row])["paper"]["horizons"][10.0]["zero"]["after 5 s"]
+    0.5
+    """
+    acc, axes = {}, {}
+    for r in rows:
+        if not r["set"].startswith(AHEAD_SET):
+            continue
+        name, ms = r["method"].rsplit(AHEAD_AT, 1)
+        key = r["set"][len(AHEAD_SET):]
+        acc.setdefault(key, {}).setdefault(float(ms.split()[0]), {}).setdefault(name, []).append(_slices_of(r))
+        axes.setdefault(key, set()).add((r["source"], r["channel_index"]))
+    if not acc:
+        return None
+    return {key: {"axes": len(axes[key]), "horizons": {ms: {n: mean_slices(v) for n, v in methods.items()}
+                                                       for ms, methods in sorted(by_ms.items())}}
+            for key, by_ms in acc.items()}

@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from wake.ahead import TAPS, fit_predictor, gate_target, held_out_gain
 from wake.config import WakeConfig
 from wake.hpa.cutoff import find_cutoff
 from wake.target import TARGET
@@ -34,7 +35,7 @@ from wake.hpa.sharp import detrended_highpass
 from wake.hpa.spectrum import ar_psd, window_order
 from wake.wavelets import filter_bank_outputs, filter_bank_taps, wavelet_approximations
 
-__all__ = ["HPAUpdate", "run_hpa"]
+__all__ = ["HPAUpdate", "run_hpa", "tremor_ahead"]
 
 @dataclass(frozen=True)
 class HPAUpdate:
@@ -49,6 +50,9 @@ class HPAUpdate:
     ridge: float  #: the ridge factor finally used (raised when the fit was ill-conditioned)
     flags: tuple = field(default_factory=tuple)  #: extra notes: "regularised", "weights_kept"
     applied_at: int = -1  #: sample count at which the RTP took these weights (-1: not installed; the filter records it)
+    ahead_coefficients: np.ndarray | None = None  #: the tremor-ahead predictor, shape (8,) (wake.ahead); None: none
+    ahead_gain: float = 0.0  #: the held-out gain of the previous predictor on the samples new since its HPA
+    ahead_goal: float = 0.0  #: the gate's goal (the gain, 0 without a tremor peak)
 
 
 #: Pull of a warm-up fit towards the start-up weights: shrink = WARMUP_SHRINK * (L - n) / L
@@ -70,8 +74,25 @@ def clean_only_below(config: WakeConfig) -> int:
     return int(round(CLEAN_ONLY_BELOW_S * config.fs))
 
 
+def tremor_ahead(x, outputs, weights, tremor_gt, config: WakeConfig, flag: str, previous_ahead=None,
+                 new_samples: int = 0) -> dict:
+    """The tremor-ahead fields of an :class:`HPAUpdate` (docs/design.md, "Tremor ahead").
+
+    WAKE's tremor estimate over the window, ``y(k) = x(k) - w . a(k-1)`` for ``k = N .. n-1`` (``a``: the
+    filter-bank ``outputs``, ``w``: the weights in use), against the window's truth ``tremor_gt``: the
+    :func:`wake.ahead.fit_predictor` at ``config.horizon``, the :func:`wake.ahead.held_out_gain` of
+    ``previous_ahead`` on the ``new_samples`` samples since its HPA, and the :func:`wake.ahead.gate_target`.
+    """
+    N = x.shape[0] - outputs.shape[0] + 1
+    estimate = x[N:] - outputs[:-1] @ np.asarray(weights, dtype=float)
+    truth = tremor_gt[N:]
+    gain = held_out_gain(estimate, truth, previous_ahead, config.horizon, new_samples)
+    return dict(ahead_coefficients=fit_predictor(estimate, truth, config.horizon), ahead_gain=gain,
+                ahead_goal=gate_target(gain, flag))
+
+
 def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, index: int = 0,
-            start_weights=None) -> HPAUpdate:
+            start_weights=None, previous_ahead=None, new_samples: int = 0) -> HPAUpdate:
     """One HPA run over a window of the last ``L`` samples.
 
     Parameters
@@ -96,7 +117,14 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
     start_weights : numpy.ndarray, optional
         The weights before the first HPA; a warm-up window (shorter than
         ``L``) is fitted with a pull towards them that fades as the window
-        grows (:data:`WARMUP_SHRINK`).
+        grows (:data:`WARMUP_SHRINK`).  The tremor estimate of the window
+        (:func:`tremor_ahead`) reads ``previous_weights``, else these, else
+        the default weights.
+    previous_ahead : numpy.ndarray, shape (8,), optional
+        The previous HPA's tremor-ahead predictor (None before the first:
+        the gate's goal is 0).
+    new_samples : int
+        Samples received since the previous HPA (its held-out samples).
 
     Returns
     -------
@@ -121,8 +149,10 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
     if not spread > 1e-12 * max(1.0, np.max(np.abs(x))):
         w = np.array(previous_weights, dtype=float) if previous_weights is not None else default_weights(level)
         floor = max(1e-12, (1e-6 * np.max(np.abs(x))) ** 2)
+        # a silent window has nothing to predict: the predictor stays, the gate shuts
+        kept = np.zeros(TAPS) if previous_ahead is None else np.array(previous_ahead, dtype=float)
         return HPAUpdate(index, float(default_cutoff), "silent", w, float(floor), 0.0, float(ridge),
-                         ("weights_kept",))
+                         ("weights_kept",), ahead_coefficients=kept)
     # a warm-up window may be shorter than L: its AR order is capped (window_order)
     freqs, psd = ar_psd(x, fs, window_order(x.size, config.ar_order))
     cutoff, flag = find_cutoff(freqs, psd, tremor_band=config.tremor_band, cutoff_range=config.cutoff_range,
@@ -134,9 +164,13 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
     # R: variance of the tremor ground truth, floored at 1e-6 of the window's
     # variance so that a window with no tremor still gives S = w'Pw + R > 0.
     measurement_noise = float(max(np.var(tremor_gt), 1e-6 * spread**2))
+    outputs = filter_bank_outputs(x, taps)
+    in_use = previous_weights if previous_weights is not None else start_weights
+    ahead = tremor_ahead(x, outputs, in_use if in_use is not None else default_weights(level), tremor_gt, config,
+                         flag, previous_ahead, new_samples)
     if fit == "causal":
         # a(k) for k = N-1 .. L-1-h against v_GT(k + h), h = TARGET.horizon (wake.target)
-        approx, target = TARGET.fit_pairs(filter_bank_outputs(x, taps), voluntary_gt, taps.shape[1])
+        approx, target = TARGET.fit_pairs(outputs, voluntary_gt, taps.shape[1])
     else:
         approx = wavelet_approximations(x, config.wavelet, level, config.mode)
         target = voluntary_gt
@@ -149,4 +183,4 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
         # a short warm-up window without a clean valley: its fit is not installed
         w = np.array(previous_weights, dtype=float) if previous_weights is not None else default_weights(level)
         flags.append("weights_kept")
-    return HPAUpdate(index, cutoff, flag, w, measurement_noise, err, used, tuple(flags))
+    return HPAUpdate(index, cutoff, flag, w, measurement_noise, err, used, tuple(flags), **ahead)

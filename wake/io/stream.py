@@ -104,6 +104,17 @@ class StreamProcessor:
             x, self._pending = self._pending, None
             self._next = np.atleast_1d(self.filt.update(x)).astype(float)
 
+    def answer_ahead(self, values):
+        """:meth:`answer`, then :meth:`advance` at once, and the tremor ahead the filter made of this sample:
+        ``(voluntary, tremor, tremor_ahead, confidence, command)``, one array each (one value per channel).
+
+        The last three are for ``horizon`` samples after this one (:attr:`wake.WakeFilter.last_ahead`), so
+        the filter's ``update()`` runs before the answer: on the sample path, unlike :meth:`answer`.
+        """
+        voluntary, tremor = self.answer(values)
+        self.advance()
+        return (voluntary, tremor, *(np.atleast_1d(np.asarray(a, dtype=float)) for a in self.filt.last_ahead))
+
     def process(self, values):
         """:meth:`answer` and :meth:`advance` in one call."""
         out = self.answer(values)
@@ -238,12 +249,12 @@ def _pipe_loop(args, stop, log, filt, fin, fout) -> int:
                 names = names or [f"ch{i}" for i in range(n_ch)]
                 proc = StreamProcessor(filt, names)
                 if args.header:
-                    head = (["time"] if args.timestamps else []) + [f"{c}_voluntary" for c in names] + \
-                        [f"{c}_tremor" for c in names]
+                    head = (["time"] if args.timestamps else []) + [f"{c}_{kind}" for kind in _kinds(args)
+                                                                    for c in names]
                     fout.write(",".join(head) + "\n")
             stamp = values[:1] if args.timestamps else []
-            vol, trem = proc.answer(values[1:] if args.timestamps else values)
-            fout.write(_fmt([*stamp, *vol, *trem]) + "\n")
+            out = _answer(proc, args, values[1:] if args.timestamps else values)
+            fout.write(_fmt([*stamp, *np.concatenate(out)]) + "\n")
             fout.flush()
             done, last_status = _after_sample(proc, args, log, t_in, last_status)
             if done:
@@ -255,6 +266,21 @@ def _pipe_loop(args, stop, log, filt, fin, fout) -> int:
         return 1
     _finish(proc, log, "stopped by signal" if stop.requested else "end of input")
     return 0
+
+
+def _kinds(args) -> tuple:
+    """The output columns of each channel, in order: voluntary and tremor, and the tremor ahead with
+    ``--horizon-ms``."""
+    ahead = getattr(args, "horizon_ms", None) is not None
+    return ("voluntary", "tremor") + (("tremor_ahead", "confidence", "command") if ahead else ())
+
+
+def _answer(proc, args, values) -> tuple:
+    """The arrays of one output line (:func:`_kinds`): :meth:`StreamProcessor.answer`, or ``answer_ahead``
+    with ``--horizon-ms``."""
+    if getattr(args, "horizon_ms", None) is not None:
+        return proc.answer_ahead(values)
+    return proc.answer(values)
 
 
 def _after_sample(proc, args, log, t_in, last_status):
@@ -327,13 +353,15 @@ def run_lsl(args, make_filter, stop, log) -> int:
         log(f"wake stream: error: LSL stream {args.lsl_in!r} has an irregular rate; give the rate with --fs HZ")
         return 2
     labels, units = _lsl_labels(info, n_ch)
-    out_info = pylsl.StreamInfo(args.lsl_out, "WAKE", 2 * n_ch, fs, pylsl.cf_double64, f"wake-{info.source_id()}")
+    kinds = _kinds(args)
+    out_info = pylsl.StreamInfo(args.lsl_out, "WAKE", len(kinds) * n_ch, fs, pylsl.cf_double64,
+                                f"wake-{info.source_id()}")
     chans = out_info.desc().append_child("channels")
-    for kind in ("voluntary", "tremor"):
+    for kind in kinds:
         for label, unit in zip(labels, units):
             c = chans.append_child("channel")
             c.append_child_value("label", f"{label}_{kind}")
-            c.append_child_value("unit", unit)
+            c.append_child_value("unit", "" if kind == "confidence" else unit)
             c.append_child_value("type", kind)
     out_info.desc().append_child_value("source", f"wake stream from {args.lsl_in}")
     proc = StreamProcessor(make_filter(fs), labels)
@@ -356,8 +384,7 @@ def run_lsl(args, make_filter, stop, log) -> int:
                 continue
             t_in = time.perf_counter()
             values = [math.nan if (v is None or math.isinf(v)) else float(v) for v in sample]
-            vol, trem = proc.answer(values)
-            outlet.push_sample([*vol.tolist(), *trem.tolist()], stamp)
+            outlet.push_sample(np.concatenate(_answer(proc, args, values)).tolist(), stamp)
             done, last_status = _after_sample(proc, args, log, t_in, last_status)
             if done:
                 break

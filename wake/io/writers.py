@@ -4,7 +4,10 @@ The header cells read ``name [unit]`` (``name`` alone when the unit is not
 known), so :func:`wake.io.read_csv` reads the file back with its names,
 units and time column.  Per channel, three columns: the measurement, the
 voluntary motion (predicted for that sample from the samples before it) and
-the tremor (measurement minus voluntary).
+the tremor (measurement minus voluntary); with ``ahead=True`` three more: the
+tremor at that sample predicted ``horizon`` samples before, the confidence
+then and the gated command (:class:`~wake.WakeResult`'s ``tremor_ahead``,
+``confidence`` and ``command``).
 
 Every value is written with 17 significant digits (``%.17g``), enough for
 a double to read back as the same double: the file holds the filter's
@@ -29,16 +32,23 @@ def _label(name: str, unit: str) -> str:
     return f"{name} [{unit}]" if unit else name
 
 
-def result_columns(channels, units=()) -> list[str]:
-    """Header cells: ``time [s]``, then per channel ``c``, ``c_voluntary``, ``c_tremor`` (with units)."""
+#: The tremor-ahead columns of each channel (with ``ahead=True``): the result's attribute and the suffix.
+AHEAD_COLUMNS = (("tremor_ahead", True), ("confidence", False), ("command", True))
+
+
+def result_columns(channels, units=(), ahead: bool = False) -> list[str]:
+    """Header cells: ``time [s]``, then per channel ``c``, ``c_voluntary``, ``c_tremor`` (with units), and
+    with ``ahead`` ``c_tremor_ahead``, ``c_confidence`` (no unit), ``c_command``."""
     cells = ["time [s]"]
     for i, c in enumerate(channels):
         unit = units[i] if i < len(units) else ""
         cells += [_label(c, unit), _label(f"{c}_voluntary", unit), _label(f"{c}_tremor", unit)]
+        if ahead:
+            cells += [_label(f"{c}_{name}", unit if has_unit else "") for name, has_unit in AHEAD_COLUMNS]
     return cells
 
 
-def write_result_csv(path, recording, result) -> int:
+def write_result_csv(path, recording, result, ahead: bool = False) -> int:
     """Write ``recording`` and the :class:`~wake.filter.WakeResult` of it; returns the rows written.
 
     Written atomically: a crash leaves the old file or none, never half of one.
@@ -50,11 +60,12 @@ def write_result_csv(path, recording, result) -> int:
     if vol.shape != (n, k):
         raise ValueError(f"the result has shape {vol.shape}, the recording {x.shape}")
     cols = [recording.time]
+    extra = [np.reshape(getattr(result, name), (n, -1)) for name, _ in AHEAD_COLUMNS] if ahead else []
     for c in range(k):
-        cols += [x[:, c], vol[:, c], trem[:, c]]
+        cols += [x[:, c], vol[:, c], trem[:, c]] + [e[:, c] for e in extra]
     buf = io.StringIO()
     np.savetxt(buf, np.column_stack(cols), delimiter=",", fmt=EXACT_FORMAT,
-               header=",".join(result_columns(recording.channels, recording.units)), comments="")
+               header=",".join(result_columns(recording.channels, recording.units, ahead)), comments="")
     atomic_write_text(path, buf.getvalue())
     return n
 

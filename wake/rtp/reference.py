@@ -17,6 +17,13 @@ The per-sample recursion (docs/design.md maps each line onto the paper)::
     a      = B m_J(n)                            J-level filter bank
     y(n)   = w' (a + d)                          predicted voluntary motion at n + 1
 
+and beside it the tremor ahead (:class:`wake.ahead.AheadStep`, in attribute
+``ahead``): the newest tremor estimate ``e(n) = m(n) - y(n-1)`` (0 for the
+first sample and for a missing one) enters an 8-long delay line, ``P(n)`` is
+the tremor predicted for ``n + h``, the gate ramps towards the goal the HPA
+set (:meth:`ReferenceRTP.set_ahead`), and ``last_ahead`` holds
+``(P(n), gate, gate * P(n))``.  The voluntary output does not read it.
+
 The Kalman state is ``x = a + d``: the filter-bank approximations ``a`` (the
 paper's state, eq. KFState) plus a correction ``d`` that the scalar
 measurement ``m`` observes through ``w``.  Storing ``d`` rather than ``x``
@@ -28,7 +35,23 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["ReferenceRTP"]
+from wake.ahead import TAPS, AheadStep
+
+__all__ = ["ReferenceRTP", "check_ahead"]
+
+
+def check_ahead(coefficients, goal):
+    """A tremor-ahead predictor and gate goal, validated: ``(coefficients as float64 (8,), goal as float)``."""
+    c = np.array(coefficients, dtype=float)
+    if c.shape != (TAPS,) or not np.isfinite(c).all():
+        raise ValueError(f"coefficients must be {TAPS} finite numbers (newest first), got {coefficients!r}")
+    try:
+        g = float(goal)
+    except (TypeError, ValueError):
+        raise ValueError(f"goal must be a number in [0, 1], got {goal!r}") from None
+    if not 0.0 <= g <= 1.0:
+        raise ValueError(f"goal must be a number in [0, 1], got {goal!r}")
+    return c, g
 
 
 # The two sums below run in a fixed order (one tap, one level at a time), the
@@ -67,6 +90,8 @@ class ReferenceRTP:
         ``Q = q I`` per sample (>= 0).
     initial_covariance : float
         ``P(0) = p0 I`` (>= 0).
+    fs : float
+        Sampling rate in Hz: the tremor-ahead gate's ramp (:func:`wake.ahead.ramp_step`).
 
     Examples
     --------
@@ -76,9 +101,13 @@ class ReferenceRTP:
     >>> rtp = ReferenceRTP(filter_bank_taps("sym3", 3), [0, 0, 1], 1.0)
     >>> [round(rtp.step(1.0), 6) for _ in range(3)]   # a constant is predicted exactly
     [1.0, 1.0, 1.0]
+    >>> rtp.set_ahead(np.r_[1.0, np.zeros(7)], 1.0)    # the tremor ahead: the newest estimate, gate open
+    >>> _ = rtp.step(1.5); [round(v, 3) for v in rtp.last_ahead]   # (predicted, confidence, command)
+    [0.5, 0.033, 0.017]
     """
 
-    def __init__(self, taps, weights, measurement_noise, process_noise=0.0, initial_covariance=0.0):
+    def __init__(self, taps, weights, measurement_noise, process_noise=0.0, initial_covariance=0.0, *,
+                 fs=100.0):
         taps = np.array(taps, dtype=float)
         if taps.ndim != 2 or taps.shape[1] != 2 ** taps.shape[0]:
             raise ValueError(f"taps must have shape (J, 2**J), got {taps.shape}")
@@ -90,6 +119,7 @@ class ReferenceRTP:
         self.measurement_noise = 1.0
         self.process_noise = 0.0
         self.set_weights(weights, measurement_noise, process_noise)
+        self.start_ahead(fs)
         self.reset()
 
     # -- configuration -----------------------------------------------------
@@ -116,6 +146,25 @@ class ReferenceRTP:
         self.measurement_noise = r
         self.process_noise = q
 
+    def start_ahead(self, fs):
+        """A tremor ahead with no predictor and the gate shut (also for a state saved before it existed)."""
+        self.ahead = AheadStep(np.zeros(TAPS), fs)
+        self._last_ahead = (0.0, 0.0, 0.0)
+
+    def set_ahead(self, coefficients, goal):
+        """Install an HPA's tremor-ahead predictor and gate goal between two samples.
+
+        ``coefficients``: 8 finite numbers, newest estimate first; ``goal`` in [0, 1].  The delay line and
+        the gate's value carry over.
+        """
+        self.ahead.set_model(*check_ahead(coefficients, goal))
+
+    @property
+    def last_ahead(self):
+        """``(predicted, confidence, command)`` after the last sample: the tremor predicted for ``n + h``,
+        the gate in [0, 1], and their product."""
+        return self._last_ahead
+
     def _restarted_covariance(self):
         """(w' P w / |w|^2) I for the weights in use: P's variance along w, in every direction."""
         P = self.covariance.reshape(self.level, self.level)
@@ -132,6 +181,10 @@ class ReferenceRTP:
         self.last_output = 0.0
         self.correction = np.zeros(self.level)
         self.covariance = self.initial_covariance * np.eye(self.level).reshape(-1)
+        self.ahead.history[:] = 0.0
+        self.ahead.gate = 0.0
+        self.ahead.goal = 0.0
+        self._last_ahead = (0.0, 0.0, 0.0)
 
     # -- per sample ---------------------------------------------------------
     def _push(self, sample):
@@ -175,21 +228,29 @@ class ReferenceRTP:
     def step(self, sample):
         """Take sample ``m(n)``; return the predicted voluntary motion at ``n + 1``."""
         first = not self.primed
+        # the tremor estimate e(n) = m(n) - y(n-1) (none before the first prediction)
+        estimate = 0.0 if first else sample - self.last_output
         self._push(sample)
         if not first:
             # the first sample had no prediction before it: no innovation, no
             # measurement update (docs/design.md, "What the Kalman state observes")
             self._measurement_update(sample)
         self._time_update()
-        return self._predict()
+        y = self._predict()
+        self._last_ahead = self.ahead.step(estimate)
+        return y
 
     def step_missing(self):
         """No measurement at ``n`` (NaN or a dropped packet).
 
         Policy: the last prediction stands in for the sample in the filter
         bank window, and the Kalman filter predicts without a measurement
-        update (its covariance grows by ``Q``).
+        update (its covariance grows by ``Q``).  The tremor ahead takes
+        estimate 0 and its gate's goal drops to 0 (the held-out gain needs a
+        window's worth of samples again).
         """
+        self.ahead.set_goal(0.0)
+        self._last_ahead = self.ahead.step(0.0)
         if not self.primed:
             return 0.0
         self._push(self.last_output)
@@ -203,25 +264,41 @@ class ReferenceRTP:
         sample (to rounding), but the filter bank is evaluated for the whole
         block at once and the Kalman recursion is skipped while it is inert
         (``P = 0`` and ``Q = 0``, where it provably leaves ``d`` unchanged).
+        The tremor ahead steps too (:meth:`run_ahead` returns it).
         """
-        x = np.asarray(samples, dtype=float).reshape(-1)
+        return self._run(np.asarray(samples, dtype=float).reshape(-1))[0]
+
+    def run_ahead(self, samples):
+        """:meth:`run` with the tremor ahead: ``(voluntary, predicted, confidence, command)``, four arrays.
+
+        ``voluntary`` is what :meth:`run` returns; the other three are :attr:`last_ahead` after each
+        sample, bit for bit what a loop of :meth:`step` / :meth:`step_missing` gives.
+        """
+        out, ahead = self._run(np.asarray(samples, dtype=float).reshape(-1))
+        return out, ahead[:, 0].copy(), ahead[:, 1].copy(), ahead[:, 2].copy()
+
+    def _run(self, x):
+        """The voluntary predictions and the ``(n, 3)`` tremor-ahead outputs of block ``x``."""
         n = x.shape[0]
         out = np.empty(n)
+        ahead = np.empty((n, 3))
         if n == 0:
-            return out
+            return out, ahead
         if np.isnan(x).any() or not self.primed:
             # Gaps and the priming sample change the window itself: go sample by sample.
             k = 0
             while k < n and (not self.primed or np.isnan(x[k])):
                 out[k] = self.step_missing() if np.isnan(x[k]) else self.step(x[k])
+                ahead[k] = self._last_ahead
                 k += 1
             if k < n:
                 nan_at = np.flatnonzero(np.isnan(x[k:]))
                 stop = k + (nan_at[0] if nan_at.size else n - k)
-                out[k:stop] = self.run(x[k:stop])
+                out[k:stop], ahead[k:stop] = self._run(x[k:stop])
                 if stop < n:
-                    out[stop:] = self.run(x[stop:])
-            return out
+                    out[stop:], ahead[stop:] = self._run(x[stop:])
+            return out, ahead
+        before = self.last_output
         N = self.n_taps
         history = np.concatenate((self.buffer[self.head :], self.buffer[: self.head], x))
         approx = _filter_bank(np.lib.stride_tricks.sliding_window_view(history[1:], N), self.taps)
@@ -247,4 +324,11 @@ class ReferenceRTP:
         self.buffer[:] = tail
         self.head = 0
         self.last_output = float(out[-1])
-        return out
+        # e(n) = m(n) - y(n-1), the same subtraction as step(); the delay line and the gate go sample by
+        # sample, through the one step of wake.ahead
+        estimates = x - np.concatenate(([before], out[:-1]))
+        step = self.ahead.step
+        for k, e in enumerate(estimates.tolist()):
+            ahead[k] = step(e)
+        self._last_ahead = tuple(ahead[-1].tolist())
+        return out, ahead

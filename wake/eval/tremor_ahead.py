@@ -1,0 +1,227 @@
+"""The tremor ahead in ``wake evaluate``: each method's prediction of the tremor ``h`` samples ahead, scored.
+
+What an actuator plays at sample ``m`` is the prediction made at ``m - h``; it is scored against the true
+tremor at ``m`` with the paper's NRMSE per slice of time since start (:func:`wake.eval.warmup.slice_nrmse`).
+The methods (docs/design.md, "Tremor ahead"):
+
+* WAKE's gated command (``WakeResult.command`` at ``horizon = h``) and its ungated prediction
+  (``tremor_ahead``);
+* each baseline extrapolating its own sinusoid model (:func:`baselines_ahead`);
+* zero: the actuator stays off;
+* two limits fitted in hindsight on the whole recording (:func:`hindsight_predictor`): the issue's oracle, an
+  8-tap linear predictor of the true tremor fed the true past, and the 8-tap Wiener predictor from WAKE's own
+  estimate to the true tremor (the best any 8-tap filter of what the device sees can do).
+
+The truth: the synthetic set's tremor component ``s_t`` (its white noise is unpredictable), a recording's
+tremor independent of WAKE (:func:`wake.eval.warmup.independent_ground_truth`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.linalg import cho_factor, cho_solve
+
+from wake.ahead import TAPS, horizon_from_ms, lagged
+from wake.eval.baselines import BMFLC, EBMFLC, WFLC
+from wake.eval.warmup import slice_nrmse
+from wake.filter import WakeFilter
+
+__all__ = ["HORIZONS_MS", "GATED", "UNGATED", "ZERO", "ORACLE", "WIENER", "hindsight_predictor", "aligned",
+           "ahead_scores", "baselines_ahead"]
+
+#: The horizons ``wake evaluate`` reports, in ms (an actuator's delay: 20-100 ms).
+HORIZONS_MS = (10, 20, 50, 100)
+
+GATED = "WAKE command (gated)"
+UNGATED = "WAKE prediction (ungated)"
+ZERO = "zero (the actuator stays off)"
+ORACLE = "oracle: hindsight 8-tap LS on the true tremor, fed the true past"
+WIENER = "limit: hindsight 8-tap Wiener, WAKE estimate -> true tremor"
+#: Ridge of the hindsight fits, relative to the Gram matrix's mean diagonal (as bench/ahead.py::oracle).
+HINDSIGHT_RIDGE = 1e-6
+
+
+def hindsight_predictor(inp, target, horizon: int, taps: int = TAPS, ridge: float = HINDSIGHT_RIDGE):
+    """The ``taps``-tap least-squares predictor of ``target[k + horizon]`` from ``inp[k .. k - taps + 1]``,
+    fitted on the whole recording (not clipped: a limit, not a device's filter); its predictions ``P[k]``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> s = np.sin(np.arange(400) / 3.0)
+    >>> bool(np.abs(hindsight_predictor(s, s, 5)[100:-5] - s[105:]).max() < 1e-3)
+    True
+    """
+    inp, target = np.asarray(inp, dtype=float), np.asarray(target, dtype=float)
+    X = lagged(inp, taps)
+    A = X[taps - 1:inp.size - horizon]
+    G = A.T @ A
+    lam = ridge * np.trace(G) / taps + 1e-300
+    c = np.linalg.solve(G + lam * np.eye(taps), A.T @ target[taps - 1 + horizon:])
+    return X @ c
+
+
+def aligned(P, horizon: int):
+    """What an actuator plays at each sample: ``P[m - horizon]`` (0 before), ``P[k]`` being for ``k + horizon``."""
+    out = np.zeros_like(P)
+    out[horizon:] = P[:P.shape[0] - horizon]
+    return out
+
+
+def ahead_scores(x, fs, truth, *, backend, settings=None, horizons_ms=HORIZONS_MS, baselines=True):
+    """Per method and horizon, the slices of the predicted-tremor NRMSE of one recording.
+
+    Parameters
+    ----------
+    x, truth : array_like, shape (n, channels)
+        The recording and its true tremor.
+    fs : float
+    backend : {"c", "reference"}
+    settings : dict, optional
+        WakeFilter settings (the paper's by default).
+    horizons_ms : sequence of float
+        Rounded to samples at ``fs`` (:func:`wake.ahead.horizon_from_ms`).
+    baselines : bool
+        Also the baselines' own extrapolation (the slow part).
+
+    Returns
+    -------
+    dict
+        ``{ms: {method: [slice dict per channel]}}``.
+
+    Examples
+    --------
+    >>> from wake.eval.synthetic import make_signal
+    >>> s = make_signal(5.0, seed=1, duration=12.0)
+    >>> out = ahead_scores(s.measurement[:, None], s.fs, s.tremor[:, None], backend="reference",
+    ...                    horizons_ms=(20,), baselines=False)
+    >>> out[20][GATED][0]["after 5 s"] < out[20][ZERO][0]["after 5 s"]
+    True
+    """
+    x = np.asarray(x, dtype=float).reshape(len(x), -1)
+    truth = np.asarray(truth, dtype=float).reshape(x.shape)
+    settings = dict(settings or {})
+    horizons = {ms: horizon_from_ms(ms, fs) for ms in horizons_ms}
+    extrapolated = baselines_ahead(x, fs, sorted(set(horizons.values()))) if baselines else {}
+    out = {}
+    for ms, h in horizons.items():
+        res = WakeFilter(fs=fs, backend=backend, horizon=h, **settings).run(x)
+        y = x - res.voluntary
+        methods = {GATED: res.command, UNGATED: res.tremor_ahead, ZERO: np.zeros_like(x)}
+        methods.update({f"{name}, own extrapolation": aligned(P[h], h) for name, P in extrapolated.items()})
+        methods[ORACLE] = np.column_stack([aligned(hindsight_predictor(t, t, h), h) for t in truth.T])
+        methods[WIENER] = np.column_stack([aligned(hindsight_predictor(e, t, h), h) for e, t in zip(y.T, truth.T)])
+        out[ms] = {name: [slice_nrmse(truth[:, c], est[:, c], fs) for c in range(x.shape[1])]
+                   for name, est in methods.items()}
+    return out
+
+
+def baselines_ahead(x, fs, horizons):
+    """BMFLC, E-BMFLC and WFLC (the tuned defaults of :func:`wake.eval.compute.baseline_methods`) extrapolating
+    their tremor model: the weights after sample ``n``, the reference sinusoids at ``n + h``.
+
+    Their update loops are re-run here from the instances' parameters (the library classes return only the
+    one-step outputs); ``P_1[n]`` equals the class's ``model_tremor[n + 1]`` to within 1e-12
+    (tests/eval/test_tremor_ahead.py).
+
+    Parameters
+    ----------
+    x : array_like, shape (n, channels)
+    fs : float
+    horizons : sequence of int
+
+    Returns
+    -------
+    dict
+        ``{name: {h: P}}``, ``P`` of shape (n, channels): ``P[k]`` the tremor predicted at ``k`` for ``k + h``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> P = baselines_ahead(np.sin(np.arange(300) / 2.0)[:, None], 100.0, (1, 5))
+    >>> sorted(P), P["WFLC"][5].shape
+    (['BMFLC', 'E-BMFLC', 'WFLC'], (300, 1))
+    """
+    x = np.asarray(x, dtype=float)
+    n, ch = x.shape
+    H = max(horizons)
+    m = {"BMFLC": BMFLC(fs=fs), "E-BMFLC": EBMFLC(fs=fs), "WFLC": WFLC(fs=fs)}   # compute.baseline_methods
+    return {"BMFLC": _bmflc(m["BMFLC"], x, horizons, H), "E-BMFLC": _ebmflc(m["E-BMFLC"], x, horizons, H),
+            "WFLC": _wflc(m["WFLC"], x, horizons, H)}
+
+
+def _bmflc(b, x, horizons, H):
+    """BMFLC's LMS loop, its sinusoids at ``n + h``."""
+    n, ch = x.shape
+    # a bank over the tremor band + bias, LMS
+    k = np.arange(n + H)[:, None]
+    arg = 2 * np.pi * b.freqs[None, :] * k / b.fs
+    phi = np.concatenate((np.sin(arg), np.cos(arg)), axis=1)
+    w = np.zeros((phi.shape[1], ch))
+    bias = np.zeros(ch)
+    P = {h: np.zeros((n, ch)) for h in horizons}
+    for i in range(n):
+        e = x[i] - phi[i] @ w - bias
+        w += 2 * b.mu * np.outer(phi[i], e)
+        bias = bias + 2 * b.mu_bias * e
+        for h in horizons:
+            P[h][i] = phi[i + h] @ w
+    return P
+
+
+def _ebmflc(eb, x, horizons, H):
+    """E-BMFLC's weighted least squares, its tremor bins at ``n + h``."""
+    n, ch = x.shape
+    # a full-band bank, exponentially weighted least squares; the tremor part = the bins above f_cut
+    phi = eb._regressors(n + H)
+    p = phi.shape[1]
+    nv = eb._split()
+    rho = eb.rho
+    delta = max(eb.ridge * 0.5 / (1 - rho), 1e-12)
+    G = delta * np.eye(p)
+    leak = (1 - rho) * delta
+    r = np.zeros((p, ch))
+    P = {h: np.zeros((n, ch)) for h in horizons}
+    for i in range(n):
+        f = phi[i]
+        G *= rho
+        G += f[:, None] * f[None, :]
+        G.flat[:: p + 1] += leak
+        r *= rho
+        r += f[:, None] * x[i][None, :]
+        w = cho_solve(cho_factor(G, check_finite=False), r, check_finite=False)
+        for h in horizons:
+            P[h][i] = phi[i + h][nv:] @ w[nv:]
+    return P
+
+
+def _wflc(wf, x, horizons, H):
+    """WFLC's loop, its phase advanced by its frequency."""
+    n, ch = x.shape
+    # M harmonics of an adapted frequency, accumulated phase
+    M = wf.n_harmonics
+    rr = np.arange(1, M + 1)[:, None]
+    lo, hi = (2 * np.pi * f / wf.fs for f in wf.f_range)
+    omega = np.full(ch, 2 * np.pi * wf.f0 / wf.fs)
+    theta = np.zeros(ch)
+    a = np.zeros((M, ch))
+    c = np.zeros((M, ch))
+    bias = np.zeros(ch)
+    power = np.zeros(ch)
+    P = {h: np.zeros((n, ch)) for h in horizons}
+    for i in range(n):
+        sn, cs = np.sin(rr * theta), np.cos(rr * theta)
+        t = (a * sn + c * cs).sum(axis=0)
+        e = x[i] - t - bias
+        dev = x[i] - bias
+        power = dev * dev if i == 0 else power + wf.beta * (dev * dev - power)
+        z = (rr * (a * cs - c * sn)).sum(axis=0)
+        omega = np.clip(omega + 2 * wf.mu0 * e * z / (power + 1e-300), lo, hi)
+        a += 2 * wf.mu * sn * e
+        c += 2 * wf.mu * cs * e
+        bias = bias + 2 * wf.mu_bias * e
+        theta = np.mod(theta + omega, 2 * np.pi)
+        for h in horizons:
+            ph = theta + (h - 1) * omega
+            P[h][i] = (a * np.sin(rr * ph) + c * np.cos(rr * ph)).sum(axis=0)
+    return P
