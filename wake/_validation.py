@@ -6,6 +6,7 @@ type) with a message that names what was wrong and what would be valid.
 
 from __future__ import annotations
 
+import math
 import numbers
 
 import numpy as np
@@ -118,3 +119,33 @@ def as_sample(sample, *, name: str = "sample") -> np.ndarray:
                          f"got shape {np.shape(sample)}; use update_block() for several samples")
     column = np.ma.atleast_1d(sample) if np.ma.isMaskedArray(sample) else np.atleast_1d(sample)
     return as_signal(column, name=name, allow_nan=True)[0].reshape(-1)
+
+
+def check_number(name: str, value, limits, *, integer: bool = False, low_open: bool = False):
+    """``value`` as an int (``integer``) or float within ``limits = (lo, hi)`` (``lo`` excluded with ``low_open``)."""
+    lo, hi = limits
+    kind = "an integer" if integer else "a number"
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise ValueError(f"{name} must be {kind} in {'(' if low_open else '['}{lo:g}, {hi:g}], got {value!r}")
+    if integer:
+        if not float(value).is_integer():
+            raise ValueError(f"{name} must be an integer in [{lo}, {hi}], got {value!r}")
+        value = int(value)
+    else:
+        value = float(value)
+    ok = math.isfinite(value) and (value > lo if low_open else value >= lo) and value <= hi
+    if not ok:
+        raise ValueError(f"{name} must lie in {'(' if low_open else '['}{lo:g}, {hi:g}], got {value!r}")
+    return value
+
+
+def check_pair(name: str, value) -> tuple[float, float]:
+    """Two finite numbers ``(low, high)`` in Hz."""
+    try:
+        lo, hi = value
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a pair (low, high) in Hz, got {value!r}") from None
+    for v in (lo, hi):
+        if isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v):
+            raise ValueError(f"{name} must hold two finite numbers, got {value!r}")
+    return float(lo), float(hi)

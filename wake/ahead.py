@@ -25,7 +25,9 @@ Per sample (``y(n)``: the newest tremor estimate)::
 
 Examples
 --------
->>> import numpy as np
+>>> import numbers
+
+import numpy as np
 >>> from wake.ahead import fit_predictor, AheadStep
 >>> t = np.arange(500) / 100.0
 >>> tremor = np.sin(2 * np.pi * 6.0 * t)
@@ -40,11 +42,14 @@ Examples
 
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 
 __all__ = ["TAPS", "MAX_HORIZON", "RIDGE", "GATE_TAU_S", "NO_TREMOR_FLAGS", "MIN_HELD_OUT", "COEFFICIENT_LIMIT",
            "fit_predictor", "lagged",
-           "predictions", "held_out_gain", "gate_target", "ramp_step", "horizon_from_ms", "AheadStep"]
+           "predictions", "held_out_gain", "gate_target", "check_model", "ramp_step", "horizon_from_ms", "check_horizon", "bank_horizon",
+           "AheadStep"]
 
 #: Taps of the direct predictor: the knee on the synthetic set, as good as any order on PADS.
 TAPS = 8
@@ -160,6 +165,38 @@ def held_out_gain(estimate, truth, previous, horizon: int, new_samples: int) -> 
     return float(np.clip(float(target @ p) / pp, 0.0, 1.0))
 
 
+def check_model(coefficients, goal):
+    """A predictor and a gate goal as an RTP takes them, validated: ``(float64 array (TAPS,), float)``.
+
+    The coefficients are :data:`TAPS` finite numbers within +-:data:`COEFFICIENT_LIMIT` (what
+    :func:`fit_predictor` gives; the C core's Q27 holds no more), newest estimate first; the goal a
+    number in [0, 1].
+
+    Examples
+    --------
+    >>> check_model([0.5] * 8, 1)[1]
+    1.0
+    >>> check_model([0.5] * 8, 2)
+    Traceback (most recent call last):
+    ...
+    ValueError: the gate's goal must be a number in [0, 1], got 2
+    """
+    c = np.array(coefficients, dtype=float).reshape(-1)
+    if c.shape != (TAPS,) or not np.isfinite(c).all():
+        raise ValueError(f"the tremor-ahead predictor must be {TAPS} finite coefficients (newest estimate "
+                         f"first), got {coefficients!r}")
+    if np.abs(c).max() > COEFFICIENT_LIMIT:
+        raise ValueError(f"tremor-ahead coefficients must lie within +-{COEFFICIENT_LIMIT:g} "
+                         f"(wake.ahead.fit_predictor clips to it), got max |c| {np.abs(c).max():.6g}")
+    try:
+        g = float(goal)
+    except (TypeError, ValueError):
+        raise ValueError(f"the gate's goal must be a number in [0, 1], got {goal!r}") from None
+    if not 0.0 <= g <= 1.0:
+        raise ValueError(f"the gate's goal must be a number in [0, 1], got {goal!r}")
+    return c, g
+
+
 def gate_target(gain: float, cutoff_flag: str) -> float:
     """The gate's goal after an HPA: the held-out gain, or 0 when the window has no tremor peak."""
     return 0.0 if cutoff_flag in NO_TREMOR_FLAGS else float(gain)
@@ -170,9 +207,43 @@ def ramp_step(fs: float, tau_s: float = GATE_TAU_S) -> float:
     return 1.0 / max(1.0, tau_s * fs)
 
 
-def horizon_from_ms(horizon_ms: float, fs: float) -> int:
+def check_horizon(horizon, fs: float, decimation: int = 1) -> int:
+    """``horizon`` in input samples, validated: an integer in 1..``MAX_HORIZON * decimation`` (the filter
+    bank predicts :func:`bank_horizon` of its own samples, at most :data:`MAX_HORIZON`).
+
+    Examples
+    --------
+    >>> check_horizon(50, 1000.0, 10)
+    50
+    >>> check_horizon(33, 100.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: horizon must be an integer number of samples in [1, 32] at 100 Hz (32 samples of the filter bank's rate), got 33
+    """
+    top = MAX_HORIZON * decimation
+    if isinstance(horizon, bool) or not isinstance(horizon, numbers.Real) or not float(horizon).is_integer() \
+            or not 1 <= horizon <= top:
+        raise ValueError(f"horizon must be an integer number of samples in [1, {top}] at {fs:g} Hz "
+                         f"({MAX_HORIZON} samples of the filter bank's rate), got {horizon!r}")
+    return int(horizon)
+
+
+def bank_horizon(horizon: int, decimation: int) -> int:
+    """The horizon at the bank's rate, for an input ``decimation`` times faster: ``horizon / decimation``
+    rounded to the nearest sample (halves up), at least 1.
+
+    Examples
+    --------
+    >>> bank_horizon(50, 10), bank_horizon(5, 10), bank_horizon(4, 10), bank_horizon(7, 1)
+    (5, 1, 1, 7)
+    """
+    return max(1, (2 * int(horizon) + int(decimation)) // (2 * int(decimation)))
+
+
+def horizon_from_ms(horizon_ms: float, fs: float, max_samples: int = MAX_HORIZON) -> int:
     """The horizon in samples of ``horizon_ms`` milliseconds at ``fs`` Hz, rounded to the nearest sample
-    (halves up); ``ValueError`` outside 1..:data:`MAX_HORIZON` samples, naming the range in ms.
+    (halves up); ``ValueError`` outside 1..``max_samples`` samples (:data:`MAX_HORIZON` at the bank rate;
+    ``MAX_HORIZON * D`` at an input rate ``D`` times it), naming the range in ms.
 
     Examples
     --------
@@ -181,10 +252,10 @@ def horizon_from_ms(horizon_ms: float, fs: float) -> int:
     """
     ms = float(horizon_ms)
     samples = int(np.floor(ms * fs / 1000.0 + 0.5)) if np.isfinite(ms) else 0
-    if not 1 <= samples <= MAX_HORIZON:
+    if not 1 <= samples <= max_samples:
         raise ValueError(f"a horizon of {ms:g} ms is {ms * fs / 1000.0:g} samples at {fs:g} Hz; it must "
-                         f"round to 1..{MAX_HORIZON} samples: {500.0 / fs:g} to "
-                         f"<{(MAX_HORIZON + 0.5) * 1000.0 / fs:g} ms")
+                         f"round to 1..{max_samples} samples: {500.0 / fs:g} to "
+                         f"<{(max_samples + 0.5) * 1000.0 / fs:g} ms")
     return samples
 
 

@@ -57,9 +57,10 @@ def horizon_setting(args, fs) -> dict:
     rounding (``""`` without it)."""
     if getattr(args, "horizon_ms", None) is None:
         return {}, ""
-    from wake.ahead import horizon_from_ms
+    from wake.ahead import MAX_HORIZON, horizon_from_ms
+    from wake.sampling import decimation_for
 
-    h = horizon_from_ms(args.horizon_ms, fs)
+    h = horizon_from_ms(args.horizon_ms, fs, MAX_HORIZON * decimation_for(fs))
     return {"horizon": h}, (f"horizon: {args.horizon_ms:g} ms at {fs:g} Hz is {h} sample(s) "
                             f"({1000.0 * h / fs:g} ms; rounded to the nearest sample)")
 

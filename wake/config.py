@@ -16,8 +16,8 @@ import numbers
 from dataclasses import dataclass, fields
 
 from wake._core import BUILD_HINT, core_installed, missing_core_hint
-from wake._validation import check_level, check_mode, check_wavelet
-from wake.ahead import MAX_HORIZON
+from wake._validation import check_level, check_mode, check_number, check_pair, check_wavelet
+from wake.ahead import MAX_HORIZON, bank_horizon, check_horizon
 from wake.limits import MAX_LEVEL
 from wake.sampling import TUNED_RATES, RateWarning, decimation_for, warn_if_far_from_tuned_rate  # noqa: F401
 from wake.registry import cutoff_rule_names
@@ -59,31 +59,7 @@ LIMITS = {
 }
 
 def _number(name: str, value, *, integer: bool = False, low_open: bool = False):
-    lo, hi = LIMITS[name]
-    kind = "an integer" if integer else "a number"
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise ValueError(f"{name} must be {kind} in {'(' if low_open else '['}{lo:g}, {hi:g}], got {value!r}")
-    if integer:
-        if not float(value).is_integer():
-            raise ValueError(f"{name} must be an integer in [{lo}, {hi}], got {value!r}")
-        value = int(value)
-    else:
-        value = float(value)
-    ok = math.isfinite(value) and (value > lo if low_open else value >= lo) and value <= hi
-    if not ok:
-        raise ValueError(f"{name} must lie in {'(' if low_open else '['}{lo:g}, {hi:g}], got {value!r}")
-    return value
-
-
-def _pair(name: str, value) -> tuple[float, float]:
-    try:
-        lo, hi = value
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a pair (low, high) in Hz, got {value!r}") from None
-    for v in (lo, hi):
-        if isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v):
-            raise ValueError(f"{name} must hold two finite numbers, got {value!r}")
-    return float(lo), float(hi)
+    return check_number(name, value, LIMITS[name], integer=integer, low_open=low_open)
 
 
 #: Candidate warm-up HPA times (s) of the automatic schedule (docs/design.md, "Warm-up").
@@ -229,11 +205,14 @@ class WakeConfig:
         at 100 Hz with 5 s windows).  :meth:`~wake.WakeFilter.run` keeps
         every update of the recording it returns.
     horizon : int
-        Samples ahead of the tremor prediction, 1..32 (an actuator's delay
-        ``h``): ``tremor_ahead``, ``confidence`` and ``command`` of the result
-        are the tremor at ``n + h`` predicted at ``n``, the gate and the gated
-        command (:mod:`wake.ahead`; docs/design.md, "Tremor ahead").  The
-        voluntary outputs do not depend on it.
+        Samples ahead of the tremor prediction (an actuator's delay ``h``),
+        1..32 at the bank's rate, 1..32 D at an input rate D times it:
+        ``tremor_ahead``, ``confidence`` and ``command`` of the result are the
+        tremor at ``n + h`` predicted at ``n``, the gate and the gated command
+        (:mod:`wake.ahead`; docs/design.md, "Tremor ahead").  Above 150 Hz
+        the bank predicts ``h / D`` of its samples ahead (rounded) and the
+        prediction holds over the ``D`` input samples of a group, like the
+        voluntary motion.  The voluntary outputs do not depend on it.
 
     Examples
     --------
@@ -299,10 +278,10 @@ class WakeConfig:
         for name in ("process_noise_ratio", "initial_covariance", "ridge"):
             put(name, _number(name, getattr(self, name)))
         nyquist = self.fs / 2
-        lo, hi = _pair("tremor_band", self.tremor_band)
+        lo, hi = check_pair("tremor_band", self.tremor_band)
         if not 0 < lo < hi <= nyquist:
             raise ValueError(f"tremor_band must satisfy 0 < low < high <= fs/2 = {nyquist:g}, got {self.tremor_band!r}")
-        clo, chi = _pair("cutoff_range", self.cutoff_range)
+        clo, chi = check_pair("cutoff_range", self.cutoff_range)
         if not 0 < clo < chi < nyquist:
             raise ValueError(f"cutoff_range must satisfy 0 < low < high < fs/2 = {nyquist:g}, got {self.cutoff_range!r}")
         put("tremor_band", (lo, hi))
@@ -328,13 +307,18 @@ class WakeConfig:
         put("hpa_history_limit", _number("hpa_history_limit", self.hpa_history_limit, integer=True))
         if self.decimation is not None:
             put("decimation", _number("decimation", self.decimation, integer=True))
+        put("horizon", check_horizon(self.horizon, self.fs, self.decimation_factor))
         if self.decimation_factor > 1:  # every setting valid at the rate the bank runs at, too
             try:
                 self.bank_config()
             except ValueError as exc:
                 raise ValueError(f"with decimation {self.decimation_factor} the filter bank runs at "
                                  f"{self.fs / self.decimation_factor:g} Hz, where {exc}") from None
-        put("horizon", _number("horizon", self.horizon, integer=True))
+
+    @property
+    def bank_horizon(self) -> int:
+        """The horizon at the bank's rate (:func:`wake.ahead.bank_horizon`)."""
+        return bank_horizon(self.horizon, self.decimation_factor)
 
     def _warmup_points(self) -> tuple:
         if self.warmup_hpa_s is None:
@@ -392,7 +376,7 @@ class WakeConfig:
         (10, 100.0, 500)
         """
         D = self.decimation_factor
-        return self if D == 1 else self.replace(fs=self.fs / D, decimation=1)
+        return self if D == 1 else self.replace(fs=self.fs / D, decimation=1, horizon=self.bank_horizon)
 
     @property
     def n_taps(self) -> int:

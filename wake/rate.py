@@ -134,15 +134,18 @@ class RateChannel:
         return self.held
 
     def process(self, x: np.ndarray) -> np.ndarray:
-        """A block continuing the stream; ``y[i]`` is what :meth:`update` would return for ``x[i]``."""
+        """A block continuing the stream: ``y[0, i]`` is what :meth:`update` would return for ``x[i]``,
+        ``y[1:, i]`` the bank-rate RTP's ``last_ahead`` then; shape ``(4, n)`` as :meth:`Channel.process`."""
         ends, groups = self.front_end.block(x)
-        out = np.full(x.shape[0], self.held)
+        out = np.empty((4, x.shape[0]))
+        out[0] = self.held
+        out[1:] = np.asarray(self.rtp.last_ahead, dtype=float)[:, None]
         if groups.size:
-            predictions = self.inner.process(groups)
-            # the prediction made at the end of a group holds until the end of the next one
-            for start, stop, p in zip(ends.tolist(), [*ends[1:].tolist(), x.shape[0]], predictions.tolist()):
-                out[start:stop] = p
-            self.held = float(predictions[-1])
+            rows = self.inner.process(groups)
+            # what the bank-rate step gives at the end of a group holds until the end of the next one
+            for start, stop, col in zip(ends.tolist(), [*ends[1:].tolist(), x.shape[0]], rows.T):
+                out[:, start:stop] = col[:, None]
+            self.held = float(rows[0, -1])
         return out
 
     def state(self) -> RateChannelState:

@@ -22,36 +22,6 @@ from wake.wavelets import filter_bank_taps
 LSB = 2.0**-15  # of the full scale
 
 
-class FloatTwin(ReferenceRTP):
-    """ReferenceRTP plus the tremor ahead, as the contract's point 2 defines it (attribute ``ahead``)."""
-
-    def __init__(self, *args, fs=100.0, **kwargs):
-        super().__init__(*args, **kwargs)
-        self.fs = fs
-        self.ahead = AheadStep(np.zeros(TAPS), fs)
-        self.last_ahead = (0.0, 0.0, 0.0)
-
-    def set_ahead(self, coefficients, goal):
-        self.ahead.set_model(coefficients, goal)
-
-    def step(self, sample):
-        if np.isnan(sample):
-            return self.step_missing()
-        estimate = 0.0 if not self.primed else sample - self.last_output
-        y = super().step(sample)
-        self.last_ahead = self.ahead.step(estimate)
-        return y
-
-    def step_missing(self):
-        self.ahead.set_goal(0.0)
-        self.last_ahead = self.ahead.step(0.0)
-        return super().step_missing()
-
-    def run_ahead(self, samples):
-        out = np.array([(self.step(v), *self.last_ahead) for v in np.asarray(samples, dtype=float)])
-        return tuple(out.T)
-
-
 def quantized(x, fs):
     return np.clip(np.round(np.asarray(x) / fs * 2**15), -32768, 32767) * fs / 2**15
 
@@ -60,7 +30,7 @@ def make_pair(rng, fs=2.0, level=4, q=1e-4):
     taps = filter_bank_taps("sym3", level)
     w = np.r_[rng.uniform(-0.3, 0.3, level - 1), 0.0]
     w[-1] = 1.0 - w.sum()
-    return (FloatTwin(taps, w, 0.02, q, 0.02), FixedPointRTP(taps, w, 0.02, q, 0.02, full_scale=fs))
+    return (ReferenceRTP(taps, w, 0.02, q, 0.02), FixedPointRTP(taps, w, 0.02, q, 0.02, full_scale=fs))
 
 
 def tremor_signal(n, rng, fs_hz=100.0):
@@ -76,7 +46,7 @@ def test_set_ahead_validates_with_clear_messages():
         c.set_ahead(np.r_[np.nan, np.zeros(7)], 0.5)
     with pytest.raises(ValueError, match=r"within \+-8"):
         c.set_ahead(np.r_[8.5, np.zeros(7)], 0.5)
-    with pytest.raises(ValueError, match=r"goal must lie in \[0, 1\]"):
+    with pytest.raises(ValueError, match=r"goal must be a number in \[0, 1\]"):
         c.set_ahead(np.zeros(8), 1.5)
     with pytest.raises(ValueError, match="fs must be"):
         FixedPointRTP(filter_bank_taps("sym3", 3), [0, 0, 1], 1e-3, full_scale=1.0, fs=0.0)
@@ -179,9 +149,9 @@ def _errors_on_signal(sig, h, config):
     hpa = run_hpa(x[:L], config)
     taps = filter_bank_taps(config.wavelet, config.level)
     c = FixedPointRTP(taps, hpa.weights, hpa.measurement_noise, full_scale=FullScalePolicy().target(x[:L]))
-    same, free = (FloatTwin(taps, hpa.weights, hpa.measurement_noise) for _ in range(2))
+    same, free = (ReferenceRTP(taps, hpa.weights, hpa.measurement_noise) for _ in range(2))
     # a predictor fitted on the float twin's own estimate over the first window, as the HPA fits it
-    probe = FloatTwin(taps, hpa.weights, hpa.measurement_noise)
+    probe = ReferenceRTP(taps, hpa.weights, hpa.measurement_noise)
     y = probe.run(x[:L])
     coef = fit_predictor(x[:L] - np.r_[x[0], y[:-1]], sig.tremor[:L], h)
     for obj in (c, same, free):

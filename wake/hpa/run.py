@@ -79,7 +79,7 @@ def tremor_ahead(x, outputs, weights, tremor_gt, config: WakeConfig, flag: str, 
     """The tremor-ahead fields of an :class:`HPAUpdate` (docs/design.md, "Tremor ahead").
 
     WAKE's tremor estimate over the window, ``y(k) = x(k) - w . a(k-1)`` for ``k = N .. n-1`` (``a``: the
-    filter-bank ``outputs``, ``w``: the weights in use), against the window's truth ``tremor_gt``: the
+    filter-bank ``outputs``, ``w``: the weights this HPA installs), against the window's truth ``tremor_gt``: the
     :func:`wake.ahead.fit_predictor` at ``config.horizon``, the :func:`wake.ahead.held_out_gain` of
     ``previous_ahead`` on the ``new_samples`` samples since its HPA, and the :func:`wake.ahead.gate_target`.
     """
@@ -117,9 +117,7 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
     start_weights : numpy.ndarray, optional
         The weights before the first HPA; a warm-up window (shorter than
         ``L``) is fitted with a pull towards them that fades as the window
-        grows (:data:`WARMUP_SHRINK`).  The tremor estimate of the window
-        (:func:`tremor_ahead`) reads ``previous_weights``, else these, else
-        the default weights.
+        grows (:data:`WARMUP_SHRINK`).
     previous_ahead : numpy.ndarray, shape (8,), optional
         The previous HPA's tremor-ahead predictor (None before the first:
         the gate's goal is 0).
@@ -165,9 +163,6 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
     # variance so that a window with no tremor still gives S = w'Pw + R > 0.
     measurement_noise = float(max(np.var(tremor_gt), 1e-6 * spread**2))
     outputs = filter_bank_outputs(x, taps)
-    in_use = previous_weights if previous_weights is not None else start_weights
-    ahead = tremor_ahead(x, outputs, in_use if in_use is not None else default_weights(level), tremor_gt, config,
-                         flag, previous_ahead, new_samples)
     if fit == "causal":
         # a(k) for k = N-1 .. L-1-h against v_GT(k + h), h = TARGET.horizon (wake.target)
         approx, target = TARGET.fit_pairs(outputs, voluntary_gt, taps.shape[1])
@@ -183,4 +178,7 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
         # a short warm-up window without a clean valley: its fit is not installed
         w = np.array(previous_weights, dtype=float) if previous_weights is not None else default_weights(level)
         flags.append("weights_kept")
+    # the predictor learns from the estimate these weights will give from now on (docs/design.md, "Tremor
+    # ahead": with the weights in use before this HPA, PADS at 100 ms came to 1.008 x zero after 5 s)
+    ahead = tremor_ahead(x, outputs, w, tremor_gt, config, flag, previous_ahead, new_samples)
     return HPAUpdate(index, cutoff, flag, w, measurement_noise, err, used, tuple(flags), **ahead)

@@ -24,7 +24,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from wake.ahead import TAPS, AheadStep
 from wake.rtp.full_scale import (
     GLITCH_SHARE,
     RAISE_AFTER,
@@ -32,7 +31,7 @@ from wake.rtp.full_scale import (
     first_persistent_overflow,
     power_of_two_at_least,
 )
-from wake.rtp.reference import ReferenceRTP, check_ahead
+from wake.rtp.reference import ReferenceRTP
 
 __all__ = ["AdaptiveRTP", "AdaptiveRTPState", "ClippingWarning"]
 
@@ -53,9 +52,6 @@ class AdaptiveRTPState:
     clipped_before: int
     over_run: int
     over_peak: float
-    shadow: object = None        #: the tremor ahead beside a C core without one (:class:`AdaptiveRTP`)
-    shadow_last: tuple = (0.0, 0.0, 0.0)
-    shadow_previous: float = 0.0
 
 
 class AdaptiveRTP:
@@ -76,9 +72,9 @@ class AdaptiveRTP:
 
     Notes
     -----
-    The tremor ahead (:meth:`set_ahead`, :attr:`last_ahead`, :meth:`run_ahead`) runs in the core.  A C core
-    without it runs it beside, in the float reference's :class:`~wake.ahead.AheadStep` (carried over at the
-    switch), fed the same estimate ``m(n) - y(n-1)``.
+    The tremor ahead (:meth:`set_ahead`, :attr:`last_ahead`, :meth:`run_ahead`) runs in the core: the float
+    reference's :class:`~wake.ahead.AheadStep`, then the C core's fixed-point twin, which
+    ``FixedPointRTP.from_reference`` carries it into at the switch.
 
     Examples
     --------
@@ -92,12 +88,7 @@ class AdaptiveRTP:
     def __init__(self, taps, weights, measurement_noise, process_noise=0.0, initial_covariance=0.0, *,
                  backend="c", full_scale=None, headroom=16.0, fs=100.0):
         self.core = ReferenceRTP(taps, weights, measurement_noise, process_noise, initial_covariance, fs=fs)
-        # TODO(issue 32, C side): FixedPointRTP gains set_ahead / last_ahead / run_ahead and carries the
-        # ahead in from_reference; until it does, the tremor ahead of a C core runs here (shadow).
         self.fs = fs
-        self.shadow = None
-        self.shadow_last = (0.0, 0.0, 0.0)
-        self.shadow_previous = 0.0    # y(n-1), the core's last voluntary output
         self.backend = backend
         self.fixed_full_scale = full_scale     # given by the user: never moved
         self.initial_covariance = initial_covariance
@@ -127,45 +118,14 @@ class AdaptiveRTP:
     @property
     def last_ahead(self) -> tuple:
         """``(predicted, confidence, command)`` after the last sample (see :mod:`wake.ahead`)."""
-        return self.shadow_last if self.shadow is not None else self.core.last_ahead
+        return self.core.last_ahead
 
     def set_ahead(self, coefficients, goal) -> None:
         """Install a tremor-ahead predictor and gate goal (the delay line and the gate carry over)."""
-        if self.shadow is None:
-            self.core.set_ahead(coefficients, goal)
-        else:
-            self.shadow.set_model(*check_ahead(coefficients, goal))
-
-    def _shadow_block(self, x, y, primed: bool) -> np.ndarray:
-        """The shadow's ``(n, 3)`` outputs over block ``x`` whose voluntary outputs are ``y`` (``primed``: the
-        core had a sample before the block): as :class:`~wake.rtp.reference.ReferenceRTP`, the estimate is
-        ``m(n) - y(n-1)``, 0 for a missing sample (which also shuts the goal) and for the very first one."""
-        previous = np.concatenate(([self.shadow_previous], y[:-1]))
-        out = np.empty((x.shape[0], 3))
-        for k, (v, p) in enumerate(zip(x.tolist(), previous.tolist())):
-            out[k] = self._shadow_step(v, p, primed)
-            primed = primed or v == v
-        if x.shape[0]:
-            self.shadow_previous = float(y[-1])
-        return out
-
-    def _shadow_step(self, sample: float, previous: float, primed: bool) -> tuple:
-        """One sample of the shadow, ``previous`` the core's output before it: its ``last_ahead``."""
-        if sample != sample:
-            self.shadow.set_goal(0.0)
-        self.shadow_last = self.shadow.step(sample - previous if primed and sample == sample else 0.0)
-        return self.shadow_last
+        self.core.set_ahead(coefficients, goal)
 
     def step(self, sample: float) -> float:
         """One sample (NaN: missing) through the overflow rule and the RTP; the prediction of the next."""
-        primed = self.core.primed
-        y = self._step(sample)
-        if self.shadow is not None:
-            self._shadow_step(sample, self.shadow_previous, primed)
-            self.shadow_previous = y
-        return y
-
-    def _step(self, sample: float) -> float:
         if sample != sample:
             self.over_run = 0
             return self.core.step_missing()
@@ -195,11 +155,7 @@ class AdaptiveRTP:
 
     def _core_run(self, x) -> np.ndarray:
         """``(n, 4)``: the core's voluntary outputs and tremor ahead over ``x`` (no full-scale move)."""
-        if self.shadow is None:
-            return np.column_stack(self.core.run_ahead(x))
-        primed = self.core.primed
-        y = self.core.run(x)
-        return np.column_stack((y, self._shadow_block(x, y, primed)))
+        return np.column_stack(self.core.run_ahead(x))
 
     def _run(self, x) -> np.ndarray:
         if not (self.on_c and self.fixed_full_scale is None):
@@ -233,10 +189,6 @@ class AdaptiveRTP:
 
     def reset(self) -> None:
         self.core.reset()
-        if self.shadow is not None:
-            self.shadow.history[:] = 0.0
-            self.shadow.gate = self.shadow.goal = 0.0
-            self.shadow_last, self.shadow_previous = (0.0, 0.0, 0.0), 0.0
 
     # -- at an HPA --------------------------------------------------------------------
     def install(self, weights, measurement_noise: float, process_noise: float, window) -> tuple:
@@ -293,9 +245,6 @@ class AdaptiveRTP:
         self.core, _ = load_fixed_point().FixedPointRTP.from_reference(
             reference, full_scale=full_scale, measurement_noise=measurement_noise,
             process_noise=process_noise, initial_covariance=self.initial_covariance)
-        if not hasattr(self.core, "set_ahead"):     # the shadow (see __init__)
-            self.shadow = copy.deepcopy(reference.ahead)
-            self.shadow_last, self.shadow_previous = reference.last_ahead, reference.last_output
         self.on_c = True
         self.full_scale = full_scale
 
@@ -317,8 +266,7 @@ class AdaptiveRTP:
     # -- state ----------------------------------------------------------------------------
     def state(self) -> AdaptiveRTPState:
         return AdaptiveRTPState(copy.deepcopy(self.core), self.on_c, self.full_scale, self.policy.quiet_windows,
-                                self.full_scale_changes, self.clipped_before, self.over_run, self.over_peak,
-                                copy.deepcopy(self.shadow), self.shadow_last, self.shadow_previous)
+                                self.full_scale_changes, self.clipped_before, self.over_run, self.over_peak)
 
     def load(self, state: AdaptiveRTPState) -> None:
         self.core = copy.deepcopy(state.core)
@@ -326,11 +274,6 @@ class AdaptiveRTP:
         self.policy.quiet_windows = state.quiet_windows
         self.full_scale_changes, self.clipped_before = state.full_scale_changes, state.clipped_before
         self.over_run, self.over_peak = state.over_run, state.over_peak
-        self.shadow = copy.deepcopy(state.shadow)
-        self.shadow_last, self.shadow_previous = state.shadow_last, state.shadow_previous
         # a state saved before the tremor ahead existed: it starts with no predictor, the gate shut
         if not self.on_c and not hasattr(self.core, "ahead"):
             self.core.start_ahead(self.fs)
-        if self.on_c and self.shadow is None and not hasattr(self.core, "set_ahead"):
-            self.shadow = AheadStep(np.zeros(TAPS), self.fs)
-            self.shadow_previous = self.core.last_output

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from wake.ahead import COEFFICIENT_LIMIT
+from wake.ahead import check_model
 from wake.limits import MAX_LEVEL
 
 __all__ = ["P_FRAC", "MAX_LEVEL", "SAMPLE_FRAC", "TAP_FRAC", "STATE_FRAC", "WEIGHT_FRAC", "WEIGHT_MAX",
@@ -153,15 +153,6 @@ def quantize_ahead(coefficients, goal):
     >>> int(c[0]) == 2**27, int(c[7]) == 2**30, g == 2**29
     (True, True, True)
     """
-    c = np.array(coefficients, dtype=float).reshape(-1)
-    if c.shape != (AHEAD_TAPS,) or not np.isfinite(c).all():
-        raise ValueError(f"the tremor-ahead predictor must be {AHEAD_TAPS} finite coefficients (newest "
-                         f"estimate first), got {coefficients!r}")
-    if np.abs(c).max() > COEFFICIENT_LIMIT:
-        raise ValueError(f"tremor-ahead coefficients must lie within +-{COEFFICIENT_LIMIT:g} "
-                         f"(wake.ahead.fit_predictor clips to it), got max |c| {np.abs(c).max():.6g}")
-    g = float(goal)
-    if not 0.0 <= g <= 1.0:
-        raise ValueError(f"the gate's goal must lie in [0, 1], got {goal!r}")
+    c, g = check_model(coefficients, goal)
     c_q = np.ascontiguousarray(np.round(c * 2.0**AHEAD_COEF_FRAC), dtype=np.int32)
     return c_q, int(round(g * 2.0**GATE_FRAC))

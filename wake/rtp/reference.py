@@ -35,23 +35,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from wake.ahead import TAPS, AheadStep
+from wake.ahead import TAPS, AheadStep, check_model
 
-__all__ = ["ReferenceRTP", "check_ahead"]
-
-
-def check_ahead(coefficients, goal):
-    """A tremor-ahead predictor and gate goal, validated: ``(coefficients as float64 (8,), goal as float)``."""
-    c = np.array(coefficients, dtype=float)
-    if c.shape != (TAPS,) or not np.isfinite(c).all():
-        raise ValueError(f"coefficients must be {TAPS} finite numbers (newest first), got {coefficients!r}")
-    try:
-        g = float(goal)
-    except (TypeError, ValueError):
-        raise ValueError(f"goal must be a number in [0, 1], got {goal!r}") from None
-    if not 0.0 <= g <= 1.0:
-        raise ValueError(f"goal must be a number in [0, 1], got {goal!r}")
-    return c, g
+__all__ = ["ReferenceRTP"]
 
 
 # The two sums below run in a fixed order (one tap, one level at a time), the
@@ -157,7 +143,7 @@ class ReferenceRTP:
         ``coefficients``: 8 finite numbers, newest estimate first; ``goal`` in [0, 1].  The delay line and
         the gate's value carry over.
         """
-        self.ahead.set_model(*check_ahead(coefficients, goal))
+        self.ahead.set_model(*check_model(coefficients, goal))
 
     @property
     def last_ahead(self):
