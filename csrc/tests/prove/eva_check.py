@@ -1,12 +1,13 @@
 """Frama-C Eva over every public function of the C core and the C HPA (make -C csrc prove).
 
     python tests/prove/eva_check.py              (from csrc/)
-    python tests/prove/eva_check.py --timeout 120 --only rtp
+    python tests/prove/eva_check.py --timeout 120 --only rtp --jobs 2
+    python tests/prove/eva_check.py --hpa-report     (also analyse wake_hpa_run, never failing on it)
 
 Runs ``frama-c -eva`` once per analysis entry (tests/prove/eva_rtp.c, tests/prove/eva_hpa.c: one ``eva_<function>``
 per public function, inputs ranged as the API allows) and per configuration (the 64-bit multiply and
 the Cortex-M0+ split arithmetic, WAKE_RTP_KALMAN 1 and 0; the -O2 and -Os source paths), each bounded
-by ``--timeout`` seconds, on the ILP32 data model of a Cortex-M (machdep gcc_x86_32). It prints a
+by ``--timeout`` seconds and run ``--jobs`` at a time, on the ILP32 data model of a Cortex-M (machdep gcc_x86_32). It prints a
 Markdown table of the alarms per entry and configuration, then compares the distinct alarms
 (file and assertion) with the justified ones listed in docs/verification.md ("Eva alarms"), the one
 place they are listed. Exit status: 0 every alarm is listed; 1 an unlisted alarm, an analysis that
