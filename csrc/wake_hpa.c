@@ -501,11 +501,14 @@ wake_hpa_status_t wake_hpa_start(wake_hpa_t *h, const wake_q15_t *window, uint16
     return WAKE_HPA_OK;
 }
 
-/** Whether a running HPA reads buffer b (a window pushed here, not a caller's). */
+/**
+ * Whether a running HPA reads buffer b (a window pushed here, not a caller's).  Every window a push
+ * starts begins at its buffer's first sample (feed), so the test is an equality: C defines `==` between
+ * pointers into different objects (a caller's window), where `<` and `>=` are undefined.
+ */
 static int reads_buffer(const wake_hpa_t *h, unsigned b)
 {
-    const wake_q15_t *lo = h->buf + (size_t)b * WAKE_HPA_MAX_WINDOW;
-    return h->phase != STEP_IDLE && h->work >= lo && h->work < lo + WAKE_HPA_MAX_WINDOW;
+    return h->phase != STEP_IDLE && h->work == h->buf + (size_t)b * WAKE_HPA_MAX_WINDOW;
 }
 
 /**

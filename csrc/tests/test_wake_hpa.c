@@ -394,12 +394,83 @@ static void test_push_and_slices_equal_start_and_run(void)
     }
 }
 
+/*
+ * A long gap stops a run only when it reads one of the instance's window buffers (reads_buffer): a
+ * warm-up run on the buffer being filled when the gap ends, a full-window run on the other buffer when
+ * the next window ends inside a gap; a run on a caller's window goes on in both cases.
+ */
+static void test_gap_stops_only_runs_on_own_buffers(void)
+{
+    int k;
+    wake_hpa_config_t c;
+    wake_hpa_result_t r;
+    CHECK(wake_hpa_default_config(&c) == WAKE_HPA_OK);
+    memset(c.warmup, 0, sizeof c.warmup);          /* full windows only: the runs below are the test's */
+    for (k = 0; k < L; ++k) {
+        window[k] = (int16_t)(3000.0 * sin(0.05 * k) + (double)(k % 11) * 40.0);
+    }
+    /* the gap's end: a caller's window keeps running */
+    CHECK(wake_hpa_init(&hpa, &c, taps, start_w) == WAKE_HPA_OK);
+    for (k = 0; k < 10; ++k) {
+        CHECK(wake_hpa_push(&hpa, (wake_q15_t)k) == WAKE_HPA_OK);
+    }
+    CHECK(wake_hpa_start(&hpa, window, 100, 7) == WAKE_HPA_OK);
+    for (k = 0; k < 120; ++k) {                     /* a long gap (gap_len = 100) */
+        CHECK(wake_hpa_push_missing(&hpa) == WAKE_HPA_OK);
+    }
+    CHECK(wake_hpa_push(&hpa, 5) == WAKE_HPA_OK);   /* ends the gap: the fill buffer restarts */
+    CHECK(hpa.fill_len == 1u && hpa.phase != 0u && hpa.work == window && hpa.skipped == 0u);
+    CHECK(wake_hpa_run(&hpa) == WAKE_HPA_DONE && wake_hpa_take(&hpa, &r) == WAKE_HPA_OK);
+    CHECK(r.n == 100u && r.index == 7u && result_is_sane(&r));
+    /* the gap's end: a run started by the caller on the buffer being filled is abandoned */
+    CHECK(wake_hpa_init(&hpa, &c, taps, start_w) == WAKE_HPA_OK);
+    for (k = 0; k < 80; ++k) {
+        CHECK(wake_hpa_push(&hpa, (wake_q15_t)(k * 37 % 101)) == WAKE_HPA_OK);
+    }
+    CHECK(wake_hpa_start(&hpa, hpa.buf, 80, 80) == WAKE_HPA_OK);
+    for (k = 0; k < 120; ++k) {
+        CHECK(wake_hpa_push_missing(&hpa) == WAKE_HPA_OK);
+    }
+    CHECK(wake_hpa_push(&hpa, 5) == WAKE_HPA_OK);
+    CHECK(hpa.phase == 0u && hpa.skipped == 1u && !hpa.ready);
+    /* a window that ends inside a gap: the full-window run on the other buffer stops ... */
+    CHECK(wake_hpa_init(&hpa, &c, taps, start_w) == WAKE_HPA_OK);
+    for (k = 0; k < L; ++k) {
+        CHECK(wake_hpa_push(&hpa, window[k]) == (k == L - 1 ? WAKE_HPA_STARTED : WAKE_HPA_OK));
+    }
+    CHECK(hpa.work == hpa.buf && hpa.fill == 1u);
+    for (k = 0; k < L - 101; ++k) {
+        CHECK(wake_hpa_push(&hpa, window[k]) == WAKE_HPA_OK);
+    }
+    for (k = 0; k < 101; ++k) {                     /* the window's last 101 samples: a long gap */
+        CHECK(wake_hpa_push_missing(&hpa) == WAKE_HPA_OK);
+    }
+    CHECK(hpa.phase == 0u && hpa.overruns == 1u && hpa.gap_skipped == 1u && !hpa.ready);
+    /* ... and a caller's run in its place goes on */
+    CHECK(wake_hpa_init(&hpa, &c, taps, start_w) == WAKE_HPA_OK);
+    for (k = 0; k < L; ++k) {
+        CHECK(wake_hpa_push(&hpa, window[k]) == (k == L - 1 ? WAKE_HPA_STARTED : WAKE_HPA_OK));
+    }
+    CHECK(wake_hpa_run(&hpa) == WAKE_HPA_DONE && wake_hpa_take(&hpa, &r) == WAKE_HPA_OK);
+    CHECK(wake_hpa_start(&hpa, window, L, 1) == WAKE_HPA_OK);
+    for (k = 0; k < L - 101; ++k) {
+        CHECK(wake_hpa_push(&hpa, window[k]) == WAKE_HPA_OK);
+    }
+    for (k = 0; k < 101; ++k) {
+        CHECK(wake_hpa_push_missing(&hpa) == WAKE_HPA_OK);
+    }
+    CHECK(hpa.phase != 0u && hpa.work == window && hpa.overruns == 0u && hpa.gap_skipped == 1u);
+    CHECK(wake_hpa_run(&hpa) == WAKE_HPA_DONE && wake_hpa_take(&hpa, &r) == WAKE_HPA_OK);
+    CHECK(r.n == L && r.index == 1u && result_is_sane(&r));
+}
+
 int main(void)
 {
     make_taps();
     test_bad_input();
     test_degenerate_windows();
     test_push_and_slices_equal_start_and_run();
+    test_gap_stops_only_runs_on_own_buffers();
     if (failures) {
         printf("%d failure(s)\n", failures);
         return 1;

@@ -24,6 +24,7 @@ static wake_hpa_config_t cfg;
 static wake_hpa_result_t result;
 static wake_hpa_t hpa;
 static wake_rtp_t rtp;
+static wake_q15_t rtp_taps[WAKE_RTP_MAX_LEVEL * WAKE_RTP_MAX_TAPS];
 
 static void unknown(void *p, size_t n)
 {
@@ -59,10 +60,17 @@ static int any_checked_fields(void)
                              &cfg.shallow_high, &cfg.default_cutoff, &cfg.min_depth_ratio, &cfg.floor_ratio,
                              &cfg.edge_ratio, &cfg.ridge, &cfg.process_noise_ratio};
     unknown(&cfg, sizeof cfg);
+    if (cfg.level >= 1u && cfg.level <= WAKE_HPA_MAX_LEVEL) {
+        /* the same values, one Eva state each: loops over the level stay exact (apply's weights) */
+        cfg.level = (uint16_t)Frama_C_interval_split(1, WAKE_HPA_MAX_LEVEL);
+    }
     /* finite floats: a NaN or infinite field is refused by init, which eva_wake_hpa_init shows */
     for (j = 0; j < sizeof fields / sizeof fields[0]; ++j) {
         *fields[j] = Frama_C_float_interval(-FLT_MAX, FLT_MAX);
     }
+    /* a negative ratio is refused by init (config_ok); Eva loses that through config_ok's status, and apply's
+       conversion would then keep a refusal path whose outputs are unset: the driver leaves it out */
+    cfg.process_noise_ratio = Frama_C_float_interval(0.0f, FLT_MAX);
     unknown(taps, sizeof taps);
     for (j = 0; j < WAKE_HPA_MAX_LEVEL; ++j) {
         weights[j] = Frama_C_float_interval(-FLT_MAX, FLT_MAX);
@@ -151,8 +159,18 @@ void eva_wake_hpa_to_rtp(void)
 void eva_wake_hpa_apply(void)
 {
     if (any_checked_fields()) {
+        /* an RTP of any content, with eva_rtp.c's two exceptions (docs/verification.md, "Corrupted state"):
+           the taps pointer points to a table, the Kalman accumulators lie in their documented ranges */
         unknown(&rtp, sizeof rtp);
-        rtp.taps = taps;
+        unknown(rtp_taps, sizeof rtp_taps);
+        rtp.taps = rtp_taps;
+        if (rtp.level >= 1u && rtp.level <= WAKE_RTP_MAX_LEVEL) {
+            rtp.level = (uint16_t)Frama_C_interval_split(1, WAKE_RTP_MAX_LEVEL);   /* one state each */
+        }
+        rtp.s = Frama_C_long_long_interval(-(INT64_C(1) << 50), INT64_C(1) << 50);
+        rtp.z = Frama_C_long_long_interval(-(INT64_C(1) << 40), INT64_C(1) << 40);
+        rtp.q_omega = Frama_C_long_long_interval(0, INT64_C(1) << 47);
+        unknown(&hpa.result, sizeof hpa.result);   /* any result, NaN and infinities included */
         (void)wake_hpa_apply(&hpa, &rtp);
     }
 }
