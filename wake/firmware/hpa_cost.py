@@ -36,7 +36,8 @@ HPA_DEFS = ["-DWAKE_HPA_MAX_WINDOW=500", "-DWAKE_HPA_MAX_LEVEL=5", "-DWAKE_HPA_M
 HPA_GOALS = {"whole": 400_000, "step_plus_slice": 3_000, "ram": 6 * 1024}
 #: The steps of csrc/wake_hpa.c, in the order of its enum (wake_hpa_t::phase indexes this).
 STEP_NAMES = ("idle", "sums", "lags", "lag end", "Rxx diagonal", "Levinson", "AR spectrum", "cut-off",
-              "bin count", "DFT passes", "bin start", "bin slide", "ramp", "Gram", "solve")
+              "bin count", "DFT passes", "bin start", "bin slide", "ramp", "Gram", "solve", "ahead start",
+              "ahead pass", "ahead solve")
 
 
 def build_hpa_image(target="m4f-O2", *, build_dir=None, csrc=None, defs=()):

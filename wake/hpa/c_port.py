@@ -114,7 +114,7 @@ def hpa_config_fields(config: WakeConfig) -> dict:
             "floor_ratio": FLOOR_RATIO, "edge_ratio": EDGE_RATIO, "ridge": config.ridge,
             "process_noise_ratio": config.process_noise_ratio, "window": config.window_samples,
             "level": config.level, "ar_order": config.ar_order, "rule": cutoff_rule_names().index(config.cutoff_rule),
-            "clean_below": clean_only_below(config), "warmup": points + [0] * (MAX_WARMUP - len(points))}
+            "clean_below": clean_only_below(config), "horizon": 1, "warmup": points + [0] * (MAX_WARMUP - len(points))}
 
 
 def hpa_config(config: WakeConfig):
