@@ -662,7 +662,11 @@ static void ahead_keep(wake_hpa_t *h, const float *c, float goal)
 /** A constant window: no tremor, nothing to predict (a zero predictor, the gate shut). */
 static void ahead_silent(wake_hpa_t *h)
 {
-    static const float zero[WAKE_HPA_AHEAD_TAPS] = {0.0f};
+    float zero[WAKE_HPA_AHEAD_TAPS];
+    unsigned i;
+    for (i = 0; i < WAKE_HPA_AHEAD_TAPS; ++i) {
+        zero[i] = 0.0f;
+    }
     ahead_keep(h, zero, 0.0f);
 }
 
@@ -699,7 +703,9 @@ static void finish(wake_hpa_t *h, const float *w, float r, float mse, float ridg
     }
     res->ahead_goal = h->ahead_goal;
 #else
-    memset(res->ahead, 0, sizeof res->ahead);
+    for (j = 0; j < WAKE_HPA_AHEAD_TAPS; ++j) {
+        res->ahead[j] = 0.0f;
+    }
     res->ahead_goal = 0.0f;
 #endif
     h->ready = 1;
@@ -1300,10 +1306,10 @@ static void step_bin_start(wake_hpa_t *h)
         /* Z = X' e^{j w N};  v(N) = (2/n) Re Z,  v(N) - v(N-1) = (2/n) Re(Z (1 - e^{-j w})) */
         const float zr = h->xr * h->ph[0] - h->xi * h->ph[1], zi = h->xr * h->ph[1] + h->xi * h->ph[0];
         const float two_n = 2.0f / (float)n;
-        float *osc = h->bin_osc + 3u * (m - 1u);
-        osc[0] = two_n * zr;
-        osc[1] = two_n * (-0.5f * h->lam[b] * zr - sw * zi);
-        osc[2] = h->lam[b];
+        const unsigned at = 3u * (m - 1u);
+        h->bin_osc[at] = two_n * zr;
+        h->bin_osc[at + 1u] = two_n * (-0.5f * h->lam[b] * zr - sw * zi);
+        h->bin_osc[at + 2u] = h->lam[b];
     }
 #endif
     h->ph[2] = 1.0f;
@@ -1337,11 +1343,10 @@ static int32_t round_clamp(float v, float lo, float hi);
 /** Tap i of the estimate's FIR w'B in Q20 (oldest tap first), from the weights in use (STEP_AHEAD_PASS). */
 static inline void ahead_fir_tap(wake_hpa_t *h, unsigned i)
 {
-    const float *b = h->tapf + i * WAKE_HPA_MAX_LEVEL;
     float f = 0.0f;
     unsigned l;
     for (l = 0; l < h->cfg.level; ++l) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
-        f += h->weights[l] * b[l];
+        f += h->weights[l] * h->tapf[i * WAKE_HPA_MAX_LEVEL + l];
     }
     /* |w| <= 32, |B| < 1: |f| < 2^11, so f 2^20 fits an int32 */
     h->ahead_fir[i] = round_clamp(f * 1048576.0f, -2147483520.0f, 2147483520.0f);
@@ -1409,20 +1414,24 @@ static int32_t step_ramp(wake_hpa_t *h, int32_t budget)
 static void step_ahead_start(wake_hpa_t *h)
 {
     const unsigned N = 1u << h->cfg.level, hz = h->cfg.horizon, len = h->n - N;
-    unsigned first;
-    memset(h->ahead_lag, 0, sizeof h->ahead_lag);
-    memset(h->ahead_rhs, 0, sizeof h->ahead_rhs);
-    memset(h->ahead_ring, 0, sizeof h->ahead_ring);
+    unsigned first, i;
+    for (i = 0; i < WAKE_HPA_AHEAD_TAPS; ++i) {
+        h->ahead_lag[i] = 0.0f;
+        h->ahead_rhs[i] = 0.0f;
+    }
+    for (i = 0; i < WAKE_HPA_AHEAD_RING; ++i) {
+        h->ahead_ring[i] = 0.0f;
+    }
     h->ahead_tp = 0.0f;
     h->ahead_pp = 0.0f;
     h->ahead_pos = WAKE_HPA_AHEAD_RING - 1u;   /* the first estimate goes to ring[0] */
     /* wake.ahead.held_out_gain: targets from max(len - new, 7 + h) of the estimate, at least 10 of them */
     first = WAKE_HPA_AHEAD_TAPS - 1u + hz;
-    if (h->ahead_has_prev && h->index - h->ahead_prev_index < len) {
+    if (h->ahead_has_prev != 0u && h->index - h->ahead_prev_index < len) {
         const unsigned fresh = len - (unsigned)(h->index - h->ahead_prev_index);
         first = fresh > first ? fresh : first;
     }
-    h->ahead_held = (uint16_t)(h->ahead_has_prev && first + 10u <= len ? N + first : h->n);
+    h->ahead_held = (uint16_t)(h->ahead_has_prev != 0u && first + 10u <= len ? N + first : h->n);
     h->t = (uint16_t)N;
     h->phase = STEP_AHEAD_PASS;
 }
@@ -1435,11 +1444,11 @@ static void step_ahead_start(wake_hpa_t *h)
  */
 static inline float ahead_estimate(const int32_t *fir, const wake_q15_t *x, unsigned t, unsigned N)
 {
-    const wake_q15_t *past = x + t - N;
+    const unsigned first = t - N;
     int64_t acc = 0;
     unsigned i;
     for (i = 0; i < N; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
-        acc += (int64_t)fir[i] * past[i];
+        acc += (int64_t)fir[i] * x[first + i];
     }
     return (float)x[t] - int64_to_float(acc) * (1.0f / 1048576.0f);
 }
@@ -1453,16 +1462,15 @@ static void ahead_voluntary(float *osc, unsigned bins, unsigned count, float *v)
     v[2] = 0.0f;
     v[3] = 0.0f;
     for (m = 0; m < bins; ++m) { /* wcet-loop: WAKE_HPA_MAX_BINS */
-        float *o = osc + 3u * m;
-        float vm = o[0], e = o[1];
-        const float lam = o[2];
+        float vm = osc[3u * m], e = osc[3u * m + 1u];
+        const float lam = osc[3u * m + 2u];
         for (q = 0; q < count; ++q) { /* wcet-loop: 4 */
             v[q] += vm;
             e += lam * vm;
             vm += e;
         }
-        o[0] = vm;
-        o[1] = e;
+        osc[3u * m] = vm;
+        osc[3u * m + 1u] = e;
     }
 }
 
@@ -1600,7 +1608,7 @@ static void ahead_factor(wake_hpa_t *h, unsigned j)
 static void ahead_substitute(const float *g, const float *b, float *c)
 {
     const unsigned P = WAKE_HPA_AHEAD_TAPS;
-    unsigned i, k;
+    unsigned i, r, k;
     for (i = 0; i < P; ++i) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
         float v = b[i];
         for (k = 0; k < i; ++k) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
@@ -1611,8 +1619,10 @@ static void ahead_substitute(const float *g, const float *b, float *c)
     for (i = 0; i < P; ++i) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
         c[i] /= g[i * P + i];
     }
-    for (i = P; i-- > 0u;) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
-        float v = c[i];
+    for (r = 0; r < P; ++r) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+        float v;
+        i = P - 1u - r;
+        v = c[i];
         for (k = i + 1u; k < P; ++k) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
             v -= g[k * P + i] * c[k];
         }
