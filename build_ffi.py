@@ -87,8 +87,8 @@ ffibuilder.set_source(
     include_dirs=[CSRC],
     # The HPA's floats must round the same on every machine: no fused multiply-add.
     extra_compile_args=["-ffp-contract=off"],
-    # Host limits of the C HPA: any window up to 1024 samples, AR order up to 128, every PSD bin.
-    define_macros=[("WAKE_HPA_MAX_WINDOW", "1024"), ("WAKE_HPA_MAX_ORDER", "128"), ("WAKE_HPA_MAX_PSD_BINS", "512")],
+    # The HPA fits the tremor ahead (WAKE_HPA_AHEAD) on the host. Host limits of the C HPA: any window up to 1024 samples, AR order up to 128, every PSD bin.
+    define_macros=[("WAKE_HPA_AHEAD", "1"), ("WAKE_HPA_MAX_WINDOW", "1024"), ("WAKE_HPA_MAX_ORDER", "128"), ("WAKE_HPA_MAX_PSD_BINS", "512")],
 )
 
 if __name__ == "__main__":

@@ -17,6 +17,9 @@
  *   STEP_BIN_START X_m and Q_m(0) from the pass's states    (one slice per bin)
  *   STEP_BIN_END   slide bin m over the fit rows into Cxy   (chunks of the 2^J rows)
  *   STEP_RAMP      the end-point line's ramp into Cxy        (chunks of the 2^J rows)
+ *   STEP_AHEAD_START the estimate's FIR w'B, the tremor-ahead sums cleared (one slice)
+ *   STEP_AHEAD_PASS  y(t), T(t), the lagged Gram, its right-hand side, the held-out sums (chunks of the window)
+ *   STEP_AHEAD_SOLVE the 8-tap predictor by L D L', the held-out gain, the goal (one slice)
  *   STEP_GRAM      G = B (Rxx B') + mean terms, b            (one entry G[l][k] per slice)
  *   STEP_SOLVE     (G + lambda I) w = b, raising lambda      (one attempt per slice)
  *
@@ -46,7 +49,10 @@ enum {
     STEP_BIN_END,
     STEP_RAMP,
     STEP_GRAM,
-    STEP_SOLVE
+    STEP_SOLVE,
+    STEP_AHEAD_START,
+    STEP_AHEAD_PASS,
+    STEP_AHEAD_SOLVE
 };
 
 #define NO_PEAK 0xFFFFu
@@ -141,7 +147,22 @@ static inline unsigned chunk_end(unsigned t, unsigned step, unsigned limit)
 #define COST_DFT1 11
 #define COST_DFT2 16
 #define COST_SLIDE 60
+#if WAKE_HPA_AHEAD
+#define COST_RAMP 80    /* the ramp's item also forms a tap of the estimate's FIR */
+#else
 #define COST_RAMP 40
+#endif
+
+/** The last piece of the tremor-ahead solve (0..7 assemble G's rows, 8..15 factor its columns, 16 substitutes). */
+#define AHEAD_SOLVE_LAST (2u * WAKE_HPA_AHEAD_TAPS)
+
+#if WAKE_HPA_AHEAD
+/** One sample of the tremor-ahead pass: the 2^J-tap FIR, the bins' rotations, the 8 x 8 / 2 + 8 + 8 products. */
+static inline int32_t cost_ahead(const wake_hpa_t *h)
+{
+    return 200 + 5 * ((int32_t)1 << h->cfg.level) + 14 * (int32_t)h->bins;
+}
+#endif
 
 static inline unsigned items(int32_t budget, int32_t cost)
 {
@@ -274,7 +295,7 @@ static int config_ok(const wake_hpa_config_t *c)
     if (c->cutoff_high * (float)WAKE_HPA_PSD_GRID / c->fs >= (float)(WAKE_HPA_MAX_PSD_BINS - 1)) {
         return 0;
     }
-    if (c->clean_below > c->window) {
+    if (c->clean_below > c->window || c->horizon < 1u || c->horizon > WAKE_HPA_MAX_AHEAD_HORIZON) {
         return 0;
     }
     prev = 0;
@@ -319,6 +340,12 @@ static inline uint32_t mix(uint32_t v, uint32_t w)
 #if WAKE_HPA_HORIZON != 1u
 #error "the normal equations (step_bin_end, step_ramp, step_gram) are written for WAKE_HPA_HORIZON 1"
 #endif
+#if WAKE_HPA_AHEAD && !WAKE_RTP_AHEAD
+#error "WAKE_HPA_AHEAD fits the predictor the RTP runs: it needs WAKE_RTP_AHEAD"
+#endif
+#if WAKE_HPA_AHEAD && WAKE_HPA_AHEAD_TAPS != WAKE_RTP_AHEAD_TAPS
+#error "the HPA fits the predictor the RTP runs: WAKE_HPA_AHEAD_TAPS must equal WAKE_RTP_AHEAD_TAPS"
+#endif
 #if WAKE_HPA_MAX_WARMUP != 8
 #error "seal_of() hashes eight warm-up points"
 #endif
@@ -344,7 +371,7 @@ static uint32_t seal_of(const wake_hpa_t *h)
     v = mix(v, (uint32_t)c->warmup[2] | (uint32_t)c->warmup[3] << 16);
     v = mix(v, (uint32_t)c->warmup[4] | (uint32_t)c->warmup[5] << 16);
     v = mix(v, (uint32_t)c->warmup[6] | (uint32_t)c->warmup[7] << 16);
-    v = mix(v, (uint32_t)c->clean_below);
+    v = mix(v, (uint32_t)c->clean_below | (uint32_t)c->horizon << 16);
     v = mix(v, (uint32_t)h->psd_lo | (uint32_t)h->psd_hi << 16);
     v = mix(v, (uint32_t)h->cut_lo | (uint32_t)h->cut_hi << 16);
     v = mix(v, (uint32_t)h->floor_lo);
@@ -360,7 +387,7 @@ static wake_hpa_status_t check_instance(const wake_hpa_t *h)
     if (h->magic != WAKE_HPA_MAGIC) {
         return WAKE_HPA_E_UNINIT;
     }
-    if (h->seal != seal_of(h) || h->fill > 1u || h->fill_len >= h->cfg.window || h->phase > STEP_SOLVE ||
+    if (h->seal != seal_of(h) || h->fill > 1u || h->fill_len >= h->cfg.window || h->phase > STEP_AHEAD_SOLVE ||
         h->base > h->count) {
         return WAKE_HPA_E_CORRUPT;
     }
@@ -376,7 +403,13 @@ static wake_hpa_status_t check_instance(const wake_hpa_t *h)
         h->psd_end > psd_last(h) || h->attempts >= WAKE_HPA_RIDGE_STEPS ||
         ((h->phase == STEP_BIN_START || h->phase == STEP_BIN_END) && h->d >= h->pair) ||
         ((h->phase >= STEP_DFT) && (h->phase <= STEP_BIN_END) && (h->m == 0u)) ||
-        (h->phase == STEP_RAMP && h->t >= N) ||
+        (h->phase == STEP_RAMP && h->t >= N) || h->bins > WAKE_HPA_MAX_BINS ||
+#if WAKE_HPA_AHEAD
+        h->ahead_pos >= WAKE_HPA_AHEAD_RING || (h->phase == STEP_AHEAD_PASS && (h->t < N || h->t >= h->n)) ||
+        (h->phase == STEP_AHEAD_SOLVE && h->d > AHEAD_SOLVE_LAST) ||
+#else
+        h->phase > STEP_SOLVE ||
+#endif
         ((h->phase == STEP_DIAG) && ((h->d >= N) || (h->t > (N - h->d)))) ||
         (h->phase == STEP_GRAM && (h->d >= h->cfg.level || h->t > h->d))) {
         return WAKE_HPA_E_CORRUPT;
@@ -411,6 +444,7 @@ wake_hpa_status_t wake_hpa_default_config(wake_hpa_config_t *cfg)
     cfg->ar_order = 17;
     cfg->rule = WAKE_HPA_RULE_FLOOR;
     cfg->clean_below = 200;
+    cfg->horizon = 1;
     cfg->warmup[0] = 100;
     cfg->warmup[1] = 200;
     cfg->warmup[2] = 300;
@@ -614,6 +648,33 @@ wake_hpa_status_t wake_hpa_push_missing(wake_hpa_t *h)
 static void start_pass(wake_hpa_t *h);
 static void next_bin(wake_hpa_t *h);
 
+#if WAKE_HPA_AHEAD
+/** Keep @p c as the predictor of this run and the one the next run scores; @p goal the gate's goal. */
+static void ahead_keep(wake_hpa_t *h, const float *c, float goal)
+{
+    unsigned i;
+    for (i = 0; i < WAKE_HPA_AHEAD_TAPS; ++i) {
+        h->ahead_coef[i] = c[i];
+        h->ahead_prev[i] = c[i];
+    }
+    h->ahead_goal = goal;
+    h->ahead_prev_index = h->index;
+    h->ahead_has_prev = 1;
+}
+
+/** A constant window: no tremor, nothing to predict (a zero predictor, the gate shut). */
+static void ahead_silent(wake_hpa_t *h)
+{
+    float zero[WAKE_HPA_AHEAD_TAPS];
+    unsigned i;
+    for (i = 0; i < WAKE_HPA_AHEAD_TAPS; ++i) {
+        zero[i] = 0.0f;
+    }
+    ahead_keep(h, zero, 0.0f);
+}
+
+#endif
+
 static void finish(wake_hpa_t *h, const float *w, float r, float mse, float ridge, uint16_t notes)
 {
     unsigned j;
@@ -639,6 +700,17 @@ static void finish(wake_hpa_t *h, const float *w, float r, float mse, float ridg
     res->flag = h->flag;
     res->notes = notes;
     res->reserved = 0;
+#if WAKE_HPA_AHEAD
+    for (j = 0; j < WAKE_HPA_AHEAD_TAPS; ++j) {
+        res->ahead[j] = h->ahead_coef[j];
+    }
+    res->ahead_goal = h->ahead_goal;
+#else
+    for (j = 0; j < WAKE_HPA_AHEAD_TAPS; ++j) {
+        res->ahead[j] = 0.0f;
+    }
+    res->ahead_goal = 0.0f;
+#endif
     h->ready = 1;
     h->phase = STEP_IDLE;
 }
@@ -682,6 +754,9 @@ static int32_t step_sums(wake_hpa_t *h, int32_t budget)
         const float peak = abs_f((float)h->lo);
         h->cutoff = h->cfg.default_cutoff;
         h->flag = WAKE_HPA_SILENT;
+#if WAKE_HPA_AHEAD
+        ahead_silent(h);
+#endif
         finish(h, h->weights, max_f(1e-6f * peak * (1e-6f * peak), 1.0f), 0.0f, h->cfg.ridge,
                WAKE_HPA_NOTE_WEIGHTS_KEPT);
         return (int32_t)(end - start) * (COST_SUM);
@@ -1016,7 +1091,7 @@ static void step_cutoff(wake_hpa_t *h)
 static void step_bins(wake_hpa_t *h)
 {
     unsigned m;
-    for (m = 1; 2u * m < h->n && (float)m * (h->cfg.fs / (float)h->n) <= h->cutoff; ++m) { /* wcet-loop: WAKE_HPA_MAX_WINDOW / 2 */
+    for (m = 1; 2u * m < h->n && m <= WAKE_HPA_MAX_BINS && (float)m * (h->cfg.fs / (float)h->n) <= h->cutoff; ++m) { /* wcet-loop: WAKE_HPA_MAX_WINDOW / 2 */
     }
     h->bins = (uint16_t)(m - 1u);
     h->power = 0.0f;
@@ -1228,6 +1303,18 @@ static void step_bin_start(wake_hpa_t *h)
     h->rot[0] = cw;
     h->rot[1] = sw;
     turn((N * m) % n, n, &h->ph[0], &h->ph[1]);
+    /* the tremor ahead's pass starts at t = N: X'_m e^{j w N}, and turns by e^{j w} per sample */
+#if WAKE_HPA_AHEAD
+    {
+        /* Z = X' e^{j w N};  v(N) = (2/n) Re Z,  v(N) - v(N-1) = (2/n) Re(Z (1 - e^{-j w})) */
+        const float zr = h->xr * h->ph[0] - h->xi * h->ph[1], zi = h->xr * h->ph[1] + h->xi * h->ph[0];
+        const float two_n = 2.0f / (float)n;
+        const unsigned at = 3u * (m - 1u);
+        h->bin_osc[at] = two_n * zr;
+        h->bin_osc[at + 1u] = two_n * (-0.5f * h->lam[b] * zr - sw * zi);
+        h->bin_osc[at + 2u] = h->lam[b];
+    }
+#endif
     h->ph[2] = 1.0f;
     h->ph[3] = 0.0f;
     turn((rows * m) % n, n, &h->ph[4], &h->ph[5]);
@@ -1253,6 +1340,23 @@ static void next_bin(wake_hpa_t *h)
     }
 }
 
+#if WAKE_HPA_AHEAD
+static int32_t round_clamp(float v, float lo, float hi);
+
+/** Tap i of the estimate's FIR w'B in Q20 (oldest tap first), from the weights in use (STEP_AHEAD_PASS). */
+static inline void ahead_fir_tap(wake_hpa_t *h, unsigned i)
+{
+    float f = 0.0f;
+    unsigned l;
+    for (l = 0; l < h->cfg.level; ++l) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
+        f += h->weights[l] * h->tapf[i * WAKE_HPA_MAX_LEVEL + l];
+    }
+    /* |w| <= 32, |B| < 1: |f| < 2^11, so f 2^20 fits an int32 */
+    h->ahead_fir[i] = round_clamp(f * 1048576.0f, -2147483520.0f, 2147483520.0f);
+}
+
+#endif
+
 /**
  * One chunk of the end-point line's ramp r(t) = t - (n-1)/2 into the targets
  * (wake.hpa.sharp.detrended_highpass; the low bins already hold X' = X - slope R):
@@ -1271,6 +1375,9 @@ static int32_t step_ramp(wake_hpa_t *h, int32_t budget)
     float u = start == 0u ? int64_to_float(h->tsum_rows) - mu * (0.5f * fr * (fr - 1.0f)) : h->ramp_u;
     unsigned i;
     for (i = start; i < end; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
+#if WAKE_HPA_AHEAD
+        ahead_fir_tap(h, i);
+#endif
         h->cxy[i] += slope * (u + lead * h->wsum[i]);
         h->vhead[i] += slope * ((float)i - centre);
         if (i + 1u < N) {
@@ -1282,10 +1389,289 @@ static int32_t step_ramp(wake_hpa_t *h, int32_t budget)
     if (end == N) {
         h->t = 0;
         h->d = 0;
+#if WAKE_HPA_AHEAD
+        h->phase = STEP_AHEAD_START;
+#else
         h->phase = STEP_GRAM;
+#endif
     }
     return (int32_t)(end - start) * COST_RAMP;
 }
+
+#if WAKE_HPA_AHEAD
+/*
+ * The tremor ahead (wake.ahead; docs/hpa_c.md, "The tremor ahead").  Over the window, WAKE's own tremor
+ * estimate with the weights in use, and the window's tremor truth:
+ *   y(t) = x(t) - w . a(t-1) = x(t) - sum_i (w'B)_i x(t - N + i),                       t = N .. n-1
+ *   T(t) = x_c(t) - slope r(t) - sum_m v_m(t),  v_m(t) = (2/n) Re X'_m e^{j w_m t}  (x minus the voluntary truth)
+ * each v_m by Reinsch's oscillator e += lambda v, v += e (the DFT passes' recursion run forwards).
+ * The direct h-step predictor on the rows k = k0 .. k1 (k0 = N + 7, k1 = n - 1 - h; full history inside):
+ *   G_ij = sum_k y(k-i) y(k-j),  b_i = sum_k y(k-i) T(k+h),  c = clip((G + 1e-3 trace(G)/8 I)^-1 b, +-8)
+ * with G from the 8 lag sums g_d = sum_k y(k) y(k-d) of the rows and their edges (i <= j, d = j - i):
+ *   G_ij = g_d + sum_{k = k0-i}^{k0-1} y(k) y(k-d) - sum_{k = k1-i+1}^{k1} y(k) y(k-d)
+ * and the previous predictor's held-out gain over the targets new since the previous HPA:
+ *   gain = clip(<T, P> / <P, P>, 0, 1),  P(k + h) = c_prev . (y(k) .. y(k-7))
+ */
+
+/** The ahead sums cleared (the estimate's FIR was formed in STEP_RAMP). */
+static void step_ahead_start(wake_hpa_t *h)
+{
+    const unsigned N = 1u << h->cfg.level, hz = h->cfg.horizon, len = h->n - N;
+    unsigned first, i;
+    for (i = 0; i < WAKE_HPA_AHEAD_TAPS; ++i) {
+        h->ahead_lag[i] = 0.0f;
+        h->ahead_rhs[i] = 0.0f;
+    }
+    for (i = 0; i < WAKE_HPA_AHEAD_RING; ++i) {
+        h->ahead_ring[i] = 0.0f;
+    }
+    h->ahead_tp = 0.0f;
+    h->ahead_pp = 0.0f;
+    h->ahead_pos = WAKE_HPA_AHEAD_RING - 1u;   /* the first estimate goes to ring[0] */
+    /* wake.ahead.held_out_gain: targets from max(len - new, 7 + h) of the estimate, at least 10 of them */
+    first = WAKE_HPA_AHEAD_TAPS - 1u + hz;
+    if (h->ahead_has_prev != 0u && h->index - h->ahead_prev_index < len) {
+        const unsigned fresh = len - (unsigned)(h->index - h->ahead_prev_index);
+        first = fresh > first ? fresh : first;
+    }
+    h->ahead_held = (uint16_t)(h->ahead_has_prev != 0u && first + 10u <= len ? N + first : h->n);
+    h->t = (uint16_t)N;
+    h->phase = STEP_AHEAD_PASS;
+}
+
+/**
+ * y(t) of one sample: x(t) minus the RTP's voluntary prediction from x(t - N) .. x(t - 1).
+ * @par Scaling and overflow
+ * Q15 samples times Q20 taps (|tap| < 2^31): each product below 2^46, 2^J <= 64 of them below 2^52 in an
+ * int64; one rounding to float.
+ */
+static inline float ahead_estimate(const int32_t *fir, const wake_q15_t *x, unsigned t, unsigned N)
+{
+    const unsigned first = t - N;
+    int64_t acc = 0;
+    unsigned i;
+    for (i = 0; i < N; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
+        acc += (int64_t)fir[i] * x[first + i];
+    }
+    return (float)x[t] - int64_to_float(acc) * (1.0f / 1048576.0f);
+}
+
+/** sum_m v_m(t) of the voluntary truth's bins for the @p count <= 4 samples from t, each oscillator moved on. */
+static void ahead_voluntary(float *osc, unsigned bins, unsigned count, float *v)
+{
+    unsigned m, q;
+    v[0] = 0.0f;
+    v[1] = 0.0f;
+    v[2] = 0.0f;
+    v[3] = 0.0f;
+    for (m = 0; m < bins; ++m) { /* wcet-loop: WAKE_HPA_MAX_BINS */
+        float vm = osc[3u * m], e = osc[3u * m + 1u];
+        const float lam = osc[3u * m + 2u];
+        for (q = 0; q < count; ++q) { /* wcet-loop: 4 */
+            v[q] += vm;
+            e += lam * vm;
+            vm += e;
+        }
+        osc[3u * m] = vm;
+        osc[3u * m + 1u] = e;
+    }
+}
+
+/** One chunk of the pass over t = N .. n-1. */
+static int32_t step_ahead_pass(wake_hpa_t *h, int32_t budget)
+{
+    const unsigned N = 1u << h->cfg.level, n = h->n, hz = h->cfg.horizon;
+    const unsigned start = h->t, end = chunk_end(start, items(budget, cost_ahead(h)), n);
+    const unsigned k0 = N + WAKE_HPA_AHEAD_TAPS - 1u;
+    const float centre = 0.5f * (float)(n - 1u);
+    float *ring = h->ahead_ring;
+    unsigned t, i, pos = h->ahead_pos;
+    float vol[4];
+    for (t = start; t < end; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_AHEAD */
+        const unsigned q = (t - start) & 3u;
+        float base, target;
+        if (q == 0u) {
+            ahead_voluntary(h->bin_osc, h->bins, end - t < 4u ? end - t : 4u, vol);
+        }
+        base = ((float)h->work[t] - h->mean) - h->slope * ((float)t - centre);
+        target = base - vol[q];
+        const float y = ahead_estimate(h->ahead_fir, h->work, t, N);
+        pos = pos + 1u < WAKE_HPA_AHEAD_RING ? pos + 1u : 0u;
+        ring[pos] = y;
+        if (t < N + WAKE_HPA_AHEAD_TAPS) {
+            h->ahead_head[t - N] = y;
+        }
+        if (t >= k0 + hz) {
+            /* the row k = t - h: u_i = y(k - i) */
+            float u[WAKE_HPA_AHEAD_TAPS], p = 0.0f;
+            unsigned at = pos + WAKE_HPA_AHEAD_RING - hz;
+            at = at >= WAKE_HPA_AHEAD_RING ? at - WAKE_HPA_AHEAD_RING : at;
+            for (i = 0; i < WAKE_HPA_AHEAD_TAPS; ++i) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+                u[i] = ring[at];
+                at = at == 0u ? WAKE_HPA_AHEAD_RING - 1u : at - 1u;
+            }
+            for (i = 0; i < WAKE_HPA_AHEAD_TAPS; ++i) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+                h->ahead_lag[i] += u[0] * u[i];
+                h->ahead_rhs[i] += u[i] * target;
+                p += h->ahead_prev[i] * u[i];
+            }
+            if (t >= h->ahead_held) {
+                h->ahead_tp += target * p;
+                h->ahead_pp += p * p;
+            }
+        }
+    }
+    h->ahead_pos = (uint16_t)pos;
+    h->t = (uint16_t)end;
+    if (end == n) {
+        h->t = 0;
+        h->d = 0;
+        h->phase = STEP_AHEAD_SOLVE;
+    }
+    return (int32_t)(end - start) * cost_ahead(h);
+}
+
+/** y(k) of the pass's last rows (k within WAKE_HPA_AHEAD_RING of n - 1). */
+static inline float ahead_tail(const wake_hpa_t *h, unsigned k)
+{
+    const unsigned back = (h->n - 1u) - k;
+    return h->ahead_ring[h->ahead_pos >= back ? h->ahead_pos - back : h->ahead_pos + WAKE_HPA_AHEAD_RING - back];
+}
+
+/** Row i of G (upper triangle) from the lag sums and the rows' edges; after the last, the ridge (-1: nothing
+ *  to fit). */
+static void ahead_assemble(wake_hpa_t *h, unsigned i)
+{
+    const unsigned P = WAKE_HPA_AHEAD_TAPS, N = 1u << h->cfg.level, hz = h->cfg.horizon;
+    const unsigned k0 = N + P - 1u;
+    unsigned j, k;
+    /* fewer than two rows: zeros (wake.ahead.fit_predictor) */
+    if (h->n < k0 + hz + 2u) {
+        h->ahead_ridge = -1.0f;
+        return;
+    }
+    {
+        const unsigned k1 = h->n - 1u - hz;
+        for (j = i; j < P; ++j) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+            const unsigned d = j - i;
+            float g = h->ahead_lag[d];
+            for (k = k0 - i; k < k0; ++k) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+                g += h->ahead_head[k - N] * h->ahead_head[k - d - N];
+            }
+            for (k = k1 + 1u - i; k <= k1; ++k) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+                g -= ahead_tail(h, k) * ahead_tail(h, k - d);
+            }
+            h->ahead_gram[i * P + j] = g;
+        }
+    }
+    if (i + 1u == P) {
+        float trace = 0.0f;
+        for (j = 0; j < P; ++j) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+            trace += h->ahead_gram[j * P + j];
+        }
+        /* no power: zeros */
+        h->ahead_ridge = trace > 0.0f && is_finite(trace) ? 1e-3f * trace / (float)P : -1.0f;
+    }
+}
+
+/**
+ * Column j of (G + ridge I) = L D L' in place (no square root): D on the diagonal, L below it, G read
+ * from the upper triangle; a pivot not positive and finite: nothing to fit (ridge -1).
+ */
+static void ahead_factor(wake_hpa_t *h, unsigned j)
+{
+    const unsigned P = WAKE_HPA_AHEAD_TAPS;
+    float *g = h->ahead_gram;
+    float dj;
+    unsigned i, k;
+    if (!(h->ahead_ridge > 0.0f)) {
+        return;
+    }
+    /* d_j = M_jj + ridge - sum_k L_jk^2 d_k */
+    dj = g[j * P + j] + h->ahead_ridge;
+    for (k = 0; k < j; ++k) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+        dj -= g[j * P + k] * g[j * P + k] * g[k * P + k];
+    }
+    if (!(dj > 0.0f) || !is_finite(dj)) {
+        h->ahead_ridge = -1.0f;
+        return;
+    }
+    g[j * P + j] = dj;
+    /* L_ij = (M_ji - sum_k L_ik L_jk d_k) / d_j */
+    for (i = j + 1u; i < P; ++i) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+        float v = g[j * P + i];
+        for (k = 0; k < j; ++k) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+            v -= g[i * P + k] * g[j * P + k] * g[k * P + k];
+        }
+        g[i * P + j] = v / dj;
+    }
+}
+
+/** L z = b;  D y = z;  L' c = y;  each c clipped to +-8 (wake.ahead.COEFFICIENT_LIMIT). */
+static void ahead_substitute(const float *g, const float *b, float *c)
+{
+    const unsigned P = WAKE_HPA_AHEAD_TAPS;
+    unsigned i, r, k;
+    for (i = 0; i < P; ++i) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+        float v = b[i];
+        for (k = 0; k < i; ++k) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+            v -= g[i * P + k] * c[k];
+        }
+        c[i] = v;
+    }
+    for (i = 0; i < P; ++i) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+        c[i] /= g[i * P + i];
+    }
+    for (r = 0; r < P; ++r) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+        float v;
+        i = P - 1u - r;
+        v = c[i];
+        for (k = i + 1u; k < P; ++k) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+            v -= g[k * P + i] * c[k];
+        }
+        c[i] = v;
+    }
+    for (i = 0; i < P; ++i) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+        c[i] = c[i] > 8.0f ? 8.0f : (c[i] < -8.0f ? -8.0f : (is_finite(c[i]) ? c[i] : 0.0f));
+    }
+}
+
+/** One piece of the solve (h->d: 0..7 a row of G, 8..15 factor a column, 16 the predictor, gain and goal). */
+static void step_ahead_solve(wake_hpa_t *h)
+{
+    float c[WAKE_HPA_AHEAD_TAPS], gain = 0.0f;
+    unsigned i;
+    if (h->d < WAKE_HPA_AHEAD_TAPS) {
+        ahead_assemble(h, h->d);
+        h->d = (uint16_t)(h->d + 1u);
+        return;
+    }
+    if (h->d < AHEAD_SOLVE_LAST) {
+        ahead_factor(h, h->d - WAKE_HPA_AHEAD_TAPS);
+        h->d = (uint16_t)(h->d + 1u);
+        return;
+    }
+    for (i = 0; i < WAKE_HPA_AHEAD_TAPS; ++i) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+        c[i] = 0.0f;
+    }
+    if (h->ahead_ridge > 0.0f) {
+        ahead_substitute(h->ahead_gram, h->ahead_rhs, c);
+    }
+    if (h->ahead_held < h->n && h->ahead_pp > 0.0f && is_finite(h->ahead_pp)) {
+        gain = h->ahead_tp / h->ahead_pp;
+        gain = gain > 1.0f ? 1.0f : (gain > 0.0f ? gain : 0.0f);   /* NaN: 0 */
+    }
+    /* wake.ahead.gate_target: no tremor peak, nothing to predict */
+    if (h->flag == WAKE_HPA_NO_TREMOR_PEAK || h->flag == WAKE_HPA_SILENT) {
+        gain = 0.0f;
+    }
+    ahead_keep(h, c, gain);
+    h->t = 0;
+    h->d = 0;
+    h->phase = STEP_GRAM;
+}
+
+#endif
 
 /**
  * The normal equations of the causal fit from the centred sums.  With the
@@ -1488,6 +1874,15 @@ static int32_t piece_cost(const wake_hpa_t *h)
                (h->t == h->d && h->d + 1u == h->cfg.level ? 100 : 0);
     case STEP_SOLVE:
         return 6 * J * J * J + 12 * J * J + 200;
+#if WAKE_HPA_AHEAD
+    case STEP_AHEAD_START:
+        return 300;
+    case STEP_AHEAD_SOLVE:
+        /* a row of G with up to 14 edge products per entry; a column: up to 7 x 8 products; the substitution */
+        return 700;
+    case STEP_AHEAD_PASS:
+        return cost_ahead(h);
+#endif
     case STEP_SUMS:
         return COST_SUM;
     case STEP_LAGS:
@@ -1523,6 +1918,16 @@ static int32_t run_step(wake_hpa_t *h, int32_t budget, int32_t fixed)
         return step_bin_end(h, budget);
     case STEP_RAMP:
         return step_ramp(h, budget);
+#if WAKE_HPA_AHEAD
+    case STEP_AHEAD_PASS:
+        return step_ahead_pass(h, budget);
+    case STEP_AHEAD_START:
+        step_ahead_start(h);
+        break;
+    case STEP_AHEAD_SOLVE:
+        step_ahead_solve(h);
+        break;
+#endif
     case STEP_LAG_END:
         step_lag_end(h);
         break;
@@ -1541,8 +1946,10 @@ static int32_t run_step(wake_hpa_t *h, int32_t budget, int32_t fixed)
     case STEP_GRAM:
         step_gram(h);
         break;
-    default:
+    case STEP_SOLVE:
         step_solve(h);
+        break;
+    default:
         break;
     }
     return fixed;
@@ -1648,6 +2055,20 @@ wake_hpa_status_t wake_hpa_to_rtp(const wake_hpa_result_t *res, int level, float
     return WAKE_HPA_OK;
 }
 
+wake_hpa_status_t wake_hpa_ahead_to_rtp(const wake_hpa_result_t *res, int32_t *coefficients, wake_ratio_t *goal)
+{
+    unsigned k;
+    if (res == NULL || coefficients == NULL || goal == NULL) {
+        return WAKE_HPA_E_NULL;
+    }
+    /* Q27: 2^27 = 134217728; +-8 is +-2^30 */
+    for (k = 0; k < WAKE_HPA_AHEAD_TAPS; ++k) {
+        coefficients[k] = round_clamp(res->ahead[k] * 134217728.0f, -1073741824.0f, 1073741824.0f);
+    }
+    *goal = round_clamp(res->ahead_goal * 1073741824.0f, 0.0f, 1073741824.0f);
+    return WAKE_HPA_OK;
+}
+
 wake_hpa_status_t wake_hpa_apply(wake_hpa_t *h, wake_rtp_t *rtp)
 {
     wake_q24_t w[WAKE_HPA_MAX_LEVEL];
@@ -1672,6 +2093,16 @@ wake_hpa_status_t wake_hpa_apply(wake_hpa_t *h, wake_rtp_t *rtp)
     if (wake_rtp_set_weights(rtp, w, r, q) != WAKE_RTP_OK) {
         return WAKE_HPA_E_RTP;
     }
+#if WAKE_HPA_AHEAD && WAKE_RTP_AHEAD
+    {
+        int32_t c[WAKE_HPA_AHEAD_TAPS];
+        wake_ratio_t goal;
+        (void)wake_hpa_ahead_to_rtp(&h->result, c, &goal);
+        if (wake_rtp_set_ahead(rtp, c, goal) != WAKE_RTP_OK) {
+            return WAKE_HPA_E_RTP;
+        }
+    }
+#endif
     h->ready = 0;
     return WAKE_HPA_OK;
 }

@@ -116,6 +116,24 @@ extern "C" {
 /** The fit target: the voluntary motion this many samples after the newest filter-bank input
  *  (wake.target.PredictionTarget.horizon); the fit rows pair a(t) with v(t + WAKE_HPA_HORIZON). */
 #define WAKE_HPA_HORIZON 1u
+/**
+ * 1: the HPA also fits the tremor-ahead predictor and its gate's goal (issue 32; needs WAKE_RTP_AHEAD) and
+ * wake_hpa_apply() installs them; 0 (default): it does not (the result's ahead fields are zero) and its
+ * code, RAM and cost are those without it.  Off by default because of its cost: docs/hpa_c.md, "The tremor
+ * ahead".
+ */
+#ifndef WAKE_HPA_AHEAD
+#define WAKE_HPA_AHEAD 0
+#endif
+/** Taps of the tremor-ahead predictor the HPA fits (wake.ahead.TAPS; the RTP's WAKE_RTP_AHEAD_TAPS). */
+#define WAKE_HPA_AHEAD_TAPS 8u
+/** Largest tremor-ahead horizon wake_hpa_config_t::horizon may ask for, samples. */
+#define WAKE_HPA_MAX_AHEAD_HORIZON 32u
+/** Estimates the tremor-ahead pass keeps: a row's 8 lags h samples before its target, and the 7 rows before
+ *  the last row (the Gram's edge terms). */
+#define WAKE_HPA_AHEAD_RING (2u * WAKE_HPA_AHEAD_TAPS + WAKE_HPA_MAX_AHEAD_HORIZON)
+/** DFT bins the voluntary truth can hold (m fs / n <= cutoff_high < (B - 1) fs / 1022, so m < L (B - 1) / 1022). */
+#define WAKE_HPA_MAX_BINS ((WAKE_HPA_MAX_WINDOW * (WAKE_HPA_MAX_PSD_BINS - 1)) / WAKE_HPA_PSD_GRID + 1)
 /** FFT length of the Python AR spectrum: 512 frequencies on [0, fs/2]. */
 #define WAKE_HPA_PSD_GRID 1022
 
@@ -192,6 +210,8 @@ typedef struct {
     uint16_t clean_below;       /**< a window shorter than this (samples; 0: none) installs its fit only with
                                      a clean valley (flag valley or floor_valley), else keeps the weights
                                      (wake.hpa.run.CLEAN_ONLY_BELOW_S: 2 s) */
+    uint16_t horizon;           /**< the tremor ahead's horizon h, samples, 1..WAKE_HPA_MAX_AHEAD_HORIZON (default 1):
+                                     the predictor maps the estimate up to k onto the tremor at k + h */
     uint16_t warmup[WAKE_HPA_MAX_WARMUP]; /**< sample counts of warm-up HPAs before the first full
                                                window, increasing, each in [2 * 2^J, L); 0 ends the list */
 } wake_hpa_config_t;
@@ -208,6 +228,10 @@ typedef struct {
     uint16_t flag;                      /**< a ::wake_hpa_flag_t */
     uint16_t notes;                     /**< WAKE_HPA_NOTE_* bits */
     uint16_t reserved;
+    float ahead[WAKE_HPA_AHEAD_TAPS];   /**< the tremor-ahead predictor c, newest estimate first, |c| <= 8
+                                             (wake.ahead.fit_predictor; scale-free) */
+    float ahead_goal;                   /**< the gate's goal in [0, 1] (wake.ahead.gate_target of the
+                                             previous predictor's held-out gain; 0 after the first HPA) */
 } wake_hpa_result_t;
 
 /**
@@ -301,6 +325,28 @@ typedef struct {
     float cxy[WAKE_HPA_MAX_TAPS];               /**< sum x_c(t + i) v_c(t + 2^J) over the fit rows */
     float wsum[WAKE_HPA_MAX_TAPS];              /**< sum x_c(t + i) over the fit rows */
     float vhead[WAKE_HPA_MAX_TAPS];             /**< v_c(t), t < 2^J */
+#if WAKE_HPA_AHEAD
+    /* the tremor ahead (STEP_AHEAD_*): the truth's low bins and the estimate's lags */
+    float bin_osc[3 * WAKE_HPA_MAX_BINS];       /**< per voluntary-truth bin: v_m(t) = (2/n) Re X'_m e^{j w t},
+                                                     v_m(t) - v_m(t-1), and Reinsch's lambda = -4 sin^2(w/2) */
+    int32_t ahead_fir[WAKE_HPA_MAX_TAPS];       /**< w' B in Q20: the estimate's voluntary prediction as one FIR,
+                                                     oldest first */
+    float ahead_ring[WAKE_HPA_AHEAD_RING];      /**< the estimate y(t) at ring[(t - 2^J) mod RING] */
+    float ahead_head[WAKE_HPA_AHEAD_TAPS];      /**< y(2^J) .. y(2^J + 7): the Gram's first edge terms */
+    float ahead_lag[WAKE_HPA_AHEAD_TAPS];       /**< sum_k y(k) y(k - d) over the fit rows, d = 0..7 */
+    float ahead_gram[WAKE_HPA_AHEAD_TAPS * WAKE_HPA_AHEAD_TAPS]; /**< Y'Y (upper triangle), then L D L' */
+    float ahead_rhs[WAKE_HPA_AHEAD_TAPS];       /**< Y'T(+h) */
+    float ahead_coef[WAKE_HPA_AHEAD_TAPS];      /**< this run's predictor */
+    float ahead_prev[WAKE_HPA_AHEAD_TAPS];      /**< the previous HPA's predictor */
+    float ahead_tp, ahead_pp;                   /**< <T, P>, <P, P> of the previous predictor over the new targets */
+    float ahead_goal;                           /**< this run's gate goal */
+    float ahead_ridge;                          /**< the predictor's ridge 1e-3 trace(G) / 8 (-1: nothing to fit) */
+    uint32_t ahead_prev_index;                  /**< the previous HPA's index (samples received) */
+    uint16_t ahead_has_prev;                    /**< 1 once an HPA has produced a predictor */
+    uint16_t ahead_pos;                         /**< ring index of the newest estimate */
+    uint16_t ahead_held;                        /**< first window index scored by the held-out gain (n: none) */
+    uint16_t ahead_reserved;
+#endif
     wake_hpa_result_t result;                   /**< the newest result */
     wake_q15_t buf[2 * WAKE_HPA_MAX_WINDOW];    /**< the two window buffers */
 } wake_hpa_t;
@@ -395,6 +441,18 @@ wake_hpa_status_t wake_hpa_take(wake_hpa_t *h, wake_hpa_result_t *out);
  */
 wake_hpa_status_t wake_hpa_to_rtp(const wake_hpa_result_t *res, int level, float process_noise_ratio,
                                   wake_q24_t *weights, wake_cov_t *r, wake_cov_t *q);
+
+/**
+ * @brief Convert a result's tremor-ahead predictor and goal into what wake_rtp_set_ahead() takes.
+ * @param[in]  res           a result
+ * @param[out] coefficients  WAKE_HPA_AHEAD_TAPS coefficients, Q27, newest estimate first
+ * @param[out] goal          the gate's goal, Q30
+ * @return WAKE_HPA_OK or WAKE_HPA_E_NULL.
+ * @par Scaling and overflow
+ * c in [-8, 8] times 2^27, rounded and clamped to [-2^30, 2^30] (WAKE_RTP_AHEAD_COEF_MAX); the goal in
+ * [0, 1] times 2^30, rounded and clamped to [0, 2^30]; NaN becomes the lower bound.
+ */
+wake_hpa_status_t wake_hpa_ahead_to_rtp(const wake_hpa_result_t *res, int32_t *coefficients, wake_ratio_t *goal);
 
 /**
  * @brief Install the newest result in the RTP between two samples.

@@ -94,6 +94,7 @@ static inline wake_hpa_status_t wake_config_hpa_init(wake_hpa_t *hpa)
     c.ar_order = 17;
     c.rule = 2;
     c.clean_below = 200;
+    c.horizon = 1;
     c.warmup[0] = 100;
     c.warmup[1] = 200;
     c.warmup[2] = 300;

@@ -92,7 +92,7 @@ static void test_bad_input(void)
     {
         wake_hpa_config_t bad;
         int k;
-        for (k = 0; k < 19; ++k) {
+        for (k = 0; k < 21; ++k) {
             bad = c;
             switch (k) {
             case 0: bad.level = 0; break;
@@ -113,6 +113,8 @@ static void test_bad_input(void)
             case 15: bad.edge_ratio = NAN; break;
             case 16: bad.rule = WAKE_HPA_RULE_FLOOR + 1; break;
             case 17: bad.clean_below = (uint16_t)(bad.window + 1u); break;
+            case 18: bad.horizon = 0; break;
+            case 19: bad.horizon = WAKE_HPA_MAX_AHEAD_HORIZON + 1u; break;
             default: bad.rule = 7; break;
             }
             init_default(&hpa);

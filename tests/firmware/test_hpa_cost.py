@@ -36,7 +36,7 @@ def test_step_names_follow_the_c_enum():
     body = re.search(r"enum \{\s*(STEP_IDLE = 0,.*?)\};", text, re.S).group(1)
     steps = re.findall(r"STEP_[A-Z_]+", body)
     assert len(steps) == len(STEP_NAMES)
-    assert steps[0] == "STEP_IDLE" and steps[-1] == "STEP_SOLVE"
+    assert steps[0] == "STEP_IDLE" and steps[-1] == "STEP_AHEAD_SOLVE"
 
 
 def test_a_slice_stays_within_its_budget_plus_the_entry_check(tmp_path):

@@ -36,7 +36,8 @@ HPA_DEFS = ["-DWAKE_HPA_MAX_WINDOW=500", "-DWAKE_HPA_MAX_LEVEL=5", "-DWAKE_HPA_M
 HPA_GOALS = {"whole": 400_000, "step_plus_slice": 3_000, "ram": 6 * 1024}
 #: The steps of csrc/wake_hpa.c, in the order of its enum (wake_hpa_t::phase indexes this).
 STEP_NAMES = ("idle", "sums", "lags", "lag end", "Rxx diagonal", "Levinson", "AR spectrum", "cut-off",
-              "bin count", "DFT passes", "bin start", "bin slide", "ramp", "Gram", "solve")
+              "bin count", "DFT passes", "bin start", "bin slide", "ramp", "Gram", "solve", "ahead start",
+              "ahead pass", "ahead solve")
 
 
 def build_hpa_image(target="m4f-O2", *, build_dir=None, csrc=None, defs=()):
@@ -92,9 +93,10 @@ def profile_windows(n_synthetic=10):
     return out
 
 
-def measure_hpa(target="m4f-O2", *, windows=None, build_dir=None, csrc=None) -> dict:
-    """Instructions of one whole HPA and of every slice, RAM and stack, on ``target``."""
-    img = build_hpa_image(target, build_dir=build_dir, csrc=csrc)
+def measure_hpa(target="m4f-O2", *, windows=None, build_dir=None, csrc=None, defs=()) -> dict:
+    """Instructions of one whole HPA and of every slice, RAM and stack, on ``target`` (``defs``: extra ``-D``
+    options, e.g. ``-DWAKE_HPA_AHEAD=1`` for the tremor-ahead fit)."""
+    img = build_hpa_image(target, build_dir=build_dir, csrc=csrc, defs=defs)
     emu = _loaded(img)
     windows = profile_windows() if windows is None else windows
     hpa = img.addr("g_hpa")
@@ -157,9 +159,9 @@ def _sliced_run(emu, img, x, record, *, stack=False):
             return
 
 
-def step_breakdown(target="m4f-O2", window="synthetic 1", *, build_dir=None, csrc=None) -> dict:
+def step_breakdown(target="m4f-O2", window="synthetic 1", *, build_dir=None, csrc=None, defs=()) -> dict:
     """Where one sliced HPA goes: instructions and largest slice per step (a slice counts for the step it starts in)."""
-    img = build_hpa_image(target, build_dir=build_dir, csrc=csrc)
+    img = build_hpa_image(target, build_dir=build_dir, csrc=csrc, defs=defs)
     emu = _loaded(img)
     out = {}
 
@@ -173,14 +175,14 @@ def step_breakdown(target="m4f-O2", window="synthetic 1", *, build_dir=None, csr
     return out
 
 
-def calibrate(target="m4f-O2", *, windows=None, build_dir=None, csrc=None) -> dict:
+def calibrate(target="m4f-O2", *, windows=None, build_dir=None, csrc=None, defs=()) -> dict:
     """Instructions of single pieces of work, per step, for the slice cost model in wake_hpa.c.
 
     The HPA is built with a slice budget of 1, so each wake_hpa_slice() call
     does one loop item or one indivisible step; every count includes the
     slice's fixed entry cost (the instance check).
     """
-    img = build_hpa_image(target, build_dir=build_dir, csrc=csrc, defs=["-DWAKE_HPA_SLICE_BUDGET=1"])
+    img = build_hpa_image(target, build_dir=build_dir, csrc=csrc, defs=["-DWAKE_HPA_SLICE_BUDGET=1", *defs])
     emu = _loaded(img)
     counts = {}
     windows = profile_windows() if windows is None else windows
@@ -214,10 +216,13 @@ def main(argv=None) -> int:
                     help="print where one sliced HPA goes, per step, on Cortex-M4F (default window: synthetic 1)")
     ap.add_argument("--calibrate", action="store_true",
                     help="print the instructions of single pieces of work per step (budget-1 build), Cortex-M4F")
+    ap.add_argument("--ahead", action="store_true",
+                    help="build the HPA with its tremor-ahead fit (-DWAKE_HPA_AHEAD=1)")
     args = ap.parse_args(argv)
+    defs = ["-DWAKE_HPA_AHEAD=1"] if args.ahead else []
     if args.breakdown or args.calibrate:
         if args.breakdown:
-            rows = step_breakdown(window=args.breakdown)
+            rows = step_breakdown(window=args.breakdown, defs=defs)
             total = sum(r["instructions"] for r in rows.values())
             print(f"| step ({args.breakdown}, Cortex-M4F, sliced) | slices | instructions | share | largest slice |")
             print("|---|---:|---:|---:|---:|")
@@ -229,10 +234,10 @@ def main(argv=None) -> int:
         if args.calibrate:
             print("| step (one piece per slice, Cortex-M4F) | pieces | median | max |")
             print("|---|---:|---:|---:|")
-            for step, r in calibrate().items():
+            for step, r in calibrate(defs=defs).items():
                 print(f"| {step} | {r['pieces']:,} | {r['median']:,.0f} | {r['max']:,} |")
         return 0
-    res = {t: measure_hpa(t) for t in HPA_TARGETS}
+    res = {t: measure_hpa(t, defs=defs) for t in HPA_TARGETS}
     print("\n".join(report(res)))
     m4 = res["m4f-O2"]
     print(f"\nCortex-M4F targets: whole HPA {m4['whole_max']:,} <= {HPA_GOALS['whole']:,}; "

@@ -114,7 +114,7 @@ def hpa_config_fields(config: WakeConfig) -> dict:
             "floor_ratio": FLOOR_RATIO, "edge_ratio": EDGE_RATIO, "ridge": config.ridge,
             "process_noise_ratio": config.process_noise_ratio, "window": config.window_samples,
             "level": config.level, "ar_order": config.ar_order, "rule": cutoff_rule_names().index(config.cutoff_rule),
-            "clean_below": clean_only_below(config), "warmup": points + [0] * (MAX_WARMUP - len(points))}
+            "clean_below": clean_only_below(config), "horizon": 1, "warmup": points + [0] * (MAX_WARMUP - len(points))}
 
 
 def hpa_config(config: WakeConfig):
@@ -219,3 +219,77 @@ def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index:
     return HPAUpdate(int(index), float(res.cutoff), list(CUTOFF_FLAGS)[res.flag], weights,
                      float(res.measurement_noise) * lsb * lsb, float(np.sqrt(res.fit_mse)) * lsb,
                      float(res.ridge), tuple(notes))
+
+
+def run_ahead_c(stream, config: WakeConfig, *, taps, horizon: int = 1, full_scale: float, start_weights=None):
+    """The C HPA's tremor-ahead fit (``WAKE_HPA_AHEAD``) on consecutive full windows of one instance.
+
+    Parameters
+    ----------
+    stream : array_like, shape (k L,)
+        Finite samples, oldest first; each L-sample block is one HPA window, run in order on one instance
+        (its index: the samples received when it closed), so each window after the first scores the
+        previous window's predictor on its new samples.
+    config : WakeConfig
+    taps : numpy.ndarray, shape (J, 2**J)
+        The filter bank (read as int16 Q15).
+    horizon : int
+        Samples ahead, 1..``WAKE_HPA_MAX_AHEAD_HORIZON``.
+    full_scale : float
+        The physical value of Q15 1.0 every window is quantised with.
+    start_weights : array_like, optional
+        The weights in use before the first HPA (default: the deepest approximation alone).
+
+    Returns
+    -------
+    list of dict
+        Per window: ``weights_in_use``, ``weights``, ``cutoff``, ``flag``, ``coefficients`` (8, newest
+        estimate first) and ``goal``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wake import WakeConfig
+    >>> from wake.hpa.c_port import run_ahead_c
+    >>> from wake.wavelets import filter_bank_taps
+    >>> t = np.arange(1500) / 100.0
+    >>> x = np.sin(2 * np.pi * 0.3 * t) + 0.5 * np.sin(2 * np.pi * 6 * t)
+    >>> out = run_ahead_c(x, WakeConfig(), taps=filter_bank_taps("sym3", 5), full_scale=2.0)
+    >>> out[0]["goal"], out[2]["goal"] > 0.9
+    (0.0, True)
+    """
+    ffi, lib = _core()
+    from wake.rtp.qformat import quantize_taps
+
+    check_c_hpa_config(config)
+    x = np.asarray(stream, dtype=float)
+    J, L = config.level, config.window_samples
+    if x.ndim != 1 or x.size < L or x.size % L or not np.isfinite(x).all():
+        raise ValueError(f"stream must be 1-D, finite, a whole number of L = {L} sample windows; got shape {x.shape}")
+    if not 1 <= int(horizon) <= lib.WAKE_HPA_MAX_AHEAD_HORIZON:
+        raise ValueError(f"horizon must lie in 1..{lib.WAKE_HPA_MAX_AHEAD_HORIZON} samples, got {horizon!r}")
+    if not (np.isfinite(full_scale) and full_scale > 0):
+        raise ValueError(f"full_scale must be finite and > 0, got {full_scale!r}")
+    w = np.zeros(J, dtype=np.float32)
+    w[-1] = 1.0
+    if start_weights is not None:
+        w = np.asarray(start_weights, dtype=np.float32).reshape(J)
+    cfg = hpa_config(config)
+    cfg.horizon = int(horizon)
+    h = ffi.new("wake_hpa_t *")
+    taps_q = np.ascontiguousarray(quantize_taps(taps), dtype=np.int16)
+    if lib.wake_hpa_init(h, cfg, ffi.from_buffer("int16_t[]", taps_q), ffi.from_buffer("float[]", w)) != 0:
+        raise ValueError("wake_hpa_init refused the configuration")
+    q = quantize_window(x, full_scale)
+    out, res = [], ffi.new("wake_hpa_result_t *")
+    for k in range(x.size // L):
+        block = ffi.from_buffer("int16_t[]", q[k * L:(k + 1) * L])
+        used = w.astype(float)
+        if lib.wake_hpa_start(h, block, L, (k + 1) * L) != 0 or lib.wake_hpa_run(h) != lib.WAKE_HPA_DONE:
+            raise RuntimeError("the C HPA did not finish")
+        lib.wake_hpa_take(h, res)
+        w = np.array([res.weights[j] for j in range(J)], dtype=np.float32)
+        out.append({"weights_in_use": used, "weights": w.astype(float), "cutoff": float(res.cutoff),
+                    "flag": list(CUTOFF_FLAGS)[res.flag], "coefficients": np.array(list(res.ahead), dtype=float),
+                    "goal": float(res.ahead_goal)})
+    return out

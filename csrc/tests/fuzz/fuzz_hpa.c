@@ -70,6 +70,7 @@ static void read_config(fuzz_input_t *in, wake_hpa_config_t *c)
     }
     if (mask & 16u) {
         c->clean_below = fuzz_u16(in);
+        c->horizon = (uint16_t)(fuzz_u8(in) % (WAKE_HPA_MAX_AHEAD_HORIZON + 2u));
     }
     if (mask & 32u) {
         for (k = 0; k < WAKE_HPA_MAX_WARMUP; ++k) {

@@ -1,0 +1,218 @@
+/*
+ * Host unit tests of the C HPA's tremor-ahead fit (WAKE_HPA_AHEAD 1), built with AddressSanitizer and
+ * UBSan by `make test`.  Agreement with wake.ahead (fit_predictor, held_out_gain, gate_target) is tested
+ * from Python (tests/hpa/test_c_ahead.py); here: the horizon is validated, the first HPA's goal is 0 and
+ * a steady tremor's next one opens the gate, a window without tremor shuts it, slices equal one run bit
+ * for bit, the Q27 / Q30 conversion, and wake_hpa_apply() installs the predictor in the RTP.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "wake_rtp.h"
+/* the fit is what this file tests: on unless a build variant turns the RTP's tremor ahead off */
+#ifndef WAKE_HPA_AHEAD
+#define WAKE_HPA_AHEAD WAKE_RTP_AHEAD
+#endif
+#include "wake_hpa.h"
+
+#if WAKE_HPA_AHEAD
+
+static int failures;
+#define CHECK(cond)                                                                   \
+    do {                                                                              \
+        if (!(cond)) {                                                                \
+            printf("FAIL %s:%d: %s\n", __FILE__, __LINE__, #cond);                    \
+            ++failures;                                                               \
+        }                                                                             \
+    } while (0)
+
+#define J 5
+#define N 32
+#define L 500
+static const double TWO_PI = 6.283185307179586;
+
+static int16_t taps[J * N];
+static const float start_w[J] = {0.0f, 0.0f, 0.0f, 0.0f, 1.0f};
+static wake_hpa_t hpa, other;
+static int16_t stream[3 * L];
+
+/* A crude but valid Q15 bank: row j averages the newest 2^(j+1) samples. */
+static void make_taps(void)
+{
+    int j, i;
+    for (j = 0; j < J; ++j) {
+        const int width = 2 << j;
+        for (i = 0; i < N; ++i) {
+            taps[j * N + i] = (int16_t)(i >= N - width ? 32768 / width : 0);
+        }
+    }
+}
+
+static void init_h(wake_hpa_t *h, uint16_t horizon)
+{
+    wake_hpa_config_t c;
+    CHECK(wake_hpa_default_config(&c) == WAKE_HPA_OK);
+    CHECK(c.horizon == 1u);
+    c.horizon = horizon;
+    CHECK(wake_hpa_init(h, &c, taps, start_w) == WAKE_HPA_OK);
+}
+
+static wake_hpa_result_t run_window(wake_hpa_t *h, const int16_t *x, uint16_t n, uint32_t index)
+{
+    wake_hpa_result_t r;
+    memset(&r, 0, sizeof r);
+    CHECK(wake_hpa_start(h, x, n, index) == WAKE_HPA_OK);
+    CHECK(wake_hpa_run(h) == WAKE_HPA_DONE);
+    CHECK(wake_hpa_take(h, &r) == WAKE_HPA_OK);
+    return r;
+}
+
+static int ahead_is_sane(const wake_hpa_result_t *r)
+{
+    unsigned i;
+    int ok = isfinite(r->ahead_goal) && r->ahead_goal >= 0.0f && r->ahead_goal <= 1.0f;
+    for (i = 0; i < WAKE_HPA_AHEAD_TAPS; ++i) {
+        ok = ok && isfinite(r->ahead[i]) && fabsf(r->ahead[i]) <= 8.0f;
+    }
+    return ok;
+}
+
+static void test_horizon_is_validated(void)
+{
+    wake_hpa_config_t c;
+    CHECK(wake_hpa_default_config(&c) == WAKE_HPA_OK);
+    c.horizon = 0;
+    CHECK(wake_hpa_init(&hpa, &c, taps, start_w) == WAKE_HPA_E_CONFIG);
+    c.horizon = WAKE_HPA_MAX_AHEAD_HORIZON + 1u;
+    CHECK(wake_hpa_init(&hpa, &c, taps, start_w) == WAKE_HPA_E_CONFIG);
+    c.horizon = WAKE_HPA_MAX_AHEAD_HORIZON;
+    CHECK(wake_hpa_init(&hpa, &c, taps, start_w) == WAKE_HPA_OK);
+}
+
+/* A steady 6 Hz tremor on a slow movement: the first HPA has nothing to score (goal 0), the next one scores
+   the first predictor on its new samples and opens the gate; the predictor is the same bits sliced or run. */
+static void test_steady_tremor_opens_the_gate(void)
+{
+    unsigned k, h;
+    for (k = 0; k < 3u * L; ++k) {
+        const double t = (double)k / 100.0;
+        stream[k] = (int16_t)(6000.0 * sin(TWO_PI * 0.3 * t) + 3000.0 * sin(TWO_PI * 6.0 * t));
+    }
+    for (h = 1; h <= 20u; h += 19u) {
+        wake_hpa_result_t a, b, c;
+        unsigned slices = 0;
+        init_h(&hpa, (uint16_t)h);
+        a = run_window(&hpa, stream, L, L);
+        CHECK(ahead_is_sane(&a));
+        CHECK(a.ahead_goal == 0.0f);
+        CHECK(fabsf(a.ahead[0]) + fabsf(a.ahead[1]) > 0.1f);    /* a predictor was fitted */
+        b = run_window(&hpa, stream + L, L, 2u * L);
+        CHECK(ahead_is_sane(&b));
+        CHECK(b.ahead_goal > 0.8f);
+        printf("steady tremor, h = %u: goal %.4f after the second HPA, c0 %.4f\n", h, (double)b.ahead_goal,
+               (double)b.ahead[0]);
+        /* the same two windows in slices */
+        init_h(&other, (uint16_t)h);
+        (void)run_window(&other, stream, L, L);
+        CHECK(wake_hpa_start(&other, stream + L, L, 2u * L) == WAKE_HPA_OK);
+        while (wake_hpa_slice(&other) == WAKE_HPA_RUNNING) {
+            ++slices;
+        }
+        CHECK(wake_hpa_take(&other, &c) == WAKE_HPA_OK);
+        CHECK(memcmp(c.ahead, b.ahead, sizeof c.ahead) == 0 && c.ahead_goal == b.ahead_goal);
+        CHECK(memcmp(c.weights, b.weights, sizeof c.weights) == 0);
+        printf("full-window HPA with the tremor ahead: %u slices (L = %d)\n", slices + 1u, L);
+    }
+}
+
+/* No tremor peak (a slow movement alone) shuts the gate; a silent window gives a zero predictor; a window
+   too short for two rows at h = 32 gives zeros. */
+static void test_no_tremor_shuts_the_gate(void)
+{
+    wake_hpa_result_t a, b;
+    unsigned k;
+    for (k = 0; k < 2u * L; ++k) {
+        stream[k] = (int16_t)(6000.0 * sin(TWO_PI * 0.3 * (double)k / 100.0) + 3000.0 * sin(TWO_PI * 6.0 * k / 100.0));
+    }
+    for (k = L; k < 2u * L; ++k) {
+        stream[k] = (int16_t)(9000.0 * sin(TWO_PI * 0.3 * (double)k / 100.0));
+    }
+    init_h(&hpa, 1);
+    (void)run_window(&hpa, stream, L, L);
+    a = run_window(&hpa, stream + L, L, 2u * L);
+    CHECK(ahead_is_sane(&a));
+    CHECK(a.flag == WAKE_HPA_NO_TREMOR_PEAK);
+    CHECK(a.ahead_goal == 0.0f);
+    for (k = 0; k < L; ++k) {
+        stream[k] = 1234;
+    }
+    b = run_window(&hpa, stream, L, 3u * L);
+    CHECK(b.flag == WAKE_HPA_SILENT && b.ahead_goal == 0.0f);
+    for (k = 0; k < WAKE_HPA_AHEAD_TAPS; ++k) {
+        CHECK(b.ahead[k] == 0.0f);
+    }
+    for (k = 0; k < 2u * N; ++k) {
+        stream[k] = (int16_t)(3000.0 * sin(TWO_PI * 6.0 * k / 100.0));
+    }
+    init_h(&hpa, (uint16_t)WAKE_HPA_MAX_AHEAD_HORIZON);
+    b = run_window(&hpa, stream, 2u * N, 2u * N);
+    for (k = 0; k < WAKE_HPA_AHEAD_TAPS; ++k) {
+        CHECK(b.ahead[k] == 0.0f);
+    }
+}
+
+static void test_conversion_and_apply(void)
+{
+    wake_hpa_result_t r;
+    int32_t c[WAKE_HPA_AHEAD_TAPS];
+    wake_ratio_t goal;
+    wake_rtp_t rtp;
+    wake_q24_t w0[J] = {0, 0, 0, 0, 1 << 24};
+    unsigned k;
+    memset(&r, 0, sizeof r);
+    for (k = 0; k < WAKE_HPA_AHEAD_TAPS; ++k) {
+        r.ahead[k] = (float)k - 3.5f;
+    }
+    r.ahead[0] = 9.0f;          /* beyond the clip: clamped to 8 */
+    r.ahead[1] = NAN;           /* NaN: the lower bound */
+    r.ahead_goal = 0.25f;
+    CHECK(wake_hpa_ahead_to_rtp(NULL, c, &goal) == WAKE_HPA_E_NULL);
+    CHECK(wake_hpa_ahead_to_rtp(&r, NULL, &goal) == WAKE_HPA_E_NULL);
+    CHECK(wake_hpa_ahead_to_rtp(&r, c, NULL) == WAKE_HPA_E_NULL);
+    CHECK(wake_hpa_ahead_to_rtp(&r, c, &goal) == WAKE_HPA_OK);
+    CHECK(c[0] == INT32_C(1) << 30 && c[1] == -(INT32_C(1) << 30));
+    CHECK(c[2] == -(INT32_C(3) << 26) && c[7] == INT32_C(7) << 26);
+    CHECK(goal == INT32_C(1) << 28);
+    /* apply: the RTP gets the converted predictor and goal */
+    CHECK(wake_rtp_init(&rtp, J, taps, w0, 4000, 0, 0) == WAKE_RTP_OK);
+    for (k = 0; k < 2u * L; ++k) {
+        stream[k] = (int16_t)(6000.0 * sin(TWO_PI * 0.3 * k / 100.0) + 3000.0 * sin(TWO_PI * 6.0 * k / 100.0));
+    }
+    init_h(&hpa, 5);
+    (void)run_window(&hpa, stream, L, L);
+    CHECK(wake_hpa_start(&hpa, stream + L, L, 2u * L) == WAKE_HPA_OK);
+    CHECK(wake_hpa_run(&hpa) == WAKE_HPA_DONE);
+    CHECK(wake_hpa_ahead_to_rtp(&hpa.result, c, &goal) == WAKE_HPA_OK);
+    CHECK(goal > 0);
+    CHECK(wake_hpa_apply(&hpa, &rtp) == WAKE_HPA_OK);
+    CHECK(memcmp(rtp.ahead_coef, c, sizeof c) == 0 && rtp.ahead_goal == goal);
+}
+
+int main(void)
+{
+    make_taps();
+    test_horizon_is_validated();
+    test_steady_tremor_opens_the_gate();
+    test_no_tremor_shuts_the_gate();
+    test_conversion_and_apply();
+    printf("%s (%d failures)\n", failures ? "FAILED" : "OK", failures);
+    return failures ? 1 : 0;
+}
+#else
+int main(void)
+{
+    printf("FAILED: built without WAKE_HPA_AHEAD, nothing tested\n");
+    return 1;
+}
+#endif

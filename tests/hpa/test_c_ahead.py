@@ -1,0 +1,127 @@
+"""The C HPA's tremor-ahead fit (csrc/wake_hpa.c, WAKE_HPA_AHEAD) against wake.ahead, the definition.
+
+Each window's estimate and truth are recomputed here in float64 from the int16 window the C HPA reads, the
+quantised filter bank and the weights the C HPA had in use (contract point 1), and fed to
+``fit_predictor`` / ``held_out_gain`` / ``gate_target``.  Tolerance: the C HPA accumulates the 8 x 8 Gram
+of about 460 rows and solves it in single precision (eps 6e-8); with the ridge 1e-3 trace(G)/8 >=
+1e-3 lambda_max/8 the system's condition number is at most 1 + 8/1e-3 = 8,001, so a coefficient may move by
+about 1e-3 of the largest; measured (bench/hpa_c_ahead_agreement.py): at most 3.9e-4 on PADS, 8.5e-6 on the
+synthetic set.  The goal is a ratio of two float sums over at least 10 targets: within
+2e-3.  What an actuator gets, the command g P over the window, within 1 % NRMSE.
+"""
+
+import numpy as np
+import pytest
+from support import NO_PADS, pads_dir
+
+from wake import WakeConfig
+from wake.ahead import NO_TREMOR_FLAGS, fit_predictor, gate_target, held_out_gain, predictions
+from wake.eval.synthetic import paper_dataset
+from wake.hpa.sharp import detrended_highpass
+from wake.rtp import c_backend_available
+from wake.wavelets import filter_bank_outputs, filter_bank_taps
+
+pytestmark = pytest.mark.skipif(not c_backend_available(), reason="the compiled C core (wake._rtp) is not built")
+
+CONFIG = WakeConfig(backend="reference")
+TAPS = filter_bank_taps("sym3", 5)
+L, N = CONFIG.window_samples, 2**CONFIG.level
+COEF_TOL = 2e-3      # of max(1, max |c|)
+GOAL_TOL = 2e-3
+COMMAND_NRMSE = 0.01
+
+
+def python_twin(stream, out, horizon, full_scale):
+    """wake.ahead on each window's estimate and truth, from what the C HPA read and had in use."""
+    from wake.hpa.c_port import quantize_window
+    from wake.rtp.qformat import quantize_taps
+
+    x = quantize_window(stream, full_scale).astype(float)       # LSB: the predictor is scale-free
+    taps = quantize_taps(TAPS).astype(float) / 32768.0
+    twin, previous = [], None
+    for k, o in enumerate(out):
+        w = x[k * L:(k + 1) * L]
+        y = w[N:] - filter_bank_outputs(w, taps)[:L - N] @ o["weights_in_use"]
+        truth = detrended_highpass(w, CONFIG.fs, o["cutoff"])[N:]
+        c = fit_predictor(y, truth, horizon)
+        gain = held_out_gain(y, truth, previous, horizon, L)
+        twin.append({"y": y, "coefficients": c, "goal": gate_target(gain, o["flag"])})
+        previous = o["coefficients"]        # the C HPA scores its own previous predictor
+    return twin
+
+
+def check_agreement(stream, horizon, full_scale):
+    from wake.hpa.c_port import run_ahead_c
+
+    out = run_ahead_c(stream, CONFIG, taps=TAPS, horizon=horizon, full_scale=full_scale)
+    twin = python_twin(stream, out, horizon, full_scale)
+    assert out[0]["goal"] == 0.0                                  # the first HPA has nothing to score
+    for o, t in zip(out, twin):
+        c, ref = o["coefficients"], t["coefficients"]
+        assert np.all(np.abs(c) <= 8.0)
+        assert np.max(np.abs(c - ref)) <= COEF_TOL * max(1.0, np.max(np.abs(ref)))
+        assert o["goal"] == pytest.approx(t["goal"], abs=GOAL_TOL)
+        if o["flag"] in NO_TREMOR_FLAGS:
+            assert o["goal"] == 0.0
+        command, command_ref = o["goal"] * predictions(t["y"], c), t["goal"] * predictions(t["y"], ref)
+        scale = np.sqrt(np.mean(command_ref**2))
+        if scale > 0:
+            assert np.sqrt(np.mean((command - command_ref) ** 2)) <= COMMAND_NRMSE * scale
+        else:
+            assert np.all(command == 0.0)
+    return out
+
+
+@pytest.mark.parametrize("horizon", [1, 5, 20])
+@pytest.mark.parametrize("signal", [0, 4, 8])
+def test_c_ahead_agrees_with_wake_ahead_on_synthetic_windows(signal, horizon):
+    x = paper_dataset()[signal].measurement[:4 * L]
+    full_scale = 2.0 ** np.ceil(np.log2(np.max(np.abs(x)) * 1.01))
+    out = check_agreement(x, horizon, full_scale)
+    if horizon <= 5:
+        assert max(o["goal"] for o in out[1:]) > 0.0                # the gate opens on a tremor
+
+
+def test_c_ahead_agrees_on_a_pads_shaped_window_and_shuts_without_tremor():
+    """A gyroscope-like axis (deg/s): a 5 Hz tremor whose amplitude swells, on a reach-and-return movement
+    and sensor noise, then 5 s of the movement alone (no tremor peak: the gate's goal is 0)."""
+    rng = np.random.default_rng(7)
+    t = np.arange(4 * L) / CONFIG.fs
+    tremor = (20 + 15 * np.sin(2 * np.pi * 0.1 * t)) * np.sin(2 * np.pi * 5.0 * t + 0.3 * np.sin(2 * np.pi * 0.2 * t))
+    noise = rng.normal(0, 1.5, t.size)
+    tremor[3 * L:] = 0.0
+    noise[3 * L:] = 0.0
+    x = 80 * np.sin(2 * np.pi * 0.25 * t) + 30 * np.sin(2 * np.pi * 0.6 * t) + tremor + noise
+    out = check_agreement(x, 10, 256.0)
+    assert out[1]["goal"] > 0.5
+    assert out[3]["flag"] in NO_TREMOR_FLAGS and out[3]["goal"] == 0.0
+
+
+@pytest.mark.skipif(pads_dir() is None, reason=NO_PADS)
+def test_c_ahead_agrees_with_wake_ahead_on_pads():
+    from wake.eval.datasets import load_pads_folder
+
+    recordings = load_pads_folder(pads_dir())
+    checked = 0
+    for rec in recordings[:4]:
+        windows = min(4, rec.samples.shape[0] // L)
+        for c in range(0, rec.samples.shape[1], 2):
+            if windows < 2:
+                continue
+            x = np.asarray(rec.samples[:, c], dtype=float)[:windows * L]
+            full_scale = 2.0 ** np.ceil(np.log2(np.max(np.abs(x)) * 1.01 + 1e-12))
+            check_agreement(x, 5, full_scale)
+            checked += 1
+    assert checked >= 4
+
+
+def test_run_ahead_c_refuses_bad_input():
+    from wake.hpa.c_port import run_ahead_c
+
+    x = np.zeros(L)
+    with pytest.raises(ValueError, match="horizon must lie in 1..32"):
+        run_ahead_c(x, CONFIG, taps=TAPS, horizon=33, full_scale=1.0)
+    with pytest.raises(ValueError, match="whole number of L = 500"):
+        run_ahead_c(np.zeros(L + 1), CONFIG, taps=TAPS, full_scale=1.0)
+    with pytest.raises(ValueError, match="full_scale must be finite"):
+        run_ahead_c(x, CONFIG, taps=TAPS, full_scale=0.0)
