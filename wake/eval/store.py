@@ -101,7 +101,7 @@ class ResultStore:
         if path.suffix == ".parquet":
             import pyarrow.parquet as pq
 
-            for batch in pq.ParquetFile(path).iter_batches(batch_size=4096, columns=names):
+            for batch in pq.ParquetFile(path).iter_batches(batch_size=512, columns=names):
                 yield from batch.to_pylist()
             return
         with open(path, newline="") as fh:
