@@ -66,6 +66,8 @@ def plan(count, repeat, rss_count, small, dask=True):
     --------
     >>> [f"{label}@{n}" for _, label, n in plan(400, 2, 2000, 200, dask=False)]
     ['--jobs 1@400', '--jobs 2@400', '--jobs 2@400', '--jobs 1@400', '--jobs 2@200', '--jobs 2@2000']
+    >>> [f"{label}@{n}" for _, label, n in plan(200, 0, 2000, 200)]
+    ['--jobs 2@200', '--jobs 2@2000']
     """
     labels = [JOBS1, JOBS2] + ([DASK] if dask else [])
     runs = []
@@ -73,7 +75,7 @@ def plan(count, repeat, rss_count, small, dask=True):
         # alternate the order too, so no configuration always follows the same one
         for label in (labels if r % 2 == 0 else labels[::-1]):
             runs.append((r, label, count))
-    memory = [n for n in (small, rss_count) if n not in (None, count)]
+    memory = [n for n in (small, rss_count) if n is not None and (n != count or not repeat)]
     runs += [("rss", JOBS2, n) for n in memory]
     return runs
 
@@ -83,9 +85,10 @@ def summary(results, count, rss_count, small):
     rate = {label: statistics.median(count / w for (lbl, n, w, _) in results if lbl == label and n == count)
             for label in EXTRA if any(lbl == label and n == count for (lbl, n, _, _) in results)}
     lines = [f"median signals / s over the rounds, {count} signals: "
-             + ", ".join(f"{label} {v:.2f}" for label, v in rate.items())]
-    lines.append(f"--jobs 2 / --jobs 1 (ratio of medians): {rate[JOBS2] / rate[JOBS1]:.2f}x (target >= 1.7x)")
-    if DASK in rate:
+             + ", ".join(f"{label} {v:.2f}" for label, v in rate.items())] if rate else []
+    if JOBS1 in rate and JOBS2 in rate:
+        lines.append(f"--jobs 2 / --jobs 1 (ratio of medians): {rate[JOBS2] / rate[JOBS1]:.2f}x (target >= 1.7x)")
+    if DASK in rate and JOBS2 in rate:
         lines.append(f"Dask / joblib (ratio of medians): {rate[DASK] / rate[JOBS2]:.2f} (target >= 0.85)")
     rss = {n: statistics.median(m for (lbl, k, _, m) in results if lbl == JOBS2 and k == n)
            for n in {small, rss_count or count} if any(lbl == JOBS2 and k == n for (lbl, k, _, _) in results)}
@@ -99,15 +102,16 @@ def summary(results, count, rss_count, small):
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--count", type=int, default=2000, help="cohort size of the throughput runs")
-    p.add_argument("--repeat", type=int, default=3, help="rounds of the throughput runs (medians over them)")
+    p.add_argument("--repeat", type=int, default=3,
+                   help="rounds of the throughput runs (medians over them); 0: the memory pair only")
     p.add_argument("--rss-count", type=int, default=None,
                    help="cohort size whose peak RSS is compared with --small's (default: --count)")
     p.add_argument("--small", type=int, default=200, help="cohort size the peak RSS is compared with")
     p.add_argument("--duration", type=float, default=50.0, help="seconds per signal (100 Hz)")
     p.add_argument("--no-dask", action="store_true", help="skip the Dask LocalCluster runs")
     args = p.parse_args(argv)
-    if args.repeat < 1:
-        p.error(f"--repeat needs at least 1 round, got {args.repeat}")
+    if args.repeat < 0:
+        p.error(f"--repeat needs 0 rounds or more, got {args.repeat}")
     print(f"{os.cpu_count()} cores; signals of {args.duration:g} s at 100 Hz; WAKE (C core) + BMFLC, E-BMFLC, WFLC",
           flush=True)
     print("| round | run | signals | load before | wall s | signals / s | parent peak RSS MB |\n"
