@@ -81,17 +81,21 @@ def plan(count, repeat, rss_count, small, dask=True):
 
 
 def summary(results, count, rss_count, small):
-    """Lines of medians and ratios of medians (throughput), and the RSS ratio."""
-    rate = {label: statistics.median(count / w for (lbl, n, w, _) in results if lbl == label and n == count)
-            for label in EXTRA if any(lbl == label and n == count for (lbl, n, _, _) in results)}
+    """Lines of medians and ratios of medians (throughput), and the RSS ratio.
+
+    ``results``: ``(label, signals, wall s, peak RSS MB, round)`` per run (round ``"rss"``: the memory pair).
+    """
+    rounds = [r for r in results if r[4:] != ("rss",)]     # the memory pair is not a throughput round
+    rate = {label: statistics.median(count / w for (lbl, n, w, *_) in rounds if lbl == label and n == count)
+            for label in EXTRA if any(lbl == label and n == count for (lbl, n, *_) in rounds)}
     lines = [f"median signals / s over the rounds, {count} signals: "
              + ", ".join(f"{label} {v:.2f}" for label, v in rate.items())] if rate else []
     if JOBS1 in rate and JOBS2 in rate:
         lines.append(f"--jobs 2 / --jobs 1 (ratio of medians): {rate[JOBS2] / rate[JOBS1]:.2f}x (target >= 1.7x)")
     if DASK in rate and JOBS2 in rate:
         lines.append(f"Dask / joblib (ratio of medians): {rate[DASK] / rate[JOBS2]:.2f} (target >= 0.85)")
-    rss = {n: statistics.median(m for (lbl, k, _, m) in results if lbl == JOBS2 and k == n)
-           for n in {small, rss_count or count} if any(lbl == JOBS2 and k == n for (lbl, k, _, _) in results)}
+    rss = {n: statistics.median(m for (lbl, k, _, m, *_) in results if lbl == JOBS2 and k == n)
+           for n in {small, rss_count or count} if any(lbl == JOBS2 and k == n for (lbl, k, *_) in results)}
     if len(rss) == 2:
         big = rss_count or count
         lines.append(f"parent peak RSS (median of the --jobs 2 runs), {big} vs {small} signals: "
@@ -124,7 +128,7 @@ def main(argv=None):
             wall, rss = run(out, count, EXTRA[label], args.duration)
         finally:
             shutil.rmtree(out, ignore_errors=True)
-        results.append((label, count, wall, rss))
+        results.append((label, count, wall, rss, rnd))
         print(f"| {rnd if rnd == 'rss' else rnd + 1} | {label} | {count} | {load:.1f} | {wall:.1f} | "
               f"{count / wall:.2f} | {rss:.0f} |", flush=True)
     print(f"\nload average at end {os.getloadavg()[0]:.2f}")
