@@ -1,17 +1,22 @@
-"""Throughput and memory of ``wake evaluate`` on a generated cohort: serial, joblib and Dask side by side.
+"""Throughput and memory of ``wake evaluate`` on a generated cohort: serial, joblib and Dask, interleaved.
 
-    python bench/cohort_scale.py                       # 2,000 signals of 50 s at 100 Hz, and 200 for memory
-    python bench/cohort_scale.py --count 400 --rss-count 2000 --small 200   # throughput on 400 signals
+    python bench/cohort_scale.py                       # 2,000 signals of 50 s at 100 Hz, 3 rounds, RSS vs 200
+    python bench/cohort_scale.py --count 400 --repeat 3 --rss-count 2000 --small 200
 
 Every run is ``wake evaluate OUT --synthetic N --backend c`` (WAKE on the C
 core and the three baselines, one configuration) in a fresh process, into a
-fresh folder, so each computes every task.  The table gives wall time from
-start to report, throughput (signals per second) and the peak RSS of the
-parent process (``ru_maxrss`` of that process alone: workers are not
-counted).  Targets (docs/evaluation.md, "At cohort scale"): ``--jobs 2`` at
->= 1.7x the throughput of ``--jobs 1``; a Dask LocalCluster of 2 workers
-within 15 % of joblib's throughput; peak RSS for N signals within 1.5x of
-that for N/10.
+fresh folder, so each computes every task.  The three throughput
+configurations (``--jobs 1``, ``--jobs 2``, ``--scheduler local --jobs 2``)
+run in rounds, one of each per round, ``--repeat`` rounds: on a machine
+whose cores are shared, load that comes and goes falls on every
+configuration alike, and the summary gives the median of each and the
+ratios of the medians.  The table gives wall time from start to report,
+throughput (signals per second) and the peak RSS of the parent process
+(``ru_maxrss`` of that process alone: workers are not counted), with the
+load average before each run.  Targets (docs/evaluation.md, "At cohort
+scale"): ``--jobs 2`` at >= 1.7x the throughput of ``--jobs 1``; a Dask
+LocalCluster of 2 workers within 15 % of joblib's throughput; peak RSS for
+``--rss-count`` signals within 1.5x of that for ``--small``.
 """
 
 from __future__ import annotations
@@ -20,6 +25,7 @@ import argparse
 import json
 import os
 import shutil
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -31,6 +37,9 @@ ROOT = Path(__file__).resolve().parents[1]
 #: Runs the command in this process and prints its own peak RSS (kB on Linux) as the last line.
 _CHILD = ("import json, resource, sys; from wake.eval.evaluate import cli; status = cli(sys.argv[1:]); "
           "print(json.dumps({'status': status, 'maxrss_kb': resource.getrusage(resource.RUSAGE_SELF).ru_maxrss}))")
+
+JOBS1, JOBS2, DASK = "--jobs 1", "--jobs 2", "--scheduler local --jobs 2 (Dask)"
+EXTRA = {JOBS1: ["--jobs", "1"], JOBS2: ["--jobs", "2"], DASK: ["--scheduler", "local", "--jobs", "2"]}
 
 
 def run(out, count, extra, duration):
@@ -50,41 +59,81 @@ def run(out, count, extra, duration):
     return wall, info["maxrss_kb"] / 1024
 
 
+def plan(count, repeat, rss_count, small, dask=True):
+    """The runs in order: ``repeat`` rounds of the throughput configurations, then the memory pair.
+
+    Examples
+    --------
+    >>> [f"{label}@{n}" for _, label, n in plan(400, 2, 2000, 200, dask=False)]
+    ['--jobs 1@400', '--jobs 2@400', '--jobs 2@400', '--jobs 1@400', '--jobs 2@200', '--jobs 2@2000']
+    >>> [f"{label}@{n}" for _, label, n in plan(200, 0, 2000, 200)]
+    ['--jobs 2@200', '--jobs 2@2000']
+    """
+    labels = [JOBS1, JOBS2] + ([DASK] if dask else [])
+    runs = []
+    for r in range(repeat):
+        # alternate the order too, so no configuration always follows the same one
+        for label in (labels if r % 2 == 0 else labels[::-1]):
+            runs.append((r, label, count))
+    memory = [n for n in (small, rss_count) if n is not None and (n != count or not repeat)]
+    runs += [("rss", JOBS2, n) for n in memory]
+    return runs
+
+
+def summary(results, count, rss_count, small):
+    """Lines of medians and ratios of medians (throughput), and the RSS ratio.
+
+    ``results``: ``(label, signals, wall s, peak RSS MB, round)`` per run (round ``"rss"``: the memory pair).
+    """
+    rounds = [r for r in results if r[4:] != ("rss",)]     # the memory pair is not a throughput round
+    rate = {label: statistics.median(count / w for (lbl, n, w, *_) in rounds if lbl == label and n == count)
+            for label in EXTRA if any(lbl == label and n == count for (lbl, n, *_) in rounds)}
+    lines = [f"median signals / s over the rounds, {count} signals: "
+             + ", ".join(f"{label} {v:.2f}" for label, v in rate.items())] if rate else []
+    if JOBS1 in rate and JOBS2 in rate:
+        lines.append(f"--jobs 2 / --jobs 1 (ratio of medians): {rate[JOBS2] / rate[JOBS1]:.2f}x (target >= 1.7x)")
+    if DASK in rate and JOBS2 in rate:
+        lines.append(f"Dask / joblib (ratio of medians): {rate[DASK] / rate[JOBS2]:.2f} (target >= 0.85)")
+    rss = {n: statistics.median(m for (lbl, k, _, m, *_) in results if lbl == JOBS2 and k == n)
+           for n in {small, rss_count or count} if any(lbl == JOBS2 and k == n for (lbl, k, *_) in results)}
+    if len(rss) == 2:
+        big = rss_count or count
+        lines.append(f"parent peak RSS (median of the --jobs 2 runs), {big} vs {small} signals: "
+                     f"{rss[big]:.0f} / {rss[small]:.0f} MB = {rss[big] / rss[small]:.2f}x (target <= 1.5x)")
+    return lines
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--count", type=int, default=2000, help="cohort size of the throughput runs")
+    p.add_argument("--repeat", type=int, default=3,
+                   help="rounds of the throughput runs (medians over them); 0: the memory pair only")
     p.add_argument("--rss-count", type=int, default=None,
                    help="cohort size whose peak RSS is compared with --small's (default: --count)")
     p.add_argument("--small", type=int, default=200, help="cohort size the peak RSS is compared with")
     p.add_argument("--duration", type=float, default=50.0, help="seconds per signal (100 Hz)")
-    p.add_argument("--no-dask", action="store_true", help="skip the Dask LocalCluster run")
+    p.add_argument("--no-dask", action="store_true", help="skip the Dask LocalCluster runs")
     args = p.parse_args(argv)
-    big = args.count if args.rss_count is None else args.rss_count
-    runs = [("--jobs 2", args.small, ["--jobs", "2"])] + ([("--jobs 2", big, ["--jobs", "2"])] if big != args.count
-                                                          else [])
-    runs += [("--jobs 1", args.count, ["--jobs", "1"]), ("--jobs 2", args.count, ["--jobs", "2"])]
-    if not args.no_dask:
-        runs.append(("--scheduler local --jobs 2 (Dask)", args.count, ["--scheduler", "local", "--jobs", "2"]))
-    print(f"{os.cpu_count()} cores, load average at start {os.getloadavg()[0]:.2f}; "
-          f"signals of {args.duration:g} s at 100 Hz; WAKE (C core) + BMFLC, E-BMFLC, WFLC", flush=True)
-    print("| run | signals | wall s | signals / s | parent peak RSS MB |\n|---|---:|---:|---:|---:|", flush=True)
-    results = {}
-    for label, count, extra in runs:
+    if args.repeat < 0:
+        p.error(f"--repeat needs 0 rounds or more, got {args.repeat}")
+    print(f"{os.cpu_count()} cores; signals of {args.duration:g} s at 100 Hz; WAKE (C core) + BMFLC, E-BMFLC, WFLC",
+          flush=True)
+    print("| round | run | signals | load before | wall s | signals / s | parent peak RSS MB |\n"
+          "|---|---|---:|---:|---:|---:|---:|", flush=True)
+    results = []
+    for rnd, label, count in plan(args.count, args.repeat, args.rss_count, args.small, not args.no_dask):
+        load = os.getloadavg()[0]
         out = Path(tempfile.mkdtemp(prefix="wake-cohort-"))
         try:
-            wall, rss = run(out, count, extra, args.duration)
+            wall, rss = run(out, count, EXTRA[label], args.duration)
         finally:
             shutil.rmtree(out, ignore_errors=True)
-        results[(label, count)] = (count / wall, rss)
-        print(f"| {label} | {count} | {wall:.1f} | {count / wall:.2f} | {rss:.0f} |", flush=True)
+        results.append((label, count, wall, rss, rnd))
+        print(f"| {rnd if rnd == 'rss' else rnd + 1} | {label} | {count} | {load:.1f} | {wall:.1f} | "
+              f"{count / wall:.2f} | {rss:.0f} |", flush=True)
     print(f"\nload average at end {os.getloadavg()[0]:.2f}")
-    one, two = results[("--jobs 1", args.count)][0], results[("--jobs 2", args.count)][0]
-    print(f"--jobs 2 / --jobs 1 throughput: {two / one:.2f}x (target >= 1.7x)")
-    dask = results.get(("--scheduler local --jobs 2 (Dask)", args.count))
-    if dask:
-        print(f"Dask / joblib throughput: {dask[0] / two:.2f} (target within 15 %: >= 0.85)")
-    rss_big, rss_small = results[("--jobs 2", big)][1], results[("--jobs 2", args.small)][1]
-    print(f"parent peak RSS, {big} vs {args.small} signals: {rss_big / rss_small:.2f}x (target <= 1.5x)")
+    for line in summary(results, args.count, args.rss_count, args.small):
+        print(line)
 
 
 if __name__ == "__main__":

@@ -53,7 +53,7 @@ from wake.eval.compute import (ROW_COLUMNS, WAKE_PARAMS, Task, ablation_literal_
 from wake.eval.datasets import default_pads_dir
 from wake.eval.figures import tremor_candidate, write_figures
 from wake.eval.report import jsonable, markdown_report
-from wake.eval.runner import run_tasks
+from wake.eval.runner import TaskList, run_tasks
 from wake.eval.sources import cohort_sources, file_sources, pads_sources, paper_sources
 from wake.eval.store import ResultStore
 from wake.eval.synthetic import PAPER_SNR_DB
@@ -245,8 +245,7 @@ def cli(argv: list[str] | None = None) -> int:
         return 2
     for n in notes:
         print(f"wake evaluate: {n}")
-    tasks = [Task(s, tuple(c.items()), tuple(backends), baselines=(i == 0))
-             for i, c in enumerate(configs) for s in synthetic + recordings]
+    tasks = TaskList(synthetic + recordings, configs, backends)    # made as iterated, not held
     t0 = time.perf_counter()
     try:
         computed, _ = run_tasks(tasks, store, jobs=args.jobs, scheduler=args.scheduler,

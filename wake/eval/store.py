@@ -2,14 +2,15 @@
 
 Layout of ``OUT_DIR/store/``::
 
-    parts/<task hash>.parquet    one file per finished task, written as it finishes
+    parts/<time>-<hash>.parquet  one file per finished batch of tasks (one task or a few), written as it finishes
     results.parquet              every part merged, once a run completes (:meth:`ResultStore.compact`)
 
 (``.csv`` instead of ``.parquet`` where pyarrow is not installed.)  A part is
 written to a temporary name and renamed, so a run killed at any instant
 leaves whole parts only; a rerun finds which tasks are done and computes the
 rest.  A task recorded with an error counts as not done, so a rerun tries it
-again.  Rows come back in the order of the tasks the caller asks for, never
+again; part names begin with the time they were written, so when a task is
+in several parts the latest record is the one read.  Rows come back in the order of the tasks the caller asks for, never
 in the order they finished, which is what makes a parallel run's report the
 same as a serial one's.
 """
@@ -19,6 +20,7 @@ from __future__ import annotations
 import csv
 import hashlib
 import os
+import time
 from pathlib import Path
 
 __all__ = ["ResultStore", "parquet_available"]
@@ -35,7 +37,7 @@ def parquet_available():
 
 
 class ResultStore:
-    """Rows of one evaluation, one part file per task, in ``folder``.
+    """Rows of one evaluation, one part file per finished batch of tasks, in ``folder``.
 
     Parameters
     ----------
@@ -99,7 +101,7 @@ class ResultStore:
         if path.suffix == ".parquet":
             import pyarrow.parquet as pq
 
-            for batch in pq.ParquetFile(path).iter_batches(batch_size=4096, columns=names):
+            for batch in pq.ParquetFile(path).iter_batches(batch_size=512, columns=names):
                 yield from batch.to_pylist()
             return
         with open(path, newline="") as fh:
@@ -109,8 +111,16 @@ class ResultStore:
     # ------------------------------------------------------------------ API
     def add(self, task_key, rows):
         """Record the rows of one finished task (replacing any earlier record of it)."""
-        name = hashlib.sha1(task_key.encode()).hexdigest()[:20]
-        self._write(self.parts / f"{name}.{self.format}", rows)
+        self.add_many([(task_key, rows)])
+
+    def add_many(self, pairs):
+        """Record ``[(task key, rows), ...]``, finished tasks, in one part (replacing earlier records of them)."""
+        pairs = list(pairs)
+        if not pairs:
+            return
+        digest = hashlib.sha1("\n".join(key for key, _ in pairs).encode()).hexdigest()[:20]
+        self._write(self.parts / f"{time.time_ns():020d}-{digest}.{self.format}",
+                    [r for _, rows in pairs for r in rows])
 
     def _by_task(self, columns=None, convert=None):
         by_task = {}
@@ -156,13 +166,17 @@ class ResultStore:
         import pyarrow.parquet as pq
 
         parts = [f for f in files if f.parent == self.parts]
-        redone = pa.array([next(self._read(f, ["task"]))["task"] for f in parts], pa.string())
+        latest = {}                               # task -> the last part holding it (the record read)
+        for f in parts:
+            latest.update((t, f) for t in pq.read_table(f, columns=["task"]).column("task").unique().to_pylist())
+        redone = pa.array(list(latest), pa.string())
         tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")
         pending, count = [], 0
         with pq.ParquetWriter(tmp, pq.read_schema(parts[0])) as writer:
             for f in files:
                 if f.parent == self.parts:
-                    batches = pq.read_table(f).to_batches()
+                    mine = pa.array([t for t, last in latest.items() if last == f], pa.string())
+                    batches = (b.filter(pc.is_in(b["task"], value_set=mine)) for b in pq.read_table(f).to_batches())
                 else:
                     batches = (b.filter(pc.invert(pc.is_in(b["task"], value_set=redone)))
                                for b in pq.ParquetFile(f).iter_batches(batch_size=rows_per_group))
