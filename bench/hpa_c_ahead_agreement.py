@@ -3,7 +3,7 @@
 Every window of the paper's ten synthetic signals (the first 20 s: four HPA windows) and, when present,
 of every PADS axis (whole windows), at horizons 1, 5, 10 and 20 samples: the C HPA runs the windows in
 order on one instance (wake.hpa.c_port.run_ahead_c); each window's estimate and truth are recomputed in
-float64 from the int16 window the C HPA read and the weights it had in use, and fed to
+float64 from the int16 window the C HPA read and the weights it installed, and fed to
 wake.ahead.fit_predictor / held_out_gain / gate_target.  Reported: the largest coefficient difference
 (relative to max(1, max |c|)), the largest goal difference, and the largest NRMSE of the command
 g P over a window.
@@ -44,7 +44,7 @@ def compare(stream, horizon, worst):
     previous = None
     for k, o in enumerate(out):
         w = x[k * L:(k + 1) * L]
-        y = w[N:] - filter_bank_outputs(w, taps)[:L - N] @ o["weights_in_use"]
+        y = w[N:] - filter_bank_outputs(w, taps)[:L - N] @ o["weights"]
         truth = detrended_highpass(w, CONFIG.fs, o["cutoff"])[N:]
         ref = fit_predictor(y, truth, horizon)
         goal = gate_target(held_out_gain(y, truth, previous, horizon, L), o["flag"])

@@ -17,11 +17,12 @@
  *   STEP_BIN_START X_m and Q_m(0) from the pass's states    (one slice per bin)
  *   STEP_BIN_END   slide bin m over the fit rows into Cxy   (chunks of the 2^J rows)
  *   STEP_RAMP      the end-point line's ramp into Cxy        (chunks of the 2^J rows)
- *   STEP_AHEAD_START the estimate's FIR w'B, the tremor-ahead sums cleared (one slice)
- *   STEP_AHEAD_PASS  y(t), T(t), the lagged Gram, its right-hand side, the held-out sums (chunks of the window)
- *   STEP_AHEAD_SOLVE the 8-tap predictor by L D L', the held-out gain, the goal (one slice)
  *   STEP_GRAM      G = B (Rxx B') + mean terms, b            (one entry G[l][k] per slice)
  *   STEP_SOLVE     (G + lambda I) w = b, raising lambda      (one attempt per slice)
+ *   STEP_AHEAD_START the estimate's FIR w'B of the weights just installed, the tremor-ahead sums cleared
+ *                    (chunks of the 2^J taps)
+ *   STEP_AHEAD_PASS  y(t), T(t), the lagged Gram, its right-hand side, the held-out sums (chunks of the window)
+ *   STEP_AHEAD_SOLVE the 8-tap predictor by L D L', the held-out gain, the goal (one piece per row or column)
  *
  * Each step is one piece of work or a loop whose items a slice may share
  * out (wake.firmware.hpa_cost.STEP_NAMES lists them in this order).
@@ -147,11 +148,10 @@ static inline unsigned chunk_end(unsigned t, unsigned step, unsigned limit)
 #define COST_DFT1 11
 #define COST_DFT2 16
 #define COST_SLIDE 60
-#if WAKE_HPA_AHEAD
-#define COST_RAMP 80    /* the ramp's item also forms a tap of the estimate's FIR */
-#else
 #define COST_RAMP 40
-#endif
+/** One tap of the tremor ahead's estimate FIR w'B (J products), and the sums' clearing with the last. */
+#define COST_AHEAD_TAP (20 + 8 * WAKE_HPA_MAX_LEVEL)
+#define COST_AHEAD_CLEAR 300
 
 /** The last piece of the tremor-ahead solve (0..7 assemble G's rows, 8..15 factor its columns, 16 substitutes). */
 #define AHEAD_SOLVE_LAST (2u * WAKE_HPA_AHEAD_TAPS)
@@ -406,7 +406,7 @@ static wake_hpa_status_t check_instance(const wake_hpa_t *h)
         (h->phase == STEP_RAMP && h->t >= N) || h->bins > WAKE_HPA_MAX_BINS ||
 #if WAKE_HPA_AHEAD
         h->ahead_pos >= WAKE_HPA_AHEAD_RING || (h->phase == STEP_AHEAD_PASS && (h->t < N || h->t >= h->n)) ||
-        (h->phase == STEP_AHEAD_SOLVE && h->d > AHEAD_SOLVE_LAST) ||
+        (h->phase == STEP_AHEAD_SOLVE && h->d > AHEAD_SOLVE_LAST) || (h->phase == STEP_AHEAD_START && h->t >= N) ||
 #else
         h->phase > STEP_SOLVE ||
 #endif
@@ -675,7 +675,7 @@ static void ahead_silent(wake_hpa_t *h)
 
 #endif
 
-static void finish(wake_hpa_t *h, const float *w, float r, float mse, float ridge, uint16_t notes)
+static void install(wake_hpa_t *h, const float *w, float r, float mse, float ridge, uint16_t notes)
 {
     unsigned j;
     wake_hpa_result_t *res = &h->result;
@@ -700,6 +700,13 @@ static void finish(wake_hpa_t *h, const float *w, float r, float mse, float ridg
     res->flag = h->flag;
     res->notes = notes;
     res->reserved = 0;
+}
+
+/** The run's result ready: the tremor ahead's predictor and goal beside the installed weights. */
+static void publish(wake_hpa_t *h)
+{
+    wake_hpa_result_t *res = &h->result;
+    unsigned j;
 #if WAKE_HPA_AHEAD
     for (j = 0; j < WAKE_HPA_AHEAD_TAPS; ++j) {
         res->ahead[j] = h->ahead_coef[j];
@@ -713,6 +720,29 @@ static void finish(wake_hpa_t *h, const float *w, float r, float mse, float ridg
 #endif
     h->ready = 1;
     h->phase = STEP_IDLE;
+}
+
+/** A run that ends without a fit (a constant window): its weights, published at once. */
+static void finish(wake_hpa_t *h, const float *w, float r, float mse, float ridge, uint16_t notes)
+{
+    install(h, w, r, mse, ridge, notes);
+    publish(h);
+}
+
+/**
+ * A run that ends with a fit: its weights installed, then (WAKE_HPA_AHEAD) the tremor ahead fitted on
+ * the estimate those weights give, the one the predictor is fed from afterwards (wake.hpa.run_hpa).
+ */
+static void finish_fit(wake_hpa_t *h, const float *w, float r, float mse, float ridge, uint16_t notes)
+{
+    install(h, w, r, mse, ridge, notes);
+#if WAKE_HPA_AHEAD
+    h->t = 0;
+    h->d = 0;
+    h->phase = STEP_AHEAD_START;
+#else
+    publish(h);
+#endif
 }
 
 /** S, T = sum t x(t), min, max over one chunk; a constant window ends the run (weights kept). */
@@ -1343,7 +1373,7 @@ static void next_bin(wake_hpa_t *h)
 #if WAKE_HPA_AHEAD
 static int32_t round_clamp(float v, float lo, float hi);
 
-/** Tap i of the estimate's FIR w'B in Q20 (oldest tap first), from the weights in use (STEP_AHEAD_PASS). */
+/** Tap i of the estimate's FIR w'B in Q20 (oldest tap first), from the weights the run installs. */
 static inline void ahead_fir_tap(wake_hpa_t *h, unsigned i)
 {
     float f = 0.0f;
@@ -1375,9 +1405,6 @@ static int32_t step_ramp(wake_hpa_t *h, int32_t budget)
     float u = start == 0u ? int64_to_float(h->tsum_rows) - mu * (0.5f * fr * (fr - 1.0f)) : h->ramp_u;
     unsigned i;
     for (i = start; i < end; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
-#if WAKE_HPA_AHEAD
-        ahead_fir_tap(h, i);
-#endif
         h->cxy[i] += slope * (u + lead * h->wsum[i]);
         h->vhead[i] += slope * ((float)i - centre);
         if (i + 1u < N) {
@@ -1389,11 +1416,7 @@ static int32_t step_ramp(wake_hpa_t *h, int32_t budget)
     if (end == N) {
         h->t = 0;
         h->d = 0;
-#if WAKE_HPA_AHEAD
-        h->phase = STEP_AHEAD_START;
-#else
         h->phase = STEP_GRAM;
-#endif
     }
     return (int32_t)(end - start) * COST_RAMP;
 }
@@ -1413,8 +1436,8 @@ static int32_t step_ramp(wake_hpa_t *h, int32_t budget)
  *   gain = clip(<T, P> / <P, P>, 0, 1),  P(k + h) = c_prev . (y(k) .. y(k-7))
  */
 
-/** The ahead sums cleared (the estimate's FIR was formed in STEP_RAMP). */
-static void step_ahead_start(wake_hpa_t *h)
+/** The ahead sums cleared, the held-out targets' start; then the pass. */
+static void ahead_clear(wake_hpa_t *h)
 {
     const unsigned N = 1u << h->cfg.level, hz = h->cfg.horizon, len = h->n - N;
     unsigned first, i;
@@ -1437,6 +1460,23 @@ static void step_ahead_start(wake_hpa_t *h)
     h->ahead_held = (uint16_t)(h->ahead_has_prev != 0u && first + 10u <= len ? N + first : h->n);
     h->t = (uint16_t)N;
     h->phase = STEP_AHEAD_PASS;
+}
+
+/** One chunk of the estimate's FIR w'B from the weights just installed; with its last tap, the clearing. */
+static int32_t step_ahead_start(wake_hpa_t *h, int32_t budget)
+{
+    const unsigned N = 1u << h->cfg.level, start = h->t;
+    const unsigned end = chunk_end(start, items(budget - COST_AHEAD_CLEAR, COST_AHEAD_TAP), N);
+    unsigned i;
+    for (i = start; i < end; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
+        ahead_fir_tap(h, i);
+    }
+    h->t = (uint16_t)end;
+    if (end < N) {
+        return (int32_t)(end - start) * COST_AHEAD_TAP;
+    }
+    ahead_clear(h);
+    return (int32_t)(end - start) * COST_AHEAD_TAP + COST_AHEAD_CLEAR;
 }
 
 /**
@@ -1666,9 +1706,7 @@ static void step_ahead_solve(wake_hpa_t *h)
         gain = 0.0f;
     }
     ahead_keep(h, c, gain);
-    h->t = 0;
-    h->d = 0;
-    h->phase = STEP_GRAM;
+    publish(h);
 }
 
 #endif
@@ -1826,11 +1864,11 @@ static void step_solve(wake_hpa_t *h)
         for (j = 0; j < J; ++j) {
             w[j] = 0.0f;
         }
-        finish(h, w, h->noise, max_f(h->yy / (float)h->rows, 0.0f), h->cfg.ridge, 0u);
+        finish_fit(h, w, h->noise, max_f(h->yy / (float)h->rows, 0.0f), h->cfg.ridge, 0u);
         return;
     }
     if (solve_ridge(h, h->factor * h->scale, w)) {
-        finish(h, w, h->noise, fit_mse(h, w), h->factor,
+        finish_fit(h, w, h->noise, fit_mse(h, w), h->factor,
                h->factor > h->cfg.ridge ? (uint16_t)WAKE_HPA_NOTE_REGULARISED : (uint16_t)0u);
         return;
     }
@@ -1841,7 +1879,7 @@ static void step_solve(wake_hpa_t *h)
         for (j = 0; j < J; ++j) {
             w[j] = 0.0f;
         }
-        finish(h, w, h->noise, max_f(h->yy / (float)h->rows, 0.0f), h->factor,
+        finish_fit(h, w, h->noise, max_f(h->yy / (float)h->rows, 0.0f), h->factor,
                (uint16_t)(WAKE_HPA_NOTE_REGULARISED | WAKE_HPA_NOTE_CLIPPED));
     }
 }
@@ -1876,7 +1914,7 @@ static int32_t piece_cost(const wake_hpa_t *h)
         return 6 * J * J * J + 12 * J * J + 200;
 #if WAKE_HPA_AHEAD
     case STEP_AHEAD_START:
-        return 300;
+        return COST_AHEAD_TAP;
     case STEP_AHEAD_SOLVE:
         /* a row of G with up to 14 edge products per entry; a column: up to 7 x 8 products; the substitution */
         return 700;
@@ -1922,8 +1960,8 @@ static int32_t run_step(wake_hpa_t *h, int32_t budget, int32_t fixed)
     case STEP_AHEAD_PASS:
         return step_ahead_pass(h, budget);
     case STEP_AHEAD_START:
-        step_ahead_start(h);
-        break;
+        return step_ahead_start(h, budget);
+
     case STEP_AHEAD_SOLVE:
         step_ahead_solve(h);
         break;

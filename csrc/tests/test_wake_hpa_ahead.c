@@ -106,7 +106,14 @@ static void test_steady_tremor_opens_the_gate(void)
         a = run_window(&hpa, stream, L, L);
         CHECK(ahead_is_sane(&a));
         CHECK(a.ahead_goal == 0.0f);
-        CHECK(fabsf(a.ahead[0]) + fabsf(a.ahead[1]) > 0.1f);    /* a predictor was fitted */
+        {
+            float mass = 0.0f;                                    /* a predictor was fitted */
+            unsigned i;
+            for (i = 0; i < WAKE_HPA_AHEAD_TAPS; ++i) {
+                mass += fabsf(a.ahead[i]);
+            }
+            CHECK(mass > 0.1f);
+        }
         b = run_window(&hpa, stream + L, L, 2u * L);
         CHECK(ahead_is_sane(&b));
         CHECK(b.ahead_goal > 0.8f);
