@@ -17,6 +17,7 @@ from wake.hpa.run import HPAUpdate, clean_only_below
 from wake.registry import cutoff_rule_names, cutoff_rules, get_cutoff_rule
 from wake.rtp.full_scale import power_of_two_at_least
 from wake.target import TARGET
+from wake.wavelets import default_weights
 
 __all__ = ["c_flag_name", "c_mirror_problems", "hpa_config", "hpa_config_fields", "quantize_window", "run_hpa_c",
            "check_c_hpa_config", "window_full_scale"]
@@ -137,6 +138,28 @@ def quantize_window(x, full_scale: float) -> np.ndarray:
     return np.clip(np.rint(np.asarray(x, dtype=float) * (_Q15 / full_scale)), -32768, 32767).astype(np.int16)
 
 
+def _instance(config: WakeConfig, taps, weights, name: str, *, horizon: int = 1):
+    """A C HPA instance of ``config`` over ``taps`` with ``weights`` in use (the start-up weights,
+    :func:`~wake.wavelets.default_weights`, when None; clipped to the C HPA's weight limit), and the
+    quantised taps it points into: keep them alive as long as the instance."""
+    ffi, lib = _core()
+    from wake.rtp.qformat import quantize_taps
+
+    J = config.level
+    w0 = np.clip(np.asarray(default_weights(J) if weights is None else weights, dtype=np.float32),
+                 -lib.WAKE_HPA_WEIGHT_LIMIT, lib.WAKE_HPA_WEIGHT_LIMIT)
+    if w0.shape != (J,) or not np.isfinite(w0).all():
+        raise ValueError(f"{name} must be {J} finite numbers, got {weights!r}")
+    cfg = hpa_config(config)
+    cfg.horizon = horizon
+    h = ffi.new("wake_hpa_t *")
+    taps_q = np.ascontiguousarray(quantize_taps(taps), dtype=np.int16)
+    status = lib.wake_hpa_init(h, cfg, ffi.from_buffer("int16_t[]", taps_q), ffi.from_buffer("float[]", w0))
+    if status != lib.WAKE_HPA_OK:
+        raise ValueError(f"wake_hpa_init refused the configuration (status {status})")
+    return h, taps_q
+
+
 def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index: int = 0,
               full_scale: float | None = None) -> HPAUpdate:
     """One HPA run by the C port: what :func:`wake.hpa.run_hpa` returns, computed in single precision.
@@ -173,8 +196,6 @@ def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index:
     'valley'
     """
     ffi, lib = _core()
-    from wake.rtp.qformat import quantize_taps
-
     check_c_hpa_config(config)
     x = np.asarray(window, dtype=float)
     J, N = config.level, 2**config.level
@@ -186,19 +207,7 @@ def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index:
     if not (np.isfinite(fs_scale) and fs_scale > 0):
         raise ValueError(f"full_scale must be finite and > 0, got {full_scale!r}")
     q = quantize_window(x, fs_scale)
-    taps_q = np.ascontiguousarray(quantize_taps(taps), dtype=np.int16)
-    if previous_weights is None:
-        previous_weights = np.zeros(J)
-        previous_weights[-1] = 1.0
-    w0 = np.clip(np.asarray(previous_weights, dtype=np.float32), -lib.WAKE_HPA_WEIGHT_LIMIT,
-                 lib.WAKE_HPA_WEIGHT_LIMIT)
-    if w0.shape != (J,) or not np.isfinite(w0).all():
-        raise ValueError(f"previous_weights must be {J} finite numbers, got {previous_weights!r}")
-    h = ffi.new("wake_hpa_t *")
-    taps_c = ffi.from_buffer("int16_t[]", taps_q)
-    status = lib.wake_hpa_init(h, hpa_config(config), taps_c, ffi.from_buffer("float[]", w0))
-    if status != lib.WAKE_HPA_OK:
-        raise ValueError(f"wake_hpa_init refused the configuration (status {status})")
+    h, _taps_q = _instance(config, taps, previous_weights, "previous_weights")
     q_c = ffi.from_buffer("int16_t[]", q)
     status = lib.wake_hpa_start(h, q_c, q.size, int(index) & 0xFFFFFFFF)
     if status != lib.WAKE_HPA_OK:
@@ -259,8 +268,6 @@ def run_ahead_c(stream, config: WakeConfig, *, taps, horizon: int = 1, full_scal
     (0.0, True)
     """
     ffi, lib = _core()
-    from wake.rtp.qformat import quantize_taps
-
     check_c_hpa_config(config)
     x = np.asarray(stream, dtype=float)
     J, L = config.level, config.window_samples
@@ -270,16 +277,8 @@ def run_ahead_c(stream, config: WakeConfig, *, taps, horizon: int = 1, full_scal
         raise ValueError(f"horizon must lie in 1..{lib.WAKE_HPA_MAX_AHEAD_HORIZON} samples, got {horizon!r}")
     if not (np.isfinite(full_scale) and full_scale > 0):
         raise ValueError(f"full_scale must be finite and > 0, got {full_scale!r}")
-    w = np.zeros(J, dtype=np.float32)
-    w[-1] = 1.0
-    if start_weights is not None:
-        w = np.asarray(start_weights, dtype=np.float32).reshape(J)
-    cfg = hpa_config(config)
-    cfg.horizon = int(horizon)
-    h = ffi.new("wake_hpa_t *")
-    taps_q = np.ascontiguousarray(quantize_taps(taps), dtype=np.int16)
-    if lib.wake_hpa_init(h, cfg, ffi.from_buffer("int16_t[]", taps_q), ffi.from_buffer("float[]", w)) != 0:
-        raise ValueError("wake_hpa_init refused the configuration")
+    h, _taps_q = _instance(config, taps, start_weights, "start_weights", horizon=int(horizon))
+    w = np.array([h.weights[j] for j in range(J)], dtype=np.float32)
     q = quantize_window(x, full_scale)
     out, res = [], ffi.new("wake_hpa_result_t *")
     for k in range(x.size // L):
