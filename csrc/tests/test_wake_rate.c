@@ -15,20 +15,7 @@
 
 #include "wake_rate.h"
 
-static int n_passed = 0;
-static int n_failed = 0;
-
-#define CHECK(cond, ...)                                                        \
-    do {                                                                        \
-        if (cond) {                                                             \
-            n_passed++;                                                         \
-        } else {                                                                \
-            n_failed++;                                                         \
-            printf("FAIL %s:%d: %s -- ", __FILE__, __LINE__, #cond);            \
-            printf(__VA_ARGS__);                                                \
-            printf("\n");                                                       \
-        }                                                                       \
-    } while (0)
+#include "check.h"
 
 static uint32_t rng_state = 2463534242u;
 static uint32_t rng_u32(void)
