@@ -12,34 +12,7 @@
 #include "wake_hpa.h"
 #include "wake_rtp.h"
 
-static int failures;
-#define CHECK(cond)                                                                   \
-    do {                                                                              \
-        if (!(cond)) {                                                                \
-            printf("FAIL %s:%d: %s\n", __FILE__, __LINE__, #cond);                    \
-            ++failures;                                                               \
-        }                                                                             \
-    } while (0)
-
-#define J 5
-#define N 32
-#define L 500
-static const double TWO_PI = 6.283185307179586;
-
-/* A crude but valid Q15 bank: row j averages the newest 2^(j+1) samples. */
-static int16_t taps[J * N];
-static const float start_w[J] = {0.0f, 0.0f, 0.0f, 0.0f, 1.0f};
-
-static void make_taps(void)
-{
-    int j, i;
-    for (j = 0; j < J; ++j) {
-        const int width = 2 << j;
-        for (i = 0; i < N; ++i) {
-            taps[j * N + i] = (int16_t)(i >= N - width ? 32768 / width : 0);
-        }
-    }
-}
+#include "hpa_fixture.h"
 
 static wake_hpa_t hpa, other;
 static int16_t window[L];

@@ -18,36 +18,10 @@
 
 #if WAKE_HPA_AHEAD
 
-static int failures;
-#define CHECK(cond)                                                                   \
-    do {                                                                              \
-        if (!(cond)) {                                                                \
-            printf("FAIL %s:%d: %s\n", __FILE__, __LINE__, #cond);                    \
-            ++failures;                                                               \
-        }                                                                             \
-    } while (0)
+#include "hpa_fixture.h"
 
-#define J 5
-#define N 32
-#define L 500
-static const double TWO_PI = 6.283185307179586;
-
-static int16_t taps[J * N];
-static const float start_w[J] = {0.0f, 0.0f, 0.0f, 0.0f, 1.0f};
 static wake_hpa_t hpa, other;
 static int16_t stream[3 * L];
-
-/* A crude but valid Q15 bank: row j averages the newest 2^(j+1) samples. */
-static void make_taps(void)
-{
-    int j, i;
-    for (j = 0; j < J; ++j) {
-        const int width = 2 << j;
-        for (i = 0; i < N; ++i) {
-            taps[j * N + i] = (int16_t)(i >= N - width ? 32768 / width : 0);
-        }
-    }
-}
 
 static void init_h(wake_hpa_t *h, uint16_t horizon)
 {
