@@ -40,6 +40,8 @@ _CHILD = ("import json, resource, sys; from wake.eval.evaluate import cli; statu
 
 JOBS1, JOBS2, DASK = "--jobs 1", "--jobs 2", "--scheduler local --jobs 2 (Dask)"
 EXTRA = {JOBS1: ["--jobs", "1"], JOBS2: ["--jobs", "2"], DASK: ["--scheduler", "local", "--jobs", "2"]}
+#: ``--configs`` names of the throughput configurations
+CONFIGS = {"jobs1": JOBS1, "jobs2": JOBS2, "dask": DASK}
 
 
 def run(out, count, extra, duration):
@@ -59,7 +61,7 @@ def run(out, count, extra, duration):
     return wall, info["maxrss_kb"] / 1024
 
 
-def plan(count, repeat, rss_count, small, dask=True):
+def plan(count, repeat, rss_count, small, dask=True, configs=tuple(CONFIGS)):
     """The runs in order: ``repeat`` rounds of the throughput configurations, then the memory pair.
 
     Examples
@@ -68,8 +70,10 @@ def plan(count, repeat, rss_count, small, dask=True):
     ['--jobs 1@400', '--jobs 2@400', '--jobs 2@400', '--jobs 1@400', '--jobs 2@200', '--jobs 2@2000']
     >>> [f"{label}@{n}" for _, label, n in plan(200, 0, 2000, 200)]
     ['--jobs 2@200', '--jobs 2@2000']
+    >>> [f"{label}@{n}" for _, label, n in plan(2000, 1, None, None, configs=("jobs2", "dask"))]
+    ['--jobs 2@2000', '--scheduler local --jobs 2 (Dask)@2000']
     """
-    labels = [JOBS1, JOBS2] + ([DASK] if dask else [])
+    labels = [CONFIGS[c] for c in CONFIGS if c in configs and (dask or c != "dask")]
     runs = []
     for r in range(repeat):
         # alternate the order too, so no configuration always follows the same one
@@ -113,7 +117,12 @@ def main(argv=None):
     p.add_argument("--small", type=int, default=200, help="cohort size the peak RSS is compared with")
     p.add_argument("--duration", type=float, default=50.0, help="seconds per signal (100 Hz)")
     p.add_argument("--no-dask", action="store_true", help="skip the Dask LocalCluster runs")
+    p.add_argument("--configs", default=",".join(CONFIGS),
+                   help=f"the throughput configurations, comma-separated among {', '.join(CONFIGS)} (default: all)")
     args = p.parse_args(argv)
+    configs = [c.strip() for c in args.configs.split(",") if c.strip()]
+    if not configs or set(configs) - set(CONFIGS):
+        p.error(f"--configs takes a comma-separated choice of {', '.join(CONFIGS)}, got {args.configs!r}")
     if args.repeat < 0:
         p.error(f"--repeat needs 0 rounds or more, got {args.repeat}")
     print(f"{os.cpu_count()} cores; signals of {args.duration:g} s at 100 Hz; WAKE (C core) + BMFLC, E-BMFLC, WFLC",
@@ -121,7 +130,7 @@ def main(argv=None):
     print("| round | run | signals | load before | wall s | signals / s | parent peak RSS MB |\n"
           "|---|---|---:|---:|---:|---:|---:|", flush=True)
     results = []
-    for rnd, label, count in plan(args.count, args.repeat, args.rss_count, args.small, not args.no_dask):
+    for rnd, label, count in plan(args.count, args.repeat, args.rss_count, args.small, not args.no_dask, configs):
         load = os.getloadavg()[0]
         out = Path(tempfile.mkdtemp(prefix="wake-cohort-"))
         try:

@@ -248,3 +248,22 @@ def test_the_tremor_ahead_at_1khz_runs_at_the_bank_rate_and_holds_over_each_grou
     np.testing.assert_array_equal(rows[:-50], res.command[50:2500])
     with pytest.raises(ValueError, match=r"\[1, 320\] at 1000 Hz"):
         WakeConfig(fs=1000.0, horizon=321)
+
+
+@pytest.mark.skipif(not has_c_backend(), reason=NO_CORE)
+def test_a_window_clipped_at_the_full_scale_shuts_the_gate_until_the_next_hpa(signal):
+    from wake import ClippingWarning
+
+    # a full scale that the tremor peaks cross on far more than GLITCH_SHARE of every window
+    peak = float(np.quantile(np.abs(signal), 0.9))
+    with pytest.warns(ClippingWarning):
+        clipped = WakeFilter(backend="c", full_scale=peak, horizon=4).run(signal)
+    wide = WakeFilter(backend="c", full_scale=4 * np.abs(signal).max(), horizon=4).run(signal)
+    hpa = clipped.hpa[0]
+    assert all("clipping" in u.flags for u in hpa[1:])
+    # the HPA itself would open the gate (its goal is its held-out gain), the installation shuts it
+    assert any(u.ahead_goal > 0 for u in hpa[1:])
+    assert not clipped.confidence.any() and not clipped.command.any()
+    # without clipping the same signal opens the gate
+    assert not any("clipping" in u.flags for u in wide.hpa[0])
+    assert wide.confidence.max() > 0.3

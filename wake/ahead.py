@@ -202,6 +202,24 @@ def gate_target(gain: float, cutoff_flag: str) -> float:
     return 0.0 if cutoff_flag in NO_TREMOR_FLAGS else float(gain)
 
 
+#: What installing an HPA's result may find (:meth:`wake.rtp.adaptive.AdaptiveRTP.install`) that shuts the gate
+#: until the next HPA: more than ``GLITCH_SHARE`` of the window clipped at the C core's full scale, so the
+#: estimate the predictor reads was cut and its held-out gain measured on a cut estimate.
+SHUTTING_NOTES = ("clipping",)
+
+
+def installed_goal(goal: float, notes) -> float:
+    """The goal the gate is given at an HPA: the HPA's own (:func:`gate_target`), or 0 when installing it
+    noted one of :data:`SHUTTING_NOTES`.
+
+    Examples
+    --------
+    >>> installed_goal(0.8, ("full_scale_set",)), installed_goal(0.8, ("clipping", "full_scale_raised"))
+    (0.8, 0.0)
+    """
+    return 0.0 if any(note in SHUTTING_NOTES for note in notes) else float(goal)
+
+
 def ramp_step(fs: float, tau_s: float = GATE_TAU_S) -> float:
     """The gate's ramp coefficient ``1 / max(1, tau fs)``."""
     return 1.0 / max(1.0, tau_s * fs)

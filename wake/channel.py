@@ -22,7 +22,7 @@ from functools import partial
 
 import numpy as np
 
-from wake.ahead import TAPS
+from wake.ahead import TAPS, installed_goal
 from wake.config import WakeConfig
 from wake.hpa import HPAUpdate, default_weights, run_hpa
 from wake.hpa.c_port import run_hpa_c
@@ -102,9 +102,10 @@ class Channel:
         notes = self.rtp.install(self.weights, upd.measurement_noise, self.process_noise(upd.measurement_noise),
                                  window)
         self.measurement_noise = self.rtp.measurement_noise if self.rtp.on_c else upd.measurement_noise
-        # an HPA without a predictor (the C HPA until it fits one) shuts the gate
+        # an HPA without a predictor (the C HPA until it fits one) shuts the gate, and so does a clipped window
         coefficients = upd.ahead_coefficients
-        self.rtp.set_ahead(np.zeros(TAPS) if coefficients is None else coefficients, upd.ahead_goal)
+        self.rtp.set_ahead(np.zeros(TAPS) if coefficients is None else coefficients,
+                           installed_goal(upd.ahead_goal, notes))
         self.ahead_coefficients, self.ahead_index = coefficients, upd.index
         self.updates.append(replace(upd, applied_at=first_sample, flags=upd.flags + notes))
 

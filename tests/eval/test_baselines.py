@@ -37,6 +37,28 @@ def test_causal_one_step_ahead(method, rng):
 
 
 @pytest.mark.parametrize("method", ALL, ids=lambda m: m.name)
+def test_extrapolation_leaves_the_one_step_outputs_alone_and_is_causal(method, rng):
+    x = rng.standard_normal((500, 2)) + np.sin(np.arange(500) / 3.0)[:, None]
+    plain, ahead = method.run(x), method.run(x, horizons=(4, 1, 4))
+    for name in ("voluntary", "tremor", "model_tremor"):
+        assert np.array_equal(getattr(plain, name), getattr(ahead, name))
+    assert sorted(ahead.ahead) == [1, 4] and plain.ahead == {}
+    # the one-sample extrapolation after sample k is the model's own one-step tremor at k + 1 ...
+    np.testing.assert_allclose(ahead.ahead[1][:-1], plain.model_tremor[1:], atol=1e-12)
+    # ... and what is said at k depends on x[:k + 1] only
+    k, y = 300, x.copy()
+    y[k + 1:] += 5.0
+    assert np.array_equal(method.run(y, horizons=(4,)).ahead[4][:k + 1], ahead.ahead[4][:k + 1])
+    assert ahead.ahead[4].shape == x.shape and method.run(x[:, 0], horizons=(2,)).ahead[2].shape == (500,)
+
+
+@pytest.mark.parametrize("bad", [0, -1, 1.5, "2"])
+def test_extrapolation_horizon_must_be_a_positive_integer(bad):
+    with pytest.raises((ValueError, TypeError), match="horizon"):
+        BMFLC().run(np.zeros(50), horizons=(bad,))
+
+
+@pytest.mark.parametrize("method", ALL, ids=lambda m: m.name)
 def test_shapes_and_channels_independent(method, rng):
     x = rng.standard_normal((300, 3))
     res = method.run(x)

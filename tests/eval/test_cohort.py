@@ -93,6 +93,23 @@ def test_dask_local_cluster_matches_serial(tmp_path):
     assert _body(serial / "report.md") == _body(dask / "report.md")
 
 
+def test_the_local_cluster_workers_run_without_the_dashboards_profiler():
+    distributed = pytest.importorskip("distributed", reason="--scheduler needs Dask: pip install \".[dask]\"")
+    import dask
+
+    from wake.eval.runner import LOCAL_CLUSTER_CONFIG, _start_dask
+
+    assert LOCAL_CLUSTER_CONFIG == {"distributed.worker.profile.enabled": False}
+    cluster, client = _start_dask(distributed, "local", 1)
+    try:
+        seen = client.run(lambda: dask.config.get("distributed.worker.profile.enabled"))
+    finally:
+        client.close()
+        cluster.close()
+    assert list(seen.values()) == [False]
+    assert dask.config.get("distributed.worker.profile.enabled") is True    # the parent's setting is left as it was
+
+
 def _interrupted_run(out, count, sig):
     """Start a run of ``count`` tasks in a subprocess, send ``sig`` once about half are stored."""
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])}

@@ -20,7 +20,9 @@ All three fit, sample by sample, a sum of sinusoids to the measurement::
 WFLC on the accumulated phase, never on ``x[k]``), so ``s_hat(k)`` depends
 on ``x[:k]`` only.  The prediction splits into a *voluntary* part and a
 *tremor* part by regressor; ``voluntary = (voluntary part of s_hat)`` and
-``BaselineResult.model_tremor`` is the tremor part.
+``BaselineResult.model_tremor`` is the tremor part.  ``run(x, horizons=(h, ...))``
+also extrapolates the tremor part ``h`` samples ahead (``BaselineResult.ahead``): the
+weights after sample ``k``, the regressors (or WFLC's phase) at ``k + h``.
 
 * :class:`BMFLC` (Veluvolu et al. 2007, 2010): sine/cosine bank over the
   tremor band plus one constant regressor (the bias), LMS.  Voluntary part =
@@ -33,77 +35,19 @@ on ``x[:k]`` only.  The prediction splits into a *voluntary* part and a
 * :class:`WFLC` (Riviere et al. 1998): ``M`` harmonics of one adaptive
   frequency with an accumulated phase, plus a bias.  Voluntary part = bias.
 
-Step-size bound (BMFLC, WFLC)
------------------------------
-With update ``w_i <- w_i + 2 mu_i phi_i e`` the a-posteriori error on the
-current sample is ``(1 - 2 sum_i mu_i phi_i^2) e``.  Every sine/cosine pair
-has ``sin^2 + cos^2 = 1`` and the bias regressor is 1, so with a step ``mu``
-on the ``M`` pairs and ``mu_bias`` on the bias the factor is
-``1 - 2 (M mu + mu_bias)`` *at every sample* (the regressors are normalised:
-``|phi(k)|^2 = M + 1`` exactly).  It lies in (-1, 1) iff
-
-    0 < M * mu + mu_bias < 1,
-
-the classical LMS bound ``0 < mu < 1/tr(R)`` (``tr R = E|phi|^2 = M + 1``
-when ``mu_bias = mu``, i.e. ``mu < 1/(M + 1)``; ``M + 1`` is the number of
-regressors counting a sine/cosine pair once).  Beyond it the error grows
-without bound; the constructors refuse such steps.
+What they share (the result, the checks of their parameters, among them the
+LMS step-size bound, and the regressor rows) is in :mod:`wake.eval.baseline_model`.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
 from wake._validation import as_signal, check_positive
+from wake.eval.baseline_model import (BaselineResult, band_bins, check_band, check_horizons, check_lms_steps,
+                                      rows_ahead, shaped)
 
-__all__ = ["BaselineResult", "BMFLC", "EBMFLC", "WFLC", "BASELINES"]
-
-
-@dataclass
-class BaselineResult:
-    """What a baseline's ``run`` returns (same shape as ``x`` throughout)."""
-
-    voluntary: np.ndarray  #: one-step-ahead voluntary prediction, from x[:k]
-    tremor: np.ndarray  #: x - voluntary
-    model_tremor: np.ndarray  #: the tremor part of the model's own prediction (bank output)
-    method: str
-    frequency: np.ndarray = field(default=None)  #: WFLC: adapted frequency (Hz) used at each sample
-    warmup: int = 0  #: no HPA warm-up; kept for a uniform interface with WakeResult
-
-
-def _band_bins(lo, hi, df):
-    count = int(np.floor((hi - lo) / df + 1e-9)) + 1
-    return lo + df * np.arange(count)
-
-
-def _check_band(name, band, fs):
-    try:
-        lo, hi = (float(v) for v in band)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a pair (low, high) in Hz, got {band!r}") from None
-    if not (np.isfinite(lo) and np.isfinite(hi) and 0 < lo < hi < fs / 2):
-        raise ValueError(f"{name} must satisfy 0 < low < high < fs/2 = {fs / 2:g} Hz, got {band!r}")
-    return lo, hi
-
-
-def _check_lms_steps(mu, mu_bias, n_pairs):
-    mu = check_positive("mu", mu)
-    mu_bias = check_positive("mu_bias", mu_bias)
-    if n_pairs * mu + mu_bias >= 1.0:
-        hi = (1.0 - mu_bias) / n_pairs
-        raise ValueError(
-            f"LMS step out of its stability range: need 0 < M*mu + mu_bias < 1 with M = {n_pairs} "
-            f"sine/cosine pairs, got M*mu + mu_bias = {n_pairs * mu + mu_bias:.4g}; with "
-            f"mu_bias = {mu_bias:g} the valid range is 0 < mu < {max(hi, 0.0):.4g}"
-            + ("" if hi > 0 else " (mu_bias itself must be < 1)")
-        )
-    return mu, mu_bias
-
-
-def _shape(one_d):
-    return (lambda a: a[:, 0]) if one_d else (lambda a: a)
+__all__ = ["BaselineResult", "BMFLC", "EBMFLC", "WFLC", "BASELINES", "baseline_methods"]
 
 
 class BMFLC:
@@ -134,20 +78,24 @@ class BMFLC:
 
     def __init__(self, fs=100.0, band=(6.0, 14.0), df=0.1, mu=0.005, mu_bias=0.1):
         self.fs = check_positive("fs", fs)
-        self.band = _check_band("band", band, self.fs)
+        self.band = check_band("band", band, self.fs)
         self.df = check_positive("df", df)
-        self.freqs = _band_bins(*self.band, self.df)
-        self.mu, self.mu_bias = _check_lms_steps(mu, mu_bias, self.freqs.size)
+        self.freqs = band_bins(*self.band, self.df)
+        self.mu, self.mu_bias = check_lms_steps(mu, mu_bias, self.freqs.size)
 
     def __repr__(self):
         return f"BMFLC(fs={self.fs:g}, band={self.band}, df={self.df:g}, mu={self.mu:g}, mu_bias={self.mu_bias:g})"
 
-    def run(self, x):
+    def _bank(self, k):
+        arg = 2 * np.pi * self.freqs[None, :] * k[:, None] / self.fs
+        return np.concatenate((np.sin(arg), np.cos(arg)), axis=1)  # (len(k), 2M)
+
+    def run(self, x, horizons=()):
         arr, one_d = as_signal(x)
         n, channels = arr.shape
-        k = np.arange(n)[:, None]
-        arg = 2 * np.pi * self.freqs[None, :] * k / self.fs
-        phi = np.concatenate((np.sin(arg), np.cos(arg)), axis=1)  # (n, 2M)
+        hs = check_horizons(horizons)
+        phi = rows_ahead(self._bank, n, max(hs, default=0))
+        ahead = {h: np.empty((n, channels)) for h in hs}
         w = np.zeros((phi.shape[1], channels))
         b = np.zeros(channels)
         vol = np.empty((n, channels))
@@ -161,8 +109,10 @@ class BMFLC:
             e = arr[i] - t - b
             w += two_mu * np.outer(p, e)
             b = b + two_mub * e
-        s = _shape(one_d)
-        return BaselineResult(s(vol), s(arr - vol), s(bank), self.name)
+            for h in hs:
+                ahead[h][i] = phi[i + h] @ w
+        s = shaped(one_d)
+        return BaselineResult(s(vol), s(arr - vol), s(bank), self.name, ahead={h: s(a) for h, a in ahead.items()})
 
 
 class EBMFLC:
@@ -235,7 +185,7 @@ class EBMFLC:
         if self.delta_samples < 1:
             raise ValueError(f"memory_s * fs must be at least one sample, got {self.delta_samples:g}")
         self.rho = self.alpha ** (1.0 / self.delta_samples)
-        self.freqs = _band_bins(0.0, self.f_max, self.df)[1:]  # bins above 0 Hz; 0 Hz is the constant
+        self.freqs = band_bins(0.0, self.f_max, self.df)[1:]  # bins above 0 Hz; 0 Hz is the constant
 
     def __repr__(self):
         return (f"EBMFLC(fs={self.fs:g}, f_max={self.f_max:g}, df={self.df:g}, f_cut={self.f_cut:g}, "
@@ -249,9 +199,9 @@ class EBMFLC:
         """Number of regressors of the voluntary part (they come first)."""
         return 1 + 2 * int(np.count_nonzero(self.freqs <= self.f_cut + 1e-9))
 
-    def _regressors(self, n):
-        """Columns: constant, then (sin, cos) of the voluntary bins, then of the tremor bins."""
-        k = np.arange(n)[:, None]
+    def _regressors(self, k):
+        """At samples ``k``: columns constant, then (sin, cos) of the voluntary bins, then of the tremor bins."""
+        n, k = len(k), k[:, None]
         low = self.freqs <= self.f_cut + 1e-9
         cols = [np.ones((n, 1))]
         for sel in (low, ~low):
@@ -259,12 +209,14 @@ class EBMFLC:
             cols += [np.sin(arg), np.cos(arg)]
         return np.concatenate(cols, axis=1)
 
-    def run(self, x):
+    def run(self, x, horizons=()):
         from scipy.linalg import cho_factor, cho_solve
 
         arr, one_d = as_signal(x)
         n, channels = arr.shape
-        phi = self._regressors(n)
+        hs = check_horizons(horizons)
+        phi = rows_ahead(self._regressors, n, max(hs, default=0))
+        ahead = {h: np.empty((n, channels)) for h in hs}
         p = phi.shape[1]
         nv = self._split()
         rho = self.rho
@@ -285,8 +237,10 @@ class EBMFLC:
             r *= rho
             r += f[:, None] * arr[i][None, :]
             w = cho_solve(cho_factor(G, check_finite=False), r, check_finite=False)
-        s = _shape(one_d)
-        return BaselineResult(s(vol), s(arr - vol), s(pred - vol), self.name)
+            for h in hs:
+                ahead[h][i] = phi[i + h][nv:] @ w[nv:]
+        s = shaped(one_d)
+        return BaselineResult(s(vol), s(arr - vol), s(pred - vol), self.name, ahead={h: s(a) for h, a in ahead.items()})
 
 
 class WFLC:
@@ -332,9 +286,9 @@ class WFLC:
                  f_range=(3.0, 15.0), beta=0.01):
         self.fs = check_positive("fs", fs)
         self.n_harmonics = check_positive("n_harmonics", n_harmonics, integer=True)
-        self.mu, self.mu_bias = _check_lms_steps(mu, mu_bias, self.n_harmonics)
+        self.mu, self.mu_bias = check_lms_steps(mu, mu_bias, self.n_harmonics)
         self.mu0 = check_positive("mu0", mu0, allow_zero=True)
-        self.f_range = _check_band("f_range", f_range, self.fs)
+        self.f_range = check_band("f_range", f_range, self.fs)
         self.f0 = check_positive("f0", f0)
         if not self.f_range[0] <= self.f0 <= self.f_range[1]:
             raise ValueError(f"f0 must lie in f_range {self.f_range}, got {f0!r}")
@@ -351,9 +305,11 @@ class WFLC:
         return (f"WFLC(fs={self.fs:g}, n_harmonics={self.n_harmonics}, mu={self.mu:g}, mu0={self.mu0:g}, "
                 f"mu_bias={self.mu_bias:g}, f0={self.f0:g}, f_range={self.f_range}, beta={self.beta:g})")
 
-    def run(self, x):
+    def run(self, x, horizons=()):
         arr, one_d = as_signal(x)
         n, channels = arr.shape
+        hs = check_horizons(horizons)
+        ahead = {h: np.empty((n, channels)) for h in hs}
         M = self.n_harmonics
         r = np.arange(1, M + 1)[:, None]  # (M, 1)
         lo, hi = (2 * np.pi * f / self.fs for f in self.f_range)
@@ -383,9 +339,18 @@ class WFLC:
             c += two_mu * cs * e
             b = b + two_mub * e
             theta = np.mod(theta + omega, 2 * np.pi)
-        s = _shape(one_d)
-        return BaselineResult(s(vol), s(arr - vol), s(bank), self.name, frequency=s(freq))
+            for h in hs:                          # the phase advanced by the frequency now in use
+                ph = theta + (h - 1) * omega
+                ahead[h][i] = (a * np.sin(r * ph) + c * np.cos(r * ph)).sum(axis=0)
+        s = shaped(one_d)
+        return BaselineResult(s(vol), s(arr - vol), s(bank), self.name, frequency=s(freq),
+                              ahead={h: s(a) for h, a in ahead.items()})
 
 
 #: The baselines by display name, in the order of the report.
 BASELINES = {"BMFLC": BMFLC, "E-BMFLC": EBMFLC, "WFLC": WFLC}
+
+
+def baseline_methods(fs):
+    """The baselines with the parameters tuned once on synthetic signal 1 (docs/baselines.md)."""
+    return {name: cls(fs=fs) for name, cls in BASELINES.items()}

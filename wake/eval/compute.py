@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from wake.eval.baselines import BMFLC, EBMFLC, WFLC
+from wake.eval.baselines import baseline_methods
 from wake.eval.metrics import best_lag, nrmse, offline_ground_truth, prf, snr_out
 from wake.eval.sources import Source, load_source
 from wake.eval.synthetic import paper_dataset
@@ -86,11 +86,6 @@ def config_label(settings):
     """``"wavelet=sym3 level=5 ..."``: the paper's parameters first, then the others by name."""
     names = [k for k in WAKE_PARAMS if k in settings] + sorted(k for k in settings if k not in WAKE_PARAMS)
     return " ".join(f"{k}={settings[k]!r}".replace("'", "") for k in names)
-
-
-def baseline_methods(fs):
-    """The baselines with the parameters tuned once on synthetic signal 1 (docs/baselines.md)."""
-    return {"BMFLC": BMFLC(fs=fs), "E-BMFLC": EBMFLC(fs=fs), "WFLC": WFLC(fs=fs)}
 
 
 def wake_name(backend):

@@ -145,6 +145,10 @@ def _joblib(groups, jobs):
     yield from parallel(joblib.delayed(compute_batch)(b) for b in groups)
 
 
+#: Dask settings of the ``LocalCluster`` that ``--scheduler local`` starts (its workers are spawned with them).
+LOCAL_CLUSTER_CONFIG = {"distributed.worker.profile.enabled": False}
+
+
 def _start_dask(distributed, scheduler, jobs):
     """(cluster or None, client): a LocalCluster of ``jobs`` single-threaded worker processes, or a client."""
     if scheduler != "local":
@@ -154,9 +158,12 @@ def _start_dask(distributed, scheduler, jobs):
         return None, client
     workers = os.cpu_count() if jobs in (None, -1) else jobs
     # no dashboard: its server and bokeh's import cost the parent seconds of a core the workers need
-    # (start a cluster yourself and pass its address to watch one)
-    cluster = distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                       dashboard_address=None)
+    # (start a cluster yourself and pass its address to watch one); and so no statistical profiler in the
+    # workers either, which only feeds the dashboard: sampling the task's stack every 10 ms made a task cost
+    # 4-7 % more CPU than with it off (docs/evaluation.md, "At cohort scale")
+    with require("dask", "--scheduler").config.set(LOCAL_CLUSTER_CONFIG):
+        cluster = distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                           dashboard_address=None)
     return cluster, distributed.Client(cluster)
 
 

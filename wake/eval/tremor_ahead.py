@@ -19,10 +19,9 @@ tremor independent of WAKE (:func:`wake.eval.warmup.independent_ground_truth`).
 from __future__ import annotations
 
 import numpy as np
-from scipy.linalg import cho_factor, cho_solve
 
 from wake.ahead import TAPS, horizon_from_ms, lagged
-from wake.eval.baselines import BMFLC, EBMFLC, WFLC
+from wake.eval.baselines import baseline_methods
 from wake.eval.warmup import slice_nrmse
 from wake.filter import WakeFilter
 
@@ -117,12 +116,8 @@ def ahead_scores(x, fs, truth, *, backend, settings=None, horizons_ms=HORIZONS_M
 
 
 def baselines_ahead(x, fs, horizons):
-    """BMFLC, E-BMFLC and WFLC (the tuned defaults of :func:`wake.eval.compute.baseline_methods`) extrapolating
-    their tremor model: the weights after sample ``n``, the reference sinusoids at ``n + h``.
-
-    Their update loops are re-run here from the instances' parameters (the library classes return only the
-    one-step outputs); ``P_1[n]`` equals the class's ``model_tremor[n + 1]`` to within 1e-12
-    (tests/eval/test_tremor_ahead.py).
+    """BMFLC, E-BMFLC and WFLC (:func:`wake.eval.baselines.baseline_methods`) extrapolating their tremor model:
+    the weights after sample ``n``, the reference sinusoids at ``n + h`` (``BaselineResult.ahead``).
 
     Parameters
     ----------
@@ -143,85 +138,4 @@ def baselines_ahead(x, fs, horizons):
     (['BMFLC', 'E-BMFLC', 'WFLC'], (300, 1))
     """
     x = np.asarray(x, dtype=float)
-    n, ch = x.shape
-    H = max(horizons)
-    m = {"BMFLC": BMFLC(fs=fs), "E-BMFLC": EBMFLC(fs=fs), "WFLC": WFLC(fs=fs)}   # compute.baseline_methods
-    return {"BMFLC": _bmflc(m["BMFLC"], x, horizons, H), "E-BMFLC": _ebmflc(m["E-BMFLC"], x, horizons, H),
-            "WFLC": _wflc(m["WFLC"], x, horizons, H)}
-
-
-def _bmflc(b, x, horizons, H):
-    """BMFLC's LMS loop, its sinusoids at ``n + h``."""
-    n, ch = x.shape
-    # a bank over the tremor band + bias, LMS
-    k = np.arange(n + H)[:, None]
-    arg = 2 * np.pi * b.freqs[None, :] * k / b.fs
-    phi = np.concatenate((np.sin(arg), np.cos(arg)), axis=1)
-    w = np.zeros((phi.shape[1], ch))
-    bias = np.zeros(ch)
-    P = {h: np.zeros((n, ch)) for h in horizons}
-    for i in range(n):
-        e = x[i] - phi[i] @ w - bias
-        w += 2 * b.mu * np.outer(phi[i], e)
-        bias = bias + 2 * b.mu_bias * e
-        for h in horizons:
-            P[h][i] = phi[i + h] @ w
-    return P
-
-
-def _ebmflc(eb, x, horizons, H):
-    """E-BMFLC's weighted least squares, its tremor bins at ``n + h``."""
-    n, ch = x.shape
-    # a full-band bank, exponentially weighted least squares; the tremor part = the bins above f_cut
-    phi = eb._regressors(n + H)
-    p = phi.shape[1]
-    nv = eb._split()
-    rho = eb.rho
-    delta = max(eb.ridge * 0.5 / (1 - rho), 1e-12)
-    G = delta * np.eye(p)
-    leak = (1 - rho) * delta
-    r = np.zeros((p, ch))
-    P = {h: np.zeros((n, ch)) for h in horizons}
-    for i in range(n):
-        f = phi[i]
-        G *= rho
-        G += f[:, None] * f[None, :]
-        G.flat[:: p + 1] += leak
-        r *= rho
-        r += f[:, None] * x[i][None, :]
-        w = cho_solve(cho_factor(G, check_finite=False), r, check_finite=False)
-        for h in horizons:
-            P[h][i] = phi[i + h][nv:] @ w[nv:]
-    return P
-
-
-def _wflc(wf, x, horizons, H):
-    """WFLC's loop, its phase advanced by its frequency."""
-    n, ch = x.shape
-    # M harmonics of an adapted frequency, accumulated phase
-    M = wf.n_harmonics
-    rr = np.arange(1, M + 1)[:, None]
-    lo, hi = (2 * np.pi * f / wf.fs for f in wf.f_range)
-    omega = np.full(ch, 2 * np.pi * wf.f0 / wf.fs)
-    theta = np.zeros(ch)
-    a = np.zeros((M, ch))
-    c = np.zeros((M, ch))
-    bias = np.zeros(ch)
-    power = np.zeros(ch)
-    P = {h: np.zeros((n, ch)) for h in horizons}
-    for i in range(n):
-        sn, cs = np.sin(rr * theta), np.cos(rr * theta)
-        t = (a * sn + c * cs).sum(axis=0)
-        e = x[i] - t - bias
-        dev = x[i] - bias
-        power = dev * dev if i == 0 else power + wf.beta * (dev * dev - power)
-        z = (rr * (a * cs - c * sn)).sum(axis=0)
-        omega = np.clip(omega + 2 * wf.mu0 * e * z / (power + 1e-300), lo, hi)
-        a += 2 * wf.mu * sn * e
-        c += 2 * wf.mu * cs * e
-        bias = bias + 2 * wf.mu_bias * e
-        theta = np.mod(theta + omega, 2 * np.pi)
-        for h in horizons:
-            ph = theta + (h - 1) * omega
-            P[h][i] = (a * np.sin(rr * ph) + c * np.cos(rr * ph)).sum(axis=0)
-    return P
+    return {name: method.run(x, horizons=horizons).ahead for name, method in baseline_methods(fs).items()}
