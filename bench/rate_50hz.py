@@ -1,9 +1,11 @@
 """Why PADS tremor at 50 Hz scores above 100 Hz, and how far the 50 Hz settings can close it (issue 33).
 
-    python bench/rate_50hz.py                  # offset 0 only (the rate table's setting), about 20 s
-    python bench/rate_50hz.py --offsets 20     # the recordings also started 0.05 .. 0.95 s later, about 4 min
-    python bench/rate_50hz.py --sweep          # one setting at a time at 50 Hz, PADS and synthetic, about 1 min
-    python bench/rate_50hz.py --rates 55 60 75 --offsets 20   # the 50 Hz candidate at other low rates
+    python bench/rate_50hz.py                  # offset 0 only (the rate table's setting), under a minute
+    python bench/rate_50hz.py --offsets 20     # the recordings also started 0.05 .. 0.95 s later, about 5 min
+    python bench/rate_50hz.py --whole          # whole recordings instead of after 5 s (with --offsets too)
+    python bench/rate_50hz.py --sweep          # one setting at a time at 50 Hz, PADS and synthetic, about 2 min
+    python bench/rate_50hz.py --sweep --at 100 # the same settings at 100 Hz
+    python bench/rate_50hz.py --rates 50 55 60 75 --offsets 20   # the candidates at other low rates, about 8 min
 
 Signals, truth and scores as in bench/sampling_rates.py: the PADS recordings read at 100 Hz and taken to
 the test rate with ``scipy.signal.resample_poly``; the truth is the tremor of
@@ -111,19 +113,19 @@ def pads_axes(pads, offset):
             yield x, independent_ground_truth(x, rec.fs)[1]
 
 
-def decomposition(pads, offset, variants):
+def decomposition(pads, offset, variants, after_s=AFTER_S):
     cols = {k: [] for k in ("100", "100 at 50", "100 20 ms", "100 20 ms at 50", *variants,
                             "today, truth at 50 Hz")}
     for x, truth in pads_axes(pads, offset):
         x50, t50 = resample(x, 50), resample(truth, 50)
         for h, name in ((1, "100"), (2, "100 20 ms")):
             est = tremor(x, 100, h)
-            cols[name].append(nrmse(truth, est, int(AFTER_S * 100)))
-            cols[name + " at 50"].append(nrmse(t50, resample(est, 50), int(AFTER_S * 50)))
+            cols[name].append(nrmse(truth, est, int(after_s * 100)))
+            cols[name + " at 50"].append(nrmse(t50, resample(est, 50), int(after_s * 50)))
         for name, kw in variants.items():
-            cols[name].append(nrmse(t50, tremor(x50, 50, **kw), int(AFTER_S * 50)))
+            cols[name].append(nrmse(t50, tremor(x50, 50, **kw), int(after_s * 50)))
         own = independent_ground_truth(x50, 50.0)[1]
-        cols["today, truth at 50 Hz"].append(nrmse(own, tremor(x50, 50, **VARIANTS[TODAY]), int(AFTER_S * 50)))
+        cols["today, truth at 50 Hz"].append(nrmse(own, tremor(x50, 50, **VARIANTS[TODAY]), int(after_s * 50)))
     return {k: float(np.mean(v)) for k, v in cols.items()}
 
 
@@ -195,12 +197,12 @@ def cutoffs(pads):
           f"found as at 100 Hz {np.mean(at100):.4f}")
 
 
-def sweep(pads):
-    print("| 50 Hz setting | PADS tremor, after 5 s | PADS whole | synthetic voluntary, after 5 s | synthetic whole |")
+def sweep(pads, fs=50):
+    print(f"| {fs} Hz setting | PADS tremor, after 5 s | PADS whole | synthetic voluntary, after 5 s | synthetic whole |")
     print("|---|---:|---:|---:|---:|")
     for kw in [dict(), *SWEEP, *VARIANTS.values()]:
-        pa, pw = pads_at(pads, 50, kw)
-        sa, sw = synthetic(50, kw)
+        pa, pw = pads_at(pads, fs, kw)
+        sa, sw = synthetic(fs, kw)
         name = ", ".join(f"{k} {v}" for k, v in kw.items()) or "defaults"
         print(f"| {name} | {pa:.4f} | {pw:.4f} | {sa:.4f} | {sw:.4f} |", flush=True)
 
@@ -223,6 +225,8 @@ def rates(pads, fss, offsets):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--offsets", type=int, default=1, help="start offsets 0, 0.05, .. s (default 1: offset 0)")
+    ap.add_argument("--at", type=int, default=50, help="the rate --sweep runs at (default 50 Hz)")
+    ap.add_argument("--whole", action="store_true", help="score whole recordings instead of after 5 s")
     ap.add_argument("--sweep", action="store_true", help="one setting at a time at 50 Hz instead")
     ap.add_argument("--rates", type=int, nargs="*", help="the 50 Hz candidates at these rates instead")
     ap.add_argument("--cutoffs", action="store_true", help="50 Hz with the cut-offs found as at 100 Hz instead")
@@ -234,13 +238,14 @@ def main(argv=None):
         sys.exit("PADS not found: set WAKE_PADS_DIR")
     offsets = [5 * k for k in range(args.offsets)]
     if args.sweep:
-        sweep(pads)
+        sweep(pads, args.at)
     elif args.cutoffs:
         cutoffs(pads)
     elif args.rates:
         rates(pads, args.rates, offsets)
     else:
-        print_rows([decomposition(pads, off, VARIANTS) for off in offsets], offsets)
+        after_s = 0.0 if args.whole else AFTER_S
+        print_rows([decomposition(pads, off, VARIANTS, after_s) for off in offsets], offsets)
 
 
 if __name__ == "__main__":
