@@ -964,7 +964,7 @@ static void step_levinson(wake_hpa_t *h)
            rounding past +-1 is clamped: k = +-1 makes err exactly 0, which ends the recursion as a
            negative err did, so |a[i]| stays below 2^m (docs/verification.md, "A whole HPA run") */
         k = -acc / err;
-        k = k > 1.0f ? 1.0f : (k < -1.0f ? -1.0f : k);
+        k = (k > 1.0f) ? 1.0f : ((k < -1.0f) ? -1.0f : k);
         /* a[i] += k a[m - i] for i = 1..m, all from the old a: pairs (i, m - i) swap together */
         for (i = 1; 2u * i < m; ++i) { /* wcet-loop: WAKE_HPA_MAX_ORDER / 2 */
             const float ai = h->a[i], aj = h->a[m - i];
