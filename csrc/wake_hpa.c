@@ -932,6 +932,13 @@ static int32_t step_diag(wake_hpa_t *h, int32_t budget)
 }
 
 /**
+ * The smallest prediction error Levinson-Durbin divides by: r is n^2 times the window's centred
+ * autocorrelation in LSB^2, so err < 1 is a window predicted to far below one LSB (the recursion stops
+ * there, as at err <= 0).  It bounds |k| before the clamp by |acc| < 2^88 (docs/verification.md).
+ */
+#define LEVINSON_MIN_ERR 1.0f
+
+/**
  * One order of Levinson-Durbin on r[0..order] (wake.hpa.spectrum.levinson_durbin),
  * in a[]; h->t is the order reached, h->err its prediction error.
  */
@@ -948,12 +955,16 @@ static void step_levinson(wake_hpa_t *h)
         h->err = h->r[0];
     }
     err = h->err;
-    if (m <= p && err > 0.0f) {
+    if (m <= p && err >= LEVINSON_MIN_ERR) {
         acc = h->r[m];
         for (i = 1; i < m; ++i) { /* wcet-loop: WAKE_HPA_MAX_ORDER */
             acc += h->a[i] * h->r[m - i];
         }
+        /* |k| < 1 in exact arithmetic (r positive definite); err >= 1 keeps the quotient finite, and a
+           rounding past +-1 is clamped: k = +-1 makes err exactly 0, which ends the recursion as a
+           negative err did, so |a[i]| stays below 2^m (docs/verification.md, "A whole HPA run") */
         k = -acc / err;
+        k = (k > 1.0f) ? 1.0f : ((k < -1.0f) ? -1.0f : k);
         /* a[i] += k a[m - i] for i = 1..m, all from the old a: pairs (i, m - i) swap together */
         for (i = 1; 2u * i < m; ++i) { /* wcet-loop: WAKE_HPA_MAX_ORDER / 2 */
             const float ai = h->a[i], aj = h->a[m - i];
@@ -967,7 +978,7 @@ static void step_levinson(wake_hpa_t *h)
         err *= 1.0f - k * k;
         h->err = err;
         h->t = (uint16_t)m;
-        if (m < p && err > 0.0f) {
+        if (m < p && err >= LEVINSON_MIN_ERR) {
             return; /* the next order in the next piece */
         }
     }

@@ -1,0 +1,463 @@
+/**
+ * @file eva_hpa_steps.c
+ * @brief Frama-C Eva entries for the steps of one HPA run (csrc/wake_hpa.c), each from a state whose
+ *        fields are ranged as the step's precondition, each checking (`//@ assert`) the postcondition
+ *        the next step assumes (make -C csrc prove; docs/verification.md, "A whole HPA run").
+ *
+ * The steps are `static`, so this file includes wake_hpa.c (it is only ever given to Frama-C, never
+ * compiled into the library).  Every entry starts from an instance wake_hpa_init accepted with the
+ * default configuration (J = 5, p = 17, L = 500) and any filter bank, and a run begun on a window of
+ * any int16 samples of each length the default schedule starts (the warm-up windows of 100, 200, 300
+ * and 400 samples and the full window of 500), then
+ * ranges the fields the step reads as the steps before it guarantee.  wake_hpa_run gives every loop
+ * step its whole loop in one piece (a budget of INT32_MAX / 2): the entries call the step the same way.
+ */
+#include <float.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+#include "__fc_builtin.h"
+#include "wake_hpa.c"
+
+/* ---- the ranges: each is a postcondition of one step and a precondition of the next ---------------- */
+/** |x| <= 2^15 */
+#define X_MAX 32768LL
+/** the default configuration's L, 2^J and p */
+#define L_MAX 500LL
+#define N_TAPS 32u
+/** |S|, |sum_{t < rows} x|, |P(rows + d)| <= 2^15 L */
+#define SUM_MAX (X_MAX * L_MAX)
+/** |T| = |sum t x(t)| <= 2^15 L (L - 1) / 2 */
+#define TSUM_MAX (X_MAX * L_MAX * (L_MAX - 1LL) / 2LL)
+/** |lag sum| <= 2^30 L < 2^39 */
+#define ACC_MAX (1LL << 39)
+/** |n^2 r(d)|, |n^2 Rxx(i, i + d)| < 2^60 */
+#define R_MAX (1LL << 60)
+/** |mean| < 2^18 (S / n, n >= 64), |slope| < 2^11 (2^16 / 63), |wsum| < 2^29 */
+#define MEAN_MAX 0x1p18f
+#define SLOPE_MAX 0x1p11f
+#define WSUM_MAX 0x1p29f
+/**
+ * |Rxx(i, i + d) B[l][j]| = |z| / n^2 |B| < 2^49: an envelope of Rxx B' (not its tight bound) in which a term
+ * is below half an ulp, so the envelope is an invariant of every lag's diagonal
+ */
+#define BANK_MAX 0x1p76f
+#define BANK_MAX_R 75557863725914323419136.0
+/** |a[i]| <= 2^m after order m of Levinson-Durbin (|k| <= 1): 2^17 after p = 17 */
+#define A_MAX 0x1p17f
+#define A_MAX_R 131072.0
+/** |D(f_k)| = |A(e^{j theta})|^2 <= DEN_MAX (D >= 0; the intervals of re re + im im do not see the squares) */
+#define DEN_MAX 0x1p100f
+#define DEN_MAX_R 1267650600228229401496703205376.0
+
+/**
+ * The DFT pass's Reinsch states (STEP_DFT's output): NOT shown by Eva, a bound by hand (docs/verification.md).
+ * s(t) = sum_{u <= t} x_c(u) sin(w (t - u + 1)) / sin w with |x_c| <= 2^16 and sin w >= sin(2 pi / n) for the
+ * bins below n / 4: |s| <= n 2^16 / sin(2 pi / n) < 2^32 (n <= 500), and d(t) = s(t) - s(t - 1): |d| < 2^33;
+ * a factor of 2 on each for the roundings of the recursion.
+ */
+#define DFT_S_MAX 0x1p33f
+#define DFT_D_MAX 0x1p34f
+/** |X'_m|, |Q_m| (re and im) of one bin from the states above */
+#define XQ_MAX 0x1p38f
+#define XQ_MAX_R 274877906944.0
+/**
+ * Envelopes, not tight bounds, of the sums over the bins: sum |X'|^2, sum Re X' conj R, Cxy and v_c(t < 2^J).
+ * Each is large enough that one bin's (or the ramp's) term is below half an ulp of it, so float addition
+ * keeps a sum inside: the envelope is an invariant of every bin, which the entries below check.
+ */
+#define POWER_MAX 0x1p104f
+#define POWER_MAX_R 20282409603651670423947251286016.0
+#define CXY_MAX 0x1p104f
+#define CXY_MAX_R 20282409603651670423947251286016.0
+#define VHEAD_MAX 0x1p60f
+#define VHEAD_MAX_R 1152921504606846976.0
+
+static wake_q15_t taps[WAKE_HPA_MAX_LEVEL * WAKE_HPA_MAX_TAPS];
+static wake_q15_t window[WAKE_HPA_MAX_WINDOW];
+static float weights[WAKE_HPA_MAX_LEVEL];
+static wake_hpa_config_t cfg;
+static wake_hpa_t hpa;
+
+static int64_t any64(int64_t lo, int64_t hi)
+{
+    return Frama_C_long_long_interval(lo, hi);
+}
+
+static float anyf(float lo, float hi)
+{
+    return Frama_C_float_interval(lo, hi);
+}
+
+/** The default configuration, any filter bank (init takes any Q15 taps), weights init accepts. */
+static int initialised(void)
+{
+    unsigned j;
+    (void)wake_hpa_default_config(&cfg);
+    Frama_C_make_unknown((char *)taps, sizeof taps);
+    for (j = 0; j < WAKE_HPA_MAX_LEVEL; ++j) {
+        weights[j] = anyf(-(float)WAKE_HPA_WEIGHT_LIMIT, (float)WAKE_HPA_WEIGHT_LIMIT);
+    }
+    Frama_C_make_unknown((char *)window, sizeof window);
+    return wake_hpa_init(&hpa, &cfg, taps, weights) == WAKE_HPA_OK;
+}
+
+/**
+ * A run begun on a window of any int16 samples, of each length the default schedule starts: the
+ * warm-up points 100 .. 400 and the full window, one Eva state each.
+ */
+static void begun(void)
+{
+    begin(&hpa, window, (uint16_t)(100 * Frama_C_interval_split(1, 5)), 0u);
+}
+
+static int started(void)
+{
+    if (!initialised()) {
+        return 0;
+    }
+    begun();
+    return 1;
+}
+
+/** After STEP_SUMS (not silent): the exact sums, the mean and the end-point slope. */
+static void any_sums(void)
+{
+    hpa.sum = any64(-SUM_MAX, SUM_MAX);
+    hpa.prefix_rows = any64(-SUM_MAX, SUM_MAX);
+    hpa.tsum = any64(-TSUM_MAX, TSUM_MAX);
+    hpa.tsum_rows = any64(-TSUM_MAX, TSUM_MAX);
+    hpa.mean = anyf(-MEAN_MAX, MEAN_MAX);
+    hpa.slope = anyf(-SLOPE_MAX, SLOPE_MAX);
+}
+
+static void post_sums(void)
+{
+    /*@ assert -SUM_MAX <= hpa.sum <= SUM_MAX && -SUM_MAX <= hpa.prefix_rows <= SUM_MAX; */
+    /*@ assert -TSUM_MAX <= hpa.tsum <= TSUM_MAX && -TSUM_MAX <= hpa.tsum_rows <= TSUM_MAX; */
+    /*@ assert -MEAN_MAX <= hpa.mean <= MEAN_MAX && -SLOPE_MAX <= hpa.slope <= SLOPE_MAX; */
+    /*@ assert -X_MAX * hpa.rows <= hpa.prefix_hi <= X_MAX * hpa.rows && hpa.prefix_lo == 0 && hpa.suffix == 0; */
+}
+
+/**
+ * Lag d (STEP_LAGS, STEP_LAG_END, STEP_DIAG): the prefix sums of d samples, P(d) and the suffix, within
+ * 2^15 d; P(rows + d) within 2^15 (rows + d).
+ */
+static void any_lag_state(unsigned d)
+{
+    any_sums();
+    hpa.d = (uint16_t)d;
+    hpa.prefix_lo = any64(-X_MAX * (int64_t)d, X_MAX * (int64_t)d);
+    hpa.suffix = any64(-X_MAX * (int64_t)d, X_MAX * (int64_t)d);
+    hpa.prefix_hi = any64(-X_MAX * (int64_t)(hpa.rows + d), X_MAX * (int64_t)(hpa.rows + d));
+}
+
+/** Lag d done: the prefix sums of d + 1 samples (hpa.d is d + 1 now). */
+static void post_lag_state(void)
+{
+    /*@ assert -X_MAX * hpa.d <= hpa.prefix_lo <= X_MAX * hpa.d && -X_MAX * hpa.d <= hpa.suffix <= X_MAX * hpa.d; */
+    /*@ assert -X_MAX * (hpa.rows + hpa.d) <= hpa.prefix_hi <= X_MAX * (hpa.rows + hpa.d); */
+    /*@ assert hpa.phase == STEP_LAGS || hpa.phase == STEP_LEVINSON; */
+}
+
+void eva_step_sums(void)
+{
+    if (!started()) {
+        return;
+    }
+    (void)step_sums(&hpa, INT32_MAX / 2);
+    if (hpa.phase == STEP_LAGS) {
+        post_sums();
+    } else {
+        /*@ assert hpa.phase == STEP_IDLE; */
+    }
+}
+
+void eva_step_lags(void)
+{
+    if (!started()) {
+        return;
+    }
+    any_lag_state((unsigned)Frama_C_interval_split(0, (int)hpa.lags - 1));
+    hpa.phase = STEP_LAGS;
+    (void)step_lags(&hpa, INT32_MAX / 2);
+    /*@ assert -ACC_MAX <= hpa.acc_head <= ACC_MAX && -ACC_MAX <= hpa.acc_tail <= ACC_MAX; */
+    /*@ assert hpa.phase == STEP_LAG_END; */
+}
+
+void eva_step_lag_end(void)
+{
+    if (!started()) {
+        return;
+    }
+    any_lag_state((unsigned)Frama_C_interval_split(0, (int)hpa.lags - 1));
+    hpa.phase = STEP_LAG_END;
+    hpa.acc_head = any64(-ACC_MAX, ACC_MAX);
+    hpa.acc_tail = any64(-ACC_MAX, ACC_MAX);
+    step_lag_end(&hpa);
+    /*@ assert -R_MAX <= hpa.diag <= R_MAX; */
+    /*@ assert \forall integer i; 0 <= i <= 17 ==> -R_MAX <= hpa.r[i] <= R_MAX; */
+    /*@ assert \forall integer i; 0 <= i < 32 ==> -WSUM_MAX <= hpa.wsum[i] <= WSUM_MAX; */
+}
+
+void eva_step_diag(void)
+{
+    unsigned i;
+    if (!initialised()) {
+        return;
+    }
+    /* an envelope, not the tight bound: |Rxx B'| <= 2^15 2 * 2^49 after the last lag, but a d-dependent bound
+       would need the d split before this loop (too many states); 2^76 absorbs each term (< 2^49, half an ulp
+       of 2^76 is 2^52), so the envelope is kept exactly in float arithmetic */
+    for (i = 0; i < WAKE_HPA_MAX_TAPS * WAKE_HPA_MAX_LEVEL; ++i) {
+        hpa.bank_rxx[i] = anyf(-BANK_MAX, BANK_MAX);
+    }
+    begun();
+    any_lag_state((unsigned)Frama_C_interval_split(0, (int)N_TAPS - 1));
+    hpa.phase = STEP_DIAG;
+    hpa.diag = any64(-R_MAX, R_MAX);
+    (void)step_diag(&hpa, INT32_MAX / 2);
+    /*@ assert \forall integer i; 0 <= i < WAKE_HPA_MAX_TAPS * WAKE_HPA_MAX_LEVEL ==>
+               -BANK_MAX_R <= hpa.bank_rxx[i] <= BANK_MAX_R; */
+    post_lag_state();
+}
+
+/**
+ * One order of Levinson-Durbin, order m = t + 1 for each t < p (the driver's loop, unrolled: one
+ * analysis per order), from r(0 .. p) as STEP_LAG_END leaves them, a prediction error of any sign within
+ * R_MAX and, before order m, the coefficients |a[i]| <= 2^(m - 1) (a[0] = 1): after it |a[i]| <= 2^m and
+ * the error still within R_MAX.
+ */
+void eva_step_levinson(void)
+{
+    unsigned i, t;
+    if (!initialised()) {
+        return;
+    }
+    /* the step reads no field of n but the order, p = 17 for every window of the schedule: the full one */
+    begin(&hpa, window, hpa.cfg.window, 0u);
+    /*@ loop unroll WAKE_HPA_MAX_ORDER; */
+    for (t = 0; t < hpa.order; ++t) {
+        const float before = (float)(1u << (t == 0u ? 0u : t - 1u)), after = (float)(1u << t);
+        for (i = 0; i <= WAKE_HPA_MAX_ORDER; ++i) {
+            hpa.r[i] = anyf(-(float)R_MAX, (float)R_MAX);
+            hpa.a[i] = anyf(-before, before);
+        }
+        hpa.a[0] = 1.0f;
+        hpa.err = anyf(-(float)R_MAX, (float)R_MAX);
+        /* what the previous order may have written: one state again */
+        hpa.flag = WAKE_HPA_VALLEY;
+        hpa.cutoff = 0.0f;
+        hpa.peak = 0;
+        hpa.prev1 = 0.0f;
+        hpa.prev2 = 0.0f;
+        hpa.den_floor = 0.0f;
+        hpa.psd_end = 0;
+        hpa.phase = STEP_LEVINSON;
+        hpa.t = (uint16_t)t;
+        step_levinson(&hpa);
+        /*@ assert hpa.phase == STEP_LEVINSON || hpa.phase == STEP_PSD || hpa.phase == STEP_CUTOFF; */
+        /*@ assert hpa.phase == STEP_LEVINSON ==> hpa.t == t + 1; */
+        /*@ assert hpa.a[0] == 1.0f; */
+        /*@ assert \forall integer i; 0 <= i <= WAKE_HPA_MAX_ORDER ==> -after <= hpa.a[i] <= after; */
+        /*@ assert -R_MAX <= hpa.err <= R_MAX; */
+    }
+}
+
+/** D(f_k) of every bin within DEN_MAX (this run's and, for the bins it does not write, earlier runs'). */
+static void any_den(void)
+{
+    unsigned k;
+    for (k = 0; k < WAKE_HPA_MAX_PSD_BINS; ++k) {
+        hpa.den[k] = anyf(-DEN_MAX, DEN_MAX);
+    }
+}
+
+static void post_den(void)
+{
+    /*@ assert \forall integer k; 0 <= k < WAKE_HPA_MAX_PSD_BINS ==> -DEN_MAX_R <= hpa.den[k] <= DEN_MAX_R; */
+    /*@ assert -DEN_MAX_R <= hpa.den_peak <= DEN_MAX_R && -DEN_MAX_R <= hpa.den_floor <= DEN_MAX_R; */
+}
+
+/** The AR polynomial Levinson-Durbin leaves (order p), the spectrum's bins and the tremor peak. */
+void eva_step_psd(void)
+{
+    unsigned i;
+    if (!started()) {
+        return;
+    }
+    any_den();
+    hpa.a[0] = 1.0f;
+    for (i = 1; i <= WAKE_HPA_MAX_ORDER; ++i) {
+        hpa.a[i] = anyf(-A_MAX, A_MAX);
+    }
+    hpa.t = 0;
+    hpa.peak = NO_PEAK;
+    hpa.prev1 = 0.0f;
+    hpa.prev2 = 0.0f;
+    hpa.den_floor = 0.0f;
+    hpa.den_peak = anyf(-DEN_MAX, DEN_MAX);
+    hpa.psd_end = (uint16_t)psd_last(&hpa);
+    hpa.phase = STEP_PSD;
+    (void)step_psd(&hpa, INT32_MAX / 2);
+    /*@ assert hpa.phase == STEP_CUTOFF; */
+    post_den();
+}
+
+/** The valley rule on any spectrum STEP_PSD can leave (or a silent Levinson's default cut-off). */
+void eva_step_cutoff(void)
+{
+    if (!started()) {
+        return;
+    }
+    any_den();
+    hpa.den_peak = anyf(-DEN_MAX, DEN_MAX);
+    hpa.den_floor = anyf(-DEN_MAX, DEN_MAX);
+    /* the peak is only ever taken with min(., cut_hi) or min(., cut_shallow): any value */
+    hpa.peak = Frama_C_unsigned_short_interval(0u, UINT16_MAX);
+    if (Frama_C_nondet(0, 1)) {
+        hpa.flag = WAKE_HPA_SILENT;
+        hpa.cutoff = hpa.cfg.default_cutoff;
+    }
+    hpa.phase = STEP_CUTOFF;
+    step_cutoff(&hpa);
+    /*@ assert hpa.phase == STEP_BINS; */
+    /*@ assert 0.0 <= hpa.cutoff <= hpa.cfg.cutoff_high; */
+}
+
+/** The DFT bins at or below the cut-off, the first pass set up. */
+void eva_step_bins(void)
+{
+    if (!started()) {
+        return;
+    }
+    hpa.cutoff = anyf(0.0f, hpa.cfg.cutoff_high);
+    hpa.phase = STEP_BINS;
+    step_bins(&hpa);
+    /*@ assert hpa.bins <= 6 * hpa.n / 100 && hpa.m == 1; */
+    /*@ assert hpa.phase == STEP_DFT || (hpa.phase == STEP_RAMP && hpa.bins == 0); */
+    /*@ assert -4.0 <= hpa.lam[0] <= 0.0 && -4.0 <= hpa.lam[1] <= 0.0; */
+}
+
+/** The sums over the bins and the targets, within their envelopes (earlier bins' terms). */
+static void any_bin_sums(void)
+{
+    unsigned i;
+    hpa.power = anyf(-POWER_MAX, POWER_MAX);
+    hpa.cross = anyf(-POWER_MAX, POWER_MAX);
+    for (i = 0; i < WAKE_HPA_MAX_TAPS; ++i) {
+        hpa.cxy[i] = anyf(-CXY_MAX, CXY_MAX);
+        hpa.vhead[i] = anyf(-VHEAD_MAX, VHEAD_MAX);
+        hpa.wsum[i] = anyf(-WSUM_MAX, WSUM_MAX);
+    }
+}
+
+static void post_bin_sums(void)
+{
+    /*@ assert -POWER_MAX_R <= hpa.power <= POWER_MAX_R && -POWER_MAX_R <= hpa.cross <= POWER_MAX_R; */
+    /*@ assert \forall integer i; 0 <= i < WAKE_HPA_MAX_TAPS ==> -CXY_MAX_R <= hpa.cxy[i] <= CXY_MAX_R; */
+    /*@ assert \forall integer i; 0 <= i < WAKE_HPA_MAX_TAPS ==> -VHEAD_MAX_R <= hpa.vhead[i] <= VHEAD_MAX_R; */
+}
+
+/**
+ * One DFT pass over the window (STEP_DFT): reported, not gated.  Interval arithmetic cannot bound the
+ * Goertzel recursion over n samples (its bound is a sum of sines), so every state widens.
+ */
+void eva_step_dft(void)
+{
+    if (!initialised()) {
+        return;
+    }
+    any_bin_sums();
+    begun();
+    any_sums();
+    hpa.bins = (uint16_t)Frama_C_interval_split(1, (int)(6u * hpa.n / 100u));
+    hpa.m = (uint16_t)Frama_C_interval(1, (int)hpa.bins);
+    start_pass(&hpa);
+    (void)step_dft(&hpa, INT32_MAX / 2);
+    /*@ assert -DFT_S_MAX <= hpa.gs[0] <= DFT_S_MAX && -DFT_D_MAX <= hpa.gd[0] <= DFT_D_MAX; */
+}
+
+/**
+ * One bin of a pass: its X'_m and Q_m(0) from the pass's states (STEP_BIN_START), then its slide over the
+ * 2^J fit rows (STEP_BIN_END), for every bin m of the cut-off range of every window length (one Eva state
+ * each: the phasors are then single values) and either bin of a pass.  Precondition: the pass's states
+ * within the hand bound above, lambda of the bin, the sums over the bins within their envelopes.
+ */
+void eva_step_bin(void)
+{
+    unsigned b;
+    if (!initialised()) {
+        return;
+    }
+    any_bin_sums();
+    begun();
+    any_sums();
+    /* m fs / n <= cutoff_high = 6 Hz: m <= 6 n / 100 */
+    hpa.m = (uint16_t)Frama_C_interval_split(1, (int)(6u * hpa.n / 100u));
+    hpa.bins = (uint16_t)(6u * hpa.n / 100u);
+    start_pass(&hpa);
+    for (b = 0; b < 2u; ++b) {
+        hpa.gs[b] = anyf(-DFT_S_MAX, DFT_S_MAX);
+        hpa.hs[b] = anyf(-DFT_S_MAX, DFT_S_MAX);
+        hpa.gd[b] = anyf(-DFT_D_MAX, DFT_D_MAX);
+        hpa.hd[b] = anyf(-DFT_D_MAX, DFT_D_MAX);
+    }
+    hpa.d = (uint16_t)Frama_C_interval_split(0, (int)hpa.pair - 1);
+    hpa.phase = STEP_BIN_START;
+    step_bin_start(&hpa);
+    /*@ assert -XQ_MAX_R <= hpa.xr <= XQ_MAX_R && -XQ_MAX_R <= hpa.xi <= XQ_MAX_R; */
+    /*@ assert -XQ_MAX_R <= hpa.qr <= XQ_MAX_R && -XQ_MAX_R <= hpa.qi <= XQ_MAX_R; */
+    /*@ assert hpa.phase == STEP_BIN_END && hpa.t == 0; */
+    (void)step_bin_end(&hpa, INT32_MAX / 2);
+    /*@ assert hpa.phase == STEP_BIN_START || hpa.phase == STEP_DFT || hpa.phase == STEP_RAMP; */
+    /*@ assert -4.0 <= hpa.lam[0] <= 0.0 && -4.0 <= hpa.lam[1] <= 0.0; */
+    post_bin_sums();
+}
+
+/** The end-point line's ramp into the targets (STEP_RAMP). */
+void eva_step_ramp(void)
+{
+    if (!initialised()) {
+        return;
+    }
+    any_bin_sums();
+    begun();
+    any_sums();
+    hpa.t = 0;
+    hpa.phase = STEP_RAMP;
+    (void)step_ramp(&hpa, INT32_MAX / 2);
+    /*@ assert hpa.phase == STEP_GRAM && hpa.d == 0 && hpa.t == 0; */
+    post_bin_sums();
+}
+
+/**
+ * The normal equations (STEP_GRAM), one entry G[l][k] per piece, every piece in order (the driver's loop,
+ * unrolled), from Rxx B' within its envelope, the targets' sums within theirs and r(0) within R_MAX.
+ * Postcondition: G, b, y'y, R and trace(G) / J finite (within the bounds below).
+ */
+void eva_step_gram(void)
+{
+    unsigned i;
+    if (!initialised()) {
+        return;
+    }
+    for (i = 0; i < WAKE_HPA_MAX_TAPS * WAKE_HPA_MAX_LEVEL; ++i) {
+        hpa.bank_rxx[i] = anyf(-BANK_MAX, BANK_MAX);
+    }
+    any_bin_sums();
+    begun();
+    any_sums();
+    hpa.r[0] = anyf(-(float)R_MAX, (float)R_MAX);
+    hpa.d = 0;
+    hpa.t = 0;
+    hpa.phase = STEP_GRAM;
+    /*@ loop unroll 15; */
+    while (hpa.phase == STEP_GRAM) {
+        step_gram(&hpa);
+    }
+    /*@ assert hpa.phase == STEP_SOLVE; */
+    /*@ assert \forall integer i; 0 <= i < 25 ==> \is_finite(hpa.gram[i]); */
+    /*@ assert \forall integer i; 0 <= i < 5 ==> \is_finite(hpa.rhs[i]); */
+    /*@ assert \is_finite(hpa.yy) && \is_finite(hpa.noise) && \is_finite(hpa.scale); */
+}
