@@ -1479,12 +1479,35 @@ static int32_t step_ahead_start(wake_hpa_t *h, int32_t budget)
     return (int32_t)(end - start) * COST_AHEAD_TAP + COST_AHEAD_CLEAR;
 }
 
+/** Samples of one block of the pass: the truth's oscillators and the estimate's FIR advance a block at a time. */
+#define AHEAD_BLOCK 8u
+
 /**
- * y(t) of one sample: x(t) minus the RTP's voluntary prediction from x(t - N) .. x(t - 1).
+ * y(t), y(t + 1) of two samples: x minus the RTP's voluntary prediction from the 2^J samples before each.
+ * Each tap is read once for both outputs and each sample once for two taps.
  * @par Scaling and overflow
  * Q15 samples times Q20 taps (|tap| < 2^31): each product below 2^46, 2^J <= 64 of them below 2^52 in an
- * int64; one rounding to float.
+ * int64, exact in any order; one rounding to float each.
  */
+static inline void ahead_estimate2(const int32_t *fir, const wake_q15_t *x, unsigned t, unsigned N, float *y)
+{
+    const wake_q15_t *p = x + (t - N);
+    int64_t a0 = 0, a1 = 0;
+    int32_t xa = p[0];
+    unsigned i;
+    for (i = 0; i < N; i += 2u) { /* wcet-loop: WAKE_HPA_MAX_TAPS / 2 */
+        const int32_t f0 = fir[i], f1 = fir[i + 1u], xb = p[i + 1u];
+        a0 += (int64_t)f0 * xa;
+        a1 += (int64_t)f0 * xb;
+        xa = p[i + 2u];                 /* i + 2 <= N: at most x(t + 1) */
+        a0 += (int64_t)f1 * xb;
+        a1 += (int64_t)f1 * xa;
+    }
+    y[0] = (float)x[t] - int64_to_float(a0) * (1.0f / 1048576.0f);
+    y[1] = (float)x[t + 1u] - int64_to_float(a1) * (1.0f / 1048576.0f);
+}
+
+/** y(t) of one sample (a block's odd last one): as ahead_estimate2. */
 static inline float ahead_estimate(const int32_t *fir, const wake_q15_t *x, unsigned t, unsigned N)
 {
     const unsigned first = t - N;
@@ -1496,18 +1519,41 @@ static inline float ahead_estimate(const int32_t *fir, const wake_q15_t *x, unsi
     return (float)x[t] - int64_to_float(acc) * (1.0f / 1048576.0f);
 }
 
-/** sum_m v_m(t) of the voluntary truth's bins for the @p count <= 4 samples from t, each oscillator moved on. */
+/**
+ * sum_m v_m(t) of the voluntary truth's bins for the @p count <= AHEAD_BLOCK samples from t, each oscillator
+ * moved on (v[q] sums the bins in the order m = 1, 2, ..., whatever the block).  A full block keeps its eight
+ * sums in registers.
+ */
 static void ahead_voluntary(float *osc, unsigned bins, unsigned count, float *v)
 {
     unsigned m, q;
-    v[0] = 0.0f;
-    v[1] = 0.0f;
-    v[2] = 0.0f;
-    v[3] = 0.0f;
+    if (count == AHEAD_BLOCK) {
+        float v0 = 0.0f, v1 = 0.0f, v2 = 0.0f, v3 = 0.0f, v4 = 0.0f, v5 = 0.0f, v6 = 0.0f, v7 = 0.0f;
+        for (m = 0; m < bins; ++m) { /* wcet-loop: WAKE_HPA_MAX_BINS */
+            float vm = osc[3u * m], e = osc[3u * m + 1u];
+            const float lam = osc[3u * m + 2u];
+            /* e += lambda v;  v += e  (Reinsch's recursion, forwards) */
+            v0 += vm; e += lam * vm; vm += e;
+            v1 += vm; e += lam * vm; vm += e;
+            v2 += vm; e += lam * vm; vm += e;
+            v3 += vm; e += lam * vm; vm += e;
+            v4 += vm; e += lam * vm; vm += e;
+            v5 += vm; e += lam * vm; vm += e;
+            v6 += vm; e += lam * vm; vm += e;
+            v7 += vm; e += lam * vm; vm += e;
+            osc[3u * m] = vm;
+            osc[3u * m + 1u] = e;
+        }
+        v[0] = v0; v[1] = v1; v[2] = v2; v[3] = v3; v[4] = v4; v[5] = v5; v[6] = v6; v[7] = v7;
+        return;
+    }
+    for (q = 0; q < count; ++q) { /* wcet-loop: AHEAD_BLOCK */
+        v[q] = 0.0f;
+    }
     for (m = 0; m < bins; ++m) { /* wcet-loop: WAKE_HPA_MAX_BINS */
         float vm = osc[3u * m], e = osc[3u * m + 1u];
         const float lam = osc[3u * m + 2u];
-        for (q = 0; q < count; ++q) { /* wcet-loop: 4 */
+        for (q = 0; q < count; ++q) { /* wcet-loop: AHEAD_BLOCK */
             v[q] += vm;
             e += lam * vm;
             vm += e;
@@ -1517,49 +1563,94 @@ static void ahead_voluntary(float *osc, unsigned bins, unsigned count, float *v)
     }
 }
 
-/** One chunk of the pass over t = N .. n-1. */
-static int32_t step_ahead_pass(wake_hpa_t *h, int32_t budget)
+/** The ring index @p back samples before @p pos. */
+static inline unsigned ring_back(unsigned pos, unsigned back)
 {
-    const unsigned N = 1u << h->cfg.level, n = h->n, hz = h->cfg.horizon;
-    const unsigned start = h->t, end = chunk_end(start, items(budget, cost_ahead(h)), n);
-    const unsigned k0 = N + WAKE_HPA_AHEAD_TAPS - 1u;
-    const float centre = 0.5f * (float)(n - 1u);
-    float *ring = h->ahead_ring;
-    unsigned t, i, pos = h->ahead_pos;
-    float vol[4];
-    for (t = start; t < end; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_AHEAD */
-        const unsigned q = (t - start) & 3u;
-        float base, target;
-        if (q == 0u) {
-            ahead_voluntary(h->bin_osc, h->bins, end - t < 4u ? end - t : 4u, vol);
-        }
-        base = ((float)h->work[t] - h->mean) - h->slope * ((float)t - centre);
-        target = base - vol[q];
-        const float y = ahead_estimate(h->ahead_fir, h->work, t, N);
+    return pos >= back ? pos - back : pos + WAKE_HPA_AHEAD_RING - back;
+}
+
+/**
+ * The rows k = t - h of one block (t = t0 .. t0 + count - 1, @p target[q] = T(t0 + q)), their products added
+ * to the sums in the order the rows come (the result does not depend on the blocks or the slicing).  The
+ * row's u_i = y(k - i) run as a delay line in registers, started from the ring (@p pos: the ring index of
+ * y(t0 - 1)): u shifts by one per row, u_0 = y(t - h) from the ring.  The previous predictor's P(t) = c_prev . u only on held-out
+ * targets.
+ */
+static void ahead_rows(wake_hpa_t *h, const float *target, unsigned t0, unsigned count, unsigned pos)
+{
+    const unsigned N = 1u << h->cfg.level, hz = h->cfg.horizon;
+    const unsigned first_row = N + WAKE_HPA_AHEAD_TAPS - 1u + hz, held = h->ahead_held;
+    const float *ring = h->ahead_ring, *prev = h->ahead_prev;
+    float *lag = h->ahead_lag, *rhs = h->ahead_rhs;
+    float u[WAKE_HPA_AHEAD_TAPS];
+    float l0 = lag[0], l1 = lag[1], l2 = lag[2], l3 = lag[3], l4 = lag[4], l5 = lag[5], l6 = lag[6], l7 = lag[7];
+    float r0 = rhs[0], r1 = rhs[1], r2 = rhs[2], r3 = rhs[3], r4 = rhs[4], r5 = rhs[5], r6 = rhs[6], r7 = rhs[7];
+    float u0, u1, u2, u3, u4, u5, u6, u7;
+    unsigned q;
+    for (q = 0; q < WAKE_HPA_AHEAD_TAPS; ++q) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+        /* the previous row's y(t0 - 1 - h - q), 0 before y(2^J) */
+        u[q] = t0 >= N + 1u + hz + q ? ring[ring_back(pos, hz + q)] : 0.0f;
+    }
+    u0 = u[0]; u1 = u[1]; u2 = u[2]; u3 = u[3]; u4 = u[4]; u5 = u[5]; u6 = u[6]; u7 = u[7];
+    for (q = 0; q < count; ++q) { /* wcet-loop: AHEAD_BLOCK */
+        const unsigned t = t0 + q;
+        const float tq = target[q];
         pos = pos + 1u < WAKE_HPA_AHEAD_RING ? pos + 1u : 0u;
-        ring[pos] = y;
-        if (t < N + WAKE_HPA_AHEAD_TAPS) {
-            h->ahead_head[t - N] = y;
-        }
-        if (t >= k0 + hz) {
-            /* the row k = t - h: u_i = y(k - i) */
-            float u[WAKE_HPA_AHEAD_TAPS], p = 0.0f;
-            unsigned at = pos + WAKE_HPA_AHEAD_RING - hz;
-            at = at >= WAKE_HPA_AHEAD_RING ? at - WAKE_HPA_AHEAD_RING : at;
-            for (i = 0; i < WAKE_HPA_AHEAD_TAPS; ++i) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
-                u[i] = ring[at];
-                at = at == 0u ? WAKE_HPA_AHEAD_RING - 1u : at - 1u;
-            }
-            for (i = 0; i < WAKE_HPA_AHEAD_TAPS; ++i) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
-                h->ahead_lag[i] += u[0] * u[i];
-                h->ahead_rhs[i] += u[i] * target;
-                p += h->ahead_prev[i] * u[i];
-            }
-            if (t >= h->ahead_held) {
-                h->ahead_tp += target * p;
+        u7 = u6; u6 = u5; u5 = u4; u4 = u3; u3 = u2; u2 = u1; u1 = u0;
+        u0 = t >= N + hz ? ring[ring_back(pos, hz)] : 0.0f;
+        if (t >= first_row) {
+            /* g_d += y(k) y(k - d);  b_i += y(k - i) T(k + h) */
+            l0 += u0 * u0; l1 += u0 * u1; l2 += u0 * u2; l3 += u0 * u3;
+            l4 += u0 * u4; l5 += u0 * u5; l6 += u0 * u6; l7 += u0 * u7;
+            r0 += u0 * tq; r1 += u1 * tq; r2 += u2 * tq; r3 += u3 * tq;
+            r4 += u4 * tq; r5 += u5 * tq; r6 += u6 * tq; r7 += u7 * tq;
+            if (t >= held) {
+                float p = 0.0f;
+                p += prev[0] * u0; p += prev[1] * u1; p += prev[2] * u2; p += prev[3] * u3;
+                p += prev[4] * u4; p += prev[5] * u5; p += prev[6] * u6; p += prev[7] * u7;
+                h->ahead_tp += tq * p;
                 h->ahead_pp += p * p;
             }
         }
+    }
+    lag[0] = l0; lag[1] = l1; lag[2] = l2; lag[3] = l3; lag[4] = l4; lag[5] = l5; lag[6] = l6; lag[7] = l7;
+    rhs[0] = r0; rhs[1] = r1; rhs[2] = r2; rhs[3] = r3; rhs[4] = r4; rhs[5] = r5; rhs[6] = r6; rhs[7] = r7;
+}
+
+/**
+ * One chunk of the pass over t = N .. n-1, a block of up to AHEAD_BLOCK samples at a time: the block's
+ * truth T(t) = x_c(t) - slope r(t) - sum_m v_m(t) and estimates y(t) (into the ring), then its rows.
+ */
+static int32_t step_ahead_pass(wake_hpa_t *h, int32_t budget)
+{
+    const unsigned N = 1u << h->cfg.level, n = h->n;
+    const unsigned start = h->t, end = chunk_end(start, items(budget, cost_ahead(h)), n);
+    const float centre = 0.5f * (float)(n - 1u), mean = h->mean, slope = h->slope;
+    const wake_q15_t *x = h->work;
+    float *ring = h->ahead_ring;
+    unsigned t, pos = h->ahead_pos;
+    for (t = start; t < end;) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_AHEAD / AHEAD_BLOCK */
+        const unsigned count = end - t < AHEAD_BLOCK ? end - t : AHEAD_BLOCK;
+        float vol[AHEAD_BLOCK], y[AHEAD_BLOCK];
+        unsigned q;
+        ahead_voluntary(h->bin_osc, h->bins, count, vol);
+        for (q = 0; q + 2u <= count; q += 2u) { /* wcet-loop: AHEAD_BLOCK / 2 */
+            ahead_estimate2(h->ahead_fir, x, t + q, N, &y[q]);
+        }
+        if (q < count) {
+            y[q] = ahead_estimate(h->ahead_fir, x, t + q, N);
+        }
+        for (q = 0; q < count; ++q) { /* wcet-loop: AHEAD_BLOCK */
+            const unsigned at = pos + 1u + q < WAKE_HPA_AHEAD_RING ? pos + 1u + q : pos + 1u + q - WAKE_HPA_AHEAD_RING;
+            ring[at] = y[q];
+            if (t + q < N + WAKE_HPA_AHEAD_TAPS) {
+                h->ahead_head[t + q - N] = y[q];
+            }
+            vol[q] = (((float)x[t + q] - mean) - slope * ((float)(t + q) - centre)) - vol[q];
+        }
+        ahead_rows(h, vol, t, count, pos);
+        pos = pos + count < WAKE_HPA_AHEAD_RING ? pos + count : pos + count - WAKE_HPA_AHEAD_RING;
+        t += count;
     }
     h->ahead_pos = (uint16_t)pos;
     h->t = (uint16_t)end;
