@@ -157,11 +157,15 @@ static inline unsigned chunk_end(unsigned t, unsigned step, unsigned limit)
 #define AHEAD_SOLVE_LAST (2u * WAKE_HPA_AHEAD_TAPS)
 
 #if WAKE_HPA_AHEAD
-/** One sample of the tremor-ahead pass: the 2^J-tap FIR, the bins' rotations, the 8 x 8 / 2 + 8 + 8 products. */
+/** One sample of the tremor-ahead pass: the 2^J-tap FIR, the bins' oscillators, the row's 16 products. */
 static inline int32_t cost_ahead(const wake_hpa_t *h)
 {
-    return 200 + 5 * ((int32_t)1 << h->cfg.level) + 14 * (int32_t)h->bins;
+    return 140 + 3 * ((int32_t)1 << h->cfg.level) + 6 * (int32_t)h->bins;
 }
+#endif
+/** A chunk of the tremor-ahead pass: its rows' sums and delay line in and out of registers. */
+#define COST_AHEAD_CHUNK 150
+#if WAKE_HPA_AHEAD
 #endif
 
 static inline unsigned items(int32_t budget, int32_t cost)
@@ -1495,7 +1499,22 @@ static inline void ahead_estimate2(const int32_t *fir, const wake_q15_t *x, unsi
     int64_t a0 = 0, a1 = 0;
     int32_t xa = p[0];
     unsigned i;
-    for (i = 0; i < N; i += 2u) { /* wcet-loop: WAKE_HPA_MAX_TAPS / 2 */
+    for (i = 0; i + 4u <= N; i += 4u) { /* wcet-loop: WAKE_HPA_MAX_TAPS / 4 */
+        const int32_t f0 = fir[i], f1 = fir[i + 1u], f2 = fir[i + 2u], f3 = fir[i + 3u];
+        int32_t xb = p[i + 1u];
+        a0 += (int64_t)f0 * xa;
+        a1 += (int64_t)f0 * xb;
+        xa = p[i + 2u];
+        a0 += (int64_t)f1 * xb;
+        a1 += (int64_t)f1 * xa;
+        xb = p[i + 3u];
+        a0 += (int64_t)f2 * xa;
+        a1 += (int64_t)f2 * xb;
+        xa = p[i + 4u];                 /* i + 4 <= N: at most x(t + 1) */
+        a0 += (int64_t)f3 * xb;
+        a1 += (int64_t)f3 * xa;
+    }
+    for (; i < N; i += 2u) { /* wcet-loop: 1 */
         const int32_t f0 = fir[i], f1 = fir[i + 1u], xb = p[i + 1u];
         a0 += (int64_t)f0 * xa;
         a1 += (int64_t)f0 * xb;
@@ -1521,8 +1540,8 @@ static inline float ahead_estimate(const int32_t *fir, const wake_q15_t *x, unsi
 
 /**
  * sum_m v_m(t) of the voluntary truth's bins for the @p count <= AHEAD_BLOCK samples from t, each oscillator
- * moved on (v[q] sums the bins in the order m = 1, 2, ..., whatever the block).  A full block keeps its eight
- * sums in registers.
+ * moved on (v[q] sums the bins in the order m = 1, 2, ..., whatever the block).  A block of eight or four
+ * keeps its sums in registers.
  */
 static void ahead_voluntary(float *osc, unsigned bins, unsigned count, float *v)
 {
@@ -1545,6 +1564,22 @@ static void ahead_voluntary(float *osc, unsigned bins, unsigned count, float *v)
             osc[3u * m + 1u] = e;
         }
         v[0] = v0; v[1] = v1; v[2] = v2; v[3] = v3; v[4] = v4; v[5] = v5; v[6] = v6; v[7] = v7;
+        return;
+    }
+    if (count == AHEAD_BLOCK / 2u) {
+        float v0 = 0.0f, v1 = 0.0f, v2 = 0.0f, v3 = 0.0f;
+        for (m = 0; m < bins; ++m) { /* wcet-loop: WAKE_HPA_MAX_BINS */
+            float vm = osc[3u * m], e = osc[3u * m + 1u];
+            const float lam = osc[3u * m + 2u];
+            /* e += lambda v;  v += e  (Reinsch's recursion, forwards) */
+            v0 += vm; e += lam * vm; vm += e;
+            v1 += vm; e += lam * vm; vm += e;
+            v2 += vm; e += lam * vm; vm += e;
+            v3 += vm; e += lam * vm; vm += e;
+            osc[3u * m] = vm;
+            osc[3u * m + 1u] = e;
+        }
+        v[0] = v0; v[1] = v1; v[2] = v2; v[3] = v3;
         return;
     }
     for (q = 0; q < count; ++q) { /* wcet-loop: AHEAD_BLOCK */
@@ -1617,6 +1652,13 @@ static void ahead_rows(wake_hpa_t *h, const float *target, unsigned t0, unsigned
     rhs[0] = r0; rhs[1] = r1; rhs[2] = r2; rhs[3] = r3; rhs[4] = r4; rhs[5] = r5; rhs[6] = r6; rhs[7] = r7;
 }
 
+/** Samples a chunk of the pass takes within @p budget: whole blocks of four where there is room for them. */
+static inline unsigned ahead_items(const wake_hpa_t *h, int32_t budget)
+{
+    const unsigned k = items(budget - COST_AHEAD_CHUNK, cost_ahead(h));
+    return k >= AHEAD_BLOCK / 2u ? k - k % (AHEAD_BLOCK / 2u) : k;
+}
+
 /**
  * One chunk of the pass over t = N .. n-1, a block of up to AHEAD_BLOCK samples at a time: the block's
  * truth T(t) = x_c(t) - slope r(t) - sum_m v_m(t) and estimates y(t) (into the ring), then its rows.
@@ -1624,7 +1666,7 @@ static void ahead_rows(wake_hpa_t *h, const float *target, unsigned t0, unsigned
 static int32_t step_ahead_pass(wake_hpa_t *h, int32_t budget)
 {
     const unsigned N = 1u << h->cfg.level, n = h->n;
-    const unsigned start = h->t, end = chunk_end(start, items(budget, cost_ahead(h)), n);
+    const unsigned start = h->t, end = chunk_end(start, ahead_items(h, budget), n);
     const float centre = 0.5f * (float)(n - 1u), mean = h->mean, slope = h->slope;
     const wake_q15_t *x = h->work;
     float *ring = h->ahead_ring;
@@ -1659,7 +1701,7 @@ static int32_t step_ahead_pass(wake_hpa_t *h, int32_t budget)
         h->d = 0;
         h->phase = STEP_AHEAD_SOLVE;
     }
-    return (int32_t)(end - start) * cost_ahead(h);
+    return COST_AHEAD_CHUNK + (int32_t)(end - start) * cost_ahead(h);
 }
 
 /** y(k) of the pass's last rows (k within WAKE_HPA_AHEAD_RING of n - 1). */
@@ -2010,7 +2052,7 @@ static int32_t piece_cost(const wake_hpa_t *h)
         /* a row of G with up to 14 edge products per entry; a column: up to 7 x 8 products; the substitution */
         return 700;
     case STEP_AHEAD_PASS:
-        return cost_ahead(h);
+        return COST_AHEAD_CHUNK + cost_ahead(h);
 #endif
     case STEP_SUMS:
         return COST_SUM;
