@@ -1495,7 +1495,7 @@ static int32_t step_ahead_start(wake_hpa_t *h, int32_t budget)
  */
 static inline void ahead_estimate2(const int32_t *fir, const wake_q15_t *x, unsigned t, unsigned N, float *y)
 {
-    const wake_q15_t *p = x + (t - N);
+    const wake_q15_t *p = &x[t - N];
     int64_t a0 = 0, a1 = 0;
     int32_t xa = p[0];
     unsigned i;
@@ -1538,63 +1538,73 @@ static inline float ahead_estimate(const int32_t *fir, const wake_q15_t *x, unsi
     return (float)x[t] - int64_to_float(acc) * (1.0f / 1048576.0f);
 }
 
-/**
- * sum_m v_m(t) of the voluntary truth's bins for the @p count <= AHEAD_BLOCK samples from t, each oscillator
- * moved on (v[q] sums the bins in the order m = 1, 2, ..., whatever the block).  A block of eight or four
- * keeps its sums in registers.
+/*
+ * sum_m v_m(t) of the voluntary truth's bins for a block of samples from t, each oscillator moved on by
+ * Reinsch's recursion run forwards (e += lambda v;  v += e).  v[q] sums the bins in the order m = 1, 2, ...,
+ * whatever the block, so the blocks' sizes do not change a bit of the result; a block of eight or four keeps
+ * its sums in registers.
  */
+static void ahead_voluntary8(float *osc, unsigned bins, float *v)
+{
+    float v0 = 0.0f, v1 = 0.0f, v2 = 0.0f, v3 = 0.0f, v4 = 0.0f, v5 = 0.0f, v6 = 0.0f, v7 = 0.0f;
+    unsigned m;
+    for (m = 0; m < bins; ++m) { /* wcet-loop: WAKE_HPA_MAX_BINS */
+        float vm = osc[3u * m], e = osc[3u * m + 1u];
+        const float lam = osc[3u * m + 2u];
+        v0 += vm; e += lam * vm; vm += e;
+        v1 += vm; e += lam * vm; vm += e;
+        v2 += vm; e += lam * vm; vm += e;
+        v3 += vm; e += lam * vm; vm += e;
+        v4 += vm; e += lam * vm; vm += e;
+        v5 += vm; e += lam * vm; vm += e;
+        v6 += vm; e += lam * vm; vm += e;
+        v7 += vm; e += lam * vm; vm += e;
+        osc[3u * m] = vm;
+        osc[3u * m + 1u] = e;
+    }
+    v[0] = v0; v[1] = v1; v[2] = v2; v[3] = v3; v[4] = v4; v[5] = v5; v[6] = v6; v[7] = v7;
+}
+
+static void ahead_voluntary4(float *osc, unsigned bins, float *v)
+{
+    float v0 = 0.0f, v1 = 0.0f, v2 = 0.0f, v3 = 0.0f;
+    unsigned m;
+    for (m = 0; m < bins; ++m) { /* wcet-loop: WAKE_HPA_MAX_BINS */
+        float vm = osc[3u * m], e = osc[3u * m + 1u];
+        const float lam = osc[3u * m + 2u];
+        v0 += vm; e += lam * vm; vm += e;
+        v1 += vm; e += lam * vm; vm += e;
+        v2 += vm; e += lam * vm; vm += e;
+        v3 += vm; e += lam * vm; vm += e;
+        osc[3u * m] = vm;
+        osc[3u * m + 1u] = e;
+    }
+    v[0] = v0; v[1] = v1; v[2] = v2; v[3] = v3;
+}
+
+/** @p count <= AHEAD_BLOCK samples: eight, four, or any other count one sample a turn. */
 static void ahead_voluntary(float *osc, unsigned bins, unsigned count, float *v)
 {
     unsigned m, q;
     if (count == AHEAD_BLOCK) {
-        float v0 = 0.0f, v1 = 0.0f, v2 = 0.0f, v3 = 0.0f, v4 = 0.0f, v5 = 0.0f, v6 = 0.0f, v7 = 0.0f;
-        for (m = 0; m < bins; ++m) { /* wcet-loop: WAKE_HPA_MAX_BINS */
-            float vm = osc[3u * m], e = osc[3u * m + 1u];
-            const float lam = osc[3u * m + 2u];
-            /* e += lambda v;  v += e  (Reinsch's recursion, forwards) */
-            v0 += vm; e += lam * vm; vm += e;
-            v1 += vm; e += lam * vm; vm += e;
-            v2 += vm; e += lam * vm; vm += e;
-            v3 += vm; e += lam * vm; vm += e;
-            v4 += vm; e += lam * vm; vm += e;
-            v5 += vm; e += lam * vm; vm += e;
-            v6 += vm; e += lam * vm; vm += e;
-            v7 += vm; e += lam * vm; vm += e;
-            osc[3u * m] = vm;
-            osc[3u * m + 1u] = e;
-        }
-        v[0] = v0; v[1] = v1; v[2] = v2; v[3] = v3; v[4] = v4; v[5] = v5; v[6] = v6; v[7] = v7;
-        return;
-    }
-    if (count == AHEAD_BLOCK / 2u) {
-        float v0 = 0.0f, v1 = 0.0f, v2 = 0.0f, v3 = 0.0f;
-        for (m = 0; m < bins; ++m) { /* wcet-loop: WAKE_HPA_MAX_BINS */
-            float vm = osc[3u * m], e = osc[3u * m + 1u];
-            const float lam = osc[3u * m + 2u];
-            /* e += lambda v;  v += e  (Reinsch's recursion, forwards) */
-            v0 += vm; e += lam * vm; vm += e;
-            v1 += vm; e += lam * vm; vm += e;
-            v2 += vm; e += lam * vm; vm += e;
-            v3 += vm; e += lam * vm; vm += e;
-            osc[3u * m] = vm;
-            osc[3u * m + 1u] = e;
-        }
-        v[0] = v0; v[1] = v1; v[2] = v2; v[3] = v3;
-        return;
-    }
-    for (q = 0; q < count; ++q) { /* wcet-loop: AHEAD_BLOCK */
-        v[q] = 0.0f;
-    }
-    for (m = 0; m < bins; ++m) { /* wcet-loop: WAKE_HPA_MAX_BINS */
-        float vm = osc[3u * m], e = osc[3u * m + 1u];
-        const float lam = osc[3u * m + 2u];
+        ahead_voluntary8(osc, bins, v);
+    } else if (count == AHEAD_BLOCK / 2u) {
+        ahead_voluntary4(osc, bins, v);
+    } else {
         for (q = 0; q < count; ++q) { /* wcet-loop: AHEAD_BLOCK */
-            v[q] += vm;
-            e += lam * vm;
-            vm += e;
+            v[q] = 0.0f;
         }
-        osc[3u * m] = vm;
-        osc[3u * m + 1u] = e;
+        for (m = 0; m < bins; ++m) { /* wcet-loop: WAKE_HPA_MAX_BINS */
+            float vm = osc[3u * m], e = osc[3u * m + 1u];
+            const float lam = osc[3u * m + 2u];
+            for (q = 0; q < count; ++q) { /* wcet-loop: AHEAD_BLOCK */
+                v[q] += vm;
+                e += lam * vm;
+                vm += e;
+            }
+            osc[3u * m] = vm;
+            osc[3u * m + 1u] = e;
+        }
     }
 }
 
@@ -1671,7 +1681,8 @@ static int32_t step_ahead_pass(wake_hpa_t *h, int32_t budget)
     const wake_q15_t *x = h->work;
     float *ring = h->ahead_ring;
     unsigned t, pos = h->ahead_pos;
-    for (t = start; t < end;) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_AHEAD / AHEAD_BLOCK */
+    t = start;
+    while (t < end) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_AHEAD / (AHEAD_BLOCK / 2) */
         const unsigned count = end - t < AHEAD_BLOCK ? end - t : AHEAD_BLOCK;
         float vol[AHEAD_BLOCK], y[AHEAD_BLOCK];
         unsigned q;
@@ -1683,12 +1694,12 @@ static int32_t step_ahead_pass(wake_hpa_t *h, int32_t budget)
             y[q] = ahead_estimate(h->ahead_fir, x, t + q, N);
         }
         for (q = 0; q < count; ++q) { /* wcet-loop: AHEAD_BLOCK */
-            const unsigned at = pos + 1u + q < WAKE_HPA_AHEAD_RING ? pos + 1u + q : pos + 1u + q - WAKE_HPA_AHEAD_RING;
-            ring[at] = y[q];
-            if (t + q < N + WAKE_HPA_AHEAD_TAPS) {
-                h->ahead_head[t + q - N] = y[q];
+            const unsigned s = t + q, at = pos + 1u + q;
+            ring[at < WAKE_HPA_AHEAD_RING ? at : at - WAKE_HPA_AHEAD_RING] = y[q];
+            if (s < N + WAKE_HPA_AHEAD_TAPS) {
+                h->ahead_head[s - N] = y[q];
             }
-            vol[q] = (((float)x[t + q] - mean) - slope * ((float)(t + q) - centre)) - vol[q];
+            vol[q] = (((float)x[s] - mean) - slope * ((float)s - centre)) - vol[q];
         }
         ahead_rows(h, vol, t, count, pos);
         pos = pos + count < WAKE_HPA_AHEAD_RING ? pos + count : pos + count - WAKE_HPA_AHEAD_RING;
