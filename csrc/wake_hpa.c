@@ -149,6 +149,8 @@ static inline unsigned chunk_end(unsigned t, unsigned step, unsigned limit)
 #define COST_DFT2 16
 #define COST_SLIDE 60
 #define COST_RAMP 40
+/** The fixed part of a chunk of the tremor-ahead pass: the rows' sums and delay line in and out of registers. */
+#define COST_AHEAD_CHUNK 150
 /** One tap of the tremor ahead's estimate FIR w'B (J products), and the sums' clearing with the last. */
 #define COST_AHEAD_TAP (20 + 8 * WAKE_HPA_MAX_LEVEL)
 #define COST_AHEAD_CLEAR 300
@@ -157,15 +159,16 @@ static inline unsigned chunk_end(unsigned t, unsigned step, unsigned limit)
 #define AHEAD_SOLVE_LAST (2u * WAKE_HPA_AHEAD_TAPS)
 
 #if WAKE_HPA_AHEAD
-/** One sample of the tremor-ahead pass: the 2^J-tap FIR, the bins' oscillators, the row's 16 products. */
-static inline int32_t cost_ahead(const wake_hpa_t *h)
+/**
+ * One sample of the tremor-ahead pass in a chunk of @p k samples: the 2^J-tap FIR (two samples a turn), the
+ * row, and the bins' oscillators, each run over the samples of a chunk (about 5 + 4 r instructions per bin
+ * for r samples, so short runs pay more per sample); a chunk of 1..3 also pays an odd sample's FIR alone.
+ */
+static inline int32_t cost_ahead(const wake_hpa_t *h, unsigned k)
 {
-    return 140 + 3 * ((int32_t)1 << h->cfg.level) + 6 * (int32_t)h->bins;
+    const int32_t N = (int32_t)1 << h->cfg.level;
+    return k % 4u == 0u ? 140 + 3 * N + 6 * (int32_t)h->bins : 140 + 6 * N + 10 * (int32_t)h->bins;
 }
-#endif
-/** A chunk of the tremor-ahead pass: its rows' sums and delay line in and out of registers. */
-#define COST_AHEAD_CHUNK 150
-#if WAKE_HPA_AHEAD
 #endif
 
 static inline unsigned items(int32_t budget, int32_t cost)
@@ -1440,6 +1443,12 @@ static int32_t step_ramp(wake_hpa_t *h, int32_t budget)
  *   gain = clip(<T, P> / <P, P>, 0, 1),  P(k + h) = c_prev . (y(k) .. y(k-7))
  */
 
+/** Every row of the fit is a held-out target (an HPA every L samples): <T, P>, <P, P> come from b and G. */
+static inline int ahead_all_held(const wake_hpa_t *h)
+{
+    return h->ahead_held == (1u << h->cfg.level) + WAKE_HPA_AHEAD_TAPS - 1u + h->cfg.horizon;
+}
+
 /** The ahead sums cleared, the held-out targets' start; then the pass. */
 static void ahead_clear(wake_hpa_t *h)
 {
@@ -1541,8 +1550,8 @@ static inline float ahead_estimate(const int32_t *fir, const wake_q15_t *x, unsi
 /*
  * sum_m v_m(t) of the voluntary truth's bins for a block of samples from t, each oscillator moved on by
  * Reinsch's recursion run forwards (e += lambda v;  v += e).  v[q] sums the bins in the order m = 1, 2, ...,
- * whatever the block, so the blocks' sizes do not change a bit of the result; a block of eight or four keeps
- * its sums in registers.
+ * whatever the block, so the blocks' sizes do not change a bit of the result; each run (of eight, four, two
+ * or one samples) keeps its sums in registers.
  */
 static void ahead_voluntary8(float *osc, unsigned bins, float *v)
 {
@@ -1582,29 +1591,52 @@ static void ahead_voluntary4(float *osc, unsigned bins, float *v)
     v[0] = v0; v[1] = v1; v[2] = v2; v[3] = v3;
 }
 
-/** @p count <= AHEAD_BLOCK samples: eight, four, or any other count one sample a turn. */
+static void ahead_voluntary2(float *osc, unsigned bins, float *v)
+{
+    float v0 = 0.0f, v1 = 0.0f;
+    unsigned m;
+    for (m = 0; m < bins; ++m) { /* wcet-loop: WAKE_HPA_MAX_BINS */
+        float vm = osc[3u * m], e = osc[3u * m + 1u];
+        const float lam = osc[3u * m + 2u];
+        v0 += vm; e += lam * vm; vm += e;
+        v1 += vm; e += lam * vm; vm += e;
+        osc[3u * m] = vm;
+        osc[3u * m + 1u] = e;
+    }
+    v[0] = v0; v[1] = v1;
+}
+
+static void ahead_voluntary1(float *osc, unsigned bins, float *v)
+{
+    float v0 = 0.0f;
+    unsigned m;
+    for (m = 0; m < bins; ++m) { /* wcet-loop: WAKE_HPA_MAX_BINS */
+        float vm = osc[3u * m], e = osc[3u * m + 1u];
+        const float lam = osc[3u * m + 2u];
+        v0 += vm; e += lam * vm; vm += e;
+        osc[3u * m] = vm;
+        osc[3u * m + 1u] = e;
+    }
+    v[0] = v0;
+}
+
+/** @p count <= AHEAD_BLOCK samples: eight at once, or in runs of four, two and one. */
 static void ahead_voluntary(float *osc, unsigned bins, unsigned count, float *v)
 {
-    unsigned m, q;
+    unsigned q = 0;
     if (count == AHEAD_BLOCK) {
         ahead_voluntary8(osc, bins, v);
-    } else if (count == AHEAD_BLOCK / 2u) {
-        ahead_voluntary4(osc, bins, v);
-    } else {
-        for (q = 0; q < count; ++q) { /* wcet-loop: AHEAD_BLOCK */
-            v[q] = 0.0f;
-        }
-        for (m = 0; m < bins; ++m) { /* wcet-loop: WAKE_HPA_MAX_BINS */
-            float vm = osc[3u * m], e = osc[3u * m + 1u];
-            const float lam = osc[3u * m + 2u];
-            for (q = 0; q < count; ++q) { /* wcet-loop: AHEAD_BLOCK */
-                v[q] += vm;
-                e += lam * vm;
-                vm += e;
-            }
-            osc[3u * m] = vm;
-            osc[3u * m + 1u] = e;
-        }
+        q = count;
+    }
+    for (; q + 4u <= count; q += 4u) { /* wcet-loop: 1 */
+        ahead_voluntary4(osc, bins, &v[q]);
+    }
+    if (q + 2u <= count) {
+        ahead_voluntary2(osc, bins, &v[q]);
+        q += 2u;
+    }
+    if (q < count) {
+        ahead_voluntary1(osc, bins, &v[q]);
     }
 }
 
@@ -1624,7 +1656,9 @@ static inline unsigned ring_back(unsigned pos, unsigned back)
 static void ahead_rows(wake_hpa_t *h, const float *target, unsigned t0, unsigned count, unsigned pos)
 {
     const unsigned N = 1u << h->cfg.level, hz = h->cfg.horizon;
-    const unsigned first_row = N + WAKE_HPA_AHEAD_TAPS - 1u + hz, held = h->ahead_held;
+    const unsigned first_row = N + WAKE_HPA_AHEAD_TAPS - 1u + hz;
+    /* every row held out: the solve takes <T, P> and <P, P> from b and G instead (ahead_held_out) */
+    const unsigned held = ahead_all_held(h) ? h->n : h->ahead_held;
     const float *ring = h->ahead_ring, *prev = h->ahead_prev;
     float *lag = h->ahead_lag, *rhs = h->ahead_rhs;
     float u[WAKE_HPA_AHEAD_TAPS];
@@ -1665,8 +1699,8 @@ static void ahead_rows(wake_hpa_t *h, const float *target, unsigned t0, unsigned
 /** Samples a chunk of the pass takes within @p budget: whole blocks of four where there is room for them. */
 static inline unsigned ahead_items(const wake_hpa_t *h, int32_t budget)
 {
-    const unsigned k = items(budget - COST_AHEAD_CHUNK, cost_ahead(h));
-    return k >= AHEAD_BLOCK / 2u ? k - k % (AHEAD_BLOCK / 2u) : k;
+    const unsigned k = items(budget - COST_AHEAD_CHUNK, cost_ahead(h, 4u));
+    return k >= 4u ? k - k % 4u : items(budget - COST_AHEAD_CHUNK, cost_ahead(h, 1u));
 }
 
 /**
@@ -1712,7 +1746,7 @@ static int32_t step_ahead_pass(wake_hpa_t *h, int32_t budget)
         h->d = 0;
         h->phase = STEP_AHEAD_SOLVE;
     }
-    return COST_AHEAD_CHUNK + (int32_t)(end - start) * cost_ahead(h);
+    return COST_AHEAD_CHUNK + (int32_t)(end - start) * cost_ahead(h, end - start);
 }
 
 /** y(k) of the pass's last rows (k within WAKE_HPA_AHEAD_RING of n - 1). */
@@ -1720,6 +1754,30 @@ static inline float ahead_tail(const wake_hpa_t *h, unsigned k)
 {
     const unsigned back = (h->n - 1u) - k;
     return h->ahead_ring[h->ahead_pos >= back ? h->ahead_pos - back : h->ahead_pos + WAKE_HPA_AHEAD_RING - back];
+}
+
+/**
+ * The previous predictor's held-out sums when every row is held out (the steady state: an HPA every L
+ * samples), from the sums of the fit instead of a product per row: with P(k + h) = c_prev . u(k),
+ *   <T, P> = sum_k T(k + h) c_prev . u(k) = c_prev . b,    <P, P> = c_prev' G c_prev
+ * (G before its ridge, read from the upper triangle).
+ */
+static void ahead_held_out(wake_hpa_t *h)
+{
+    const unsigned P = WAKE_HPA_AHEAD_TAPS;
+    const float *g = h->ahead_gram, *c = h->ahead_prev;
+    float tp = 0.0f, pp = 0.0f;
+    unsigned i, j;
+    for (i = 0; i < P; ++i) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+        float gc = 0.0f;
+        for (j = 0; j < P; ++j) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+            gc += (i <= j ? g[i * P + j] : g[j * P + i]) * c[j];
+        }
+        tp += c[i] * h->ahead_rhs[i];
+        pp += c[i] * gc;
+    }
+    h->ahead_tp = tp;
+    h->ahead_pp = pp;
 }
 
 /** Row i of G (upper triangle) from the lag sums and the rows' edges; after the last, the ridge (-1: nothing
@@ -1755,6 +1813,9 @@ static void ahead_assemble(wake_hpa_t *h, unsigned i)
         }
         /* no power: zeros */
         h->ahead_ridge = trace > 0.0f && is_finite(trace) ? 1e-3f * trace / (float)P : -1.0f;
+        if (ahead_all_held(h)) {
+            ahead_held_out(h);
+        }
     }
 }
 
@@ -2060,10 +2121,17 @@ static int32_t piece_cost(const wake_hpa_t *h)
     case STEP_AHEAD_START:
         return COST_AHEAD_TAP;
     case STEP_AHEAD_SOLVE:
-        /* a row of G with up to 14 edge products per entry; a column: up to 7 x 8 products; the substitution */
-        return 700;
+        /* a row of G with up to 14 edge products per entry (the last with the held-out sums from b and G when
+           every row is held out); a column: up to 7 x 8 products; the substitution, gain and goal */
+        if (h->d == AHEAD_SOLVE_LAST) {
+            return 950;
+        }
+        if (h->d < WAKE_HPA_AHEAD_TAPS) {
+            return h->d + 1u == WAKE_HPA_AHEAD_TAPS && ahead_all_held(h) ? 1300 : 700;
+        }
+        return 300;
     case STEP_AHEAD_PASS:
-        return COST_AHEAD_CHUNK + cost_ahead(h);
+        return COST_AHEAD_CHUNK + cost_ahead(h, 1u);
 #endif
     case STEP_SUMS:
         return COST_SUM;
