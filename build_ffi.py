@@ -8,7 +8,8 @@ rather than written out a second time: :func:`cdef_from_header` keeps the
 ``#define WAKE_...`` constants (as ``#define NAME ...``, cffi reads the
 values from the compiled code), enum and struct typedefs (array sizes become
 ``[...]``) and function prototypes, and drops comments, other preprocessor
-lines, conditional blocks (but ``#if WAKE_RTP_AHEAD``, on by default) and
+lines, conditional blocks (but ``#if WAKE_RTP_AHEAD`` and ``#if WAKE_HPA_AHEAD``, which the
+Python build compiles in) and
 ``static inline`` helpers.  A public header
 therefore holds only those four kinds of declaration.
 """
@@ -24,7 +25,8 @@ CSRC = "csrc"
 
 
 def _strip_conditionals(lines):
-    """Drop #if/#ifdef blocks (C++ guards, configuration checks); keep #ifndef ones and ``#if WAKE_RTP_AHEAD``."""
+    """Drop #if/#ifdef blocks (C++ guards, configuration checks); keep #ifndef ones and ``#if WAKE_RTP_AHEAD`` /
+    ``#if WAKE_HPA_AHEAD`` (the Python build compiles both in)."""
     out, stack = [], []  # stack of "keep"/"drop" per open conditional
     for line in lines:
         s = line.strip()
@@ -33,8 +35,8 @@ def _strip_conditionals(lines):
             kind = m.group(1)
             if kind in ("if", "ifdef", "ifndef"):
                 # keep the include guard, `#ifndef NAME / #define NAME default` blocks and the optional
-                # parts the Python build compiles in (its defaults: the tremor ahead, WAKE_RTP_AHEAD 1)
-                keep = kind == "ifndef" or re.fullmatch(r"#\s*if\s+WAKE_RTP_AHEAD", s) is not None
+                # parts the Python build compiles in (the tremor ahead: WAKE_RTP_AHEAD 1, WAKE_HPA_AHEAD 1)
+                keep = kind == "ifndef" or re.fullmatch(r"#\s*if\s+WAKE_(RTP|HPA)_AHEAD", s) is not None
                 stack.append("keep" if keep else "drop")
             elif kind == "endif":
                 stack.pop()

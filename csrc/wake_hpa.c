@@ -149,6 +149,8 @@ static inline unsigned chunk_end(unsigned t, unsigned step, unsigned limit)
 #define COST_DFT2 16
 #define COST_SLIDE 60
 #define COST_RAMP 40
+/** The fixed part of a chunk of the tremor-ahead pass: the rows' sums and delay line in and out of registers. */
+#define COST_AHEAD_CHUNK 150
 /** One tap of the tremor ahead's estimate FIR w'B (J products), and the sums' clearing with the last. */
 #define COST_AHEAD_TAP (20 + 8 * WAKE_HPA_MAX_LEVEL)
 #define COST_AHEAD_CLEAR 300
@@ -157,10 +159,15 @@ static inline unsigned chunk_end(unsigned t, unsigned step, unsigned limit)
 #define AHEAD_SOLVE_LAST (2u * WAKE_HPA_AHEAD_TAPS)
 
 #if WAKE_HPA_AHEAD
-/** One sample of the tremor-ahead pass: the 2^J-tap FIR, the bins' rotations, the 8 x 8 / 2 + 8 + 8 products. */
-static inline int32_t cost_ahead(const wake_hpa_t *h)
+/**
+ * One sample of the tremor-ahead pass in a chunk of @p k samples: the 2^J-tap FIR (two samples a turn), the
+ * row, and the bins' oscillators, each run over the samples of a chunk (about 5 + 4 r instructions per bin
+ * for r samples, so short runs pay more per sample); a chunk of 1..3 also pays an odd sample's FIR alone.
+ */
+static inline int32_t cost_ahead(const wake_hpa_t *h, unsigned k)
 {
-    return 200 + 5 * ((int32_t)1 << h->cfg.level) + 14 * (int32_t)h->bins;
+    const int32_t N = (int32_t)1 << h->cfg.level;
+    return k % 4u == 0u ? 140 + 3 * N + 6 * (int32_t)h->bins : 140 + 6 * N + 10 * (int32_t)h->bins;
 }
 #endif
 
@@ -1447,6 +1454,12 @@ static int32_t step_ramp(wake_hpa_t *h, int32_t budget)
  *   gain = clip(<T, P> / <P, P>, 0, 1),  P(k + h) = c_prev . (y(k) .. y(k-7))
  */
 
+/** Every row of the fit is a held-out target (an HPA every L samples): <T, P>, <P, P> come from b and G. */
+static inline int ahead_all_held(const wake_hpa_t *h)
+{
+    return h->ahead_held == (1u << h->cfg.level) + WAKE_HPA_AHEAD_TAPS - 1u + h->cfg.horizon;
+}
+
 /** The ahead sums cleared, the held-out targets' start; then the pass. */
 static void ahead_clear(wake_hpa_t *h)
 {
@@ -1490,12 +1503,50 @@ static int32_t step_ahead_start(wake_hpa_t *h, int32_t budget)
     return (int32_t)(end - start) * COST_AHEAD_TAP + COST_AHEAD_CLEAR;
 }
 
+/** Samples of one block of the pass: the truth's oscillators and the estimate's FIR advance a block at a time. */
+#define AHEAD_BLOCK 8u
+
 /**
- * y(t) of one sample: x(t) minus the RTP's voluntary prediction from x(t - N) .. x(t - 1).
+ * y(t), y(t + 1) of two samples: x minus the RTP's voluntary prediction from the 2^J samples before each.
+ * Each tap is read once for both outputs and each sample once for two taps.
  * @par Scaling and overflow
  * Q15 samples times Q20 taps (|tap| < 2^31): each product below 2^46, 2^J <= 64 of them below 2^52 in an
- * int64; one rounding to float.
+ * int64, exact in any order; one rounding to float each.
  */
+static inline void ahead_estimate2(const int32_t *fir, const wake_q15_t *x, unsigned t, unsigned N, float *y)
+{
+    const wake_q15_t *p = &x[t - N];
+    int64_t a0 = 0, a1 = 0;
+    int32_t xa = p[0];
+    unsigned i;
+    for (i = 0; i + 4u <= N; i += 4u) { /* wcet-loop: WAKE_HPA_MAX_TAPS / 4 */
+        const int32_t f0 = fir[i], f1 = fir[i + 1u], f2 = fir[i + 2u], f3 = fir[i + 3u];
+        int32_t xb = p[i + 1u];
+        a0 += (int64_t)f0 * xa;
+        a1 += (int64_t)f0 * xb;
+        xa = p[i + 2u];
+        a0 += (int64_t)f1 * xb;
+        a1 += (int64_t)f1 * xa;
+        xb = p[i + 3u];
+        a0 += (int64_t)f2 * xa;
+        a1 += (int64_t)f2 * xb;
+        xa = p[i + 4u];                 /* i + 4 <= N: at most x(t + 1) */
+        a0 += (int64_t)f3 * xb;
+        a1 += (int64_t)f3 * xa;
+    }
+    for (; i < N; i += 2u) { /* wcet-loop: 1 */
+        const int32_t f0 = fir[i], f1 = fir[i + 1u], xb = p[i + 1u];
+        a0 += (int64_t)f0 * xa;
+        a1 += (int64_t)f0 * xb;
+        xa = p[i + 2u];                 /* i + 2 <= N: at most x(t + 1) */
+        a0 += (int64_t)f1 * xb;
+        a1 += (int64_t)f1 * xa;
+    }
+    y[0] = (float)x[t] - int64_to_float(a0) * (1.0f / 1048576.0f);
+    y[1] = (float)x[t + 1u] - int64_to_float(a1) * (1.0f / 1048576.0f);
+}
+
+/** y(t) of one sample (a block's odd last one): as ahead_estimate2. */
 static inline float ahead_estimate(const int32_t *fir, const wake_q15_t *x, unsigned t, unsigned N)
 {
     const unsigned first = t - N;
@@ -1507,70 +1558,197 @@ static inline float ahead_estimate(const int32_t *fir, const wake_q15_t *x, unsi
     return (float)x[t] - int64_to_float(acc) * (1.0f / 1048576.0f);
 }
 
-/** sum_m v_m(t) of the voluntary truth's bins for the @p count <= 4 samples from t, each oscillator moved on. */
-static void ahead_voluntary(float *osc, unsigned bins, unsigned count, float *v)
+/*
+ * sum_m v_m(t) of the voluntary truth's bins for a block of samples from t, each oscillator moved on by
+ * Reinsch's recursion run forwards (e += lambda v;  v += e).  v[q] sums the bins in the order m = 1, 2, ...,
+ * whatever the block, so the blocks' sizes do not change a bit of the result; each run (of eight, four, two
+ * or one samples) keeps its sums in registers.
+ */
+static void ahead_voluntary8(float *osc, unsigned bins, float *v)
 {
-    unsigned m, q;
-    v[0] = 0.0f;
-    v[1] = 0.0f;
-    v[2] = 0.0f;
-    v[3] = 0.0f;
+    float v0 = 0.0f, v1 = 0.0f, v2 = 0.0f, v3 = 0.0f, v4 = 0.0f, v5 = 0.0f, v6 = 0.0f, v7 = 0.0f;
+    unsigned m;
     for (m = 0; m < bins; ++m) { /* wcet-loop: WAKE_HPA_MAX_BINS */
         float vm = osc[3u * m], e = osc[3u * m + 1u];
         const float lam = osc[3u * m + 2u];
-        for (q = 0; q < count; ++q) { /* wcet-loop: 4 */
-            v[q] += vm;
-            e += lam * vm;
-            vm += e;
-        }
+        v0 += vm; e += lam * vm; vm += e;
+        v1 += vm; e += lam * vm; vm += e;
+        v2 += vm; e += lam * vm; vm += e;
+        v3 += vm; e += lam * vm; vm += e;
+        v4 += vm; e += lam * vm; vm += e;
+        v5 += vm; e += lam * vm; vm += e;
+        v6 += vm; e += lam * vm; vm += e;
+        v7 += vm; e += lam * vm; vm += e;
         osc[3u * m] = vm;
         osc[3u * m + 1u] = e;
     }
+    v[0] = v0; v[1] = v1; v[2] = v2; v[3] = v3; v[4] = v4; v[5] = v5; v[6] = v6; v[7] = v7;
 }
 
-/** One chunk of the pass over t = N .. n-1. */
-static int32_t step_ahead_pass(wake_hpa_t *h, int32_t budget)
+static void ahead_voluntary4(float *osc, unsigned bins, float *v)
 {
-    const unsigned N = 1u << h->cfg.level, n = h->n, hz = h->cfg.horizon;
-    const unsigned start = h->t, end = chunk_end(start, items(budget, cost_ahead(h)), n);
-    const unsigned k0 = N + WAKE_HPA_AHEAD_TAPS - 1u;
-    const float centre = 0.5f * (float)(n - 1u);
-    float *ring = h->ahead_ring;
-    unsigned t, i, pos = h->ahead_pos;
-    float vol[4];
-    for (t = start; t < end; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_AHEAD */
-        const unsigned q = (t - start) & 3u;
-        float base, target;
-        if (q == 0u) {
-            ahead_voluntary(h->bin_osc, h->bins, end - t < 4u ? end - t : 4u, vol);
-        }
-        base = ((float)h->work[t] - h->mean) - h->slope * ((float)t - centre);
-        target = base - vol[q];
-        const float y = ahead_estimate(h->ahead_fir, h->work, t, N);
+    float v0 = 0.0f, v1 = 0.0f, v2 = 0.0f, v3 = 0.0f;
+    unsigned m;
+    for (m = 0; m < bins; ++m) { /* wcet-loop: WAKE_HPA_MAX_BINS */
+        float vm = osc[3u * m], e = osc[3u * m + 1u];
+        const float lam = osc[3u * m + 2u];
+        v0 += vm; e += lam * vm; vm += e;
+        v1 += vm; e += lam * vm; vm += e;
+        v2 += vm; e += lam * vm; vm += e;
+        v3 += vm; e += lam * vm; vm += e;
+        osc[3u * m] = vm;
+        osc[3u * m + 1u] = e;
+    }
+    v[0] = v0; v[1] = v1; v[2] = v2; v[3] = v3;
+}
+
+static void ahead_voluntary2(float *osc, unsigned bins, float *v)
+{
+    float v0 = 0.0f, v1 = 0.0f;
+    unsigned m;
+    for (m = 0; m < bins; ++m) { /* wcet-loop: WAKE_HPA_MAX_BINS */
+        float vm = osc[3u * m], e = osc[3u * m + 1u];
+        const float lam = osc[3u * m + 2u];
+        v0 += vm; e += lam * vm; vm += e;
+        v1 += vm; e += lam * vm; vm += e;
+        osc[3u * m] = vm;
+        osc[3u * m + 1u] = e;
+    }
+    v[0] = v0; v[1] = v1;
+}
+
+static void ahead_voluntary1(float *osc, unsigned bins, float *v)
+{
+    float v0 = 0.0f;
+    unsigned m;
+    for (m = 0; m < bins; ++m) { /* wcet-loop: WAKE_HPA_MAX_BINS */
+        float vm = osc[3u * m], e = osc[3u * m + 1u];
+        const float lam = osc[3u * m + 2u];
+        v0 += vm; e += lam * vm; vm += e;
+        osc[3u * m] = vm;
+        osc[3u * m + 1u] = e;
+    }
+    v[0] = v0;
+}
+
+/** @p count <= AHEAD_BLOCK samples: eight at once, or in runs of four, two and one. */
+static void ahead_voluntary(float *osc, unsigned bins, unsigned count, float *v)
+{
+    unsigned q = 0;
+    if (count == AHEAD_BLOCK) {
+        ahead_voluntary8(osc, bins, v);
+        q = count;
+    }
+    for (; q + 4u <= count; q += 4u) { /* wcet-loop: 1 */
+        ahead_voluntary4(osc, bins, &v[q]);
+    }
+    if (q + 2u <= count) {
+        ahead_voluntary2(osc, bins, &v[q]);
+        q += 2u;
+    }
+    if (q < count) {
+        ahead_voluntary1(osc, bins, &v[q]);
+    }
+}
+
+/** The ring index @p back samples before @p pos. */
+static inline unsigned ring_back(unsigned pos, unsigned back)
+{
+    return pos >= back ? pos - back : pos + WAKE_HPA_AHEAD_RING - back;
+}
+
+/**
+ * The rows k = t - h of one block (t = t0 .. t0 + count - 1, @p target[q] = T(t0 + q)), their products added
+ * to the sums in the order the rows come (the result does not depend on the blocks or the slicing).  The
+ * row's u_i = y(k - i) run as a delay line in registers, started from the ring (@p pos: the ring index of
+ * y(t0 - 1)): u shifts by one per row, u_0 = y(t - h) from the ring.  The previous predictor's P(t) = c_prev . u only on held-out
+ * targets.
+ */
+static void ahead_rows(wake_hpa_t *h, const float *target, unsigned t0, unsigned count, unsigned pos)
+{
+    const unsigned N = 1u << h->cfg.level, hz = h->cfg.horizon;
+    const unsigned first_row = N + WAKE_HPA_AHEAD_TAPS - 1u + hz;
+    /* every row held out: the solve takes <T, P> and <P, P> from b and G instead (ahead_held_out) */
+    const unsigned held = ahead_all_held(h) ? h->n : h->ahead_held;
+    const float *ring = h->ahead_ring, *prev = h->ahead_prev;
+    float *lag = h->ahead_lag, *rhs = h->ahead_rhs;
+    float u[WAKE_HPA_AHEAD_TAPS];
+    float l0 = lag[0], l1 = lag[1], l2 = lag[2], l3 = lag[3], l4 = lag[4], l5 = lag[5], l6 = lag[6], l7 = lag[7];
+    float r0 = rhs[0], r1 = rhs[1], r2 = rhs[2], r3 = rhs[3], r4 = rhs[4], r5 = rhs[5], r6 = rhs[6], r7 = rhs[7];
+    float u0, u1, u2, u3, u4, u5, u6, u7;
+    unsigned q;
+    for (q = 0; q < WAKE_HPA_AHEAD_TAPS; ++q) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+        /* the previous row's y(t0 - 1 - h - q), 0 before y(2^J) */
+        u[q] = t0 >= N + 1u + hz + q ? ring[ring_back(pos, hz + q)] : 0.0f;
+    }
+    u0 = u[0]; u1 = u[1]; u2 = u[2]; u3 = u[3]; u4 = u[4]; u5 = u[5]; u6 = u[6]; u7 = u[7];
+    for (q = 0; q < count; ++q) { /* wcet-loop: AHEAD_BLOCK */
+        const unsigned t = t0 + q;
+        const float tq = target[q];
         pos = pos + 1u < WAKE_HPA_AHEAD_RING ? pos + 1u : 0u;
-        ring[pos] = y;
-        if (t < N + WAKE_HPA_AHEAD_TAPS) {
-            h->ahead_head[t - N] = y;
-        }
-        if (t >= k0 + hz) {
-            /* the row k = t - h: u_i = y(k - i) */
-            float u[WAKE_HPA_AHEAD_TAPS], p = 0.0f;
-            unsigned at = pos + WAKE_HPA_AHEAD_RING - hz;
-            at = at >= WAKE_HPA_AHEAD_RING ? at - WAKE_HPA_AHEAD_RING : at;
-            for (i = 0; i < WAKE_HPA_AHEAD_TAPS; ++i) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
-                u[i] = ring[at];
-                at = at == 0u ? WAKE_HPA_AHEAD_RING - 1u : at - 1u;
-            }
-            for (i = 0; i < WAKE_HPA_AHEAD_TAPS; ++i) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
-                h->ahead_lag[i] += u[0] * u[i];
-                h->ahead_rhs[i] += u[i] * target;
-                p += h->ahead_prev[i] * u[i];
-            }
-            if (t >= h->ahead_held) {
-                h->ahead_tp += target * p;
+        u7 = u6; u6 = u5; u5 = u4; u4 = u3; u3 = u2; u2 = u1; u1 = u0;
+        u0 = t >= N + hz ? ring[ring_back(pos, hz)] : 0.0f;
+        if (t >= first_row) {
+            /* g_d += y(k) y(k - d);  b_i += y(k - i) T(k + h) */
+            l0 += u0 * u0; l1 += u0 * u1; l2 += u0 * u2; l3 += u0 * u3;
+            l4 += u0 * u4; l5 += u0 * u5; l6 += u0 * u6; l7 += u0 * u7;
+            r0 += u0 * tq; r1 += u1 * tq; r2 += u2 * tq; r3 += u3 * tq;
+            r4 += u4 * tq; r5 += u5 * tq; r6 += u6 * tq; r7 += u7 * tq;
+            if (t >= held) {
+                float p = 0.0f;
+                p += prev[0] * u0; p += prev[1] * u1; p += prev[2] * u2; p += prev[3] * u3;
+                p += prev[4] * u4; p += prev[5] * u5; p += prev[6] * u6; p += prev[7] * u7;
+                h->ahead_tp += tq * p;
                 h->ahead_pp += p * p;
             }
         }
+    }
+    lag[0] = l0; lag[1] = l1; lag[2] = l2; lag[3] = l3; lag[4] = l4; lag[5] = l5; lag[6] = l6; lag[7] = l7;
+    rhs[0] = r0; rhs[1] = r1; rhs[2] = r2; rhs[3] = r3; rhs[4] = r4; rhs[5] = r5; rhs[6] = r6; rhs[7] = r7;
+}
+
+/** Samples a chunk of the pass takes within @p budget: whole blocks of four where there is room for them. */
+static inline unsigned ahead_items(const wake_hpa_t *h, int32_t budget)
+{
+    const unsigned k = items(budget - COST_AHEAD_CHUNK, cost_ahead(h, 4u));
+    return k >= 4u ? k - k % 4u : items(budget - COST_AHEAD_CHUNK, cost_ahead(h, 1u));
+}
+
+/**
+ * One chunk of the pass over t = N .. n-1, a block of up to AHEAD_BLOCK samples at a time: the block's
+ * truth T(t) = x_c(t) - slope r(t) - sum_m v_m(t) and estimates y(t) (into the ring), then its rows.
+ */
+static int32_t step_ahead_pass(wake_hpa_t *h, int32_t budget)
+{
+    const unsigned N = 1u << h->cfg.level, n = h->n;
+    const unsigned start = h->t, end = chunk_end(start, ahead_items(h, budget), n);
+    const float centre = 0.5f * (float)(n - 1u), mean = h->mean, slope = h->slope;
+    const wake_q15_t *x = h->work;
+    float *ring = h->ahead_ring;
+    unsigned t, pos = h->ahead_pos;
+    t = start;
+    while (t < end) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_AHEAD / (AHEAD_BLOCK / 2) */
+        const unsigned count = end - t < AHEAD_BLOCK ? end - t : AHEAD_BLOCK;
+        float vol[AHEAD_BLOCK], y[AHEAD_BLOCK];
+        unsigned q;
+        ahead_voluntary(h->bin_osc, h->bins, count, vol);
+        for (q = 0; q + 2u <= count; q += 2u) { /* wcet-loop: AHEAD_BLOCK / 2 */
+            ahead_estimate2(h->ahead_fir, x, t + q, N, &y[q]);
+        }
+        if (q < count) {
+            y[q] = ahead_estimate(h->ahead_fir, x, t + q, N);
+        }
+        for (q = 0; q < count; ++q) { /* wcet-loop: AHEAD_BLOCK */
+            const unsigned s = t + q, at = pos + 1u + q;
+            ring[at < WAKE_HPA_AHEAD_RING ? at : at - WAKE_HPA_AHEAD_RING] = y[q];
+            if (s < N + WAKE_HPA_AHEAD_TAPS) {
+                h->ahead_head[s - N] = y[q];
+            }
+            vol[q] = (((float)x[s] - mean) - slope * ((float)s - centre)) - vol[q];
+        }
+        ahead_rows(h, vol, t, count, pos);
+        pos = pos + count < WAKE_HPA_AHEAD_RING ? pos + count : pos + count - WAKE_HPA_AHEAD_RING;
+        t += count;
     }
     h->ahead_pos = (uint16_t)pos;
     h->t = (uint16_t)end;
@@ -1579,7 +1757,7 @@ static int32_t step_ahead_pass(wake_hpa_t *h, int32_t budget)
         h->d = 0;
         h->phase = STEP_AHEAD_SOLVE;
     }
-    return (int32_t)(end - start) * cost_ahead(h);
+    return COST_AHEAD_CHUNK + (int32_t)(end - start) * cost_ahead(h, end - start);
 }
 
 /** y(k) of the pass's last rows (k within WAKE_HPA_AHEAD_RING of n - 1). */
@@ -1587,6 +1765,30 @@ static inline float ahead_tail(const wake_hpa_t *h, unsigned k)
 {
     const unsigned back = (h->n - 1u) - k;
     return h->ahead_ring[h->ahead_pos >= back ? h->ahead_pos - back : h->ahead_pos + WAKE_HPA_AHEAD_RING - back];
+}
+
+/**
+ * The previous predictor's held-out sums when every row is held out (the steady state: an HPA every L
+ * samples), from the sums of the fit instead of a product per row: with P(k + h) = c_prev . u(k),
+ *   <T, P> = sum_k T(k + h) c_prev . u(k) = c_prev . b,    <P, P> = c_prev' G c_prev
+ * (G before its ridge, read from the upper triangle).
+ */
+static void ahead_held_out(wake_hpa_t *h)
+{
+    const unsigned P = WAKE_HPA_AHEAD_TAPS;
+    const float *g = h->ahead_gram, *c = h->ahead_prev;
+    float tp = 0.0f, pp = 0.0f;
+    unsigned i, j;
+    for (i = 0; i < P; ++i) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+        float gc = 0.0f;
+        for (j = 0; j < P; ++j) { /* wcet-loop: WAKE_HPA_AHEAD_TAPS */
+            gc += (i <= j ? g[i * P + j] : g[j * P + i]) * c[j];
+        }
+        tp += c[i] * h->ahead_rhs[i];
+        pp += c[i] * gc;
+    }
+    h->ahead_tp = tp;
+    h->ahead_pp = pp;
 }
 
 /** Row i of G (upper triangle) from the lag sums and the rows' edges; after the last, the ridge (-1: nothing
@@ -1622,6 +1824,9 @@ static void ahead_assemble(wake_hpa_t *h, unsigned i)
         }
         /* no power: zeros */
         h->ahead_ridge = trace > 0.0f && is_finite(trace) ? 1e-3f * trace / (float)P : -1.0f;
+        if (ahead_all_held(h)) {
+            ahead_held_out(h);
+        }
     }
 }
 
@@ -1927,10 +2132,17 @@ static int32_t piece_cost(const wake_hpa_t *h)
     case STEP_AHEAD_START:
         return COST_AHEAD_TAP;
     case STEP_AHEAD_SOLVE:
-        /* a row of G with up to 14 edge products per entry; a column: up to 7 x 8 products; the substitution */
-        return 700;
+        /* a row of G with up to 14 edge products per entry (the last with the held-out sums from b and G when
+           every row is held out); a column: up to 7 x 8 products; the substitution, gain and goal */
+        if (h->d == AHEAD_SOLVE_LAST) {
+            return 950;
+        }
+        if (h->d < WAKE_HPA_AHEAD_TAPS) {
+            return h->d + 1u == WAKE_HPA_AHEAD_TAPS && ahead_all_held(h) ? 1300 : 700;
+        }
+        return 300;
     case STEP_AHEAD_PASS:
-        return cost_ahead(h);
+        return COST_AHEAD_CHUNK + cost_ahead(h, 1u);
 #endif
     case STEP_SUMS:
         return COST_SUM;

@@ -81,10 +81,12 @@ class Channel:
             # the C HPA reads the int16 samples the RTP reads (its full scale once on the C path)
             hpa, extra = run_hpa_c, dict(full_scale=self.rtp.full_scale if self.rtp.on_c else None)
         else:
-            hpa, extra = run_hpa, dict(start_weights=self.start_weights, previous_ahead=self.ahead_coefficients,
-                                       new_samples=self.schedule.count - self.ahead_index)
+            hpa, extra = run_hpa, dict(start_weights=self.start_weights)
+        # both fit the tremor ahead and score the previous HPA's predictor on the samples since it
+        previous = None if self.ahead_coefficients is None else self.ahead_coefficients.copy()
         return partial(hpa, window, self.config, taps=self.taps, previous_weights=self.weights.copy(),
-                       index=self.schedule.count, **extra)
+                       index=self.schedule.count, previous_ahead=previous,
+                       new_samples=self.schedule.count - self.ahead_index, **extra)
 
     def hpa(self, window):
         """Run the HPA on ``window`` inline and install its result before the next RTP step."""
@@ -102,7 +104,7 @@ class Channel:
         notes = self.rtp.install(self.weights, upd.measurement_noise, self.process_noise(upd.measurement_noise),
                                  window)
         self.measurement_noise = self.rtp.measurement_noise if self.rtp.on_c else upd.measurement_noise
-        # an HPA without a predictor (the C HPA until it fits one) shuts the gate, and so does a clipped window
+        # an HPA without a predictor shuts the gate, and so does a window clipped at the C core's full scale
         coefficients = upd.ahead_coefficients
         self.rtp.set_ahead(np.zeros(TAPS) if coefficients is None else coefficients,
                            installed_goal(upd.ahead_goal, notes))

@@ -127,3 +127,47 @@ def test_run_ahead_c_refuses_bad_input():
         run_ahead_c(np.zeros(L + 1), CONFIG, taps=TAPS, full_scale=1.0)
     with pytest.raises(ValueError, match="full_scale must be finite"):
         run_ahead_c(x, CONFIG, taps=TAPS, full_scale=0.0)
+
+
+def test_run_hpa_c_scoring_the_previous_predictor_equals_one_instance_across_windows():
+    """run_hpa_c builds a fresh instance per window; given the previous HPA's predictor and the samples since
+    it, it fits and scores exactly as one instance run over consecutive windows (run_ahead_c) does."""
+    from dataclasses import replace
+
+    from wake.hpa.c_port import run_ahead_c, run_hpa_c
+
+    x = paper_dataset()[0].measurement[:4 * L]
+    full_scale = 2.0 ** np.ceil(np.log2(np.max(np.abs(x)) * 1.01))
+    config = replace(CONFIG, horizon=5)
+    chain = run_ahead_c(x, config, taps=TAPS, horizon=5, full_scale=full_scale)
+    previous = None
+    for k, o in enumerate(chain):
+        upd = run_hpa_c(x[k * L:(k + 1) * L], config, taps=TAPS, previous_weights=o["weights_in_use"],
+                        index=(k + 1) * L, full_scale=full_scale, previous_ahead=previous,
+                        new_samples=L if k else 0)
+        np.testing.assert_array_equal(upd.ahead_coefficients, o["coefficients"])
+        assert upd.ahead_goal == o["goal"]
+        assert upd.ahead_gain == (0.0 if upd.cutoff_flag in NO_TREMOR_FLAGS else upd.ahead_goal)
+        previous = upd.ahead_coefficients
+    assert max(o["goal"] for o in chain[1:]) > 0.5                 # the gate opens: the scoring was exercised
+    with pytest.raises(ValueError, match="previous_ahead must be 8 finite coefficients"):
+        run_hpa_c(x[:L], config, taps=TAPS, full_scale=full_scale, previous_ahead=np.zeros(7))
+    with pytest.raises(ValueError, match="new_samples must be an integer in 0..index"):
+        run_hpa_c(x[:L], config, taps=TAPS, index=L, full_scale=full_scale, previous_ahead=np.zeros(8),
+                  new_samples=L + 1)
+
+
+@pytest.mark.parametrize("horizon", [1, 5])
+def test_filter_with_the_c_hpa_commands_the_tremor_ahead_as_with_the_python_hpa(horizon):
+    """WakeFilter(hpa_backend="c") takes the predictor and goal from the C HPA; its gated command equals the
+    Python HPA's within the pipeline tolerance of docs/hpa_c.md (1 % NRMSE, whole and after 5 s)."""
+    from wake import WakeFilter
+
+    x = paper_dataset()[0].measurement[:6 * L]
+    runs = {hb: WakeFilter(fs=CONFIG.fs, hpa_backend=hb, horizon=horizon).run(x) for hb in ("python", "c")}
+    ref, got = runs["python"].command, runs["c"].command
+    assert np.max(runs["c"].confidence) > 0.5                      # the gate opens on the C HPA's goal
+    for start in (0, L):
+        scale = np.sqrt(np.mean(ref[start:] ** 2))
+        assert scale > 0
+        assert np.sqrt(np.mean((got[start:] - ref[start:]) ** 2)) <= COMMAND_NRMSE * scale

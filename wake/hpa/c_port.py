@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from wake.ahead import NO_TREMOR_FLAGS
 from wake.config import WakeConfig
 from wake.hpa.cutoff import CUTOFF_FLAGS, EDGE_DB, FLOOR_MARGIN_DB, FLOOR_STRIDE, MIN_DEPTH_DB
 from wake.hpa.run import HPAUpdate, clean_only_below
@@ -160,8 +161,24 @@ def _instance(config: WakeConfig, taps, weights, name: str, *, horizon: int = 1)
     return h, taps_q
 
 
+def _previous_ahead(h, previous_ahead, index: int, new_samples: int):
+    """Give a fresh instance the previous HPA's tremor-ahead predictor, as that HPA's instance would hold it
+    (``ahead_prev``; its index ``new_samples`` before ``index``), so its held-out gain scores it."""
+    if previous_ahead is None:
+        return
+    c = np.asarray(previous_ahead, dtype=np.float32)
+    if c.shape != (len(h.ahead_prev),) or not np.isfinite(c).all():
+        raise ValueError(f"previous_ahead must be {len(h.ahead_prev)} finite coefficients, got {previous_ahead!r}")
+    if isinstance(new_samples, bool) or not 0 <= int(new_samples) <= int(index):
+        raise ValueError(f"new_samples must be an integer in 0..index = {index}, got {new_samples!r}")
+    for i, v in enumerate(c):
+        h.ahead_prev[i] = float(v)
+    h.ahead_prev_index = (int(index) - int(new_samples)) & 0xFFFFFFFF
+    h.ahead_has_prev = 1
+
+
 def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index: int = 0,
-              full_scale: float | None = None) -> HPAUpdate:
+              full_scale: float | None = None, previous_ahead=None, new_samples: int = 0) -> HPAUpdate:
     """One HPA run by the C port: what :func:`wake.hpa.run_hpa` returns, computed in single precision.
 
     Parameters
@@ -178,10 +195,18 @@ def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index:
     full_scale : float, optional
         The physical value of Q15 1.0 the window is quantised with (the
         RTP's full scale).  Default: :func:`window_full_scale`.
+    previous_ahead : array_like, shape (8,), optional
+        The previous HPA's tremor-ahead predictor (None before the first HPA), scored on the
+        ``new_samples`` samples since it, as in :func:`wake.hpa.run_hpa`.
+    new_samples : int
+        Samples received since the previous HPA.
 
     Returns
     -------
     HPAUpdate
+        With the C HPA's tremor-ahead fit (``WAKE_HPA_AHEAD``) at ``config.horizon``: its predictor and
+        goal.  The C HPA publishes the goal, not the gain: ``ahead_gain`` is the goal where the window
+        has a tremor peak (there the two are equal) and 0 where it has none.
 
     Examples
     --------
@@ -207,7 +232,8 @@ def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index:
     if not (np.isfinite(fs_scale) and fs_scale > 0):
         raise ValueError(f"full_scale must be finite and > 0, got {full_scale!r}")
     q = quantize_window(x, fs_scale)
-    h, _taps_q = _instance(config, taps, previous_weights, "previous_weights")
+    h, _taps_q = _instance(config, taps, previous_weights, "previous_weights", horizon=config.horizon)
+    _previous_ahead(h, previous_ahead, index, new_samples)
     q_c = ffi.from_buffer("int16_t[]", q)
     status = lib.wake_hpa_start(h, q_c, q.size, int(index) & 0xFFFFFFFF)
     if status != lib.WAKE_HPA_OK:
@@ -225,9 +251,11 @@ def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index:
     if res.notes & lib.WAKE_HPA_NOTE_CLIPPED:
         notes.append("weights_clipped")
     weights = np.array([res.weights[j] for j in range(J)], dtype=float)
-    return HPAUpdate(int(index), float(res.cutoff), list(CUTOFF_FLAGS)[res.flag], weights,
+    flag, goal = list(CUTOFF_FLAGS)[res.flag], float(res.ahead_goal)
+    return HPAUpdate(int(index), float(res.cutoff), flag, weights,
                      float(res.measurement_noise) * lsb * lsb, float(np.sqrt(res.fit_mse)) * lsb,
-                     float(res.ridge), tuple(notes))
+                     float(res.ridge), tuple(notes), ahead_coefficients=np.array(list(res.ahead), dtype=float),
+                     ahead_gain=0.0 if flag in NO_TREMOR_FLAGS else goal, ahead_goal=goal)
 
 
 def run_ahead_c(stream, config: WakeConfig, *, taps, horizon: int = 1, full_scale: float, start_weights=None):
