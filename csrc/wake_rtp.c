@@ -704,15 +704,21 @@ WAKE_RTP_NOINLINE static void prime_window(wake_rtp_t *s, wake_q15_t sample)
     s->primed = 1u;
 }
 
+/** The newest sample into a primed ring (stored twice). */
+static inline void ring_store(wake_rtp_t *s, wake_q15_t sample)
+{
+    s->ring[s->head] = sample;
+    s->ring[s->head + s->n_taps] = sample;
+    s->head = (uint16_t)((s->head + 1u) & (s->n_taps - 1u));
+}
+
 /** buffer <- newest sample (the ring holds each sample twice). */
 static inline void push(wake_rtp_t *s, wake_q15_t sample)
 {
     if (!s->primed) {
         prime_window(s, sample);
     }
-    s->ring[s->head] = sample;
-    s->ring[s->head + s->n_taps] = sample;
-    s->head = (uint16_t)((s->head + 1u) & (s->n_taps - 1u));
+    ring_store(s, sample);
 }
 
 /**
@@ -774,15 +780,21 @@ static inline wake_q23_t innovation(const wake_rtp_t *s, wake_q15_t sample, uint
 }
 
 #if WAKE_RTP_KALMAN
+/** The Kalman gain along w: rho = s / S and tau = R / S (Q30), and s clamped to [0, 2^50]. */
+typedef struct {
+    int64_t s_pos;
+    wake_ratio_t rho, tau;
+} kalman_gain_t;
+
 /**
- * Kalman measurement and time update along w, for the innovation e (Q23).
- * Constant time: one reciprocal, four 32 x 32 -> 64-bit products.
+ * The part of the Kalman measurement update that does not need the innovation: the gain.
+ * Adds its saturations to *events.  Constant time: one reciprocal, one 32 x 32 -> 64-bit product.
  */
-WAKE_RTP_NOINLINE static uint32_t kalman_update(wake_rtp_t *s, wake_q23_t e)
+static inline kalman_gain_t kalman_gain(const wake_rtp_t *s, uint32_t *events)
 {
-    uint32_t ev = 0u;
+    kalman_gain_t g;
     /* s in [0, 2^50] unless the state was corrupted: an s outside is counted and clamped to it */
-    const int64_t s_in = clamp_cov_wide(s->s, &ev);
+    const int64_t s_in = clamp_cov_wide(s->s, events);
     const int64_t s_pos = (s_in < 0) ? 0 : s_in;
     /* S = s + R: in [1, 2^51) (R >= 1) */
     const uint64_t S = (uint64_t)s_pos + (uint64_t)s->r;
@@ -792,38 +804,69 @@ WAKE_RTP_NOINLINE static uint32_t kalman_update(wake_rtp_t *s, wake_q23_t e)
     const unsigned up = 63u - bit_length64(S);
     const uint32_t recip = wake_rtp_reciprocal((uint32_t)((S << up) >> 32));
     const uint32_t s_norm = (uint32_t)(((uint64_t)s_pos << up) >> 32);
-    wake_ratio_t rho, tau;
-    ev += (uint32_t)(s_in < 0);
+    *events += (uint32_t)(s_in < 0);
     /* rho = s / S = s_norm recip / 2^31                                  Q30 */
-    rho = narrow_saturate(shift_right_round((int64_t)multiply_wide_unsigned(s_norm, recip >> 1), 30u), &ev);   /* < 2^62 */
+    g.rho = narrow_saturate(shift_right_round((int64_t)multiply_wide_unsigned(s_norm, recip >> 1), 30u), events);   /* < 2^62 */
     /* tau = R / S = 1 - rho                                                Q30 */
-    tau = narrow_saturate((int64_t)RATIO_ONE - rho, &ev);
-    /* d = d + u e / S with u = P w = (s / |w|^2) w:  z = w'd gains rho e   Q23 */
-    s->z = clamp_wide(s->z + shift_right_round(multiply_wide(rho, e), 30u), &ev);
-    /* P = P - u u'/S + q I, seen along w:  s = w'Pw = tau s + q |w|^2       Q(P) */
-    s->s = clamp_cov_wide(multiply_wide_by32(s_pos, tau, 30u) + s->q_omega, &ev);
+    g.tau = narrow_saturate((int64_t)RATIO_ONE - g.rho, events);
+    g.s_pos = s_pos;
+    return g;
+}
+
+/** P = P - u u'/S + q I, seen along w:  s = w'Pw = tau s + q |w|^2 (Q(P)), clamped to +-2^50. */
+static inline int64_t kalman_covariance(const wake_rtp_t *s, const kalman_gain_t *g, uint32_t *events)
+{
+    return clamp_cov_wide(multiply_wide_by32(g->s_pos, g->tau, 30u) + s->q_omega, events);
+}
+
+/** d = d + u e / S with u = P w = (s / |w|^2) w:  z = w'd gains rho e (Q23), clamped to +-2^40. */
+static inline int64_t kalman_corrected(const wake_rtp_t *s, wake_ratio_t rho, wake_q23_t e, uint32_t *events)
+{
+    return clamp_wide(s->z + shift_right_round(multiply_wide(rho, e), 30u), events);
+}
+
+/**
+ * Kalman measurement and time update along w, for the innovation e (Q23).
+ * Constant time: one reciprocal, four 32 x 32 -> 64-bit products.
+ */
+WAKE_RTP_NOINLINE static uint32_t kalman_update(wake_rtp_t *s, wake_q23_t e)
+{
+    uint32_t ev = 0u;
+    const kalman_gain_t g = kalman_gain(s, &ev);
+    s->z = kalman_corrected(s, g.rho, e, &ev);
+    s->s = kalman_covariance(s, &g, &ev);
     return ev;
 }
 #endif
 
-/** a = h' window + z = w'(B window + d), rounded to Q23 (stored as y(n)) and to Q15 (returned). */
-static inline wake_q15_t predict(wake_rtp_t *s, uint32_t *events)
+/** y(n) = acc + z for acc = h' window (Q(FIR + 15), |.| < 2^62), rounded to Q23 (stored) and to Q15 (returned). */
+static inline wake_q15_t step_output(wake_rtp_t *s, int64_t acc, uint32_t *events)
 {
-    const wake_q15_t *window = s->ring + s->head;     /* contiguous: each sample is stored twice */
-    int64_t acc = fir_window(s->fir, window, s->n_taps);
     /* y(n) = h' window + w'd:  Q(FIR + 15) -> Q23, rounded once; |.| < 2^48 */
     wake_q23_t y = narrow_saturate(shift_right_round(acc, FIR_TO_SIGNAL_SHIFT) + s->z, events);
     s->last_output = y;
     return narrow_saturate16((int32_t)shift_right_round(y, SIGNAL_GUARD_BITS), events);
 }
 
+/** a = h' window + z = w'(B window + d), rounded to Q23 (stored as y(n)) and to Q15 (returned). */
+static inline wake_q15_t predict(wake_rtp_t *s, uint32_t *events)
+{
+    const wake_q15_t *window = s->ring + s->head;     /* contiguous: each sample is stored twice */
+    return step_output(s, fir_window(s->fir, window, s->n_taps), events);
+}
+
 #if WAKE_RTP_KALMAN
+/** s after a time update only: s gains q|w|^2 (steps counts the q I), clamped to +-2^50. */
+static inline int64_t time_updated(const wake_rtp_t *s, uint32_t *events)
+{
+    return clamp_cov_wide(s->s + s->q_omega, events);
+}
+
 /** A sample without a measurement update (the first of a stream, or a missing one): P = P + q I only.
  * Kept out of line, like kalman_update, so that `wake profile` bounds the inert step without it. */
 WAKE_RTP_NOINLINE static void time_update(wake_rtp_t *s, uint32_t *events)
 {
-    /* s gains q|w|^2 (steps counts the q I) */
-    s->s = clamp_cov_wide(s->s + s->q_omega, events);
+    s->s = time_updated(s, events);
 }
 #endif
 
@@ -871,6 +914,64 @@ static inline int64_t ahead_dot(const int32_t *c, const wake_q15_t *line)
 #endif
 }
 
+/** Index of the slot the next estimate takes (the oldest one's), 0..7: the line runs newest first. */
+static inline unsigned ahead_next_head(const wake_rtp_t *s)
+{
+    return (s->ahead_head + (unsigned)WAKE_RTP_AHEAD_TAPS - 1u) & ((unsigned)WAKE_RTP_AHEAD_TAPS - 1u);
+}
+
+/** e(n) from the tremor estimate in Q23: Q15 of FS, saturated (counted in *events). */
+static inline wake_q15_t ahead_estimate(wake_q23_t tremor, uint32_t *events)
+{
+    /* round(t / 2^8) = floor((floor(t / 2) + 2^6) / 2^7) in 32 bits (no overflow: |floor(t / 2)| <= 2^30),
+     * |.| < 2^24 before the saturation */
+    const int32_t half = shift_right_floor32(tremor, 1u);
+    return narrow_saturate16(shift_right_floor32(half + (INT32_C(1) << (SIGNAL_GUARD_BITS - 2)),
+                                                 SIGNAL_GUARD_BITS - 1u), events);
+}
+
+/** line <- e(n) at @p head (stored twice), which becomes the newest. */
+static inline void ahead_line_store(wake_rtp_t *s, unsigned head, wake_q15_t e)
+{
+    s->ahead_line[head] = e;
+    s->ahead_line[head + (unsigned)WAKE_RTP_AHEAD_TAPS] = e;
+    s->ahead_head = (uint16_t)head;
+}
+
+/**
+ * g(n) = g(n-1) + (goal - g(n-1)) alpha for the goal @p goal_field (the struct's, or 0 for a missing sample).
+ *
+ * With goal, g in [0, 2^30] and alpha in (0, 2^30] (what every setter checks) the new g lies between g
+ * and goal: |round((goal - g) alpha / 2^30)| <= |goal - g|, so g never leaves [0, 1] and nothing can
+ * saturate.  A corrupted value must still be safe: g, goal and alpha are read through a 31-bit mask (one
+ * AND each), so goal - g fits int32, the product < 2^62, and the sum (< 2^32) is returned through the
+ * same mask (defined; no branch).
+ */
+static inline int32_t ahead_gate_next(const wake_rtp_t *s, wake_ratio_t goal_field)
+{
+    const int32_t gate = (int32_t)((uint32_t)s->ahead_gate & UINT32_C(0x7FFFFFFF));
+    const int32_t goal = (int32_t)((uint32_t)goal_field & UINT32_C(0x7FFFFFFF));
+    const int32_t diff = goal - gate;
+    return (int32_t)((uint32_t)(gate + shift_right_round(multiply_wide(diff, (int32_t)((uint32_t)s->ahead_ramp
+                                                                                       & UINT32_C(0x7FFFFFFF))),
+                                                          WAKE_RTP_GATE_FRAC)) & UINT32_C(0x7FFFFFFF));
+}
+
+/** P(n) from the dot product c . line, Q42 (|.| < 2^50): rounded to Q23, |.| < 2^31 fits int32. */
+static inline wake_q23_t ahead_predicted(int64_t dot)
+{
+    return (int32_t)shift_right_round(dot, WAKE_RTP_AHEAD_COEF_FRAC + WAKE_RTP_SAMPLE_FRAC - WAKE_RTP_STATE_FRAC);
+}
+
+/** Store P(n), the gate g(n) (31 bits) and the command g P. */
+static inline void ahead_output(wake_rtp_t *s, wake_q23_t predicted, int32_t gate)
+{
+    s->ahead_gate = gate;
+    s->ahead_predicted = predicted;
+    /* command = g P: Q53, |.| < 2^62; rounded to Q23 (<= |P| for g <= 1; < 2^31 for the 31-bit g) */
+    s->ahead_command = (int32_t)shift_right_round(multiply_wide(gate, predicted), WAKE_RTP_GATE_FRAC);
+}
+
 /**
  * The tremor ahead of one sample (wake.ahead.AheadStep.step), @p tremor the estimate e(n) in Q23:
  *
@@ -888,35 +989,12 @@ static inline int64_t ahead_dot(const int32_t *c, const wake_q15_t *line)
 static void ahead_step(wake_rtp_t *s, wake_q23_t tremor)
 {
     uint32_t ev = 0u;
-    const unsigned head = (s->ahead_head + (unsigned)WAKE_RTP_AHEAD_TAPS - 1u) & ((unsigned)WAKE_RTP_AHEAD_TAPS - 1u);
-    /* e(n): Q23 -> Q15 of FS, round(t / 2^8) = floor((floor(t / 2) + 2^6) / 2^7) in 32 bits (no
-     * overflow: |floor(t / 2)| <= 2^30), |.| < 2^24 before the saturation */
-    const int32_t half = shift_right_floor32(tremor, 1u);
-    const wake_q15_t e = narrow_saturate16(shift_right_floor32(half + (INT32_C(1) << (SIGNAL_GUARD_BITS - 2)),
-                                                               SIGNAL_GUARD_BITS - 1u), &ev);
-    wake_q23_t predicted;
-    int32_t gate, goal, diff;
-    s->ahead_line[head] = e;
-    s->ahead_line[head + (unsigned)WAKE_RTP_AHEAD_TAPS] = e;
-    s->ahead_head = (uint16_t)head;
-    /* P = c . line: Q42, |.| < 2^49; rounded to Q23, |.| < 2^30 fits int32 (|P| <= 64 FS for |c| <= 8) */
-    predicted = (int32_t)shift_right_round(ahead_dot(s->ahead_coef, &s->ahead_line[head]),
-                                           WAKE_RTP_AHEAD_COEF_FRAC + WAKE_RTP_SAMPLE_FRAC - WAKE_RTP_STATE_FRAC);
-    /* g += (goal - g) alpha.  With goal, g in [0, 2^30] and alpha in (0, 2^30] (what every setter
-     * checks) the new g lies between g and goal: |round((goal - g) alpha / 2^30)| <= |goal - g|, so
-     * g never leaves [0, 1] and nothing can saturate.  A corrupted value must still be safe: g, goal
-     * and alpha are read through a 31-bit mask (one AND each), so goal - g fits int32, the product
-     * < 2^62, and the sum (< 2^32) is stored through the same mask (defined; no branch). */
-    gate = (int32_t)((uint32_t)s->ahead_gate & UINT32_C(0x7FFFFFFF));
-    goal = (int32_t)((uint32_t)s->ahead_goal & UINT32_C(0x7FFFFFFF));
-    diff = goal - gate;
-    gate = (int32_t)((uint32_t)(gate + shift_right_round(multiply_wide(diff, (int32_t)((uint32_t)s->ahead_ramp
-                                                                                      & UINT32_C(0x7FFFFFFF))),
-                                                         WAKE_RTP_GATE_FRAC)) & UINT32_C(0x7FFFFFFF));
-    s->ahead_gate = gate;
-    s->ahead_predicted = predicted;
-    /* command = g P: Q53, |.| < 2^61; rounded to Q23 (<= |P| for g <= 1; < 2^31 for the 31-bit g) */
-    s->ahead_command = (int32_t)shift_right_round(multiply_wide(gate, predicted), WAKE_RTP_GATE_FRAC);
+    const unsigned head = ahead_next_head(s);
+    const wake_q15_t e = ahead_estimate(tremor, &ev);
+    ahead_line_store(s, head, e);
+    /* P = c . line, |P| <= 64 FS for |c| <= 8 */
+    const wake_q23_t predicted = ahead_predicted(ahead_dot(s->ahead_coef, &s->ahead_line[head]));
+    ahead_output(s, predicted, ahead_gate_next(s, s->ahead_goal));
     count_events(&s->ahead_saturations, ev);
 }
 #endif
