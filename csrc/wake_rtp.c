@@ -272,6 +272,10 @@ WAKE_RTP_COLD static int64_t divide_wide(int64_t a, uint64_t x, unsigned frac, u
 }
 #endif /* WAKE_RTP_KALMAN */
 
+#if WAKE_RTP_SPLIT
+static void split_refresh(wake_rtp_t *s);
+#endif
+
 /* ---------------------------------------------------------------------- */
 /* Validation                                                              */
 /* ---------------------------------------------------------------------- */
@@ -617,6 +621,9 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_weights(wake_rtp_t *s, const wake_q
     s->r = r;
     s->q = q;
     restart(s, d, lambda);
+#if WAKE_RTP_SPLIT
+    split_refresh(s);                                           /* a prepared step stays prepared */
+#endif
     return WAKE_RTP_OK;
 }
 
@@ -643,6 +650,9 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_reset(wake_rtp_t *s)
     s->ahead_saturations = 0u;
 #endif
     restart(s, s->correction, s->p0);                           /* d = 0, P(0) = p0 I */
+#if WAKE_RTP_SPLIT
+    split_refresh(s);                                           /* a prepared step stays prepared */
+#endif
     return WAKE_RTP_OK;
 }
 
@@ -999,6 +1009,12 @@ static void ahead_step(wake_rtp_t *s, wake_q23_t tremor)
 }
 #endif
 
+/** The last prediction, rounded to Q15 and saturated: it stands in for a missing sample. */
+static inline wake_q15_t stand_in(const wake_rtp_t *s, uint32_t *events)
+{
+    return narrow_saturate16((int32_t)shift_right_round(s->last_output, SIGNAL_GUARD_BITS), events);
+}
+
 /**
  * One sample of a checked instance, with @p ev events counted before it.
  * @p measured 0: a missing sample of a primed stream, @p sample the stand-in
@@ -1052,6 +1068,9 @@ static WAKE_RTP_OUTLINE_AT_OS wake_rtp_status_t step_checked(wake_rtp_t *s, wake
     if (prediction == NULL) {
         return WAKE_RTP_E_NULL;
     }
+#if WAKE_RTP_SPLIT
+    s->split_ready = 0u;                           /* the step changes what a prepare read */
+#endif
     if (!measured) {
 #if WAKE_RTP_AHEAD
         s->ahead_goal = 0;                         /* the held-out gain needs a window's worth of samples again */
@@ -1063,8 +1082,7 @@ static WAKE_RTP_OUTLINE_AT_OS wake_rtp_status_t step_checked(wake_rtp_t *s, wake
 #endif
             return WAKE_RTP_OK;
         }
-        /* the last prediction stands in for the missing sample */
-        sample = narrow_saturate16((int32_t)shift_right_round(s->last_output, SIGNAL_GUARD_BITS), &ev);
+        sample = stand_in(s, &ev);
     }
     *prediction = step_validated(s, sample, measured, ev);
     return WAKE_RTP_OK;
@@ -1079,6 +1097,196 @@ wake_rtp_status_t wake_rtp_step_missing(wake_rtp_t *s, wake_q15_t *prediction)
 {
     return step_checked(s, 0, 0, prediction);
 }
+
+#if WAKE_RTP_SPLIT
+/* ---------------------------------------------------------------------- */
+/* The split step (WAKE_RTP_SPLIT): prepare without the sample, finish     */
+/* with it; the result of step_checked bit for bit                         */
+/* ---------------------------------------------------------------------- */
+
+/** v clamped to +-2^bits (1 <= bits <= 62), not counted: it only guards a corrupted prepared sum. */
+static inline int64_t clamp_quiet(int64_t v, unsigned bits)
+{
+    const int64_t top = INT64_C(1) << bits;
+    return (v > top) ? top : (v < -top) ? -top : v;
+}
+
+/** h x exactly, for one FIR tap (either representation, see wake_fir_t) and a Q15 sample: |.| < 2^46. */
+static inline int64_t fir_product(wake_fir_t h, int32_t x)
+{
+#if WAKE_RTP_SPLIT_FIR
+    /* h = (biased_hi - 2^15) 2^16 + mid 2^8 + lo: three 32-bit products (|.| < 2^31), no 64-bit multiply */
+    return (int64_t)(((int32_t)h.parts.biased_hi - 32768) * x) * 65536 + (int64_t)((int32_t)h.parts.mid * x) * 256
+           + (int64_t)((int32_t)h.parts.lo * x);
+#else
+    return (int64_t)h.value * x;
+#endif
+}
+
+/**
+ * wake_rtp_prepare on a checked instance.  Everything below is what step_validated computes before
+ * it needs the sample, stored for finish_validated:
+ *
+ *   fir    = h' window(n) - h_{N-1} m(n)       the window after the next push, less its newest product
+ *   rho, s = the Kalman gain and (R/S) s + q|w|^2;  s_time = s + q|w|^2     unless inert
+ *   ahead  = c . line(n) - c_0 e(n);  gate towards the goal and towards 0
+ */
+static void prepare_validated(wake_rtp_t *s)
+{
+    const unsigned N = s->n_taps;
+    /* after the next push the window is ring[head + 1 .. head + N - 1] and the new sample; the ring's
+     * ring[head + N] (the copy of the oldest sample, which the push drops) takes the new sample's place
+     * in fir_window and its product is taken off again: exact in int64, |.| < 2^52 */
+    const wake_q15_t *older = s->ring + s->head + 1u;
+    uint32_t ev = 0u, ev_time = 0u;
+    s->split_fir = fir_window(s->fir, older, N) - fir_product(s->fir[N - 1u], older[N - 1u]);
+    s->split_rho = 0;
+    s->split_s = s->s;
+    s->split_s_time = s->s;
+#if WAKE_RTP_KALMAN
+    if (!s->inert) {
+        const kalman_gain_t g = kalman_gain(s, &ev);
+        s->split_rho = g.rho;
+        s->split_s = kalman_covariance(s, &g, &ev);
+        s->split_s_time = time_updated(s, &ev_time);
+    }
+#endif
+    s->split_events = ev;
+    s->split_events_time = ev_time;
+#if WAKE_RTP_AHEAD
+    {
+        /* the slot the next estimate takes holds the oldest one, which it drops: c . line from there,
+         * less c_0 times it, is the sum of the seven products that stay (exact, |.| < 2^49) */
+        const unsigned head = ahead_next_head(s);
+        s->split_ahead = ahead_dot(s->ahead_coef, &s->ahead_line[head])
+                         - multiply_wide(s->ahead_coef[0], s->ahead_line[head]);
+        s->split_gate = ahead_gate_next(s, s->ahead_goal);
+        s->split_gate_shut = ahead_gate_next(s, 0);        /* a missing sample sets the goal to 0 first */
+    }
+#endif
+    s->split_ready = 1u;
+}
+
+/** A setter changed what a prepare read: prepare again if the instance was prepared. */
+static void split_refresh(wake_rtp_t *s)
+{
+    if (s->split_ready != 0u) {
+        prepare_validated(s);
+    }
+}
+
+#if WAKE_RTP_AHEAD
+/** ahead_step with the older seven products and the gate @p gate prepared. */
+static void ahead_finish(wake_rtp_t *s, wake_q23_t tremor, wake_ratio_t gate)
+{
+    uint32_t ev = 0u;
+    const unsigned head = ahead_next_head(s);
+    const wake_q15_t e = ahead_estimate(tremor, &ev);
+    /* P = prepared + c_0 e(n): Q42, the prepared sum clamped to its range so that a corrupted one cannot
+     * overflow; the gate read through the 31-bit mask of ahead_gate_next */
+    const int64_t dot = clamp_quiet(s->split_ahead, 49u) + multiply_wide(s->ahead_coef[0], e);
+    ahead_line_store(s, head, e);
+    ahead_output(s, ahead_predicted(dot), (int32_t)((uint32_t)gate & UINT32_C(0x7FFFFFFF)));
+    count_events(&s->ahead_saturations, ev);
+}
+#endif
+
+/** step_validated on a prepared instance (the same cases, the same order of the state's changes). */
+static wake_q15_t finish_validated(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev)
+{
+    wake_q15_t y;
+    int64_t acc;
+    wake_q23_t tremor = 0;                 /* e(n): 0 for the first sample and a missing one */
+    if (s->primed && measured) {
+        const wake_q23_t e = innovation(s, sample, &ev);
+        tremor = e;
+#if WAKE_RTP_KALMAN
+        if (!s->inert) {
+            s->z = kalman_corrected(s, s->split_rho, e, &ev);
+            s->s = s->split_s;
+            ev += s->split_events;
+        }
+#endif
+    } else {
+#if WAKE_RTP_KALMAN
+        if (!s->inert) {                   /* the time update only */
+            s->s = s->split_s_time;
+            ev += s->split_events_time;
+        }
+#endif
+    }
+    if (s->primed) {
+        ring_store(s, sample);
+        /* h' window = prepared + h_{N-1} m(n), exact (the prepared sum clamped to its range, |.| < 2^52) */
+        acc = clamp_quiet(s->split_fir, 52u) + fir_product(s->fir[s->n_taps - 1u], sample);
+    } else {
+        /* the first sample fills the window: the prepared sum (of the empty ring) does not apply */
+        prime_window(s, sample);
+        ring_store(s, sample);
+        acc = fir_window(s->fir, s->ring + s->head, s->n_taps);
+    }
+    s->steps += (uint32_t)(s->steps != UINT32_MAX);
+    y = step_output(s, acc, &ev);
+    count_events(&s->saturations, ev);
+#if WAKE_RTP_AHEAD
+    ahead_finish(s, tremor, measured ? s->split_gate : s->split_gate_shut);
+#else
+    (void)tremor;
+#endif
+    return y;
+}
+
+/** wake_rtp_finish (@p measured 1) and wake_rtp_finish_missing (0): step_checked on a prepared instance. */
+static wake_rtp_status_t finish_checked(wake_rtp_t *s, wake_q15_t sample, int measured, wake_q15_t *prediction)
+{
+    uint32_t ev = 0u;
+    wake_rtp_status_t st = check_structure(s);
+    if (st != WAKE_RTP_OK) {
+        return st;
+    }
+    if (prediction == NULL) {
+        return WAKE_RTP_E_NULL;
+    }
+    if (s->split_ready != 1u) {
+        return WAKE_RTP_E_UNPREPARED;
+    }
+    s->split_ready = 0u;
+    if (!measured) {
+#if WAKE_RTP_AHEAD
+        s->ahead_goal = 0;
+#endif
+        if (!s->primed) {
+            *prediction = 0;
+#if WAKE_RTP_AHEAD
+            ahead_finish(s, 0, s->split_gate_shut);
+#endif
+            return WAKE_RTP_OK;
+        }
+        sample = stand_in(s, &ev);
+    }
+    *prediction = finish_validated(s, sample, measured, ev);
+    return WAKE_RTP_OK;
+}
+
+wake_rtp_status_t wake_rtp_prepare(wake_rtp_t *s)
+{
+    wake_rtp_status_t st = check_structure(s);
+    if (st == WAKE_RTP_OK) {
+        prepare_validated(s);
+    }
+    return st;
+}
+
+wake_rtp_status_t wake_rtp_finish(wake_rtp_t *s, wake_q15_t sample, wake_q15_t *prediction)
+{
+    return finish_checked(s, sample, 1, prediction);
+}
+
+wake_rtp_status_t wake_rtp_finish_missing(wake_rtp_t *s, wake_q15_t *prediction)
+{
+    return finish_checked(s, 0, 0, prediction);
+}
+#endif
 
 wake_rtp_status_t wake_rtp_run(wake_rtp_t *s, const wake_q15_t *in, wake_q15_t *out, size_t n)
 {
@@ -1141,6 +1349,9 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q1
     restart(s, correction, lambda);
     s->last_output = last_output;
     s->primed = 1u;
+#if WAKE_RTP_SPLIT
+    split_refresh(s);                                           /* a prepared step stays prepared */
+#endif
     return WAKE_RTP_OK;
 }
 
@@ -1159,6 +1370,9 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_ahead(wake_rtp_t *s, const int32_t 
     }
     memcpy(s->ahead_coef, coefficients, sizeof(s->ahead_coef));
     s->ahead_goal = goal;
+#if WAKE_RTP_SPLIT
+    split_refresh(s);                                           /* a prepared step stays prepared */
+#endif
     return WAKE_RTP_OK;
 }
 
@@ -1172,6 +1386,9 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_ahead_ramp(wake_rtp_t *s, wake_rati
         return WAKE_RTP_E_AHEAD;
     }
     s->ahead_ramp = ramp;
+#if WAKE_RTP_SPLIT
+    split_refresh(s);                                           /* a prepared step stays prepared */
+#endif
     return WAKE_RTP_OK;
 }
 
@@ -1213,6 +1430,9 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_load_ahead_state(wake_rtp_t *s, const w
     }
     s->ahead_head = 0u;
     s->ahead_gate = gate;
+#if WAKE_RTP_SPLIT
+    split_refresh(s);                                           /* a prepared step stays prepared */
+#endif
     return WAKE_RTP_OK;
 }
 
