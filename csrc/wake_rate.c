@@ -156,7 +156,7 @@ wake_rate_status_t wake_rate_step(wake_rate_t *s, wake_rtp_t *rtp, wake_q15_t sa
             rtp_status = wake_rtp_finish(rtp, mean, prediction);
         } else if (group == WAKE_RATE_MISSING) {
             rtp_status = wake_rtp_finish_missing(rtp, prediction);
-        } else if ((uint32_t)s->phase + 1u == (uint32_t)s->factor) {
+        } else if (((uint32_t)s->phase + 1u) == (uint32_t)s->factor) {
             rtp_status = wake_rtp_prepare(rtp);         /* the next input sample ends the group */
         } else {
             rtp_status = WAKE_RTP_OK;                   /* the group stays open: nothing for the RTP */

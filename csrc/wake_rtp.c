@@ -1009,10 +1009,10 @@ static void ahead_step(wake_rtp_t *s, wake_q23_t tremor)
 }
 #endif
 
-/** The last prediction, rounded to Q15 and saturated: it stands in for a missing sample. */
-static inline wake_q15_t stand_in(const wake_rtp_t *s, uint32_t *events)
+/** One more sample since the restart (sticks at UINT32_MAX): P gains q I per sample. */
+static inline void count_step(wake_rtp_t *s)
 {
-    return narrow_saturate16((int32_t)shift_right_round(s->last_output, SIGNAL_GUARD_BITS), events);
+    s->steps += (uint32_t)(s->steps != UINT32_MAX);
 }
 
 /**
@@ -1048,13 +1048,19 @@ static wake_q15_t step_validated(wake_rtp_t *s, wake_q15_t sample, int measured,
         (void)e;
 #endif
     }
-    s->steps += (uint32_t)(s->steps != UINT32_MAX);      /* P gains q I per sample */
+    count_step(s);
     y = predict(s, &ev);
     count_events(&s->saturations, ev);
 #if WAKE_RTP_AHEAD
     ahead_step(s, tremor);
 #endif
     return y;
+}
+
+/** The last prediction y(n-1) rounded to Q15 (not yet saturated): it stands in for a missing sample. */
+static inline int32_t stand_in(const wake_rtp_t *s)
+{
+    return (int32_t)shift_right_round(s->last_output, SIGNAL_GUARD_BITS);
 }
 
 /** wake_rtp_step (@p measured 1) and wake_rtp_step_missing (0): the checks, then the step. */
@@ -1082,7 +1088,7 @@ static WAKE_RTP_OUTLINE_AT_OS wake_rtp_status_t step_checked(wake_rtp_t *s, wake
 #endif
             return WAKE_RTP_OK;
         }
-        sample = stand_in(s, &ev);
+        sample = narrow_saturate16(stand_in(s), &ev);
     }
     *prediction = step_validated(s, sample, measured, ev);
     return WAKE_RTP_OK;
@@ -1137,7 +1143,7 @@ static void prepare_validated(wake_rtp_t *s)
     /* after the next push the window is ring[head + 1 .. head + N - 1] and the new sample; the ring's
      * ring[head + N] (the copy of the oldest sample, which the push drops) takes the new sample's place
      * in fir_window and its product is taken off again: exact in int64, |.| < 2^52 */
-    const wake_q15_t *older = s->ring + s->head + 1u;
+    const wake_q15_t *older = &s->ring[s->head + 1u];
     uint32_t ev = 0u, ev_time = 0u;
     s->split_fir = fir_window(s->fir, older, N) - fir_product(s->fir[N - 1u], older[N - 1u]);
     s->split_rho = 0;
@@ -1192,12 +1198,13 @@ static void ahead_finish(wake_rtp_t *s, wake_q23_t tremor, wake_ratio_t gate)
 #endif
 
 /** step_validated on a prepared instance (the same cases, the same order of the state's changes). */
-static wake_q15_t finish_validated(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev)
+static wake_q15_t finish_validated(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev_before)
 {
+    uint32_t ev = ev_before;
     wake_q15_t y;
     int64_t acc;
     wake_q23_t tremor = 0;                 /* e(n): 0 for the first sample and a missing one */
-    if (s->primed && measured) {
+    if ((s->primed != 0u) && (measured != 0)) {
         const wake_q23_t e = innovation(s, sample, &ev);
         tremor = e;
 #if WAKE_RTP_KALMAN
@@ -1215,7 +1222,7 @@ static wake_q15_t finish_validated(wake_rtp_t *s, wake_q15_t sample, int measure
         }
 #endif
     }
-    if (s->primed) {
+    if (s->primed != 0u) {
         ring_store(s, sample);
         /* h' window = prepared + h_{N-1} m(n), exact (the prepared sum clamped to its range, |.| < 2^52) */
         acc = clamp_quiet(s->split_fir, 52u) + fir_product(s->fir[s->n_taps - 1u], sample);
@@ -1223,13 +1230,13 @@ static wake_q15_t finish_validated(wake_rtp_t *s, wake_q15_t sample, int measure
         /* the first sample fills the window: the prepared sum (of the empty ring) does not apply */
         prime_window(s, sample);
         ring_store(s, sample);
-        acc = fir_window(s->fir, s->ring + s->head, s->n_taps);
+        acc = fir_window(s->fir, &s->ring[s->head], s->n_taps);
     }
-    s->steps += (uint32_t)(s->steps != UINT32_MAX);
+    count_step(s);
     y = step_output(s, acc, &ev);
     count_events(&s->saturations, ev);
 #if WAKE_RTP_AHEAD
-    ahead_finish(s, tremor, measured ? s->split_gate : s->split_gate_shut);
+    ahead_finish(s, tremor, (measured != 0) ? s->split_gate : s->split_gate_shut);
 #else
     (void)tremor;
 #endif
@@ -1241,31 +1248,33 @@ static wake_rtp_status_t finish_checked(wake_rtp_t *s, wake_q15_t sample, int me
 {
     uint32_t ev = 0u;
     wake_rtp_status_t st = check_structure(s);
-    if (st != WAKE_RTP_OK) {
-        return st;
+    if ((st == WAKE_RTP_OK) && (prediction == NULL)) {
+        st = WAKE_RTP_E_NULL;
     }
-    if (prediction == NULL) {
-        return WAKE_RTP_E_NULL;
+    if ((st == WAKE_RTP_OK) && (s->split_ready != 1u)) {
+        st = WAKE_RTP_E_UNPREPARED;
     }
-    if (s->split_ready != 1u) {
-        return WAKE_RTP_E_UNPREPARED;
-    }
-    s->split_ready = 0u;
-    if (!measured) {
+    if (st == WAKE_RTP_OK) {
+        wake_q15_t m = sample;
+        s->split_ready = 0u;
+        if (measured == 0) {
 #if WAKE_RTP_AHEAD
-        s->ahead_goal = 0;
+            s->ahead_goal = 0;             /* the held-out gain needs a window's worth of samples again */
 #endif
-        if (!s->primed) {
-            *prediction = 0;
+            if (s->primed != 0u) {
+                m = narrow_saturate16(stand_in(s), &ev);      /* the last prediction stands in for the missing sample */
+            }
+        }
+        if ((measured == 0) && (s->primed == 0u)) {
+            *prediction = 0;               /* a missing sample before the first: nothing to predict from */
 #if WAKE_RTP_AHEAD
             ahead_finish(s, 0, s->split_gate_shut);
 #endif
-            return WAKE_RTP_OK;
+        } else {
+            *prediction = finish_validated(s, m, measured, ev);
         }
-        sample = stand_in(s, &ev);
     }
-    *prediction = finish_validated(s, sample, measured, ev);
-    return WAKE_RTP_OK;
+    return st;
 }
 
 wake_rtp_status_t wake_rtp_prepare(wake_rtp_t *s)

@@ -10,6 +10,10 @@
  * and its finish.  Build and run: make -C csrc test (AddressSanitizer + UBSan; also with the
  * Cortex-M0+ arithmetic, without the tremor ahead and without the Kalman update).
  */
+#ifndef WAKE_RTP_SPLIT
+#define WAKE_RTP_SPLIT 1            /* the split step is what this file tests (make builds it with -D too) */
+#endif
+
 #include <math.h>
 #include <stddef.h>
 #include <stdio.h>
