@@ -1129,13 +1129,55 @@ static inline int64_t fir_product(wake_fir_t h, int32_t x)
 #endif
 }
 
+/** The sum of the N taps h, exact in int64: |.| < 2^39 (|h_i| < 2^31, N <= 256). */
+static inline int64_t fir_sum(const wake_fir_t *h, unsigned n)
+{
+    unsigned i;
+#if WAKE_RTP_SPLIT_FIR
+    /* h = (biased_hi - 2^15) 2^16 + mid 2^8 + lo: each part summed in 32 bits (n <= 64: < 2^22) */
+    uint32_t hi = 0u;
+    uint32_t mid = 0u;
+    uint32_t lo = 0u;
+    for (i = 0; i < n; ++i) {                                             /* wcet-loop: N */
+        hi += h[i].parts.biased_hi;
+        mid += h[i].parts.mid;
+        lo += h[i].parts.lo;
+    }
+    return (((int64_t)hi - ((int64_t)n * 32768)) * 65536) + ((int64_t)mid * 256) + (int64_t)lo;
+#else
+    int64_t acc = 0;
+    for (i = 0; i < n; ++i) {                                             /* wcet-loop: N */
+        acc += h[i].value;
+    }
+    return acc;
+#endif
+}
+
+/**
+ * a x exactly, for |a| <= 2^39 and a Q15 sample x: a = hi 2^24 + mid 2^12 + lo with mid, lo in
+ * [0, 2^12), so every product is one 32-bit multiply (|hi x| <= 2^30, |mid x|, |lo x| < 2^27); |.| < 2^55.
+ */
+static inline int64_t times_sample(int64_t a, int32_t x)
+{
+    const int64_t hi = shift_right_floor(a, 24u);
+    const int64_t rest = a - (hi * 16777216);                             /* [0, 2^24) */
+    const uint32_t bits = (uint32_t)rest;
+    const uint32_t mid_bits = bits >> 12;
+    const uint32_t lo_bits = bits & 0xFFFu;
+    const int32_t p_hi = (int32_t)hi * x;                                 /* |.| <= 2^30 */
+    const int32_t p_mid = (int32_t)mid_bits * x;                          /* |.| < 2^27 */
+    const int32_t p_lo = (int32_t)lo_bits * x;
+    return ((int64_t)p_hi * 16777216) + ((int64_t)p_mid * 4096) + (int64_t)p_lo;
+}
+
 /**
  * wake_rtp_prepare on a checked instance.  Everything below is what step_validated computes before
  * it needs the sample, stored for finish_validated:
  *
  *   fir    = h' window(n) - h_{N-1} m(n)       the window after the next push, less its newest product
- *   rho, s = the Kalman gain and (R/S) s + q|w|^2;  s_time = s + q|w|^2     unless inert
- *   ahead  = c . line(n) - c_0 e(n);  gate towards the goal and towards 0
+ *            (before the first sample: the sum of h, the first sample fills the window with itself)
+ *   rho, s = the Kalman gain and (R/S) s + q|w|^2                           unless inert
+ *   ahead  = c . line(n) - c_0 e(n);  gate towards the goal
  */
 static void prepare_validated(wake_rtp_t *s)
 {
@@ -1144,21 +1186,22 @@ static void prepare_validated(wake_rtp_t *s)
      * ring[head + N] (the copy of the oldest sample, which the push drops) takes the new sample's place
      * in fir_window and its product is taken off again: exact in int64, |.| < 2^52 */
     const wake_q15_t *older = &s->ring[s->head + 1u];
-    uint32_t ev = 0u, ev_time = 0u;
-    s->split_fir = fir_window(s->fir, older, N) - fir_product(s->fir[N - 1u], older[N - 1u]);
+    uint32_t ev = 0u;
+    if (s->primed != 0u) {
+        s->split_fir = fir_window(s->fir, older, N) - fir_product(s->fir[N - 1u], older[N - 1u]);
+    } else {
+        s->split_fir = fir_sum(s->fir, N);
+    }
     s->split_rho = 0;
     s->split_s = s->s;
-    s->split_s_time = s->s;
 #if WAKE_RTP_KALMAN
     if (!s->inert) {
         const kalman_gain_t g = kalman_gain(s, &ev);
         s->split_rho = g.rho;
         s->split_s = kalman_covariance(s, &g, &ev);
-        s->split_s_time = time_updated(s, &ev_time);
     }
 #endif
     s->split_events = ev;
-    s->split_events_time = ev_time;
 #if WAKE_RTP_AHEAD
     {
         /* the slot the next estimate takes holds the oldest one, which it drops: c . line from there,
@@ -1166,8 +1209,7 @@ static void prepare_validated(wake_rtp_t *s)
         const unsigned head = ahead_next_head(s);
         s->split_ahead = ahead_dot(s->ahead_coef, &s->ahead_line[head])
                          - multiply_wide(s->ahead_coef[0], s->ahead_line[head]);
-        s->split_gate = ahead_gate_next(s, s->ahead_goal);
-        s->split_gate_shut = ahead_gate_next(s, 0);        /* a missing sample sets the goal to 0 first */
+        s->split_gate = ahead_gate_next(s, s->ahead_goal);   /* a missing sample's finish computes its own */
     }
 #endif
     s->split_ready = 1u;
@@ -1216,9 +1258,8 @@ static wake_q15_t finish_validated(wake_rtp_t *s, wake_q15_t sample, int measure
 #endif
     } else {
 #if WAKE_RTP_KALMAN
-        if (!s->inert) {                   /* the time update only */
-            s->s = s->split_s_time;
-            ev += s->split_events_time;
+        if (!s->inert) {                   /* the time update only (s has not changed since the prepare) */
+            s->s = time_updated(s, &ev);
         }
 #endif
     }
@@ -1227,16 +1268,17 @@ static wake_q15_t finish_validated(wake_rtp_t *s, wake_q15_t sample, int measure
         /* h' window = prepared + h_{N-1} m(n), exact (the prepared sum clamped to its range, |.| < 2^52) */
         acc = clamp_quiet(s->split_fir, 52u) + fir_product(s->fir[s->n_taps - 1u], sample);
     } else {
-        /* the first sample fills the window: the prepared sum (of the empty ring) does not apply */
+        /* the first sample fills the window with itself: h' window = (sum of h) m(n), exact (the
+         * prepared sum clamped to its range, |.| <= 2^39) */
         prime_window(s, sample);
         ring_store(s, sample);
-        acc = fir_window(s->fir, &s->ring[s->head], s->n_taps);
+        acc = times_sample(clamp_quiet(s->split_fir, 39u), sample);
     }
     count_step(s);
     y = step_output(s, acc, &ev);
     count_events(&s->saturations, ev);
 #if WAKE_RTP_AHEAD
-    ahead_finish(s, tremor, (measured != 0) ? s->split_gate : s->split_gate_shut);
+    ahead_finish(s, tremor, (measured != 0) ? s->split_gate : ahead_gate_next(s, 0));
 #else
     (void)tremor;
 #endif
@@ -1268,7 +1310,7 @@ static wake_rtp_status_t finish_checked(wake_rtp_t *s, wake_q15_t sample, int me
         if ((measured == 0) && (s->primed == 0u)) {
             *prediction = 0;               /* a missing sample before the first: nothing to predict from */
 #if WAKE_RTP_AHEAD
-            ahead_finish(s, 0, s->split_gate_shut);
+            ahead_finish(s, 0, ahead_gate_next(s, 0));
 #endif
         } else {
             *prediction = finish_validated(s, m, measured, ev);

@@ -294,16 +294,14 @@ typedef struct {
        setters recompute it when it is ready, any step forgets it */
     int64_t split_fir;           /**< h' window less the newest sample's product, Q(FIR + 15), exact, |.| < 2^52 */
     int64_t split_s;             /**< s after the next measurement update, Q(P_FRAC) of FS^2 */
-    int64_t split_s_time;        /**< s after the next time update only (first or missing sample) */
     wake_ratio_t split_rho;      /**< rho = s / S of the next measurement update, Q30 */
     uint32_t split_events;       /**< saturations of the prepared measurement update */
-    uint32_t split_events_time;  /**< saturations of the prepared time update */
     uint16_t split_ready;        /**< 1 from wake_rtp_prepare to the next step, else 0 */
     uint16_t split_reserved;     /**< 0 */
 #if WAKE_RTP_AHEAD
     int64_t split_ahead;         /**< c . line less the newest estimate's product, Q42, exact, |.| < 2^49 */
-    wake_ratio_t split_gate;     /**< g(n) towards the goal, Q30 */
-    wake_ratio_t split_gate_shut;/**< g(n) towards 0 (a missing sample shuts the gate's goal), Q30 */
+    wake_ratio_t split_gate;     /**< g(n) towards the goal, Q30 (a missing sample's finish, whose goal is 0,
+                                      computes its own) */
 #endif
 #endif
 } wake_rtp_t;
@@ -477,12 +475,15 @@ wake_rtp_status_t wake_rtp_get_state(const wake_rtp_t *s, wake_q23_t *correction
  * @par Scaling and overflow
  * The FIR over the window the next push leaves, less its newest product:
  * h' (ring[head+1 .. head+N]) - h_{N-1} ring[head+N], both exact int64 sums
- * (< 2^52), so finish adds h_{N-1} m(n) and has wake_rtp_step's sum exactly.
- * The Kalman gain rho = s/S (Q30) and the new s = tau s + q|w|^2 (and, for
- * a first or missing sample, s + q|w|^2) exactly as wake_rtp_step computes
- * them, their saturations counted when the finish applies them.  The tremor
+ * (< 2^52), so finish adds h_{N-1} m(n) and has wake_rtp_step's sum exactly;
+ * before the first sample the sum of the taps (< 2^39, exact), which the
+ * first sample multiplies (three 32-bit products).
+ * The Kalman gain rho = s/S (Q30) and the new s = tau s + q|w|^2 exactly as
+ * wake_rtp_step computes them, their saturations counted when the finish
+ * applies them (a first or missing sample's finish makes its time update
+ * s + q|w|^2 itself).  The tremor
  * ahead's c . line less c_0 times the estimate it drops (Q42, exact) and the
- * gate's next value towards the goal and towards 0, as in wake_rtp_step.
+ * gate's next value towards the goal, as in wake_rtp_step.
  */
 wake_rtp_status_t wake_rtp_prepare(wake_rtp_t *s);
 
@@ -494,9 +495,10 @@ wake_rtp_status_t wake_rtp_prepare(wake_rtp_t *s);
  * @return WAKE_RTP_OK, WAKE_RTP_E_NULL, _UNINIT, _CORRUPT or _UNPREPARED
  *         (then nothing changes and @p prediction is not written).
  *
- * The first sample of a stream fills the window and runs the whole FIR (the
- * prepared sum does not apply); every other sample adds one FIR product, the
- * correction z += rho e, one tremor-ahead product and the command.
+ * The first sample of a stream fills the window with itself and multiplies
+ * the prepared sum of the taps by it; every other sample adds one FIR
+ * product, the correction z += rho e, one tremor-ahead product and the
+ * command.
  *
  * @par Scaling and overflow
  * acc = prepared sum + h_{N-1} m(n), exact in int64 (the prepared sum is

@@ -32,6 +32,9 @@ RTP_ENTRIES = ["wake_rtp_init", "wake_rtp_set_weights", "wake_rtp_reset", "wake_
                "wake_rtp_step_missing", "wake_rtp_run", "wake_rtp_load_state", "wake_rtp_get_state",
                "wake_rtp_reciprocal", "wake_rtp_set_ahead", "wake_rtp_set_ahead_ramp", "wake_rtp_ahead_output",
                "wake_rtp_load_ahead_state", "wake_rtp_get_ahead_state"]
+#: entries of the split step, analysed in every configuration with WAKE_RTP_SPLIT 1 added
+SPLIT_ENTRIES = ["wake_rtp_prepare", "wake_rtp_finish", "wake_rtp_finish_missing"]
+SPLIT_DEFS = " -DWAKE_RTP_SPLIT=1"
 #: HPA entries whose analysis is checked (every alarm listed and justified)
 HPA_ENTRIES = ["wake_hpa_default_config", "wake_hpa_init", "wake_hpa_push", "wake_hpa_push_missing",
                "wake_hpa_start", "wake_hpa_slice", "wake_hpa_take", "wake_hpa_to_rtp", "wake_hpa_apply"]
@@ -108,7 +111,8 @@ ARGS = argparse.Namespace(timeout=300, slevel=100)
 
 def analyse_and_print(unit: str, entry: str, config: str, args) -> dict:
     """One analysis with the options its entry needs; its table row printed."""
-    r = analyse(unit, entry, CONFIGS[config], args.timeout, args.slevel, entry_options(entry))
+    defs = CONFIGS[config] + (SPLIT_DEFS if entry in SPLIT_ENTRIES else "")
+    r = analyse(unit, entry, defs, args.timeout, args.slevel, entry_options(entry))
     print(f"| {entry} | {config} | {len(r['alarms'])} | {r['seconds']:.1f} | {r['status']} |", flush=True)
     return r
 
@@ -142,7 +146,7 @@ def main(argv=None) -> int:
         return 3
     plan = []
     if args.only in (None, "rtp"):
-        plan += [("rtp", e, c) for e in RTP_ENTRIES for c in CONFIGS]
+        plan += [("rtp", e, c) for e in RTP_ENTRIES + SPLIT_ENTRIES for c in CONFIGS]
     if args.only in (None, "hpa"):
         plan += [("hpa", e, c) for e in HPA_ENTRIES
                  for c in (CONFIGS if e in HPA_ALL_CONFIG_ENTRIES else HPA_CONFIGS)]
