@@ -1252,7 +1252,7 @@ static wake_q15_t finish_validated(wake_rtp_t *s, wake_q15_t sample, int measure
 #if WAKE_RTP_KALMAN
         if (!s->inert) {
             s->z = kalman_corrected(s, s->split_rho, e, &ev);
-            s->s = s->split_s;
+            s->s = clamp_cov_wide(s->split_s, &ev);   /* within +-2^50 already, unless corrupted */
             ev += s->split_events;
         }
 #endif

@@ -109,10 +109,10 @@ extern "C" {
  * result of wake_rtp_step / wake_rtp_step_missing bit for bit.  Behind a
  * decimating front end (wake_rate.h, wake_rate_step) the prepare runs on an
  * input sample that only pushes, so no input sample pays for a whole step.
- * The struct grows by the prepared values (56 bytes with the tremor ahead, 40
- * without);
- * wake_rtp_step is the same function in both builds (it also forgets a
- * prepared step).  Every translation unit of a firmware must see the same value.
+ * The struct grows by the prepared values (48 bytes on a Cortex-M4 with the
+ * tremor ahead, 32 without) and the code by the two halves; wake_rtp_step is
+ * the same function in both builds (it also forgets a prepared step).  Every
+ * translation unit of a firmware must see the same value.
  */
 #ifndef WAKE_RTP_SPLIT
 #define WAKE_RTP_SPLIT 0
