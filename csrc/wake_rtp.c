@@ -1162,7 +1162,7 @@ static inline int64_t times_sample(int64_t a, int32_t x)
     const int64_t hi = shift_right_floor(a, 24u);
     const int64_t rest = a - (hi * 16777216);                             /* [0, 2^24) */
     const uint32_t bits = (uint32_t)rest;
-    const uint32_t mid_bits = bits >> 12;
+    const uint32_t mid_bits = (bits >> 12) & 0xFFFu;                     /* the mask keeps it visibly < 2^12 */
     const uint32_t lo_bits = bits & 0xFFFu;
     const int32_t p_hi = (int32_t)hi * x;                                 /* |.| <= 2^30 */
     const int32_t p_mid = (int32_t)mid_bits * x;                          /* |.| < 2^27 */
