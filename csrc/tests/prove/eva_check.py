@@ -3,6 +3,7 @@
     python tests/prove/eva_check.py              (from csrc/)
     python tests/prove/eva_check.py --timeout 120 --only rtp --jobs 2
     python tests/prove/eva_check.py --hpa-report     (also analyse wake_hpa_run, never failing on it)
+    python tests/prove/eva_check.py --entry wake_rtp_prepare --entry wake_rtp_finish   (some entries only)
 
 Runs ``frama-c -eva`` once per analysis entry (tests/prove/eva_rtp.c, tests/prove/eva_hpa.c: one ``eva_<function>``
 per public function, inputs ranged as the API allows) and per configuration (the 64-bit multiply and
@@ -136,6 +137,8 @@ def main(argv=None) -> int:
     parser.add_argument("--slevel", type=int, default=100, help="Eva's -eva-slevel (default 100; loops with a "
                         "computable bound up to 400 iterations are unrolled)")
     parser.add_argument("--only", choices=["rtp", "hpa"], help="one unit only")
+    parser.add_argument("--entry", action="append", metavar="FUNCTION",
+                        help="only this public function (repeatable), e.g. --entry wake_rtp_finish")
     parser.add_argument("--hpa-report", action="store_true",
                         help="analyse the HPA entries not yet checked and report their alarms (never fails on them)")
     parser.add_argument("--jobs", type=int, default=2, help="analyses run at once (default 2)")
@@ -156,6 +159,11 @@ def main(argv=None) -> int:
         for entry in HPA_REPORT_ENTRIES:
             analyse_and_print("hpa", entry, "mul64 K1", args)
         print()
+    if args.entry:
+        unknown = set(args.entry) - {e for _, e, _ in plan}
+        if unknown:
+            parser.error(f"--entry: not an analysed entry: {', '.join(sorted(unknown))}")
+        plan = [p for p in plan if p[1] in args.entry]
     listed = listed_alarms()
     failures, distinct = [], collections.defaultdict(set)
     print("| entry | configuration | alarms | seconds | status |")
