@@ -76,6 +76,43 @@ static wake_q15_t close_group(wake_rate_t *s)
     return mean;
 }
 
+/** The state's status: WAKE_RATE_OK, _UNINIT or _CORRUPT (@p s is not NULL). */
+static wake_rate_status_t check(const wake_rate_t *s)
+{
+    wake_rate_status_t status = WAKE_RATE_OK;
+    if (s->magic != WAKE_RATE_MAGIC) {
+        status = WAKE_RATE_E_UNINIT;
+    } else if (consistent(s) == 0) {
+        status = WAKE_RATE_E_CORRUPT;
+    } else {
+        status = WAKE_RATE_OK;
+    }
+    return status;
+}
+
+/** One input sample into a checked front end: the group sum, and at the group's end its mean. */
+static inline void push_checked(wake_rate_t *s, wake_q15_t sample, int present, wake_rate_group_t *group,
+                                wake_q15_t *mean)
+{
+    /* sum += x(n); present += 1 for a present sample                      Q15 of FS, exact */
+    if (present != 0) {
+        s->sum += (int32_t)sample;
+        s->present = (uint16_t)(s->present + 1u);
+    }
+    s->phase = (uint16_t)(s->phase + 1u);
+    if (s->phase == s->factor) {
+        if (s->present == 0u) {
+            *group = WAKE_RATE_MISSING;
+        } else {
+            *mean = close_group(s);
+            *group = WAKE_RATE_GROUP;
+        }
+        s->sum = 0;
+        s->phase = 0u;
+        s->present = 0u;
+    }
+}
+
 wake_rate_status_t wake_rate_push(wake_rate_t *s, wake_q15_t sample, int present, wake_rate_group_t *group,
                                   wake_q15_t *mean)
 {
@@ -88,28 +125,46 @@ wake_rate_status_t wake_rate_push(wake_rate_t *s, wake_q15_t sample, int present
     }
     if ((s == NULL) || (group == NULL) || (mean == NULL)) {
         status = WAKE_RATE_E_NULL;
-    } else if (s->magic != WAKE_RATE_MAGIC) {
-        status = WAKE_RATE_E_UNINIT;
-    } else if (consistent(s) == 0) {
-        status = WAKE_RATE_E_CORRUPT;
     } else {
-        /* sum += x(n); present += 1 for a present sample                      Q15 of FS, exact */
-        if (present != 0) {
-            s->sum += (int32_t)sample;
-            s->present = (uint16_t)(s->present + 1u);
+        status = check(s);
+    }
+    if (status == WAKE_RATE_OK) {
+        push_checked(s, sample, present, group, mean);
+    }
+    return status;
+}
+
+#if WAKE_RTP_SPLIT
+wake_rate_status_t wake_rate_step(wake_rate_t *s, wake_rtp_t *rtp, wake_q15_t sample, int present,
+                                  wake_q15_t *prediction)
+{
+    wake_rate_status_t status = WAKE_RATE_OK;
+    if ((s == NULL) || (rtp == NULL) || (prediction == NULL)) {
+        status = WAKE_RATE_E_NULL;
+    } else {
+        status = check(s);
+    }
+    if ((status == WAKE_RATE_OK) && (s->factor < 2u)) {
+        status = WAKE_RATE_E_FACTOR;                /* D = 1: no group to prepare in; wake_rtp_step */
+    }
+    if (status == WAKE_RATE_OK) {
+        wake_rate_group_t group = WAKE_RATE_OPEN;
+        wake_q15_t mean = 0;
+        wake_rtp_status_t rtp_status = WAKE_RTP_OK;
+        push_checked(s, sample, present, &group, &mean);
+        if (group == WAKE_RATE_GROUP) {
+            rtp_status = wake_rtp_finish(rtp, mean, prediction);
+        } else if (group == WAKE_RATE_MISSING) {
+            rtp_status = wake_rtp_finish_missing(rtp, prediction);
+        } else if (((uint32_t)s->phase + 1u) == (uint32_t)s->factor) {
+            rtp_status = wake_rtp_prepare(rtp);         /* the next input sample ends the group */
+        } else {
+            rtp_status = WAKE_RTP_OK;                   /* the group stays open: nothing for the RTP */
         }
-        s->phase = (uint16_t)(s->phase + 1u);
-        if (s->phase == s->factor) {
-            if (s->present == 0u) {
-                *group = WAKE_RATE_MISSING;
-            } else {
-                *mean = close_group(s);
-                *group = WAKE_RATE_GROUP;
-            }
-            s->sum = 0;
-            s->phase = 0u;
-            s->present = 0u;
+        if (rtp_status != WAKE_RTP_OK) {
+            status = WAKE_RATE_E_RTP;
         }
     }
     return status;
 }
+#endif

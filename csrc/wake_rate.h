@@ -50,7 +50,9 @@ typedef enum {
     WAKE_RATE_E_NULL = -1,       /**< a required pointer is NULL */
     WAKE_RATE_E_FACTOR = -2,     /**< factor outside 1..WAKE_RATE_MAX_FACTOR */
     WAKE_RATE_E_UNINIT = -3,     /**< the struct was never initialised (bad magic) */
-    WAKE_RATE_E_CORRUPT = -4     /**< magic present but fields inconsistent */
+    WAKE_RATE_E_CORRUPT = -4,    /**< magic present but fields inconsistent */
+    WAKE_RATE_E_RTP = -5         /**< wake_rate_step: the RTP refused its prepare or finish (not initialised,
+                                      corrupted, or stepped outside wake_rate_step since its prepare) */
 } wake_rate_status_t;
 
 /** What wake_rate_push hands on after one input sample. */
@@ -103,6 +105,37 @@ wake_rate_status_t wake_rate_init(wake_rate_t *s, int factor);
  */
 wake_rate_status_t wake_rate_push(wake_rate_t *s, wake_q15_t sample, int present, wake_rate_group_t *group,
                                   wake_q15_t *mean);
+
+#if WAKE_RTP_SPLIT
+/**
+ * @brief One input sample through the front end and the split RTP step (WAKE_RTP_SPLIT builds).
+ *
+ * The entry a firmware calls once per input sample at D >= 2 (at D = 1 it
+ * calls wake_rtp_step): wake_rate_push, then on the input sample before the
+ * one that ends a group wake_rtp_prepare, and on the sample that ends it
+ * wake_rtp_finish with the group's mean (wake_rtp_finish_missing when every
+ * sample was missing).  The predictions and the RTP's state are those of
+ * wake_rate_push with wake_rtp_step / wake_rtp_step_missing, bit for bit
+ * (csrc/tests/test_wake_rtp_split.c), and no input sample runs a whole step:
+ * the static bound of this function is the worst input sample
+ * (docs/design.md, "In firmware").  Between two calls the firmware may
+ * install weights, noise or a tremor-ahead model in the RTP (the setters keep a
+ * prepared step prepared); it must not step the RTP itself.
+ * @param[in,out] s           initialised front end, factor D >= 2
+ * @param[in,out] rtp         initialised RTP instance (built with the same WAKE_RTP_* options)
+ * @param[in]     sample      Q15 of FS (ignored when @p present is 0)
+ * @param[in]     present     0 for a missing sample, else 1
+ * @param[in,out] prediction  written when a group ends (the RTP's y for the next group), else left
+ *                            as it is: pass the same variable every time and output it (held)
+ * @return WAKE_RATE_OK; WAKE_RATE_E_NULL, _UNINIT, _CORRUPT, or _FACTOR (D = 1), with nothing
+ *         changed; WAKE_RATE_E_RTP when the RTP refused (the front end has taken the sample, the
+ *         RTP is unchanged and @p prediction not written).
+ * @par Scaling and overflow
+ * As wake_rate_push, wake_rtp_prepare and wake_rtp_finish: no arithmetic of its own.
+ */
+wake_rate_status_t wake_rate_step(wake_rate_t *s, wake_rtp_t *rtp, wake_q15_t sample, int present,
+                                  wake_q15_t *prediction);
+#endif
 
 #ifdef __cplusplus
 }

@@ -272,6 +272,10 @@ WAKE_RTP_COLD static int64_t divide_wide(int64_t a, uint64_t x, unsigned frac, u
 }
 #endif /* WAKE_RTP_KALMAN */
 
+#if WAKE_RTP_SPLIT
+static void split_refresh(wake_rtp_t *s);
+#endif
+
 /* ---------------------------------------------------------------------- */
 /* Validation                                                              */
 /* ---------------------------------------------------------------------- */
@@ -617,6 +621,9 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_weights(wake_rtp_t *s, const wake_q
     s->r = r;
     s->q = q;
     restart(s, d, lambda);
+#if WAKE_RTP_SPLIT
+    split_refresh(s);                                           /* a prepared step stays prepared */
+#endif
     return WAKE_RTP_OK;
 }
 
@@ -643,6 +650,9 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_reset(wake_rtp_t *s)
     s->ahead_saturations = 0u;
 #endif
     restart(s, s->correction, s->p0);                           /* d = 0, P(0) = p0 I */
+#if WAKE_RTP_SPLIT
+    split_refresh(s);                                           /* a prepared step stays prepared */
+#endif
     return WAKE_RTP_OK;
 }
 
@@ -704,15 +714,21 @@ WAKE_RTP_NOINLINE static void prime_window(wake_rtp_t *s, wake_q15_t sample)
     s->primed = 1u;
 }
 
+/** The newest sample into a primed ring (stored twice). */
+static inline void ring_store(wake_rtp_t *s, wake_q15_t sample)
+{
+    s->ring[s->head] = sample;
+    s->ring[s->head + s->n_taps] = sample;
+    s->head = (uint16_t)((s->head + 1u) & (s->n_taps - 1u));
+}
+
 /** buffer <- newest sample (the ring holds each sample twice). */
 static inline void push(wake_rtp_t *s, wake_q15_t sample)
 {
     if (!s->primed) {
         prime_window(s, sample);
     }
-    s->ring[s->head] = sample;
-    s->ring[s->head + s->n_taps] = sample;
-    s->head = (uint16_t)((s->head + 1u) & (s->n_taps - 1u));
+    ring_store(s, sample);
 }
 
 /**
@@ -774,15 +790,21 @@ static inline wake_q23_t innovation(const wake_rtp_t *s, wake_q15_t sample, uint
 }
 
 #if WAKE_RTP_KALMAN
+/** The Kalman gain along w: rho = s / S and tau = R / S (Q30), and s clamped to [0, 2^50]. */
+typedef struct {
+    int64_t s_pos;
+    wake_ratio_t rho, tau;
+} kalman_gain_t;
+
 /**
- * Kalman measurement and time update along w, for the innovation e (Q23).
- * Constant time: one reciprocal, four 32 x 32 -> 64-bit products.
+ * The part of the Kalman measurement update that does not need the innovation: the gain.
+ * Adds its saturations to *events.  Constant time: one reciprocal, one 32 x 32 -> 64-bit product.
  */
-WAKE_RTP_NOINLINE static uint32_t kalman_update(wake_rtp_t *s, wake_q23_t e)
+static inline kalman_gain_t kalman_gain(const wake_rtp_t *s, uint32_t *events)
 {
-    uint32_t ev = 0u;
+    kalman_gain_t g;
     /* s in [0, 2^50] unless the state was corrupted: an s outside is counted and clamped to it */
-    const int64_t s_in = clamp_cov_wide(s->s, &ev);
+    const int64_t s_in = clamp_cov_wide(s->s, events);
     const int64_t s_pos = (s_in < 0) ? 0 : s_in;
     /* S = s + R: in [1, 2^51) (R >= 1) */
     const uint64_t S = (uint64_t)s_pos + (uint64_t)s->r;
@@ -792,38 +814,69 @@ WAKE_RTP_NOINLINE static uint32_t kalman_update(wake_rtp_t *s, wake_q23_t e)
     const unsigned up = 63u - bit_length64(S);
     const uint32_t recip = wake_rtp_reciprocal((uint32_t)((S << up) >> 32));
     const uint32_t s_norm = (uint32_t)(((uint64_t)s_pos << up) >> 32);
-    wake_ratio_t rho, tau;
-    ev += (uint32_t)(s_in < 0);
+    *events += (uint32_t)(s_in < 0);
     /* rho = s / S = s_norm recip / 2^31                                  Q30 */
-    rho = narrow_saturate(shift_right_round((int64_t)multiply_wide_unsigned(s_norm, recip >> 1), 30u), &ev);   /* < 2^62 */
+    g.rho = narrow_saturate(shift_right_round((int64_t)multiply_wide_unsigned(s_norm, recip >> 1), 30u), events);   /* < 2^62 */
     /* tau = R / S = 1 - rho                                                Q30 */
-    tau = narrow_saturate((int64_t)RATIO_ONE - rho, &ev);
-    /* d = d + u e / S with u = P w = (s / |w|^2) w:  z = w'd gains rho e   Q23 */
-    s->z = clamp_wide(s->z + shift_right_round(multiply_wide(rho, e), 30u), &ev);
-    /* P = P - u u'/S + q I, seen along w:  s = w'Pw = tau s + q |w|^2       Q(P) */
-    s->s = clamp_cov_wide(multiply_wide_by32(s_pos, tau, 30u) + s->q_omega, &ev);
+    g.tau = narrow_saturate((int64_t)RATIO_ONE - g.rho, events);
+    g.s_pos = s_pos;
+    return g;
+}
+
+/** P = P - u u'/S + q I, seen along w:  s = w'Pw = tau s + q |w|^2 (Q(P)), clamped to +-2^50. */
+static inline int64_t kalman_covariance(const wake_rtp_t *s, const kalman_gain_t *g, uint32_t *events)
+{
+    return clamp_cov_wide(multiply_wide_by32(g->s_pos, g->tau, 30u) + s->q_omega, events);
+}
+
+/** d = d + u e / S with u = P w = (s / |w|^2) w:  z = w'd gains rho e (Q23), clamped to +-2^40. */
+static inline int64_t kalman_corrected(const wake_rtp_t *s, wake_ratio_t rho, wake_q23_t e, uint32_t *events)
+{
+    return clamp_wide(s->z + shift_right_round(multiply_wide(rho, e), 30u), events);
+}
+
+/**
+ * Kalman measurement and time update along w, for the innovation e (Q23).
+ * Constant time: one reciprocal, four 32 x 32 -> 64-bit products.
+ */
+WAKE_RTP_NOINLINE static uint32_t kalman_update(wake_rtp_t *s, wake_q23_t e)
+{
+    uint32_t ev = 0u;
+    const kalman_gain_t g = kalman_gain(s, &ev);
+    s->z = kalman_corrected(s, g.rho, e, &ev);
+    s->s = kalman_covariance(s, &g, &ev);
     return ev;
 }
 #endif
 
-/** a = h' window + z = w'(B window + d), rounded to Q23 (stored as y(n)) and to Q15 (returned). */
-static inline wake_q15_t predict(wake_rtp_t *s, uint32_t *events)
+/** y(n) = acc + z for acc = h' window (Q(FIR + 15), |.| < 2^62), rounded to Q23 (stored) and to Q15 (returned). */
+static inline wake_q15_t step_output(wake_rtp_t *s, int64_t acc, uint32_t *events)
 {
-    const wake_q15_t *window = s->ring + s->head;     /* contiguous: each sample is stored twice */
-    int64_t acc = fir_window(s->fir, window, s->n_taps);
     /* y(n) = h' window + w'd:  Q(FIR + 15) -> Q23, rounded once; |.| < 2^48 */
     wake_q23_t y = narrow_saturate(shift_right_round(acc, FIR_TO_SIGNAL_SHIFT) + s->z, events);
     s->last_output = y;
     return narrow_saturate16((int32_t)shift_right_round(y, SIGNAL_GUARD_BITS), events);
 }
 
+/** a = h' window + z = w'(B window + d), rounded to Q23 (stored as y(n)) and to Q15 (returned). */
+static inline wake_q15_t predict(wake_rtp_t *s, uint32_t *events)
+{
+    const wake_q15_t *window = s->ring + s->head;     /* contiguous: each sample is stored twice */
+    return step_output(s, fir_window(s->fir, window, s->n_taps), events);
+}
+
 #if WAKE_RTP_KALMAN
+/** s after a time update only: s gains q|w|^2 (steps counts the q I), clamped to +-2^50. */
+static inline int64_t time_updated(const wake_rtp_t *s, uint32_t *events)
+{
+    return clamp_cov_wide(s->s + s->q_omega, events);
+}
+
 /** A sample without a measurement update (the first of a stream, or a missing one): P = P + q I only.
  * Kept out of line, like kalman_update, so that `wake profile` bounds the inert step without it. */
 WAKE_RTP_NOINLINE static void time_update(wake_rtp_t *s, uint32_t *events)
 {
-    /* s gains q|w|^2 (steps counts the q I) */
-    s->s = clamp_cov_wide(s->s + s->q_omega, events);
+    s->s = time_updated(s, events);
 }
 #endif
 
@@ -871,6 +924,64 @@ static inline int64_t ahead_dot(const int32_t *c, const wake_q15_t *line)
 #endif
 }
 
+/** Index of the slot the next estimate takes (the oldest one's), 0..7: the line runs newest first. */
+static inline unsigned ahead_next_head(const wake_rtp_t *s)
+{
+    return (s->ahead_head + (unsigned)WAKE_RTP_AHEAD_TAPS - 1u) & ((unsigned)WAKE_RTP_AHEAD_TAPS - 1u);
+}
+
+/** e(n) from the tremor estimate in Q23: Q15 of FS, saturated (counted in *events). */
+static inline wake_q15_t ahead_estimate(wake_q23_t tremor, uint32_t *events)
+{
+    /* round(t / 2^8) = floor((floor(t / 2) + 2^6) / 2^7) in 32 bits (no overflow: |floor(t / 2)| <= 2^30),
+     * |.| < 2^24 before the saturation */
+    const int32_t half = shift_right_floor32(tremor, 1u);
+    return narrow_saturate16(shift_right_floor32(half + (INT32_C(1) << (SIGNAL_GUARD_BITS - 2)),
+                                                 SIGNAL_GUARD_BITS - 1u), events);
+}
+
+/** line <- e(n) at @p head (stored twice), which becomes the newest. */
+static inline void ahead_line_store(wake_rtp_t *s, unsigned head, wake_q15_t e)
+{
+    s->ahead_line[head] = e;
+    s->ahead_line[head + (unsigned)WAKE_RTP_AHEAD_TAPS] = e;
+    s->ahead_head = (uint16_t)head;
+}
+
+/**
+ * g(n) = g(n-1) + (goal - g(n-1)) alpha for the goal @p goal_field (the struct's, or 0 for a missing sample).
+ *
+ * With goal, g in [0, 2^30] and alpha in (0, 2^30] (what every setter checks) the new g lies between g
+ * and goal: |round((goal - g) alpha / 2^30)| <= |goal - g|, so g never leaves [0, 1] and nothing can
+ * saturate.  A corrupted value must still be safe: g, goal and alpha are read through a 31-bit mask (one
+ * AND each), so goal - g fits int32, the product < 2^62, and the sum (< 2^32) is returned through the
+ * same mask (defined; no branch).
+ */
+static inline int32_t ahead_gate_next(const wake_rtp_t *s, wake_ratio_t goal_field)
+{
+    const int32_t gate = (int32_t)((uint32_t)s->ahead_gate & UINT32_C(0x7FFFFFFF));
+    const int32_t goal = (int32_t)((uint32_t)goal_field & UINT32_C(0x7FFFFFFF));
+    const int32_t diff = goal - gate;
+    return (int32_t)((uint32_t)(gate + shift_right_round(multiply_wide(diff, (int32_t)((uint32_t)s->ahead_ramp
+                                                                                       & UINT32_C(0x7FFFFFFF))),
+                                                          WAKE_RTP_GATE_FRAC)) & UINT32_C(0x7FFFFFFF));
+}
+
+/** P(n) from the dot product c . line, Q42 (|.| < 2^50): rounded to Q23, |.| < 2^31 fits int32. */
+static inline wake_q23_t ahead_predicted(int64_t dot)
+{
+    return (int32_t)shift_right_round(dot, WAKE_RTP_AHEAD_COEF_FRAC + WAKE_RTP_SAMPLE_FRAC - WAKE_RTP_STATE_FRAC);
+}
+
+/** Store P(n), the gate g(n) (31 bits) and the command g P. */
+static inline void ahead_output(wake_rtp_t *s, wake_q23_t predicted, int32_t gate)
+{
+    s->ahead_gate = gate;
+    s->ahead_predicted = predicted;
+    /* command = g P: Q53, |.| < 2^62; rounded to Q23 (<= |P| for g <= 1; < 2^31 for the 31-bit g) */
+    s->ahead_command = (int32_t)shift_right_round(multiply_wide(gate, predicted), WAKE_RTP_GATE_FRAC);
+}
+
 /**
  * The tremor ahead of one sample (wake.ahead.AheadStep.step), @p tremor the estimate e(n) in Q23:
  *
@@ -888,38 +999,21 @@ static inline int64_t ahead_dot(const int32_t *c, const wake_q15_t *line)
 static void ahead_step(wake_rtp_t *s, wake_q23_t tremor)
 {
     uint32_t ev = 0u;
-    const unsigned head = (s->ahead_head + (unsigned)WAKE_RTP_AHEAD_TAPS - 1u) & ((unsigned)WAKE_RTP_AHEAD_TAPS - 1u);
-    /* e(n): Q23 -> Q15 of FS, round(t / 2^8) = floor((floor(t / 2) + 2^6) / 2^7) in 32 bits (no
-     * overflow: |floor(t / 2)| <= 2^30), |.| < 2^24 before the saturation */
-    const int32_t half = shift_right_floor32(tremor, 1u);
-    const wake_q15_t e = narrow_saturate16(shift_right_floor32(half + (INT32_C(1) << (SIGNAL_GUARD_BITS - 2)),
-                                                               SIGNAL_GUARD_BITS - 1u), &ev);
-    wake_q23_t predicted;
-    int32_t gate, goal, diff;
-    s->ahead_line[head] = e;
-    s->ahead_line[head + (unsigned)WAKE_RTP_AHEAD_TAPS] = e;
-    s->ahead_head = (uint16_t)head;
-    /* P = c . line: Q42, |.| < 2^49; rounded to Q23, |.| < 2^30 fits int32 (|P| <= 64 FS for |c| <= 8) */
-    predicted = (int32_t)shift_right_round(ahead_dot(s->ahead_coef, &s->ahead_line[head]),
-                                           WAKE_RTP_AHEAD_COEF_FRAC + WAKE_RTP_SAMPLE_FRAC - WAKE_RTP_STATE_FRAC);
-    /* g += (goal - g) alpha.  With goal, g in [0, 2^30] and alpha in (0, 2^30] (what every setter
-     * checks) the new g lies between g and goal: |round((goal - g) alpha / 2^30)| <= |goal - g|, so
-     * g never leaves [0, 1] and nothing can saturate.  A corrupted value must still be safe: g, goal
-     * and alpha are read through a 31-bit mask (one AND each), so goal - g fits int32, the product
-     * < 2^62, and the sum (< 2^32) is stored through the same mask (defined; no branch). */
-    gate = (int32_t)((uint32_t)s->ahead_gate & UINT32_C(0x7FFFFFFF));
-    goal = (int32_t)((uint32_t)s->ahead_goal & UINT32_C(0x7FFFFFFF));
-    diff = goal - gate;
-    gate = (int32_t)((uint32_t)(gate + shift_right_round(multiply_wide(diff, (int32_t)((uint32_t)s->ahead_ramp
-                                                                                      & UINT32_C(0x7FFFFFFF))),
-                                                         WAKE_RTP_GATE_FRAC)) & UINT32_C(0x7FFFFFFF));
-    s->ahead_gate = gate;
-    s->ahead_predicted = predicted;
-    /* command = g P: Q53, |.| < 2^61; rounded to Q23 (<= |P| for g <= 1; < 2^31 for the 31-bit g) */
-    s->ahead_command = (int32_t)shift_right_round(multiply_wide(gate, predicted), WAKE_RTP_GATE_FRAC);
+    const unsigned head = ahead_next_head(s);
+    const wake_q15_t e = ahead_estimate(tremor, &ev);
+    ahead_line_store(s, head, e);
+    /* P = c . line, |P| <= 64 FS for |c| <= 8 */
+    const wake_q23_t predicted = ahead_predicted(ahead_dot(s->ahead_coef, &s->ahead_line[head]));
+    ahead_output(s, predicted, ahead_gate_next(s, s->ahead_goal));
     count_events(&s->ahead_saturations, ev);
 }
 #endif
+
+/** One more sample since the restart (sticks at UINT32_MAX): P gains q I per sample. */
+static inline void count_step(wake_rtp_t *s)
+{
+    s->steps += (uint32_t)(s->steps != UINT32_MAX);
+}
 
 /**
  * One sample of a checked instance, with @p ev events counted before it.
@@ -954,13 +1048,19 @@ static wake_q15_t step_validated(wake_rtp_t *s, wake_q15_t sample, int measured,
         (void)e;
 #endif
     }
-    s->steps += (uint32_t)(s->steps != UINT32_MAX);      /* P gains q I per sample */
+    count_step(s);
     y = predict(s, &ev);
     count_events(&s->saturations, ev);
 #if WAKE_RTP_AHEAD
     ahead_step(s, tremor);
 #endif
     return y;
+}
+
+/** The last prediction y(n-1) rounded to Q15 (not yet saturated): it stands in for a missing sample. */
+static inline int32_t stand_in(const wake_rtp_t *s)
+{
+    return (int32_t)shift_right_round(s->last_output, SIGNAL_GUARD_BITS);
 }
 
 /** wake_rtp_step (@p measured 1) and wake_rtp_step_missing (0): the checks, then the step. */
@@ -974,6 +1074,9 @@ static WAKE_RTP_OUTLINE_AT_OS wake_rtp_status_t step_checked(wake_rtp_t *s, wake
     if (prediction == NULL) {
         return WAKE_RTP_E_NULL;
     }
+#if WAKE_RTP_SPLIT
+    s->split_ready = 0u;                           /* the step changes what a prepare read */
+#endif
     if (!measured) {
 #if WAKE_RTP_AHEAD
         s->ahead_goal = 0;                         /* the held-out gain needs a window's worth of samples again */
@@ -985,8 +1088,7 @@ static WAKE_RTP_OUTLINE_AT_OS wake_rtp_status_t step_checked(wake_rtp_t *s, wake
 #endif
             return WAKE_RTP_OK;
         }
-        /* the last prediction stands in for the missing sample */
-        sample = narrow_saturate16((int32_t)shift_right_round(s->last_output, SIGNAL_GUARD_BITS), &ev);
+        sample = narrow_saturate16(stand_in(s), &ev);
     }
     *prediction = step_validated(s, sample, measured, ev);
     return WAKE_RTP_OK;
@@ -1001,6 +1103,241 @@ wake_rtp_status_t wake_rtp_step_missing(wake_rtp_t *s, wake_q15_t *prediction)
 {
     return step_checked(s, 0, 0, prediction);
 }
+
+#if WAKE_RTP_SPLIT
+/* ---------------------------------------------------------------------- */
+/* The split step (WAKE_RTP_SPLIT): prepare without the sample, finish     */
+/* with it; the result of step_checked bit for bit                         */
+/* ---------------------------------------------------------------------- */
+
+/** v clamped to +-2^bits (1 <= bits <= 62), not counted: it only guards a corrupted prepared sum. */
+static inline int64_t clamp_quiet(int64_t v, unsigned bits)
+{
+    const int64_t top = INT64_C(1) << bits;
+    return (v > top) ? top : (v < -top) ? -top : v;
+}
+
+/** h x exactly, for one FIR tap (either representation, see wake_fir_t) and a Q15 sample: |.| < 2^46. */
+static inline int64_t fir_product(wake_fir_t h, int32_t x)
+{
+#if WAKE_RTP_SPLIT_FIR
+    /* h = (biased_hi - 2^15) 2^16 + mid 2^8 + lo: three 32-bit products (|.| < 2^31), no 64-bit multiply */
+    return (int64_t)(((int32_t)h.parts.biased_hi - 32768) * x) * 65536 + (int64_t)((int32_t)h.parts.mid * x) * 256
+           + (int64_t)((int32_t)h.parts.lo * x);
+#else
+    return (int64_t)h.value * x;
+#endif
+}
+
+/** The sum of the N taps h, exact in int64: |.| < 2^39 (|h_i| < 2^31, N <= 256). */
+static inline int64_t fir_sum(const wake_fir_t *h, unsigned n)
+{
+    unsigned i;
+#if WAKE_RTP_SPLIT_FIR
+    /* h = (biased_hi - 2^15) 2^16 + mid 2^8 + lo: each part summed in 32 bits (n <= 64: < 2^22) */
+    uint32_t hi = 0u;
+    uint32_t mid = 0u;
+    uint32_t lo = 0u;
+    for (i = 0; i < n; ++i) {                                             /* wcet-loop: N */
+        hi += h[i].parts.biased_hi;
+        mid += h[i].parts.mid;
+        lo += h[i].parts.lo;
+    }
+    return (((int64_t)hi - ((int64_t)n * 32768)) * 65536) + ((int64_t)mid * 256) + (int64_t)lo;
+#else
+    int64_t acc = 0;
+    for (i = 0; i < n; ++i) {                                             /* wcet-loop: N */
+        acc += h[i].value;
+    }
+    return acc;
+#endif
+}
+
+/**
+ * a x exactly, for |a| <= 2^39 and a Q15 sample x: a = hi 2^24 + mid 2^12 + lo with mid, lo in
+ * [0, 2^12), so every product is one 32-bit multiply (|hi x| <= 2^30, |mid x|, |lo x| < 2^27); |.| < 2^55.
+ */
+static inline int64_t times_sample(int64_t a, int32_t x)
+{
+    const int64_t hi = shift_right_floor(a, 24u);
+    const int64_t rest = a - (hi * 16777216);                             /* [0, 2^24) */
+    const uint32_t bits = (uint32_t)rest;
+    const uint32_t mid_bits = (bits >> 12) & 0xFFFu;                     /* the mask keeps it visibly < 2^12 */
+    const uint32_t lo_bits = bits & 0xFFFu;
+    const int32_t p_hi = (int32_t)hi * x;                                 /* |.| <= 2^30 */
+    const int32_t p_mid = (int32_t)mid_bits * x;                          /* |.| < 2^27 */
+    const int32_t p_lo = (int32_t)lo_bits * x;
+    return ((int64_t)p_hi * 16777216) + ((int64_t)p_mid * 4096) + (int64_t)p_lo;
+}
+
+/**
+ * wake_rtp_prepare on a checked instance.  Everything below is what step_validated computes before
+ * it needs the sample, stored for finish_validated:
+ *
+ *   fir    = h' window(n) - h_{N-1} m(n)       the window after the next push, less its newest product
+ *            (before the first sample: the sum of h, the first sample fills the window with itself)
+ *   rho, s = the Kalman gain and (R/S) s + q|w|^2                           unless inert
+ *   ahead  = c . line(n) - c_0 e(n);  gate towards the goal
+ */
+static void prepare_validated(wake_rtp_t *s)
+{
+    const unsigned N = s->n_taps;
+    /* after the next push the window is ring[head + 1 .. head + N - 1] and the new sample; the ring's
+     * ring[head + N] (the copy of the oldest sample, which the push drops) takes the new sample's place
+     * in fir_window and its product is taken off again: exact in int64, |.| < 2^52 */
+    const wake_q15_t *older = &s->ring[s->head + 1u];
+    uint32_t ev = 0u;
+    if (s->primed != 0u) {
+        s->split_fir = fir_window(s->fir, older, N) - fir_product(s->fir[N - 1u], older[N - 1u]);
+    } else {
+        s->split_fir = fir_sum(s->fir, N);
+    }
+    s->split_rho = 0;
+    s->split_s = s->s;
+#if WAKE_RTP_KALMAN
+    if (!s->inert) {
+        const kalman_gain_t g = kalman_gain(s, &ev);
+        s->split_rho = g.rho;
+        s->split_s = kalman_covariance(s, &g, &ev);
+    }
+#endif
+    s->split_events = ev;
+#if WAKE_RTP_AHEAD
+    {
+        /* the slot the next estimate takes holds the oldest one, which it drops: c . line from there,
+         * less c_0 times it, is the sum of the seven products that stay (exact, |.| < 2^49) */
+        const unsigned head = ahead_next_head(s);
+        s->split_ahead = ahead_dot(s->ahead_coef, &s->ahead_line[head])
+                         - multiply_wide(s->ahead_coef[0], s->ahead_line[head]);
+        s->split_gate = ahead_gate_next(s, s->ahead_goal);   /* a missing sample's finish computes its own */
+    }
+#endif
+    s->split_ready = 1u;
+}
+
+/** A setter changed what a prepare read: prepare again if the instance was prepared. */
+static void split_refresh(wake_rtp_t *s)
+{
+    if (s->split_ready != 0u) {
+        prepare_validated(s);
+    }
+}
+
+#if WAKE_RTP_AHEAD
+/** ahead_step with the older seven products and the gate @p gate prepared. */
+static void ahead_finish(wake_rtp_t *s, wake_q23_t tremor, wake_ratio_t gate)
+{
+    uint32_t ev = 0u;
+    const unsigned head = ahead_next_head(s);
+    const wake_q15_t e = ahead_estimate(tremor, &ev);
+    /* P = prepared + c_0 e(n): Q42, the prepared sum clamped to its range so that a corrupted one cannot
+     * overflow; the gate read through the 31-bit mask of ahead_gate_next */
+    const int64_t dot = clamp_quiet(s->split_ahead, 49u) + multiply_wide(s->ahead_coef[0], e);
+    ahead_line_store(s, head, e);
+    ahead_output(s, ahead_predicted(dot), (int32_t)((uint32_t)gate & UINT32_C(0x7FFFFFFF)));
+    count_events(&s->ahead_saturations, ev);
+}
+#endif
+
+/** step_validated on a prepared instance (the same cases, the same order of the state's changes). */
+static wake_q15_t finish_validated(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev_before)
+{
+    uint32_t ev = ev_before;
+    wake_q15_t y;
+    int64_t acc;
+    wake_q23_t tremor = 0;                 /* e(n): 0 for the first sample and a missing one */
+    if ((s->primed != 0u) && (measured != 0)) {
+        const wake_q23_t e = innovation(s, sample, &ev);
+        tremor = e;
+#if WAKE_RTP_KALMAN
+        if (!s->inert) {
+            s->z = kalman_corrected(s, s->split_rho, e, &ev);
+            s->s = clamp_cov_wide(s->split_s, &ev);   /* within +-2^50 already, unless corrupted */
+            ev += s->split_events;
+        }
+#endif
+    } else {
+#if WAKE_RTP_KALMAN
+        if (!s->inert) {                   /* the time update only (s has not changed since the prepare) */
+            s->s = time_updated(s, &ev);
+        }
+#endif
+    }
+    if (s->primed != 0u) {
+        ring_store(s, sample);
+        /* h' window = prepared + h_{N-1} m(n), exact (the prepared sum clamped to its range, |.| < 2^52) */
+        acc = clamp_quiet(s->split_fir, 52u) + fir_product(s->fir[s->n_taps - 1u], sample);
+    } else {
+        /* the first sample fills the window with itself: h' window = (sum of h) m(n), exact (the
+         * prepared sum clamped to its range, |.| <= 2^39) */
+        prime_window(s, sample);
+        ring_store(s, sample);
+        acc = times_sample(clamp_quiet(s->split_fir, 39u), sample);
+    }
+    count_step(s);
+    y = step_output(s, acc, &ev);
+    count_events(&s->saturations, ev);
+#if WAKE_RTP_AHEAD
+    ahead_finish(s, tremor, (measured != 0) ? s->split_gate : ahead_gate_next(s, 0));
+#else
+    (void)tremor;
+#endif
+    return y;
+}
+
+/** wake_rtp_finish (@p measured 1) and wake_rtp_finish_missing (0): step_checked on a prepared instance. */
+static wake_rtp_status_t finish_checked(wake_rtp_t *s, wake_q15_t sample, int measured, wake_q15_t *prediction)
+{
+    uint32_t ev = 0u;
+    wake_rtp_status_t st = check_structure(s);
+    if ((st == WAKE_RTP_OK) && (prediction == NULL)) {
+        st = WAKE_RTP_E_NULL;
+    }
+    if ((st == WAKE_RTP_OK) && (s->split_ready != 1u)) {
+        st = WAKE_RTP_E_UNPREPARED;
+    }
+    if (st == WAKE_RTP_OK) {
+        wake_q15_t m = sample;
+        s->split_ready = 0u;
+        if (measured == 0) {
+#if WAKE_RTP_AHEAD
+            s->ahead_goal = 0;             /* the held-out gain needs a window's worth of samples again */
+#endif
+            if (s->primed != 0u) {
+                m = narrow_saturate16(stand_in(s), &ev);      /* the last prediction stands in for the missing sample */
+            }
+        }
+        if ((measured == 0) && (s->primed == 0u)) {
+            *prediction = 0;               /* a missing sample before the first: nothing to predict from */
+#if WAKE_RTP_AHEAD
+            ahead_finish(s, 0, ahead_gate_next(s, 0));
+#endif
+        } else {
+            *prediction = finish_validated(s, m, measured, ev);
+        }
+    }
+    return st;
+}
+
+wake_rtp_status_t wake_rtp_prepare(wake_rtp_t *s)
+{
+    wake_rtp_status_t st = check_structure(s);
+    if (st == WAKE_RTP_OK) {
+        prepare_validated(s);
+    }
+    return st;
+}
+
+wake_rtp_status_t wake_rtp_finish(wake_rtp_t *s, wake_q15_t sample, wake_q15_t *prediction)
+{
+    return finish_checked(s, sample, 1, prediction);
+}
+
+wake_rtp_status_t wake_rtp_finish_missing(wake_rtp_t *s, wake_q15_t *prediction)
+{
+    return finish_checked(s, 0, 0, prediction);
+}
+#endif
 
 wake_rtp_status_t wake_rtp_run(wake_rtp_t *s, const wake_q15_t *in, wake_q15_t *out, size_t n)
 {
@@ -1063,6 +1400,9 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q1
     restart(s, correction, lambda);
     s->last_output = last_output;
     s->primed = 1u;
+#if WAKE_RTP_SPLIT
+    split_refresh(s);                                           /* a prepared step stays prepared */
+#endif
     return WAKE_RTP_OK;
 }
 
@@ -1081,6 +1421,9 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_ahead(wake_rtp_t *s, const int32_t 
     }
     memcpy(s->ahead_coef, coefficients, sizeof(s->ahead_coef));
     s->ahead_goal = goal;
+#if WAKE_RTP_SPLIT
+    split_refresh(s);                                           /* a prepared step stays prepared */
+#endif
     return WAKE_RTP_OK;
 }
 
@@ -1094,6 +1437,9 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_ahead_ramp(wake_rtp_t *s, wake_rati
         return WAKE_RTP_E_AHEAD;
     }
     s->ahead_ramp = ramp;
+#if WAKE_RTP_SPLIT
+    split_refresh(s);                                           /* a prepared step stays prepared */
+#endif
     return WAKE_RTP_OK;
 }
 
@@ -1135,6 +1481,9 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_load_ahead_state(wake_rtp_t *s, const w
     }
     s->ahead_head = 0u;
     s->ahead_gate = gate;
+#if WAKE_RTP_SPLIT
+    split_refresh(s);                                           /* a prepared step stays prepared */
+#endif
     return WAKE_RTP_OK;
 }
 

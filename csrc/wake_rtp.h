@@ -100,6 +100,24 @@ extern "C" {
 #define WAKE_RTP_AHEAD 1
 #endif
 
+/**
+ * 0 (default): the core as above.  1: also the split step (issue 33):
+ * wake_rtp_prepare does everything of the next step that does not need its
+ * sample (the FIR over the older 2^J - 1 samples of the window, the Kalman
+ * gain and covariance update, the older seven products of the tremor ahead,
+ * the gate) and wake_rtp_finish / wake_rtp_finish_missing the rest, with the
+ * result of wake_rtp_step / wake_rtp_step_missing bit for bit.  Behind a
+ * decimating front end (wake_rate.h, wake_rate_step) the prepare runs on an
+ * input sample that only pushes, so no input sample pays for a whole step.
+ * The struct grows by the prepared values (48 bytes on a Cortex-M4 with the
+ * tremor ahead, 32 without) and the code by the two halves; wake_rtp_step is
+ * the same function in both builds (it also forgets a prepared step).  Every
+ * translation unit of a firmware must see the same value.
+ */
+#ifndef WAKE_RTP_SPLIT
+#define WAKE_RTP_SPLIT 0
+#endif
+
 /** Taps of the tremor-ahead predictor (wake.ahead.TAPS); fixed: the step writes its eight products out and wraps the line index with a mask. */
 #define WAKE_RTP_AHEAD_TAPS 8
 /**
@@ -206,8 +224,10 @@ typedef enum {
     WAKE_RTP_E_CORRUPT = -7,      /**< magic present but fields inconsistent (weights included) */
     WAKE_RTP_E_STATE = -8,        /**< load_state: covariance diagonal negative */
     WAKE_RTP_E_NO_KALMAN = -9,    /**< a Kalman setting (q, p0, d or P non-zero) in a WAKE_RTP_KALMAN 0 build */
-    WAKE_RTP_E_AHEAD = -10        /**< a tremor-ahead value out of range: |coefficient| > 8 (Q27), goal or
+    WAKE_RTP_E_AHEAD = -10,       /**< a tremor-ahead value out of range: |coefficient| > 8 (Q27), goal or
                                        gate outside [0, 1] (Q30), ramp outside (0, 1] (Q30) */
+    WAKE_RTP_E_UNPREPARED = -11   /**< wake_rtp_finish without a wake_rtp_prepare since the last step
+                                       (WAKE_RTP_SPLIT builds) */
 } wake_rtp_status_t;
 
 /**
@@ -268,6 +288,21 @@ typedef struct {
     wake_q15_t ahead_line[2 * WAKE_RTP_AHEAD_TAPS];  /**< tremor estimates e, Q15 of FS, each stored twice
                                                           (k and k + 8): newest first they are the
                                                           contiguous ahead_line[ahead_head .. + 7] */
+#endif
+#if WAKE_RTP_SPLIT
+    /* the split step (WAKE_RTP_SPLIT): what wake_rtp_prepare computed for the next finish; the
+       setters recompute it when it is ready, any step forgets it */
+    int64_t split_fir;           /**< h' window less the newest sample's product, Q(FIR + 15), exact, |.| < 2^52 */
+    int64_t split_s;             /**< s after the next measurement update, Q(P_FRAC) of FS^2 */
+    wake_ratio_t split_rho;      /**< rho = s / S of the next measurement update, Q30 */
+    uint32_t split_events;       /**< saturations of the prepared measurement update */
+    uint16_t split_ready;        /**< 1 from wake_rtp_prepare to the next step, else 0 */
+    uint16_t split_reserved;     /**< 0 */
+#if WAKE_RTP_AHEAD
+    int64_t split_ahead;         /**< c . line less the newest estimate's product, Q42, exact, |.| < 2^49 */
+    wake_ratio_t split_gate;     /**< g(n) towards the goal, Q30 (a missing sample's finish, whose goal is 0,
+                                      computes its own) */
+#endif
 #endif
 } wake_rtp_t;
 
@@ -423,6 +458,67 @@ wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q15_t *window,
  * counted: the instance is const).
  */
 wake_rtp_status_t wake_rtp_get_state(const wake_rtp_t *s, wake_q23_t *correction, wake_cov_t *covariance);
+
+#if WAKE_RTP_SPLIT
+/**
+ * @brief The part of the next step that does not need its sample (WAKE_RTP_SPLIT builds).
+ *
+ * Reads the instance and stores the prepared values in it; the observable
+ * state (ring, Kalman scalars, outputs, counters) is untouched.  Call it
+ * any number of times between two steps (each recomputes); the setters
+ * (set_weights, reset, load_state, the tremor-ahead setters) recompute a
+ * prepared step themselves; wake_rtp_step, wake_rtp_step_missing, wake_rtp_run
+ * and the finishes forget it.
+ * @param[in,out] s  initialised instance
+ * @return WAKE_RTP_OK, WAKE_RTP_E_NULL, _UNINIT or _CORRUPT.
+ *
+ * @par Scaling and overflow
+ * The FIR over the window the next push leaves, less its newest product:
+ * h' (ring[head+1 .. head+N]) - h_{N-1} ring[head+N], both exact int64 sums
+ * (< 2^52), so finish adds h_{N-1} m(n) and has wake_rtp_step's sum exactly;
+ * before the first sample the sum of the taps (< 2^39, exact), which the
+ * first sample multiplies (three 32-bit products).
+ * The Kalman gain rho = s/S (Q30) and the new s = tau s + q|w|^2 exactly as
+ * wake_rtp_step computes them, their saturations counted when the finish
+ * applies them (a first or missing sample's finish makes its time update
+ * s + q|w|^2 itself).  The tremor
+ * ahead's c . line less c_0 times the estimate it drops (Q42, exact) and the
+ * gate's next value towards the goal, as in wake_rtp_step.
+ */
+wake_rtp_status_t wake_rtp_prepare(wake_rtp_t *s);
+
+/**
+ * @brief Take sample m(n) into a prepared instance; as wake_rtp_step, bit for bit.
+ * @param[in,out] s           initialised instance, prepared since its last step
+ * @param[in]     sample      m(n), Q15 of FS
+ * @param[out]    prediction  y(n), Q15 of FS (saturated)
+ * @return WAKE_RTP_OK, WAKE_RTP_E_NULL, _UNINIT, _CORRUPT or _UNPREPARED
+ *         (then nothing changes and @p prediction is not written).
+ *
+ * The first sample of a stream fills the window with itself and multiplies
+ * the prepared sum of the taps by it; every other sample adds one FIR
+ * product, the correction z += rho e, one tremor-ahead product and the
+ * command.
+ *
+ * @par Scaling and overflow
+ * acc = prepared sum + h_{N-1} m(n), exact in int64 (the prepared sum is
+ * clamped to +-2^52 first, so a corrupted one cannot overflow), then as
+ * wake_rtp_step: e = m - y(n-1) saturated to int32 Q23, z += round(rho e /
+ * 2^30) clamped to +-2^40, y(n) rounded once to Q23 and to Q15 with
+ * saturation; the ahead's P = prepared (clamped to +-2^49) + c_0 e(n), Q42,
+ * rounded once to Q23, and g P as wake_rtp_step.
+ */
+wake_rtp_status_t wake_rtp_finish(wake_rtp_t *s, wake_q15_t sample, wake_q15_t *prediction);
+
+/**
+ * @brief No measurement at n, on a prepared instance; as wake_rtp_step_missing, bit for bit.
+ * @return as wake_rtp_finish.
+ * @par Scaling and overflow
+ * As wake_rtp_finish with the last prediction (rounded to Q15, saturated)
+ * as the sample and the prepared time update s + q|w|^2 (saturating).
+ */
+wake_rtp_status_t wake_rtp_finish_missing(wake_rtp_t *s, wake_q15_t *prediction);
+#endif
 
 #if WAKE_RTP_AHEAD
 /**

@@ -251,3 +251,31 @@ def test_front_end_cost_at_1khz(tmp_path):
     assert fast["per_sample"] == step + push and slow["per_sample"] == step
     assert push <= 0.2 * step, (push, step)  # 63 against 493 measured: UDIV, no 16-turn loop
     assert fast["per_second"] <= 10 * slow["per_second"]  # issue 33: at most 10x the work per second
+
+
+@needs_gcc
+@pytest.mark.parametrize("ahead", [True, False], ids=["ahead", "no-ahead"])
+def test_split_step_keeps_1khz_within_the_100hz_bound(tmp_path, ahead):
+    """Issue 33 (docs/design.md, "In firmware"): built with WAKE_RTP_SPLIT 1, the worst input sample at
+    1 kHz (the static bound of wake_rate_step) is no larger than wake_rtp_step's at 100 Hz on Cortex-M4
+    -O2, like with like (the tremor ahead compiled in at both rates, or at neither); the default build,
+    what a 100 Hz firmware links, has none of the split entries."""
+    from wake.firmware.rate_cost import rate_cost
+    from wake.firmware.wcet import static_bound
+
+    defs = ["-DWAKE_RTP_MAX_LEVEL=5"] + ([] if ahead else ["-DWAKE_RTP_AHEAD=0"])
+    plain = profile.build_image("m4-O2", build_dir=tmp_path / "plain", csrc=CSRC, defs=defs)
+    split = profile.build_image("m4-O2", build_dir=tmp_path / "split", csrc=CSRC, defs=[*defs, "-DWAKE_RTP_SPLIT=1"])
+    assert "wake_rtp_prepare" not in plain.symbols and "wake_rate_step" not in plain.symbols
+
+    def bound(function):
+        return static_bound(split, 5, function=function).instructions
+
+    step = static_bound(plain, 5).instructions
+    b = {"push": bound("wake_rate_push"), "prepare": bound("wake_rtp_prepare"),
+         "finish": max(bound("wake_rtp_finish"), bound("wake_rtp_finish_missing")), "rate_step": bound("wake_rate_step")}
+    fast = rate_cost(1000.0, step, b["push"], b)
+    assert fast["per_sample"] == b["rate_step"] <= step, (b, step)
+    # the entry is a push and one of prepare / finish, plus a dispatch of a few instructions
+    assert max(b["prepare"], b["finish"]) < b["rate_step"] <= b["push"] + max(b["prepare"], b["finish"]) + 20, b
+    assert rate_cost(1000.0, step, b["push"])["per_sample"] > step  # unsplit: push + step, over the 100 Hz bound

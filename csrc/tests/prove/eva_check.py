@@ -4,6 +4,7 @@
     python tests/prove/eva_check.py --timeout 120 --only rtp --jobs 2
     python tests/prove/eva_check.py --only hpa_steps   (the steps of one HPA run)
     python tests/prove/eva_check.py --hpa-report     (also analyse wake_hpa_run and the DFT pass, never failing on them)
+    python tests/prove/eva_check.py --entry wake_rtp_prepare --entry wake_rtp_finish   (some entries only)
 
 Runs ``frama-c -eva`` once per analysis entry (tests/prove/eva_rtp.c, tests/prove/eva_hpa.c: one ``eva_<function>``
 per public function, inputs ranged as the API allows; tests/prove/eva_hpa_steps.c: one ``eva_step_<step>`` per step
@@ -34,6 +35,9 @@ RTP_ENTRIES = ["wake_rtp_init", "wake_rtp_set_weights", "wake_rtp_reset", "wake_
                "wake_rtp_step_missing", "wake_rtp_run", "wake_rtp_load_state", "wake_rtp_get_state",
                "wake_rtp_reciprocal", "wake_rtp_set_ahead", "wake_rtp_set_ahead_ramp", "wake_rtp_ahead_output",
                "wake_rtp_load_ahead_state", "wake_rtp_get_ahead_state"]
+#: entries of the split step, analysed in every configuration with WAKE_RTP_SPLIT 1 added
+SPLIT_ENTRIES = ["wake_rtp_prepare", "wake_rtp_finish", "wake_rtp_finish_missing"]
+SPLIT_DEFS = " -DWAKE_RTP_SPLIT=1"
 #: HPA entries whose analysis is checked (every alarm listed and justified)
 HPA_ENTRIES = ["wake_hpa_default_config", "wake_hpa_init", "wake_hpa_push", "wake_hpa_push_missing",
                "wake_hpa_start", "wake_hpa_slice", "wake_hpa_take", "wake_hpa_to_rtp", "wake_hpa_apply"]
@@ -141,7 +145,8 @@ STEP_TIMEOUT = 400
 def analyse_and_print(unit: str, entry: str, config: str, args) -> dict:
     """One analysis with the options its entry needs; its table row printed."""
     timeout = max(args.timeout, STEP_TIMEOUT) if unit == "hpa_steps" else args.timeout
-    r = analyse(unit, entry, CONFIGS[config], timeout, args.slevel, entry_options(entry))
+    defs = CONFIGS[config] + (SPLIT_DEFS if entry in SPLIT_ENTRIES else "")
+    r = analyse(unit, entry, defs, timeout, args.slevel, entry_options(entry))
     print(f"| {entry} | {config} | {len(r['alarms'])} | {r['seconds']:.1f} | {r['status']} |", flush=True)
     return r
 
@@ -165,6 +170,8 @@ def main(argv=None) -> int:
     parser.add_argument("--slevel", type=int, default=100, help="Eva's -eva-slevel (default 100; loops with a "
                         "computable bound up to 400 iterations are unrolled)")
     parser.add_argument("--only", choices=["rtp", "hpa", "hpa_steps"], help="one unit only")
+    parser.add_argument("--entry", action="append", metavar="FUNCTION",
+                        help="only this public function (repeatable), e.g. --entry wake_rtp_finish")
     parser.add_argument("--hpa-report", action="store_true",
                         help="analyse the HPA entries not yet checked and report their alarms (never fails on them)")
     parser.add_argument("--jobs", type=int, default=2, help="analyses run at once (default 2)")
@@ -175,7 +182,7 @@ def main(argv=None) -> int:
         return 3
     plan = []
     if args.only in (None, "rtp"):
-        plan += [("rtp", e, c) for e in RTP_ENTRIES for c in CONFIGS]
+        plan += [("rtp", e, c) for e in RTP_ENTRIES + SPLIT_ENTRIES for c in CONFIGS]
     if args.only in (None, "hpa"):
         plan += [("hpa", e, c) for e in HPA_ENTRIES
                  for c in (CONFIGS if e in HPA_ALL_CONFIG_ENTRIES else HPA_CONFIGS)]
@@ -190,6 +197,11 @@ def main(argv=None) -> int:
                 for file, kind, assertion, line in r["alarms"]:
                     print(f"  - {file}:{line} {kind}: `{assertion}`")
         print()
+    if args.entry:
+        unknown = set(args.entry) - {e for _, e, _ in plan}
+        if unknown:
+            parser.error(f"--entry: not an analysed entry: {', '.join(sorted(unknown))}")
+        plan = [p for p in plan if p[1] in args.entry]
     listed = listed_alarms()
     failures, distinct = [], collections.defaultdict(set)
     print("| entry | configuration | alarms | seconds | status |")

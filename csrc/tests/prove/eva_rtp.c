@@ -86,6 +86,29 @@ void eva_wake_rtp_step_missing(void)
     (void)wake_rtp_step_missing(&rtp, &prediction);
 }
 
+#if WAKE_RTP_SPLIT
+/* the split step (WAKE_RTP_SPLIT 1): the prepared values are part of the instance, of any content too */
+void eva_wake_rtp_prepare(void)
+{
+    any_instance();
+    (void)wake_rtp_prepare(&rtp);
+}
+
+void eva_wake_rtp_finish(void)
+{
+    wake_q15_t prediction;
+    any_instance();
+    (void)wake_rtp_finish(&rtp, Frama_C_short_interval(INT16_MIN, INT16_MAX), &prediction);
+}
+
+void eva_wake_rtp_finish_missing(void)
+{
+    wake_q15_t prediction;
+    any_instance();
+    (void)wake_rtp_finish_missing(&rtp, &prediction);
+}
+#endif
+
 void eva_wake_rtp_run(void)
 {
     any_instance();

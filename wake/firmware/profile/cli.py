@@ -79,7 +79,8 @@ def build_parser():
                         "slice on Cortex-M4F (hard float) and Cortex-M0+ (soft float), RAM, stack (about a minute)")
     p.add_argument("--fs", type=float, default=None, metavar="HZ",
                    help="also the cost at this input rate: the front end's push (csrc/wake_rate.c) beside the "
-                        "RTP step, the worst input sample and the instructions per second (J = 5)")
+                        "RTP step, unsplit and split (WAKE_RTP_SPLIT=1: wake_rate_step), the worst input sample and "
+                        "the instructions per second, with and without the tremor ahead (J = 5)")
     p.add_argument("--json", metavar="PATH", help="write every number as JSON")
     p.add_argument("--markdown", metavar="PATH", help="write the tables as Markdown")
     p.add_argument("--build-dir", metavar="DIR", help="keep the objects and images here (default: a temp dir)")
@@ -147,16 +148,34 @@ def _measure(args, targets, levels, wavelets):
 
 
 def _rate_bounds(args, targets, build_root) -> dict:
-    """target -> (static bound of wake_rtp_step, of wake_rate_push or None) at J = 5, active Kalman."""
+    """target -> {build: bounds for :func:`wake.firmware.rate_cost.rate_lines`} at J = 5, active Kalman.
+
+    Two builds, like with like: the default one (with the tremor ahead) and WAKE_RTP_AHEAD=0.  Each is
+    bounded as the 100 Hz firmware builds it (wake_rtp_step, wake_rate_push) and, when the rate needs the
+    front end, with -DWAKE_RTP_SPLIT=1 (wake_rate_step, the worst input sample; prepare, finish)."""
     from wake.firmware.wcet import static_bound
+    from wake.sampling import decimation_for
+
+    def bound(image, function):
+        return static_bound(image, DEFAULT_LEVEL, function=function).instructions
 
     out = {}
     for t in targets:
-        image = build_image(t, build_dir=Path(build_root) / "rate", csrc=args.csrc,
-                            defs=[f"-DWAKE_RTP_MAX_LEVEL={DEFAULT_LEVEL}"])
-        push = static_bound(image, DEFAULT_LEVEL, function="wake_rate_push") if "wake_rate_push" in image.symbols \
-            else None
-        out[t] = (static_bound(image, DEFAULT_LEVEL), push)
+        out[t] = {}
+        for label, key, extra in (("default", "ahead", []), (LEAN_BUILD[0], "lean", LEAN_BUILD[1])):
+            defs = [f"-DWAKE_RTP_MAX_LEVEL={DEFAULT_LEVEL}", *extra]
+            image = build_image(t, build_dir=Path(build_root) / "rate" / key, csrc=args.csrc, defs=defs)
+            entry = {"step": bound(image, "wake_rtp_step"), "push": None, "split": None}
+            if decimation_for(args.fs) > 1 and "wake_rate_push" in image.symbols:
+                entry["push"] = bound(image, "wake_rate_push")
+                split = build_image(t, build_dir=Path(build_root) / "rate" / f"{key}-split", csrc=args.csrc,
+                                    defs=[*defs, "-DWAKE_RTP_SPLIT=1"])
+                if "wake_rate_step" in split.symbols:
+                    entry["split"] = {"push": bound(split, "wake_rate_push"), "prepare": bound(split, "wake_rtp_prepare"),
+                                      "finish": max(bound(split, "wake_rtp_finish"),
+                                                    bound(split, "wake_rtp_finish_missing")),
+                                      "rate_step": bound(split, "wake_rate_step")}
+            out[t][label] = entry
     return out
 
 
@@ -250,8 +269,7 @@ def cli(argv: list[str] | None = None) -> int:
             "hotspots": hot,
             "qemu": qemu,
             "hpa": hpa,
-            "rate": None if rate is None else {t: {"step": s.instructions, "push": None if p is None else p.instructions}
-                                               for t, (s, p) in rate.items()},
+            "rate": rate,
             "clocks_mhz": CLOCKS_MHZ, "targets": TARGET_LIMITS, "failed": fails,
             "ceilings": CEILING_LIMITS, "regressions": regressions,
         }, indent=2))
