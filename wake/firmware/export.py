@@ -215,14 +215,18 @@ def _rate_section(name: str, cfg: WakeConfig) -> str:
     D = cfg.decimation_factor
     if D == 1:
         return ""
-    macro = name.upper()
+    macro, fs = name.upper(), cfg.fs
     return f"""
 /* Input at {cfg.fs:g} Hz: the core and the HPA above run at {cfg.fs / D:g} Hz on the mean of each group of
  * {D} input samples (wake_rate.c); step them when wake_rate_push ends a group and hold the prediction
  * until the next group ends (docs/design.md, "Sampling rates other than 100 Hz").  Include "wake_rate.h"
  * before this header:
  *     static wake_rate_t fe;
- *     if ({name}_rate_init(&fe) != WAKE_RATE_OK) {{ ... }}                           */
+ *     if ({name}_rate_init(&fe) != WAKE_RATE_OK) {{ ... }}
+ * For a cost per input sample no larger than the 100 Hz step's, build wake_rtp.c and wake_rate.c with
+ * -DWAKE_RTP_SPLIT=1 and call wake_rate_step(&fe, &rtp, sample, present, &prediction) on every input
+ * sample instead: it prepares the step on the sample before a group ends and finishes it on the last
+ * (bit for bit the same predictions; `wake profile --fs {fs:g}` gives both bounds).            */
 #define {macro}_DECIMATION {D}
 #ifdef WAKE_RATE_H
 static inline wake_rate_status_t {name}_rate_init(wake_rate_t *fe)
