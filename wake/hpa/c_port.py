@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from wake.ahead import NO_TREMOR_FLAGS
 from wake.config import WakeConfig
 from wake.hpa.cutoff import CUTOFF_FLAGS, EDGE_DB, FLOOR_MARGIN_DB, FLOOR_STRIDE, MIN_DEPTH_DB
 from wake.hpa.run import HPAUpdate, clean_only_below
@@ -205,8 +204,9 @@ def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index:
     -------
     HPAUpdate
         With the C HPA's tremor-ahead fit (``WAKE_HPA_AHEAD``) at ``config.horizon``: its predictor and
-        goal.  The C HPA publishes the goal, not the gain: ``ahead_gain`` is the goal where the window
-        has a tremor peak (there the two are equal) and 0 where it has none.
+        goal.  The C HPA publishes the goal, not the gain: ``ahead_gain`` is that goal, which is the gain
+        where the window has a tremor peak and 0 where it has none (the C HPA applies
+        :func:`wake.ahead.gate_target` itself).
 
     Examples
     --------
@@ -255,7 +255,7 @@ def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index:
     return HPAUpdate(int(index), float(res.cutoff), flag, weights,
                      float(res.measurement_noise) * lsb * lsb, float(np.sqrt(res.fit_mse)) * lsb,
                      float(res.ridge), tuple(notes), ahead_coefficients=np.array(list(res.ahead), dtype=float),
-                     ahead_gain=0.0 if flag in NO_TREMOR_FLAGS else goal, ahead_goal=goal)
+                     ahead_gain=goal, ahead_goal=goal)
 
 
 def run_ahead_c(stream, config: WakeConfig, *, taps, horizon: int = 1, full_scale: float, start_weights=None):
