@@ -11,39 +11,58 @@ baselines); each worker times it five times after a warm-up and reports the medi
 (docs/evaluation.md, "At cohort scale", run E).  A Dask worker runs the task in its executor thread;
 ``client.run`` runs it outside that thread, for comparison.
 """
-import time, sys
+import argparse
+import time
+
+MODES = ("serial", "loky", "dask", "dask-noprofile", "dask-notick")
+
+
 def timed(_=None):
-    import time
-    from wake.eval.compute import compute_task, Task, WAKE_PARAMS
+    """Median process time of one task over five runs, after one warm-up run (the worker's imports)."""
+    from wake.eval.compute import WAKE_PARAMS, Task, compute_task
     from wake.eval.sources import cohort_sources
-    src = cohort_sources(3)[1]
-    t = Task(src, tuple(sorted(WAKE_PARAMS.items())), ("c",))
-    compute_task(t)
+
+    task = Task(cohort_sources(3)[1], tuple(sorted(WAKE_PARAMS.items())), ("c",))
+    compute_task(task)
     out = []
     for _ in range(5):
-        t0 = time.process_time(); compute_task(t); out.append(time.process_time() - t0)
+        t0 = time.process_time()
+        compute_task(task)
+        out.append(time.process_time() - t0)
     return sorted(out)[2]
 
-def main():
-    mode = sys.argv[1]
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("mode", choices=MODES, help="where the task runs")
+    mode = p.parse_args(argv).mode
     if mode == "serial":
         print(mode, timed())
     elif mode == "loky":
         import joblib
+
         print(mode, joblib.Parallel(n_jobs=2)(joblib.delayed(timed)(i) for i in range(2)))
     else:
-        import dask, distributed
-        if mode == "dask-noprofile":
-            dask.config.set({"distributed.worker.profile.enabled": False})
+        import dask
+        import distributed
+
+        from wake.eval.runner import LOCAL_CLUSTER_CONFIG
+
+        if mode == "dask-noprofile":        # as `wake evaluate --scheduler local` starts its workers
+            dask.config.set(LOCAL_CLUSTER_CONFIG)
         if mode == "dask-notick":
-            dask.config.set({"distributed.worker.profile.enabled": False, "distributed.admin.tick.interval": "1s",
+            dask.config.set({**LOCAL_CLUSTER_CONFIG, "distributed.admin.tick.interval": "1s",
                              "distributed.admin.system-monitor.interval": "5s"})
         cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
         client = distributed.Client(cluster)
-        futs = [client.submit(timed, i, pure=False) for i in range(2)]
-        print(mode, client.gather(futs))
-        print("run in worker main thread", client.run(timed))
-        client.close(); cluster.close()
+        try:
+            futures = [client.submit(timed, i, pure=False) for i in range(2)]
+            print(mode, "(executor thread)", client.gather(futures))
+            print(mode, "(client.run, outside the executor thread)", client.run(timed))
+        finally:
+            client.close()
+            cluster.close()
+
 
 if __name__ == "__main__":
     main()
