@@ -61,19 +61,19 @@ def run(out, count, extra, duration):
     return wall, info["maxrss_kb"] / 1024
 
 
-def plan(count, repeat, rss_count, small, dask=True, configs=tuple(CONFIGS)):
+def plan(count, repeat, rss_count, small, configs=tuple(CONFIGS)):
     """The runs in order: ``repeat`` rounds of the throughput configurations, then the memory pair.
 
     Examples
     --------
-    >>> [f"{label}@{n}" for _, label, n in plan(400, 2, 2000, 200, dask=False)]
+    >>> [f"{label}@{n}" for _, label, n in plan(400, 2, 2000, 200, configs=("jobs1", "jobs2"))]
     ['--jobs 1@400', '--jobs 2@400', '--jobs 2@400', '--jobs 1@400', '--jobs 2@200', '--jobs 2@2000']
     >>> [f"{label}@{n}" for _, label, n in plan(200, 0, 2000, 200)]
     ['--jobs 2@200', '--jobs 2@2000']
     >>> [f"{label}@{n}" for _, label, n in plan(2000, 1, None, None, configs=("jobs2", "dask"))]
     ['--jobs 2@2000', '--scheduler local --jobs 2 (Dask)@2000']
     """
-    labels = [CONFIGS[c] for c in CONFIGS if c in configs and (dask or c != "dask")]
+    labels = [CONFIGS[c] for c in CONFIGS if c in configs]
     runs = []
     for r in range(repeat):
         # alternate the order too, so no configuration always follows the same one
@@ -116,13 +116,15 @@ def main(argv=None):
                    help="cohort size whose peak RSS is compared with --small's (default: --count)")
     p.add_argument("--small", type=int, default=200, help="cohort size the peak RSS is compared with")
     p.add_argument("--duration", type=float, default=50.0, help="seconds per signal (100 Hz)")
-    p.add_argument("--no-dask", action="store_true", help="skip the Dask LocalCluster runs")
+    p.add_argument("--no-dask", action="store_true", help="skip the Dask LocalCluster runs (drops dask from --configs)")
     p.add_argument("--configs", default=",".join(CONFIGS),
                    help=f"the throughput configurations, comma-separated among {', '.join(CONFIGS)} (default: all)")
     args = p.parse_args(argv)
     configs = [c.strip() for c in args.configs.split(",") if c.strip()]
     if not configs or set(configs) - set(CONFIGS):
         p.error(f"--configs takes a comma-separated choice of {', '.join(CONFIGS)}, got {args.configs!r}")
+    if args.no_dask:
+        configs = [c for c in configs if c != "dask"]
     if args.repeat < 0:
         p.error(f"--repeat needs 0 rounds or more, got {args.repeat}")
     print(f"{os.cpu_count()} cores; signals of {args.duration:g} s at 100 Hz; WAKE (C core) + BMFLC, E-BMFLC, WFLC",
@@ -130,7 +132,7 @@ def main(argv=None):
     print("| round | run | signals | load before | wall s | signals / s | parent peak RSS MB |\n"
           "|---|---|---:|---:|---:|---:|---:|", flush=True)
     results = []
-    for rnd, label, count in plan(args.count, args.repeat, args.rss_count, args.small, not args.no_dask, configs):
+    for rnd, label, count in plan(args.count, args.repeat, args.rss_count, args.small, configs):
         load = os.getloadavg()[0]
         out = Path(tempfile.mkdtemp(prefix="wake-cohort-"))
         try:
