@@ -124,6 +124,8 @@ def _cmd_demo(args) -> int:
 def _cmd_run(args) -> int:
     from wake._files import refuse_same_file
     from wake.io import write_result_csv
+    from wake.io.writers import ahead_columns
+    from wake.target import voluntary_ahead_refusal
     from wake.io.options import read_from_arguments
 
     if args.plot:
@@ -148,9 +150,13 @@ def _cmd_run(args) -> int:
     filt = make_filter(args, rec.fs, **horizon)
     res = filt.run(x if x.shape[1] > 1 else x[:, 0])
     if args.out:
-        rows = write_result_csv(args.out, rec, res, ahead=bool(horizon))
-        ahead = ", tremor_ahead, confidence, command" if horizon else ""
+        columns = ahead_columns(filt.config) if horizon else ()
+        rows = write_result_csv(args.out, rec, res, ahead=columns)
+        ahead = "".join(f", {name}" for name, _ in columns)
         print(f"wrote {rows} rows to {args.out} (time, then per channel: measurement, voluntary, tremor{ahead})")
+        why = voluntary_ahead_refusal(filt.horizon, filt.backend, filt.hpa_backend) if horizon else None
+        if why:
+            print(f"no voluntary_ahead column: {why}")
     cut = ", ".join(f"{c:.2f}" for c in res.mean_cutoff)
     print(f"{len(res.hpa[0])} HPA runs per channel, mean cut-off f_d = {cut} Hz, backend {res.backend}")
     print(rate_note(rec.fs))
