@@ -230,13 +230,13 @@ class WakeFilter:
         return self._block(x)[:4]
 
     def update_block_voluntary_ahead(self, x) -> tuple:
-        """``(prediction, voluntary_ahead)`` shaped like ``x``; row ``i``: :attr:`last_voluntary_ahead` after ``x[i]``.
+        """``(prediction, voluntary_ahead)``, shaped like ``x``: row ``i`` is :attr:`last_voluntary_ahead` after it.
 
         Examples
         --------
         >>> f = WakeFilter(backend="reference", horizon=5)
         >>> pred, ahead = f.update_block_voluntary_ahead(np.sin(np.arange(800) / 30.0))
-        >>> bool(ahead[-1] == f.last_voluntary_ahead), bool(np.array_equal(ahead[:100], pred[:100]))   # held before the first HPA
+        >>> bool(ahead[-1] == f.last_voluntary_ahead), bool(np.array_equal(ahead[:100], pred[:100]))  # held
         (True, True)
         """
         self._refusal(refuse=True)
@@ -251,11 +251,11 @@ class WakeFilter:
         return tuple((o[:, 0] if one_d else o).astype(dtype, copy=False) for o in out)
 
     def _refusal(self, refuse: bool = False):
-        return voluntary_ahead_refusal(self.config.horizon, self.config.backend, self.config.hpa_backend, refuse=refuse)
+        return voluntary_ahead_refusal(self.horizon, self.backend, self.hpa_backend, refuse=refuse)
 
     @property
     def last_voluntary_ahead(self):
-        """After :meth:`update`: the voluntary motion predicted ``horizon`` samples after the last sample (a float
+        """After :meth:`update`: the voluntary motion predicted ``horizon`` samples after the last sample (float
         for one channel, else per channel); ValueError on a backend without it (:func:`voluntary_ahead_refusal`)."""
         self._refusal(refuse=True)
         with self._lock:

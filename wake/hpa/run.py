@@ -106,7 +106,8 @@ def voluntary_ahead_weights(outputs, voluntary_gt, n_taps: int, horizon: int, ri
     --------
     >>> import numpy as np
     >>> rows = np.column_stack((np.sin(np.arange(60) / 5.0), np.cos(np.arange(60) / 5.0)))
-    >>> truth = np.r_[np.zeros(6), np.sin(np.arange(57) / 5.0)]   # 4 taps: a(i) is sample i + 3; v(i + 6) = a_0(i)
+    >>> truth = np.r_[np.zeros(6), np.sin(np.arange(57) / 5.0)]   # 4 taps: a(i) is of sample i + 3
+    >>> # so with h = 3 the truth v(i + 6) is a_0(i)
     >>> np.round(voluntary_ahead_weights(rows, truth, 4, 3, 0.0, None, 0.0), 6).tolist()
     [1.0, 0.0]
     """
@@ -211,5 +212,5 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
     # the predictor learns from the estimate these weights will give from now on (docs/design.md, "Tremor
     # ahead": with the weights in use before this HPA, PADS at 100 ms came to 1.008 x zero after 5 s)
     ahead = tremor_ahead(x, outputs, w, tremor_gt, config, flag, previous_ahead, new_samples)
-    return HPAUpdate(index, cutoff, flag, w, measurement_noise, err, used, tuple(flags), weights_ahead=ahead_weights,
-                     **ahead)
+    return HPAUpdate(index, cutoff, flag, w, measurement_noise, err, used, tuple(flags),
+                     weights_ahead=ahead_weights, **ahead)

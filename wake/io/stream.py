@@ -39,7 +39,7 @@ import numpy as np
 
 from wake.sampling import rate_note
 from wake._files import silence_stdout
-from wake.io.writers import AHEAD_COLUMNS, ahead_columns
+from wake.io.writers import VOLUNTARY_AHEAD_COLUMN, ahead_columns
 
 __all__ = ["StreamProcessor", "StreamStop", "run_pipes", "run_lsl", "SWITCH_INTERVAL_S"]
 
@@ -76,6 +76,7 @@ class StreamProcessor:
         self.samples = 0
         self.bad = 0
         self.latencies = deque(maxlen=200_000)
+        self._voluntary_ahead = VOLUNTARY_AHEAD_COLUMN in ahead_columns(filt.config)  # answer_ahead's last column
 
     def answer(self, values):
         """``values`` (one per channel, NaN = missing) -> (voluntary, tremor) of this sample, at once.
@@ -111,8 +112,7 @@ class StreamProcessor:
         """
         voluntary, tremor = self.answer(values)
         self.advance()
-        made = len(ahead_columns(self.filt.config)) > len(AHEAD_COLUMNS)
-        ahead = (*self.filt.last_ahead, *((self.filt.last_voluntary_ahead,) if made else ()))
+        ahead = (*self.filt.last_ahead, *((self.filt.last_voluntary_ahead,) if self._voluntary_ahead else ()))
         return (voluntary, tremor, *(np.atleast_1d(np.asarray(a, dtype=float)) for a in ahead))
 
     def process(self, values):
