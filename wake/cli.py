@@ -250,6 +250,7 @@ def _stream_parser() -> argparse.ArgumentParser:
 def _cmd_stream(argv) -> int:
     """``wake stream``: WAKE on a live stream (:mod:`wake.io.stream`)."""
     from wake.io.stream import SWITCH_INTERVAL_S, StreamStop, run_lsl, run_pipes
+    from wake.target import voluntary_ahead_refusal
 
     args = _stream_parser().parse_args(argv)
     if args.stdin and args.fs is None:
@@ -268,7 +269,11 @@ def _cmd_stream(argv) -> int:
         horizon, said = horizon_setting(args, fs)
         if said and not quiet:
             log(f"wake stream: {said}")   # stdout carries the samples
-        return make_filter(args, fs, hpa_mode=args.hpa_mode, **horizon)
+        filt = make_filter(args, fs, hpa_mode=args.hpa_mode, **horizon)
+        why = voluntary_ahead_refusal(filt.horizon, filt.backend, filt.hpa_backend) if said else None
+        if why and not quiet:
+            log(f"wake stream: no voluntary_ahead column: {why}")
+        return filt
 
     if args.fs is not None or args.horizon_ms is None:   # an LSL rate is known only once the stream is found
         make(args.fs or 100.0, quiet=True).close()  # every filter setting checked before the stream starts
