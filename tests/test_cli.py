@@ -174,12 +174,30 @@ def test_run_with_a_horizon_writes_the_tremor_ahead_columns_and_says_the_roundin
                  "--backend", "reference"]) == 0
     assert "horizon: 24 ms at 100 Hz is 2 sample(s) (20 ms; rounded to the nearest sample)" in capsys.readouterr().out
     assert out.read_text().splitlines()[0] == ("time [s],a,a_voluntary,a_tremor,a_tremor_ahead,a_confidence,"
-                                               "a_command")
+                                               "a_command,a_voluntary_ahead")
     data = np.loadtxt(out, delimiter=",", skiprows=1)
     ref = WakeFilter(fs=100.0, horizon=2, backend="reference").run(data[:, 1])
     np.testing.assert_array_equal(data[:, 4], ref.tremor_ahead)
     np.testing.assert_array_equal(data[:, 6], ref.command)
     assert 0 < data[:, 5].max() <= 1
+    # the voluntary motion 2 samples ahead (w_h), not the one-step estimate held
+    np.testing.assert_array_equal(data[:, 7], ref.voluntary_ahead)
+    assert not np.array_equal(data[600:, 7], data[599:-1, 2])
+
+
+def test_run_on_the_c_core_with_a_horizon_says_why_there_is_no_voluntary_ahead_column(recording, tmp_path,
+                                                                                       capsys):
+    from support import NO_CORE, has_c_backend
+
+    if not has_c_backend():
+        pytest.skip(NO_CORE)
+    path, _ = recording
+    out = tmp_path / "out.csv"
+    assert main(["run", str(path), "--fs", "100", "--column", "0", "--out", str(out), "--horizon-ms", "50",
+                 "--backend", "c"]) == 0
+    said = capsys.readouterr().out
+    assert "no voluntary_ahead column: voluntary_ahead at horizon 5 needs backend='reference'" in said
+    assert out.read_text().splitlines()[0].endswith(",a_command")
 
 
 @pytest.mark.parametrize("ms", ["4", "330", "nan"])

@@ -109,6 +109,8 @@ class Channel:
         self.rtp.set_ahead(np.zeros(TAPS) if coefficients is None else coefficients,
                            installed_goal(upd.ahead_goal, notes))
         self.ahead_coefficients, self.ahead_index = coefficients, upd.index
+        # w_h, the voluntary motion ahead (horizon > 1); None keeps the one in use
+        self.rtp.set_weights_ahead(upd.weights_ahead)
         self.updates.append(replace(upd, applied_at=first_sample, flags=upd.flags + notes))
 
     def swap_if_ready(self, wait=False, first_sample=None):
@@ -123,22 +125,23 @@ class Channel:
     # -- samples -------------------------------------------------------------
     def process(self, x):
         """A block of samples continuing the stream: ``y[0, i]`` is what ``update(x[i])`` would return (the
-        prediction for the next sample), ``y[1:, i]`` the RTP's ``last_ahead`` then (predicted tremor at
-        ``n + h``, confidence, command); shape ``(4, n)``."""
+        prediction for the next sample), ``y[1:4, i]`` the RTP's ``last_ahead`` then (predicted tremor at
+        ``n + h``, confidence, command) and ``y[4, i]`` its ``last_voluntary_ahead`` (the voluntary motion
+        predicted for ``n + h``); shape ``(5, n)``."""
         n = x.shape[0]
-        y = np.empty((4, n))
+        y = np.empty((5, n))
         if self.config.hpa_mode == "thread":
             self.swap_if_ready(wait=True, first_sample=self.schedule.count + 1)
         start = 0
         for stop, window in self.schedule.block(x):
             # the HPA at this point runs before the RTP step of x[stop]
             if start < stop:
-                y[:, start:stop] = self.rtp.run_ahead(x[start:stop])
+                y[:, start:stop] = self.rtp.run_outputs(x[start:stop])
                 start = stop
             if window is not None:
                 self.hpa(window)
         if start < n:
-            y[:, start:] = self.rtp.run_ahead(x[start:])
+            y[:, start:] = self.rtp.run_outputs(x[start:])
         return y
 
     def update(self, sample: float, executor) -> float:

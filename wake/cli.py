@@ -124,6 +124,8 @@ def _cmd_demo(args) -> int:
 def _cmd_run(args) -> int:
     from wake._files import refuse_same_file
     from wake.io import write_result_csv
+    from wake.io.writers import ahead_columns
+    from wake.target import voluntary_ahead_refusal
     from wake.io.options import read_from_arguments
 
     if args.plot:
@@ -148,9 +150,13 @@ def _cmd_run(args) -> int:
     filt = make_filter(args, rec.fs, **horizon)
     res = filt.run(x if x.shape[1] > 1 else x[:, 0])
     if args.out:
-        rows = write_result_csv(args.out, rec, res, ahead=bool(horizon))
-        ahead = ", tremor_ahead, confidence, command" if horizon else ""
+        columns = ahead_columns(filt.config) if horizon else ()
+        rows = write_result_csv(args.out, rec, res, ahead=columns)
+        ahead = "".join(f", {name}" for name, _ in columns)
         print(f"wrote {rows} rows to {args.out} (time, then per channel: measurement, voluntary, tremor{ahead})")
+        why = voluntary_ahead_refusal(filt.horizon, filt.backend, filt.hpa_backend) if horizon else None
+        if why:
+            print(f"no voluntary_ahead column: {why}")
     cut = ", ".join(f"{c:.2f}" for c in res.mean_cutoff)
     print(f"{len(res.hpa[0])} HPA runs per channel, mean cut-off f_d = {cut} Hz, backend {res.backend}")
     print(rate_note(rec.fs))
@@ -244,6 +250,7 @@ def _stream_parser() -> argparse.ArgumentParser:
 def _cmd_stream(argv) -> int:
     """``wake stream``: WAKE on a live stream (:mod:`wake.io.stream`)."""
     from wake.io.stream import SWITCH_INTERVAL_S, StreamStop, run_lsl, run_pipes
+    from wake.target import voluntary_ahead_refusal
 
     args = _stream_parser().parse_args(argv)
     if args.stdin and args.fs is None:
@@ -262,7 +269,11 @@ def _cmd_stream(argv) -> int:
         horizon, said = horizon_setting(args, fs)
         if said and not quiet:
             log(f"wake stream: {said}")   # stdout carries the samples
-        return make_filter(args, fs, hpa_mode=args.hpa_mode, **horizon)
+        filt = make_filter(args, fs, hpa_mode=args.hpa_mode, **horizon)
+        why = voluntary_ahead_refusal(filt.horizon, filt.backend, filt.hpa_backend) if said else None
+        if why and not quiet:
+            log(f"wake stream: no voluntary_ahead column: {why}")
+        return filt
 
     if args.fs is not None or args.horizon_ms is None:   # an LSL rate is known only once the stream is found
         make(args.fs or 100.0, quiet=True).close()  # every filter setting checked before the stream starts

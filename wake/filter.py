@@ -4,14 +4,8 @@ This module schedules; it holds no number format and no backend internals.
 Each channel owns an RTP object (:mod:`wake.rtp`) and the samples the next
 HPA (:mod:`wake.hpa`) needs.
 
-Output contract (batch and streaming alike): every call answers a sample
-with the prediction of the voluntary motion at the *next* sample, so that
-
-``run(x).prediction == update_block(x) == [update(v) for v in x]``
-
-bit for bit, NaN marking a missing sample everywhere.
-:attr:`WakeResult.voluntary` is the same array shifted by one to line up
-with ``x`` (``voluntary[k]`` predicts ``x[k]`` from ``x[:k]``).
+Output contract: ``run(x).prediction == update_block(x) == [update(v) for v in x]`` bit for bit (the
+prediction of the next sample; NaN marks a missing one); :attr:`WakeResult.voluntary` is it shifted by one.
 """
 
 from __future__ import annotations
@@ -31,7 +25,7 @@ from wake.hpa.c_port import check_c_hpa_config
 from wake.result import WakeResult
 from wake.rtp import load_fixed_point
 from wake.state import STATE_VERSION, WakeState  # noqa: F401  (STATE_VERSION: the layout get_state writes)
-from wake.target import TARGET, PredictionTarget
+from wake.target import TARGET, PredictionTarget, voluntary_ahead_refusal
 from wake.wavelets import filter_bank_taps
 
 __all__ = ["WakeFilter", "WakeResult", "WakeState", "BACKENDS", "RateWarning", "TUNED_RATES"]
@@ -68,11 +62,9 @@ class WakeFilter:
     when the filter is garbage collected.  :attr:`hpa_history` keeps the
     newest ``hpa_history_limit`` updates per channel.
 
-    Output contract: :meth:`update`, :meth:`update_block` and
-    :attr:`WakeResult.prediction` of :meth:`run` all return, for each sample,
-    the prediction of the voluntary motion at the next sample; the three
-    agree bit for bit (``tests/test_streaming.py``).  NaN marks a missing
-    sample in all three.
+    Output contract: :meth:`update`, :meth:`update_block` and :attr:`WakeResult.prediction` of :meth:`run`
+    all return, per sample, the prediction of the voluntary motion at the next sample, bit for bit alike
+    (``tests/test_streaming.py``); NaN marks a missing sample in all three.
 
     Examples
     --------
@@ -152,7 +144,7 @@ class WakeFilter:
                 f"{self.config.window_samples} samples (window_s * fs = {self.config.window_s:g} s * "
                 f"{self.config.fs:g} Hz){transposed}")
         channels = self._new_channels(arr.shape[1], streaming=False)
-        out = np.stack([ch.process(arr[:, c]) for c, ch in enumerate(channels)], axis=-1)  # (4, n, channels)
+        out = np.stack([ch.process(arr[:, c]) for c, ch in enumerate(channels)], axis=-1)  # (5, n, channels)
         return self._result(arr, out, channels, one_d, _out_dtype(x))
 
     def _result(self, arr, out, channels, one_d, dtype):
@@ -164,7 +156,8 @@ class WakeFilter:
         res = WakeResult(cast(vol), cast(arr - vol), cast(pred), [list(ch.updates) for ch in channels],
                          self.config.window_samples, self.config.backend, rtp=[ch.rtp.core for ch in channels],
                          tremor_ahead=cast(ahead.voluntary_from(out[1])), confidence=cast(ahead.voluntary_from(out[2])),
-                         command=cast(ahead.voluntary_from(out[3])), horizon=self.config.horizon)
+                         command=cast(ahead.voluntary_from(out[3])), horizon=self.config.horizon,
+                         _voluntary_ahead=self._refusal() or cast(ahead.voluntary_from(out[4])))
         if self.config.backend == "c":
             rtps = [ch.rtp for ch in channels]
             res.full_scale = np.array([r.full_scale if r.full_scale is not None else np.nan for r in rtps])
@@ -234,12 +227,40 @@ class WakeFilter:
         gate's confidence and the gated command an actuator plays then (not shifted: :class:`WakeResult`
         aligns them to the sample they are for).
         """
+        return self._block(x)[:4]
+
+    def update_block_voluntary_ahead(self, x) -> tuple:
+        """``(prediction, voluntary_ahead)``, shaped like ``x``: row ``i`` is :attr:`last_voluntary_ahead` after it.
+
+        Examples
+        --------
+        >>> f = WakeFilter(backend="reference", horizon=5)
+        >>> pred, ahead = f.update_block_voluntary_ahead(np.sin(np.arange(800) / 30.0))
+        >>> bool(ahead[-1] == f.last_voluntary_ahead), bool(np.array_equal(ahead[:100], pred[:100]))  # held
+        (True, True)
+        """
+        self._refusal(refuse=True)
+        return self._block(x)[::4]
+
+    def _block(self, x) -> tuple:
         arr, one_d = as_signal(x, allow_nan=True)
         with self._lock:
             self._ensure_channels(arr.shape[1], "a block")
             out = np.stack([ch.process(arr[:, c]) for c, ch in enumerate(self._channels)], axis=-1)
         dtype = _out_dtype(x)
         return tuple((o[:, 0] if one_d else o).astype(dtype, copy=False) for o in out)
+
+    def _refusal(self, refuse: bool = False):
+        return voluntary_ahead_refusal(self.horizon, self.backend, self.hpa_backend, refuse=refuse)
+
+    @property
+    def last_voluntary_ahead(self):
+        """After :meth:`update`: the voluntary motion predicted ``horizon`` samples after the last sample (float
+        for one channel, else per channel); ValueError on a backend without it (:func:`voluntary_ahead_refusal`)."""
+        self._refusal(refuse=True)
+        with self._lock:
+            values = np.array([ch.rtp.last_voluntary_ahead for ch in (self._channels or [])])
+            return float(values[0]) if self._n_channels == 1 else values
 
     @property
     def last_ahead(self) -> tuple:

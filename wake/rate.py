@@ -135,11 +135,13 @@ class RateChannel:
 
     def process(self, x: np.ndarray) -> np.ndarray:
         """A block continuing the stream: ``y[0, i]`` is what :meth:`update` would return for ``x[i]``,
-        ``y[1:, i]`` the bank-rate RTP's ``last_ahead`` then; shape ``(4, n)`` as :meth:`Channel.process`."""
+        ``y[1:4, i]`` the bank-rate RTP's ``last_ahead`` then and ``y[4, i]`` its ``last_voluntary_ahead``;
+        shape ``(5, n)`` as :meth:`Channel.process`."""
         ends, groups = self.front_end.block(x)
-        out = np.empty((4, x.shape[0]))
+        out = np.empty((5, x.shape[0]))
         out[0] = self.held
-        out[1:] = np.asarray(self.rtp.last_ahead, dtype=float)[:, None]
+        out[1:4] = np.asarray(self.rtp.last_ahead, dtype=float)[:, None]
+        out[4] = self.rtp.last_voluntary_ahead
         if groups.size:
             rows = self.inner.process(groups)
             # what the bank-rate step gives at the end of a group holds until the end of the next one

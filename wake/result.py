@@ -22,6 +22,9 @@ class WakeResult:
     tremor at ``k`` predicted from ``x[:k - h + 1]`` (``h = horizon``; 0 for
     ``k < h``), ``confidence[k]`` the gate then and ``command[k]`` their
     product, what an actuator commanded ``h`` samples earlier plays at ``k``.
+    :attr:`voluntary_ahead` is the voluntary motion at ``k`` predicted from
+    ``x[:k - h + 1]`` by the HPA's second weight vector ``w_h``
+    (docs/design.md, "Voluntary motion at n + h").
     Arrays are float32 when the input was float32, float64 otherwise.
     """
 
@@ -40,6 +43,36 @@ class WakeResult:
     confidence: np.ndarray = field(default=None)  #: the gate in [0, 1] of that prediction
     command: np.ndarray = field(default=None)  #: confidence * tremor_ahead: what the actuator plays at k
     horizon: int = 1  #: h, samples ahead (WakeConfig.horizon)
+    #: the voluntary motion ahead, or why this filter cannot give it (read :attr:`voluntary_ahead`)
+    _voluntary_ahead: np.ndarray | str | None = field(default=None, repr=False)
+
+    @property
+    def voluntary_ahead(self) -> np.ndarray:
+        """The voluntary motion at ``k`` predicted ``h`` samples before (``w_h' (a + d)`` of the RTP after
+        sample ``k - h``; 0 for ``k < h``).
+
+        Until the first HPA fits ``w_h`` it is the one-step prediction held over ``h`` samples, and at
+        ``h = 1`` it equals :attr:`voluntary`.  ``ValueError`` on a backend that cannot produce it
+        (:func:`wake.target.voluntary_ahead_refusal`: the float reference and the Python HPA can).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from wake import WakeFilter
+        >>> t = np.arange(1500) / 100.0
+        >>> x = np.sin(2 * np.pi * 0.5 * t) + 0.2 * np.sin(2 * np.pi * 6 * t)
+        >>> res = WakeFilter(backend="reference", horizon=5).run(x)
+        >>> truth = np.sin(2 * np.pi * 0.5 * t)
+        >>> fitted = np.sqrt(np.mean((res.voluntary_ahead - truth)[500:] ** 2))
+        >>> held = np.sqrt(np.mean((np.r_[np.zeros(4), res.voluntary[:-4]] - truth)[500:] ** 2))
+        >>> bool(fitted < held)   # fitting ahead beats holding the one-step estimate 4 more samples
+        True
+        """
+        if isinstance(self._voluntary_ahead, str):
+            raise ValueError(self._voluntary_ahead)
+        if self._voluntary_ahead is None:
+            raise ValueError("this result holds no voluntary_ahead (it was not made by WakeFilter.run)")
+        return self._voluntary_ahead
 
     def tremor_stats(self, fs: float, tremor_band=(2.5, 15.0), x=None) -> list:
         """Per channel, the tremor of each HPA window (:func:`wake.hpa.characterise.tremor_table`).

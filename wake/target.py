@@ -5,11 +5,20 @@ the sample it predicts: the HPA's causal fit (:func:`wake.hpa.run_hpa`), the
 start-up prior (:func:`wake.hpa.prior.prior_weights`), the filter's output
 alignment (:attr:`wake.WakeResult.voluntary`) and the C HPA
 (``WAKE_HPA_HORIZON`` in csrc/wake_hpa.h, checked by
-:func:`wake.hpa.c_port.c_mirror_problems`).  Today ``horizon = 1``: every
-``update()`` answers with the prediction of the *next* sample, and the RTP's
-Kalman update compares each prediction with the sample that follows
-(csrc/wake_rtp.c, :mod:`wake.rtp.reference`), so a longer horizon needs
-that update and the C HPA's normal equations as well.
+:func:`wake.hpa.c_port.c_mirror_problems`).  The one-step target
+:data:`TARGET` has ``horizon = 1``: every ``update()`` answers with the
+prediction of the *next* sample, and the RTP's Kalman update compares each
+prediction with the sample that follows (csrc/wake_rtp.c,
+:mod:`wake.rtp.reference`).
+
+The voluntary motion ``h`` samples ahead (``WakeConfig.horizon = h > 1``,
+docs/design.md, "Voluntary motion at n + h") reads the same rule at another
+horizon: the HPA fits a second weight vector ``w_h`` on
+``PredictionTarget(h).fit_pairs`` (:func:`wake.hpa.run_hpa`), the RTP outputs
+``w_h' (a + d)`` from the state of its one-step prediction, and
+``PredictionTarget(h).voluntary_from`` aligns it to the sample it is for
+(:attr:`wake.WakeResult.voluntary_ahead`).  :func:`voluntary_ahead_refusal`
+says which backends produce it.
 
 Examples
 --------
@@ -26,7 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["PredictionTarget", "TARGET"]
+__all__ = ["PredictionTarget", "TARGET", "voluntary_ahead_refusal"]
 
 
 @dataclass(frozen=True)
@@ -54,3 +63,37 @@ class PredictionTarget:
 
 #: The target of every filter today (see the module docstring).
 TARGET = PredictionTarget(horizon=1)
+
+
+def voluntary_ahead_refusal(horizon: int, backend: str, hpa_backend: str = "python", *, refuse: bool = False):
+    """Why a filter cannot give the voluntary motion ``horizon`` samples ahead, or None when it can (with
+    ``refuse``, ``ValueError`` with that reason instead of returning it).
+
+    At ``horizon = 1`` it is the one-step ``voluntary`` on every backend.  Beyond, the second weight
+    vector ``w_h`` is fitted by the Python HPA only and run by the float reference RTP only: the C RTP
+    has no second weight vector and the C HPA does not fit one (docs/design.md, "Voluntary motion at
+    n + h").
+
+    Examples
+    --------
+    >>> voluntary_ahead_refusal(5, "reference") is None, voluntary_ahead_refusal(1, "c") is None
+    (True, True)
+    >>> print(voluntary_ahead_refusal(5, "c").split(" (")[0])
+    voluntary_ahead at horizon 5 needs backend='reference'
+    """
+    why = _why_no_voluntary_ahead(horizon, backend, hpa_backend)
+    if why is not None and refuse:
+        raise ValueError(why)
+    return why
+
+
+def _why_no_voluntary_ahead(horizon: int, backend: str, hpa_backend: str):
+    if horizon == 1:
+        return None
+    if backend != "reference":
+        return (f"voluntary_ahead at horizon {horizon} needs backend='reference' (the float RTP runs the second "
+                f"weight vector w_h; the C core has none), got backend={backend!r}")
+    if hpa_backend != "python":
+        return (f"voluntary_ahead at horizon {horizon} needs hpa_backend='python' (the Python HPA fits the "
+                f"second weight vector w_h; the C HPA does not), got hpa_backend={hpa_backend!r}")
+    return None

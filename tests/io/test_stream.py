@@ -224,15 +224,33 @@ def test_pipes_with_a_horizon_write_the_tremor_ahead_of_each_sample_as_run_align
     assert res.returncode == 0, res.stderr
     assert "horizon: 47 ms at 100 Hz is 5 sample(s) (50 ms; rounded to the nearest sample)" in res.stderr
     out = res.stdout.splitlines()
-    assert out[0] == ("ch0_voluntary,ch1_voluntary,ch0_tremor,ch1_tremor,ch0_tremor_ahead,ch1_tremor_ahead,"
-                      "ch0_confidence,ch1_confidence,ch0_command,ch1_command")
-    got = np.array([[float(v) for v in line.split(",")] for line in out[1:]])
     ref = WakeFilter(fs=FS, horizon=5).run(x)
+    # the default backend: on the C core no voluntary_ahead column (wake.io.writers.ahead_columns)
+    tail = ",ch0_voluntary_ahead,ch1_voluntary_ahead" if ref.backend == "reference" else ""
+    assert ("no voluntary_ahead column: voluntary_ahead at horizon 5 needs backend='reference'" in res.stderr) \
+        == (ref.backend == "c")
+    assert out[0] == ("ch0_voluntary,ch1_voluntary,ch0_tremor,ch1_tremor,ch0_tremor_ahead,ch1_tremor_ahead,"
+                      "ch0_confidence,ch1_confidence,ch0_command,ch1_command" + tail)
+    got = np.array([[float(v) for v in line.split(",")] for line in out[1:]])
     np.testing.assert_array_equal(got[:, :2], ref.voluntary)
     # the line of sample n carries what the filter predicts for n + 5: run() aligns it 5 rows later
     for i, name in enumerate(("tremor_ahead", "confidence", "command")):
         np.testing.assert_array_equal(got[:-5, 4 + 2 * i:6 + 2 * i], getattr(ref, name)[5:])
     assert got[:, 6:8].max() > 0.3
+
+
+def test_pipes_with_a_horizon_on_the_reference_write_the_voluntary_motion_ahead_as_run_aligns_it(signal3):
+    x = signal3[:, :1]
+    res = stream(["--stdin", "--stdout", "--fs", "100", "--hpa-mode", "inline", "--header", "--horizon-ms", "50",
+                  "--backend", "reference"], lines_of(x))
+    assert res.returncode == 0, res.stderr
+    out = res.stdout.splitlines()
+    assert out[0] == "ch0_voluntary,ch0_tremor,ch0_tremor_ahead,ch0_confidence,ch0_command,ch0_voluntary_ahead"
+    got = np.array([[float(v) for v in line.split(",")] for line in out[1:]])
+    ref = WakeFilter(fs=FS, horizon=5, backend="reference").run(x[:, 0])
+    # the line of sample n carries the voluntary motion predicted for n + 5: run() aligns it 5 rows later
+    np.testing.assert_array_equal(got[:-5, 5], ref.voluntary_ahead[5:])
+    assert not np.array_equal(ref.voluntary_ahead[600:], ref.voluntary[596:-4])   # w_h, not v held
 
 
 def test_a_horizon_outside_1_to_32_samples_is_refused_before_reading():

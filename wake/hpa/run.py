@@ -29,13 +29,13 @@ import numpy as np
 from wake.ahead import TAPS, fit_predictor, gate_target, held_out_gain
 from wake.config import WakeConfig
 from wake.hpa.cutoff import find_cutoff
-from wake.target import TARGET
+from wake.target import TARGET, PredictionTarget
 from wake.hpa.fit import default_weights, fit_weights
 from wake.hpa.sharp import detrended_highpass
 from wake.hpa.spectrum import ar_psd, window_order
 from wake.wavelets import filter_bank_outputs, filter_bank_taps, wavelet_approximations
 
-__all__ = ["HPAUpdate", "run_hpa", "tremor_ahead"]
+__all__ = ["HPAUpdate", "run_hpa", "tremor_ahead", "voluntary_ahead_weights"]
 
 @dataclass(frozen=True)
 class HPAUpdate:
@@ -53,6 +53,9 @@ class HPAUpdate:
     ahead_coefficients: np.ndarray | None = None  #: the tremor-ahead predictor, shape (8,) (wake.ahead); None: none
     ahead_gain: float = 0.0  #: the held-out gain of the previous predictor on the samples new since its HPA
     ahead_goal: float = 0.0  #: the gate's goal (the gain, 0 without a tremor peak)
+    #: w_h, the weights of the voluntary motion ``horizon`` samples ahead, shape (J,) (horizon > 1, the fit
+    #: installed); None: the RTP keeps the w_h it has (the one-step prediction held before the first)
+    weights_ahead: np.ndarray | None = None
 
 
 #: Pull of a warm-up fit towards the start-up weights: shrink = WARMUP_SHRINK * (L - n) / L
@@ -89,6 +92,29 @@ def tremor_ahead(x, outputs, weights, tremor_gt, config: WakeConfig, flag: str, 
     gain = held_out_gain(estimate, truth, previous_ahead, config.horizon, new_samples)
     return dict(ahead_coefficients=fit_predictor(estimate, truth, config.horizon), ahead_gain=gain,
                 ahead_goal=gate_target(gain, flag))
+
+
+def voluntary_ahead_weights(outputs, voluntary_gt, n_taps: int, horizon: int, ridge: float, start_weights,
+                            shrink: float):
+    """``w_h``: the weights of the voluntary motion ``horizon`` samples ahead (None at ``horizon = 1``).
+
+    The one-step fit (:func:`wake.hpa.fit.fit_weights`, the same ridge, weight limit and warm-up pull) on
+    ``PredictionTarget(horizon).fit_pairs``: the filter-bank outputs ``a(k)`` against the voluntary ground
+    truth ``v(k + horizon)`` of the same window (docs/design.md, "Voluntary motion at n + h").
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rows = np.column_stack((np.sin(np.arange(60) / 5.0), np.cos(np.arange(60) / 5.0)))
+    >>> truth = np.r_[np.zeros(6), np.sin(np.arange(57) / 5.0)]   # 4 taps: a(i) is of sample i + 3
+    >>> # so with h = 3 the truth v(i + 6) is a_0(i)
+    >>> np.round(voluntary_ahead_weights(rows, truth, 4, 3, 0.0, None, 0.0), 6).tolist()
+    [1.0, 0.0]
+    """
+    if horizon == 1:
+        return None
+    approx, target = PredictionTarget(horizon).fit_pairs(outputs, voluntary_gt, n_taps)
+    return fit_weights(approx, target, ridge, center=start_weights, shrink=shrink)[0]
 
 
 def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, index: int = 0,
@@ -172,13 +198,19 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
     L = config.window_samples
     shrink = WARMUP_SHRINK * (L - x.size) / L if (start_weights is not None and x.size < L) else 0.0
     w, err, used = fit_weights(approx, target, ridge, center=start_weights, shrink=shrink)
+    ahead_weights = None
     if used > ridge:
         flags.append("regularised")
     if x.size < clean_only_below(config) and flag not in CLEAN_FLAGS:
         # a short warm-up window without a clean valley: its fit is not installed
         w = np.array(previous_weights, dtype=float) if previous_weights is not None else default_weights(level)
         flags.append("weights_kept")
+    else:
+        # the voluntary motion h samples ahead, fitted by the same rules (None at h = 1 and when kept)
+        ahead_weights = voluntary_ahead_weights(outputs, voluntary_gt, taps.shape[1], config.horizon, ridge,
+                                                start_weights, shrink)
     # the predictor learns from the estimate these weights will give from now on (docs/design.md, "Tremor
     # ahead": with the weights in use before this HPA, PADS at 100 ms came to 1.008 x zero after 5 s)
     ahead = tremor_ahead(x, outputs, w, tremor_gt, config, flag, previous_ahead, new_samples)
-    return HPAUpdate(index, cutoff, flag, w, measurement_noise, err, used, tuple(flags), **ahead)
+    return HPAUpdate(index, cutoff, flag, w, measurement_noise, err, used, tuple(flags),
+                     weights_ahead=ahead_weights, **ahead)

@@ -13,18 +13,14 @@ Every input sample gets exactly one output sample, in order:
   ``2 x channels`` values with the input's timestamps and channel labels.
   Needs the optional ``pylsl`` (``pip install pylsl``, or ``pip install ".[lsl]"`` in a source tree).
 
-Output per input sample ``x(n)``: the voluntary motion ``v(n)`` (predicted
-from the samples before ``n``: what :meth:`WakeFilter.run` gives as
-``voluntary[n]``), then the tremor ``x(n) - v(n)``: all voluntary values
-first, then all tremor values.  With ``--hpa-mode inline`` the output equals
-``WakeFilter.run`` on the same data bit for bit; the default ``thread`` keeps
-the HPA off the sample path, so its weights take effect a few samples later
-(``docs/design.md``, "Streaming").
+Output per input sample ``x(n)``: the voluntary motion ``v(n)`` (predicted from the samples before ``n``:
+``WakeFilter.run``'s ``voluntary[n]``), then the tremor ``x(n) - v(n)``: all voluntary values first, then
+all tremor values (with ``--horizon-ms`` the ahead columns after them, :func:`_kinds`).  With ``--hpa-mode
+inline`` the output equals ``WakeFilter.run`` bit for bit; the default ``thread`` keeps the HPA off the
+sample path, so its weights take effect a few samples later (``docs/design.md``, "Streaming").
 
-Since ``v(n)`` is known before ``x(n)`` arrives, a sample's output line is
-written first and the filter takes the sample in afterwards, while the stream
-waits for the next one: the filter's work is not on the sample-in ->
-result-out path.
+Since ``v(n)`` is known before ``x(n)`` arrives, a sample's output line is written first and the filter
+takes the sample in afterwards: the filter's work is not on the sample-in -> result-out path.
 
 Ctrl-C, SIGTERM or the end of the input stop the stream cleanly: every sample
 read has its output written, and a summary goes to stderr.
@@ -43,6 +39,7 @@ import numpy as np
 
 from wake.sampling import rate_note
 from wake._files import silence_stdout
+from wake.io.writers import VOLUNTARY_AHEAD_COLUMN, ahead_columns
 
 __all__ = ["StreamProcessor", "StreamStop", "run_pipes", "run_lsl", "SWITCH_INTERVAL_S"]
 
@@ -79,6 +76,7 @@ class StreamProcessor:
         self.samples = 0
         self.bad = 0
         self.latencies = deque(maxlen=200_000)
+        self._voluntary_ahead = VOLUNTARY_AHEAD_COLUMN in ahead_columns(filt.config)  # answer_ahead's last column
 
     def answer(self, values):
         """``values`` (one per channel, NaN = missing) -> (voluntary, tremor) of this sample, at once.
@@ -106,14 +104,16 @@ class StreamProcessor:
 
     def answer_ahead(self, values):
         """:meth:`answer`, then :meth:`advance` at once, and the tremor ahead the filter made of this sample:
-        ``(voluntary, tremor, tremor_ahead, confidence, command)``, one array each (one value per channel).
+        ``(voluntary, tremor, tremor_ahead, confidence, command)`` and ``voluntary_ahead`` when the filter
+        makes it (:func:`wake.io.writers.ahead_columns`), one array each (one value per channel).
 
-        The last three are for ``horizon`` samples after this one (:attr:`wake.WakeFilter.last_ahead`), so
-        the filter's ``update()`` runs before the answer: on the sample path, unlike :meth:`answer`.
+        The ahead ones are for ``horizon`` samples after this one (:attr:`wake.WakeFilter.last_ahead`,
+        ``last_voluntary_ahead``): the filter's ``update()`` runs before the answer, unlike :meth:`answer`.
         """
         voluntary, tremor = self.answer(values)
         self.advance()
-        return (voluntary, tremor, *(np.atleast_1d(np.asarray(a, dtype=float)) for a in self.filt.last_ahead))
+        ahead = (*self.filt.last_ahead, *((self.filt.last_voluntary_ahead,) if self._voluntary_ahead else ()))
+        return (voluntary, tremor, *(np.atleast_1d(np.asarray(a, dtype=float)) for a in ahead))
 
     def process(self, values):
         """:meth:`answer` and :meth:`advance` in one call."""
@@ -249,7 +249,7 @@ def _pipe_loop(args, stop, log, filt, fin, fout) -> int:
                 names = names or [f"ch{i}" for i in range(n_ch)]
                 proc = StreamProcessor(filt, names)
                 if args.header:
-                    head = (["time"] if args.timestamps else []) + [f"{c}_{kind}" for kind in _kinds(args)
+                    head = (["time"] if args.timestamps else []) + [f"{c}_{kind}" for kind in _kinds(args, filt)
                                                                     for c in names]
                     fout.write(",".join(head) + "\n")
             stamp = values[:1] if args.timestamps else []
@@ -268,11 +268,11 @@ def _pipe_loop(args, stop, log, filt, fin, fout) -> int:
     return 0
 
 
-def _kinds(args) -> tuple:
-    """The output columns of each channel, in order: voluntary and tremor, and the tremor ahead with
-    ``--horizon-ms``."""
+def _kinds(args, filt) -> tuple:
+    """The output columns of each channel, in order: voluntary and tremor, and with ``--horizon-ms`` the
+    tremor ahead and the voluntary motion ahead when ``filt`` makes it (:func:`ahead_columns`)."""
     ahead = getattr(args, "horizon_ms", None) is not None
-    return ("voluntary", "tremor") + (("tremor_ahead", "confidence", "command") if ahead else ())
+    return ("voluntary", "tremor") + (tuple(name for name, _ in ahead_columns(filt.config)) if ahead else ())
 
 
 def _answer(proc, args, values) -> tuple:
@@ -353,7 +353,8 @@ def run_lsl(args, make_filter, stop, log) -> int:
         log(f"wake stream: error: LSL stream {args.lsl_in!r} has an irregular rate; give the rate with --fs HZ")
         return 2
     labels, units = _lsl_labels(info, n_ch)
-    kinds = _kinds(args)
+    filt = make_filter(fs)
+    kinds = _kinds(args, filt)
     out_info = pylsl.StreamInfo(args.lsl_out, "WAKE", len(kinds) * n_ch, fs, pylsl.cf_double64,
                                 f"wake-{info.source_id()}")
     chans = out_info.desc().append_child("channels")
@@ -364,7 +365,7 @@ def run_lsl(args, make_filter, stop, log) -> int:
             c.append_child_value("unit", "" if kind == "confidence" else unit)
             c.append_child_value("type", kind)
     out_info.desc().append_child_value("source", f"wake stream from {args.lsl_in}")
-    proc = StreamProcessor(make_filter(fs), labels)
+    proc = StreamProcessor(filt, labels)
     _ready(proc.filt)
     outlet = pylsl.StreamOutlet(out_info)  # visible only once the filter is ready for the first sample
     log(f"wake stream: {args.lsl_in} ({n_ch} channels at {fs:g} Hz) -> {args.lsl_out}")

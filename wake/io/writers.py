@@ -7,7 +7,9 @@ voluntary motion (predicted for that sample from the samples before it) and
 the tremor (measurement minus voluntary); with ``ahead=True`` three more: the
 tremor at that sample predicted ``horizon`` samples before, the confidence
 then and the gated command (:class:`~wake.WakeResult`'s ``tremor_ahead``,
-``confidence`` and ``command``).
+``confidence`` and ``command``), and the voluntary motion at that sample
+predicted ``horizon`` samples before (``voluntary_ahead``) when the filter
+makes it (:func:`ahead_columns`).
 
 Every value is written with 17 significant digits (``%.17g``), enough for
 a double to read back as the same double: the file holds the filter's
@@ -21,8 +23,10 @@ import io
 import numpy as np
 
 from wake._files import atomic_write_text
+from wake.target import voluntary_ahead_refusal
 
-__all__ = ["EXACT_FORMAT", "TREMOR_COLUMNS", "result_columns", "write_result_csv", "write_tremor_csv"]
+__all__ = ["EXACT_FORMAT", "TREMOR_COLUMNS", "ahead_columns", "result_columns", "write_result_csv",
+           "write_tremor_csv"]
 
 #: printf format with which a float64 reads back bit for bit (17 significant digits).
 EXACT_FORMAT = "%.17g"
@@ -35,20 +39,42 @@ def _label(name: str, unit: str) -> str:
 #: The tremor-ahead columns of each channel (with ``ahead=True``): the result's attribute and the suffix.
 AHEAD_COLUMNS = (("tremor_ahead", True), ("confidence", False), ("command", True))
 
+#: The voluntary motion ahead (:attr:`wake.WakeResult.voluntary_ahead`), after them when the filter makes it.
+VOLUNTARY_AHEAD_COLUMN = ("voluntary_ahead", True)
 
-def result_columns(channels, units=(), ahead: bool = False) -> list[str]:
+
+def ahead_columns(config) -> tuple:
+    """The ahead columns of each channel of a filter with ``config`` (``(name, has_unit)`` pairs):
+    :data:`AHEAD_COLUMNS`, then :data:`VOLUNTARY_AHEAD_COLUMN` unless
+    :func:`wake.target.voluntary_ahead_refusal` refuses it (a C backend at a horizon above 1).
+
+    Examples
+    --------
+    >>> from wake import WakeConfig
+    >>> [name for name, _ in ahead_columns(WakeConfig(backend="reference", horizon=5))]
+    ['tremor_ahead', 'confidence', 'command', 'voluntary_ahead']
+    """
+    made = voluntary_ahead_refusal(config.horizon, config.backend, config.hpa_backend) is None
+    return AHEAD_COLUMNS + ((VOLUNTARY_AHEAD_COLUMN,) if made else ())
+
+
+def _ahead(ahead) -> tuple:
+    return AHEAD_COLUMNS if ahead is True else tuple(ahead or ())
+
+
+def result_columns(channels, units=(), ahead=False) -> list[str]:
     """Header cells: ``time [s]``, then per channel ``c``, ``c_voluntary``, ``c_tremor`` (with units), and
-    with ``ahead`` ``c_tremor_ahead``, ``c_confidence`` (no unit), ``c_command``."""
+    with ``ahead`` ``c_tremor_ahead``, ``c_confidence`` (no unit), ``c_command`` (``ahead=True``), or the
+    columns ``ahead`` names (:func:`ahead_columns`)."""
     cells = ["time [s]"]
     for i, c in enumerate(channels):
         unit = units[i] if i < len(units) else ""
         cells += [_label(c, unit), _label(f"{c}_voluntary", unit), _label(f"{c}_tremor", unit)]
-        if ahead:
-            cells += [_label(f"{c}_{name}", unit if has_unit else "") for name, has_unit in AHEAD_COLUMNS]
+        cells += [_label(f"{c}_{name}", unit if has_unit else "") for name, has_unit in _ahead(ahead)]
     return cells
 
 
-def write_result_csv(path, recording, result, ahead: bool = False) -> int:
+def write_result_csv(path, recording, result, ahead=False) -> int:
     """Write ``recording`` and the :class:`~wake.filter.WakeResult` of it; returns the rows written.
 
     Written atomically: a crash leaves the old file or none, never half of one.
@@ -60,7 +86,7 @@ def write_result_csv(path, recording, result, ahead: bool = False) -> int:
     if vol.shape != (n, k):
         raise ValueError(f"the result has shape {vol.shape}, the recording {x.shape}")
     cols = [recording.time]
-    extra = [np.reshape(getattr(result, name), (n, -1)) for name, _ in AHEAD_COLUMNS] if ahead else []
+    extra = [np.reshape(getattr(result, name), (n, -1)) for name, _ in _ahead(ahead)]
     for c in range(k):
         cols += [x[:, c], vol[:, c], trem[:, c]] + [e[:, c] for e in extra]
     buf = io.StringIO()

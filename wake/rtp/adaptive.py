@@ -76,6 +76,11 @@ class AdaptiveRTP:
     reference's :class:`~wake.ahead.AheadStep`, then the C core's fixed-point twin, which
     ``FixedPointRTP.from_reference`` carries it into at the switch.
 
+    The voluntary motion ahead (:meth:`set_weights_ahead`, :attr:`last_voluntary_ahead`, :meth:`run_outputs`)
+    runs in the float reference only; the C core has no second weight vector, and once it runs the column is
+    its one-step prediction held (what it has; :func:`wake.target.voluntary_ahead_refusal` keeps a filter
+    from surfacing it at a horizon above 1).
+
     Examples
     --------
     >>> from wake.wavelets import filter_bank_taps
@@ -124,11 +129,25 @@ class AdaptiveRTP:
         """Install a tremor-ahead predictor and gate goal (the delay line and the gate carry over)."""
         self.core.set_ahead(coefficients, goal)
 
+    @property
+    def last_voluntary_ahead(self) -> float:
+        """The voluntary motion predicted ``h`` samples ahead after the last sample (on the C core: the
+        one-step prediction, held)."""
+        if not self.on_c:
+            return self.core.last_voluntary_ahead
+        return float(getattr(self, "last_prediction", self.core.last_output))   # what step / run returned last
+
+    def set_weights_ahead(self, weights_ahead) -> None:
+        """Install ``w_h`` in the float reference (None: keep the one it has); the C core has no ``w_h``."""
+        if weights_ahead is not None and not self.on_c:
+            self.core.set_weights_ahead(weights_ahead)
+
     def step(self, sample: float) -> float:
         """One sample (NaN: missing) through the overflow rule and the RTP; the prediction of the next."""
         if sample != sample:
             self.over_run = 0
-            return self.core.step_missing()
+            self.last_prediction = self.core.step_missing()
+            return self.last_prediction
         if self.on_c and self.fixed_full_scale is None:   # the full scale follows the signal
             if abs(sample) > self.full_scale:
                 self.over_run += 1
@@ -137,7 +156,8 @@ class AdaptiveRTP:
                     self._raise(self.over_peak)
             else:
                 self.over_run, self.over_peak = 0, 0.0
-        return self.core.step(sample)
+        self.last_prediction = self.core.step(sample)
+        return self.last_prediction
 
     def step_missing(self) -> float:
         """A missing sample: the RTP predicts through it (:meth:`step` of NaN)."""
@@ -153,15 +173,29 @@ class AdaptiveRTP:
         out = self._run(x)
         return tuple(out[:, i].copy() for i in range(4))
 
+    def run_outputs(self, x) -> np.ndarray:
+        """``(5, n)``: :meth:`run_ahead`'s four rows and :attr:`last_voluntary_ahead` after each sample."""
+        return self._run(x).T.copy()
+
     def _core_run(self, x) -> np.ndarray:
-        """``(n, 4)``: the core's voluntary outputs and tremor ahead over ``x`` (no full-scale move)."""
-        return np.column_stack(self.core.run_ahead(x))
+        """``(n, 5)``: the core's voluntary outputs, tremor ahead and voluntary motion ahead over ``x`` (no
+        full-scale move; on the C core the one-step prediction stands for the voluntary motion ahead)."""
+        if self.on_c:
+            out = self.core.run_ahead(x)
+            return np.column_stack((*out, out[0]))
+        return np.column_stack(self.core.run_outputs(x))
 
     def _run(self, x) -> np.ndarray:
+        y = self._run_block(x)
+        if y.shape[0]:
+            self.last_prediction = float(y[-1, 0])
+        return y
+
+    def _run_block(self, x) -> np.ndarray:
         if not (self.on_c and self.fixed_full_scale is None):
             return self._core_run(x)
         n = x.shape[0]
-        y = np.empty((n, 4))
+        y = np.empty((n, 5))
         start = 0
         while start < n:
             k, run = first_persistent_overflow(x[start:], self.full_scale, self.over_run)
@@ -274,6 +308,7 @@ class AdaptiveRTP:
         self.policy.quiet_windows = state.quiet_windows
         self.full_scale_changes, self.clipped_before = state.full_scale_changes, state.clipped_before
         self.over_run, self.over_peak = state.over_run, state.over_peak
+        self.__dict__.pop("last_prediction", None)   # not in the state: the core's last output stands in
         # a state saved before the tremor ahead existed: it starts with no predictor, the gate shut
         if not self.on_c and not hasattr(self.core, "ahead"):
             self.core.start_ahead(self.fs)

@@ -16,6 +16,7 @@ The per-sample recursion (docs/design.md maps each line onto the paper)::
     P      = P - u u' / S + Q I                  eq. (P(k|k)), then the F = I prediction
     a      = B m_J(n)                            J-level filter bank
     y(n)   = w' (a + d)                          predicted voluntary motion at n + 1
+    v_h(n) = w_h' (a + d)                        predicted voluntary motion at n + h (horizon h > 1)
 
 and beside it the tremor ahead (:class:`wake.ahead.AheadStep`, in attribute
 ``ahead``): the newest tremor estimate ``e(n) = m(n) - y(n-1)`` (0 for the
@@ -23,6 +24,12 @@ first sample and for a missing one) enters an 8-long delay line, ``P(n)`` is
 the tremor predicted for ``n + h``, the gate ramps towards the goal the HPA
 set (:meth:`ReferenceRTP.set_ahead`), and ``last_ahead`` holds
 ``(P(n), gate, gate * P(n))``.  The voluntary output does not read it.
+
+The voluntary motion ahead reads the state of the one-step prediction through
+a second weight vector ``w_h`` (:meth:`ReferenceRTP.set_weights_ahead`, from
+the HPA): ``last_voluntary_ahead`` is ``w_h' (a + d)``, and ``y(n)`` itself
+until a ``w_h`` is installed (the one-step prediction held).  The Kalman
+update reads ``w`` only, so ``y`` is the same with or without ``w_h``.
 
 The Kalman state is ``x = a + d``: the filter-bank approximations ``a`` (the
 paper's state, eq. KFState) plus a correction ``d`` that the scalar
@@ -105,6 +112,7 @@ class ReferenceRTP:
         self.measurement_noise = 1.0
         self.process_noise = 0.0
         self.set_weights(weights, measurement_noise, process_noise)
+        self.weights_ahead = None
         self.start_ahead(fs)
         self.reset()
 
@@ -145,6 +153,22 @@ class ReferenceRTP:
         """
         self.ahead.set_model(*check_model(coefficients, goal))
 
+    def set_weights_ahead(self, weights_ahead):
+        """Install ``w_h``, the weights of the voluntary motion ``h`` samples ahead (None: hold ``y``)."""
+        if weights_ahead is None:
+            self.weights_ahead = None
+            return
+        w = np.array(weights_ahead, dtype=float).reshape(-1)
+        if w.shape != (self.level,) or not np.isfinite(w).all():
+            raise ValueError(f"weights_ahead must be {self.level} finite numbers or None, got {weights_ahead!r}")
+        self.weights_ahead = w
+
+    @property
+    def last_voluntary_ahead(self) -> float:
+        """``w_h' (a + d)`` after the last sample: the voluntary motion predicted ``h`` samples ahead (the
+        one-step prediction while no ``w_h`` is installed)."""
+        return getattr(self, "_last_voluntary_ahead", self.last_output)
+
     @property
     def last_ahead(self):
         """``(predicted, confidence, command)`` after the last sample: the tremor predicted for ``n + h``,
@@ -165,6 +189,7 @@ class ReferenceRTP:
         self.head = 0                      # index of the oldest sample
         self.primed = False
         self.last_output = 0.0
+        self._last_voluntary_ahead = 0.0
         self.correction = np.zeros(self.level)
         self.covariance = self.initial_covariance * np.eye(self.level).reshape(-1)
         self.ahead.history[:] = 0.0
@@ -207,8 +232,12 @@ class ReferenceRTP:
 
     def _predict(self):
         # y = w' (a + d)
-        y = float(_weighted_sum(self.weights, self._filter_bank() + self.correction))
+        state = self._filter_bank() + self.correction
+        y = float(_weighted_sum(self.weights, state))
         self.last_output = y
+        # v_h = w_h' (a + d)   (y while no w_h is installed)
+        w_h = getattr(self, "weights_ahead", None)
+        self._last_voluntary_ahead = y if w_h is None else float(_weighted_sum(w_h, state))
         return y
 
     def step(self, sample):
@@ -254,44 +283,57 @@ class ReferenceRTP:
         """
         return self._run(np.asarray(samples, dtype=float).reshape(-1))[0]
 
+    def run_outputs(self, samples):
+        """:meth:`run_ahead` and the voluntary motion ahead: ``(voluntary, predicted, confidence, command,
+        voluntary_ahead)``, the last :attr:`last_voluntary_ahead` after each sample (bit for bit a loop of
+        :meth:`step` / :meth:`step_missing`)."""
+        out, ahead, vol_ahead = self._run(np.asarray(samples, dtype=float).reshape(-1))
+        return out, ahead[:, 0].copy(), ahead[:, 1].copy(), ahead[:, 2].copy(), vol_ahead
+
     def run_ahead(self, samples):
         """:meth:`run` with the tremor ahead: ``(voluntary, predicted, confidence, command)``, four arrays.
 
         ``voluntary`` is what :meth:`run` returns; the other three are :attr:`last_ahead` after each
         sample, bit for bit what a loop of :meth:`step` / :meth:`step_missing` gives.
         """
-        out, ahead = self._run(np.asarray(samples, dtype=float).reshape(-1))
+        out, ahead, _ = self._run(np.asarray(samples, dtype=float).reshape(-1))
         return out, ahead[:, 0].copy(), ahead[:, 1].copy(), ahead[:, 2].copy()
 
     def _run(self, x):
-        """The voluntary predictions and the ``(n, 3)`` tremor-ahead outputs of block ``x``."""
+        """The voluntary predictions, the ``(n, 3)`` tremor-ahead outputs and the voluntary motion ahead of
+        block ``x``."""
         n = x.shape[0]
         out = np.empty(n)
         ahead = np.empty((n, 3))
+        vol_ahead = np.empty(n)
         if n == 0:
-            return out, ahead
+            return out, ahead, vol_ahead
         if np.isnan(x).any() or not self.primed:
             # Gaps and the priming sample change the window itself: go sample by sample.
             k = 0
             while k < n and (not self.primed or np.isnan(x[k])):
                 out[k] = self.step_missing() if np.isnan(x[k]) else self.step(x[k])
                 ahead[k] = self._last_ahead
+                vol_ahead[k] = self.last_voluntary_ahead
                 k += 1
             if k < n:
                 nan_at = np.flatnonzero(np.isnan(x[k:]))
                 stop = k + (nan_at[0] if nan_at.size else n - k)
-                out[k:stop], ahead[k:stop] = self._run(x[k:stop])
+                out[k:stop], ahead[k:stop], vol_ahead[k:stop] = self._run(x[k:stop])
                 if stop < n:
-                    out[stop:], ahead[stop:] = self._run(x[stop:])
-            return out, ahead
+                    out[stop:], ahead[stop:], vol_ahead[stop:] = self._run(x[stop:])
+            return out, ahead, vol_ahead
         before = self.last_output
         N = self.n_taps
         history = np.concatenate((self.buffer[self.head :], self.buffer[: self.head], x))
         approx = _filter_bank(np.lib.stride_tricks.sliding_window_view(history[1:], N), self.taps)
         w = self.weights
+        w_h = getattr(self, "weights_ahead", None)
         inert = self.process_noise == 0.0 and not self.covariance.any()
         if inert:
-            out[:] = _weighted_sum(w, (approx + self.correction).T)
+            state = (approx + self.correction).T
+            out[:] = _weighted_sum(w, state)
+            vol_ahead[:] = out if w_h is None else _weighted_sum(w_h, state)
         else:
             P = self.covariance.reshape(self.level, self.level)
             d = self.correction
@@ -304,12 +346,15 @@ class ReferenceRTP:
                 d += u * ((x[k] - y_prev) / s)
                 P -= np.outer(u, u) / s
                 P[diag, diag] += q
-                y_prev = float(_weighted_sum(w, approx[k] + d))
+                state = approx[k] + d
+                y_prev = float(_weighted_sum(w, state))
                 out[k] = y_prev
+                vol_ahead[k] = y_prev if w_h is None else float(_weighted_sum(w_h, state))
         tail = history[-N:]
         self.buffer[:] = tail
         self.head = 0
         self.last_output = float(out[-1])
+        self._last_voluntary_ahead = float(vol_ahead[-1])
         # e(n) = m(n) - y(n-1), the same subtraction as step(); the delay line and the gate go sample by
         # sample, through the one step of wake.ahead
         estimates = x - np.concatenate(([before], out[:-1]))
@@ -317,4 +362,4 @@ class ReferenceRTP:
         for k, e in enumerate(estimates.tolist()):
             ahead[k] = step(e)
         self._last_ahead = tuple(ahead[-1].tolist())
-        return out, ahead
+        return out, ahead, vol_ahead
