@@ -143,7 +143,8 @@ static inline unsigned chunk_end(unsigned t, unsigned step, unsigned limit)
  * its budget is its fixed entry cost (the instance check, about 250).
  */
 #define COST_PIECE 60
-#define COST_SUM 22
+/** One sample of the sums pass; with the tremor ahead also its full-scale count (3 instructions). */
+#define COST_SUM (22 + 3 * WAKE_HPA_AHEAD)
 #define COST_LAG 5
 #define COST_DFT1 11
 #define COST_DFT2 16
@@ -801,7 +802,12 @@ static int32_t step_sums(wake_hpa_t *h, int32_t budget)
         lo = v < lo ? v : lo;
         hi = v > hi ? v : hi;
 #if WAKE_HPA_AHEAD
-        rail += (v == INT16_MAX || v == INT16_MIN) ? 1u : 0u;   /* at full scale: clipped, or on the rail */
+        {
+            /* at full scale (INT16_MAX or INT16_MIN: clipped, or on the rail): u ^ (all ones when v < 0) is
+               |v| for v >= 0 and |v| - 1 for v < 0, in 0..32767, and 32767 only there; + 1 reaches 2^15 */
+            const uint32_t u = (uint32_t)(int32_t)v;
+            rail += ((u ^ (0u - (u >> 31))) + 1u) >> 15;
+        }
 #endif
     }
 #if WAKE_HPA_AHEAD
