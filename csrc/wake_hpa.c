@@ -144,7 +144,11 @@ static inline unsigned chunk_end(unsigned t, unsigned step, unsigned limit)
  */
 #define COST_PIECE 60
 /** One sample of the sums pass; with the tremor ahead also its full-scale count (3 instructions). */
-#define COST_SUM (22 + 3 * WAKE_HPA_AHEAD)
+#if WAKE_HPA_AHEAD
+#define COST_SUM 25
+#else
+#define COST_SUM 22
+#endif
 #define COST_LAG 5
 #define COST_DFT1 11
 #define COST_DFT2 16
@@ -683,7 +687,7 @@ static void ahead_silent(wake_hpa_t *h)
     float kept[WAKE_HPA_AHEAD_TAPS];
     unsigned i;
     for (i = 0; i < WAKE_HPA_AHEAD_TAPS; ++i) {
-        kept[i] = h->ahead_has_prev != 0u ? h->ahead_prev[i] : 0.0f;
+        kept[i] = (h->ahead_has_prev != 0u) ? h->ahead_prev[i] : 0.0f;
     }
     ahead_keep(h, kept, 0.0f);
 }
@@ -696,9 +700,9 @@ static void ahead_silent(wake_hpa_t *h)
  */
 static void ahead_full_scale(wake_hpa_t *h)
 {
-    if ((uint32_t)h->ahead_rail * WAKE_HPA_GLITCH_DIVISOR > (uint32_t)h->n) {
+    if (((uint32_t)h->ahead_rail * WAKE_HPA_GLITCH_DIVISOR) > (uint32_t)h->n) {
         h->ahead_goal = 0.0f;
-        h->result.notes = (uint16_t)(h->result.notes | WAKE_HPA_NOTE_FULL_SCALE);
+        h->result.notes = (uint16_t)(h->result.notes | (uint16_t)WAKE_HPA_NOTE_FULL_SCALE);
     }
 }
 
