@@ -712,6 +712,12 @@ static void install(wake_hpa_t *h, const float *w, float r, float mse, float rid
 {
     unsigned j;
     wake_hpa_result_t *res = &h->result;
+#if WAKE_HPA_AHEAD
+    /* the result is rewritten from here to publish(), with the tremor ahead's steps (many slices) in
+       between: an earlier result not taken yet is superseded now, so that take and apply never hand out
+       this run's weights with the earlier run's predictor and goal */
+    h->ready = 0;
+#endif
     if (h->n < h->cfg.clean_below && h->flag != WAKE_HPA_VALLEY && h->flag != WAKE_HPA_FLOOR_VALLEY) {
         /* a short warm-up window without a clean valley: its fit is not installed */
         w = h->weights;

@@ -206,6 +206,42 @@ static void test_silent_window_keeps_the_predictor(void)
     printf("after a silent window: goal %.4f at the next HPA\n", (double)b.ahead_goal);
 }
 
+/* Found by fuzz_hpa_ahead: a run started while an earlier result was not taken rewrote the result's weights
+   and flag when its fit ended but its predictor and goal only when the tremor ahead's steps ended, many
+   slices later; a take or an apply in between handed out the mix.  Now whatever is taken at any slice of
+   the second run is the earlier result whole, or nothing until the second is published. */
+static void test_a_result_is_never_taken_half_written(void)
+{
+    static wake_hpa_t copy;
+    wake_hpa_result_t first, got, last;
+    unsigned k, taken_first = 0, refused = 0;
+    scaled_tremor(1.0);
+    for (k = 2u * L; k < 3u * L; ++k) {                   /* the third window: no tremor peak */
+        stream[k] = (int16_t)(9000.0 * sin(TWO_PI * 0.3 * (double)k / 100.0));
+    }
+    init_h(&hpa, 1);
+    (void)run_window(&hpa, stream, L, L);
+    CHECK(wake_hpa_start(&hpa, stream + L, L, 2u * L) == WAKE_HPA_OK);
+    CHECK(wake_hpa_run(&hpa) == WAKE_HPA_DONE);           /* the second result, left ready, not taken */
+    first = hpa.result;
+    CHECK(first.ahead_goal > 0.5f);
+    CHECK(wake_hpa_start(&hpa, stream + 2u * L, L, 3u * L) == WAKE_HPA_OK);
+    while (wake_hpa_slice(&hpa) == WAKE_HPA_RUNNING) {
+        memcpy(&copy, &hpa, sizeof hpa);
+        if (wake_hpa_take(&copy, &got) == WAKE_HPA_OK) {
+            ++taken_first;
+            CHECK(memcmp(&got, &first, sizeof got) == 0);
+        } else {
+            ++refused;
+        }
+    }
+    CHECK(wake_hpa_take(&hpa, &last) == WAKE_HPA_OK);
+    CHECK(last.flag == WAKE_HPA_NO_TREMOR_PEAK && last.ahead_goal == 0.0f);
+    CHECK(taken_first > 0u && refused > 0u);
+    printf("a third run over the second's untaken result: the second taken whole at %u slices, nothing at %u\n",
+           taken_first, refused);
+}
+
 static void test_conversion_and_apply(void)
 {
     wake_hpa_result_t r;
@@ -251,6 +287,7 @@ int main(void)
     test_no_tremor_shuts_the_gate();
     test_clipped_window_shuts_the_gate();
     test_silent_window_keeps_the_predictor();
+    test_a_result_is_never_taken_half_written();
     test_conversion_and_apply();
     printf("%s (%d failures)\n", failures ? "FAILED" : "OK", failures);
     return failures ? 1 : 0;

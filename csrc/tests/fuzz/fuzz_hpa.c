@@ -229,7 +229,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 #if WAKE_HPA_AHEAD
             int32_t c[WAKE_HPA_AHEAD_TAPS];
             wake_ratio_t goal = 0;
-            const int check = !corrupted && hpa.magic == WAKE_HPA_MAGIC;
+            const int check = !corrupted && hpa.magic == WAKE_HPA_MAGIC && hpa.ready != 0u;   /* a result to apply */
             if (check) {
                 check_result(&hpa.result, hpa.cfg.level);
                 check_ahead_to_rtp(&hpa.result, c, &goal);

@@ -23,7 +23,10 @@
  *
  * The property, beyond the sanitizers: after every call both instances return the same status, the same
  * prediction and the same observable state, byte for byte (everything before wake_rtp_t::split_fir, as
- * csrc/tests/test_wake_rtp_split.c compares), and the front ends the same state.
+ * csrc/tests/test_wake_rtp_split.c compares), and the front ends the same state.  After a corruption only
+ * the statuses must agree: a corrupted state is one no call sequence makes (the ring holds each sample
+ * twice, and the split step reads the other copy of some: docs/verification.md, "Fuzzing"), on which the
+ * header promises safety (every operation saturates), not the same prediction.
  */
 #include <stddef.h>
 #include <stdint.h>
@@ -56,6 +59,8 @@ enum { OP_SAMPLE, OP_MISSING, OP_PREPARE, OP_UNPREPARED, OP_SET_WEIGHTS, OP_RESE
 static wake_q15_t taps[WAKE_RTP_MAX_LEVEL * WAKE_RTP_MAX_TAPS];
 static wake_rtp_t split, whole, copy;
 static wake_rate_t rate_split, rate_whole;
+/** 1 once the input has corrupted the instances: from then on only the statuses are compared. */
+static int corrupted;
 
 static int status_known(wake_rtp_status_t st)
 {
@@ -101,9 +106,10 @@ static void keep_accumulators_in_range(wake_rtp_t *s)
     }
 }
 
-/** One sample (or a missing one) on both, in the direct mode; returns whether split is left prepared. */
-static int direct_sample(fuzz_input_t *in, int missing, int prepared)
+/** One sample (or a missing one) on both, in the direct mode. */
+static void direct_sample(fuzz_input_t *in, int missing)
 {
+    const int prepared = split.split_ready != 0u;
     const uint8_t how = fuzz_u8(in);
     const wake_q15_t sample = missing ? 0 : fuzz_i16(in);
     wake_q15_t y_split = 0x1234, y_whole = 0x1234;
@@ -119,10 +125,8 @@ static int direct_sample(fuzz_input_t *in, int missing, int prepared)
     }
     st_whole = missing ? wake_rtp_step_missing(&whole, &y_whole) : wake_rtp_step(&whole, sample, &y_whole);
     FUZZ_REQUIRE(status_known(st_split) && st_split == st_whole);
-    FUZZ_REQUIRE(y_split == y_whole);
-    FUZZ_REQUIRE(same_state(&split, &whole));
+    FUZZ_REQUIRE(corrupted || (y_split == y_whole && same_state(&split, &whole)));
     FUZZ_REQUIRE(st_split != WAKE_RTP_OK || split.split_ready == 0u);   /* a step forgets the prepared one */
-    return st_split != WAKE_RTP_OK && split.split_ready != 0u;
 }
 
 /** One input sample through the front ends, in the rate mode. */
@@ -154,8 +158,7 @@ static void rate_sample(fuzz_input_t *in, int missing, wake_q15_t *held_split, w
         st_whole = WAKE_RATE_E_RTP;
     }
     FUZZ_REQUIRE(st_split == st_whole);
-    FUZZ_REQUIRE(*held_split == *held_whole);
-    FUZZ_REQUIRE(same_state(&split, &whole));
+    FUZZ_REQUIRE(corrupted || (*held_split == *held_whole && same_state(&split, &whole)));
     FUZZ_REQUIRE(memcmp(&rate_split, &rate_whole, sizeof rate_split) == 0);
 }
 
@@ -163,7 +166,7 @@ static void rate_sample(fuzz_input_t *in, int missing, wake_q15_t *held_split, w
 static void both_set(wake_rtp_status_t st_split, wake_rtp_status_t st_whole)
 {
     FUZZ_REQUIRE(status_known(st_split) && st_split == st_whole);
-    FUZZ_REQUIRE(same_state(&split, &whole));
+    FUZZ_REQUIRE(corrupted || same_state(&split, &whole));
     if (st_split != WAKE_RTP_OK) {
         FUZZ_REQUIRE(memcmp(&copy, &split, sizeof split) == 0);
     }
@@ -185,9 +188,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     wake_q15_t held_split = 0, held_whole = 0;
     wake_rtp_status_t st;
     unsigned level, n, i, ops = 0;
-    int rate_mode, prepared = 0;
+    int rate_mode;
     uint8_t shift;
 
+    corrupted = 0;
     level = fuzz_u8(&in) % (WAKE_RTP_MAX_LEVEL + 2u);
     shift = (uint8_t)(fuzz_u8(&in) % 17u);
     n = (level >= 1u && level <= WAKE_RTP_MAX_LEVEL) ? level << level : 0u;
@@ -205,6 +209,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         FUZZ_REQUIRE(wake_rtp_init(&whole, (int)level, taps, w, r, kalman ? q : 0, kalman ? p0 : 0) == st);
     }
     FUZZ_REQUIRE(same_state(&split, &whole));
+    /* a refused init leaves the prepared values as they were (here 0xA5 bytes): not prepared, so that the
+       harness never finishes from bytes no prepare wrote (the comparisons exclude them) */
+    split.split_ready = 0u;
+    whole.split_ready = 0u;
     {
         /* the mode and D: the low bit picks rate, the rest D = 1 + value % 16 (often), or up to 1000 */
         const uint16_t mode = fuzz_u16(&in);
@@ -222,19 +230,17 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         case OP_MISSING:
             if (rate_mode) {
                 rate_sample(&in, op == OP_MISSING, &held_split, &held_whole);
-                prepared = split.split_ready != 0u;
             } else {
-                prepared = direct_sample(&in, op == OP_MISSING, prepared);
+                direct_sample(&in, op == OP_MISSING);
             }
             break;
         case OP_PREPARE:   /* a prepare ahead of the next sample (rate mode: the front end's own is redone) */
             st = wake_rtp_prepare(&split);
             FUZZ_REQUIRE(status_known(st));
-            FUZZ_REQUIRE(same_state(&split, &whole));          /* observable state untouched */
-            prepared = st == WAKE_RTP_OK || prepared;
+            FUZZ_REQUIRE(corrupted || same_state(&split, &whole));   /* observable state untouched */
             break;
         case OP_UNPREPARED:   /* a finish without a prepare is refused and changes nothing */
-            if (!prepared && !rate_mode) {
+            if (split.split_ready == 0u && !rate_mode) {
                 wake_q15_t y = 0x1234;
                 st = (fuzz_u8(&in) & 1u) != 0u ? wake_rtp_finish_missing(&split, &y)
                                                 : wake_rtp_finish(&split, fuzz_i16(&in), &y);
@@ -275,10 +281,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             }
             a = wake_rtp_run(&split, block_split, block_split, n);
             FUZZ_REQUIRE(a == wake_rtp_run(&whole, block_whole, block_whole, n) && status_known(a));
-            FUZZ_REQUIRE(memcmp(block_split, block_whole, n * sizeof block_split[0]) == 0);
-            FUZZ_REQUIRE(same_state(&split, &whole));
-            prepared = prepared && a != WAKE_RTP_OK;
-            FUZZ_REQUIRE(prepared == (split.split_ready != 0u));
+            FUZZ_REQUIRE(corrupted || (memcmp(block_split, block_whole, n * sizeof block_split[0]) == 0 &&
+                                        same_state(&split, &whole)));
+            FUZZ_REQUIRE(a != WAKE_RTP_OK || n == 0u || split.split_ready == 0u);   /* a run forgets it */
             break;
         }
 #if WAKE_RTP_AHEAD
@@ -316,7 +321,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             const size_t offset = fuzz_u16(&in) % offsetof(wake_rtp_t, split_fir);
             size_t len = (size_t)(fuzz_u8(&in) % 16u) + 1u;
             uint8_t bytes[16];
-            if (prepared) {
+            if (split.split_ready != 0u) {
                 break;
             }
             if (len > offsetof(wake_rtp_t, split_fir) - offset) {
@@ -329,6 +334,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             whole.taps = taps;
             keep_accumulators_in_range(&split);
             keep_accumulators_in_range(&whole);
+            corrupted = 1;
             break;
         }
         }
@@ -337,10 +343,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             /* wake_rate_step prepares on the sample before a group's end: a firmware that runs, resets or
                repairs the RTP after that sample prepares again (any prepare between two steps is the same) */
             (void)wake_rtp_prepare(&split);
-            FUZZ_REQUIRE(same_state(&split, &whole));
-        }
-        if (rate_mode) {
-            prepared = split.split_ready != 0u;
+            FUZZ_REQUIRE(corrupted || same_state(&split, &whole));
         }
     }
     return 0;
