@@ -5,7 +5,7 @@
     python bench/fuzz_c.py --seconds 600 --only fuzz_hpa
 
 Builds the harnesses (``make -C csrc fuzz``: clang with ``-fsanitize=fuzzer,address,undefined``),
-copies the committed seed corpus (csrc/tests/fuzz/seeds/{rtp,hpa}) into a working corpus under
+copies the committed seed corpus (csrc/tests/fuzz/seeds/*) into a working corpus under
 csrc/build/fuzz/corpus/ (the repository's seeds are never written), runs each harness for
 ``--seconds`` on one core and prints a Markdown table: executions, executions per second, edges
 covered (libFuzzer's ``cov``) out of the instrumented ones (harness, library and libFuzzer's own
@@ -27,12 +27,15 @@ from pathlib import Path
 
 CSRC = Path(__file__).resolve().parents[1] / "csrc"
 OUT = CSRC / "build" / "fuzz"
-#: harness -> seed folder (the RTP's three arithmetic / Kalman builds share the RTP seeds)
+#: harness -> seed folders (the RTP's three arithmetic / Kalman builds share the RTP seeds; the HPA with
+#: the tremor-ahead fit reads the HPA's seeds and its own, which set the horizon)
 HARNESSES = {
-    "fuzz_rtp": "rtp",
-    "fuzz_rtp_m0_arith": "rtp",
-    "fuzz_rtp_no_kalman": "rtp",
-    "fuzz_hpa": "hpa",
+    "fuzz_rtp": ("rtp",),
+    "fuzz_rtp_m0_arith": ("rtp",),
+    "fuzz_rtp_no_kalman": ("rtp",),
+    "fuzz_hpa": ("hpa",),
+    "fuzz_rtp_split": ("rtp_split",),
+    "fuzz_hpa_ahead": ("hpa", "hpa_ahead"),
 }
 COUNTERS = re.compile(r"Loaded \d+ modules\s+\((\d+) inline 8-bit counters\)")
 STATS = re.compile(r"#(\d+)\s+DONE\s+cov: (\d+) ft: (\d+) corp: (\d+)/(\S+) .*?exec/s: (\d+)")
@@ -54,8 +57,9 @@ def run(harness: str, seconds: int) -> dict:
     """One harness for ``seconds``; its final statistics and whether it found something."""
     corpus = OUT / "corpus" / harness
     corpus.mkdir(parents=True, exist_ok=True)
-    for seed in (CSRC / "tests" / "fuzz" / "seeds" / HARNESSES[harness]).iterdir():
-        shutil.copy(seed, corpus / f"seed-{seed.name}")
+    for folder in HARNESSES[harness]:
+        for seed in (CSRC / "tests" / "fuzz" / "seeds" / folder).iterdir():
+            shutil.copy(seed, corpus / f"seed-{folder}-{seed.name}")
     cmd = [str(OUT / harness), f"-max_total_time={seconds}", "-print_final_stats=1",
            f"-artifact_prefix={OUT}/", str(corpus)]
     start = time.monotonic()

@@ -143,7 +143,12 @@ static inline unsigned chunk_end(unsigned t, unsigned step, unsigned limit)
  * its budget is its fixed entry cost (the instance check, about 250).
  */
 #define COST_PIECE 60
+/** One sample of the sums pass; with the tremor ahead also its full-scale count (3 instructions). */
+#if WAKE_HPA_AHEAD
+#define COST_SUM 25
+#else
 #define COST_SUM 22
+#endif
 #define COST_LAG 5
 #define COST_DFT1 11
 #define COST_DFT2 16
@@ -518,6 +523,9 @@ static void begin(wake_hpa_t *h, const wake_q15_t *window, uint16_t n, uint32_t 
     h->tsum_rows = 0;
     h->lo = INT16_MAX;
     h->hi = INT16_MIN;
+#if WAKE_HPA_AHEAD
+    h->ahead_rail = 0;
+#endif
     h->flag = WAKE_HPA_VALLEY;
     h->phase = STEP_SUMS;
     count_up(&h->runs);
@@ -669,15 +677,33 @@ static void ahead_keep(wake_hpa_t *h, const float *c, float goal)
     h->ahead_has_prev = 1;
 }
 
-/** A constant window: no tremor, nothing to predict (a zero predictor, the gate shut). */
+/**
+ * A constant window: nothing to fit and nothing to score.  The gate shuts (goal 0) and the previous
+ * predictor stays (zero before the first): the next window scores it on the samples since this HPA, so
+ * the gate reopens at the next HPA if the tremor comes back as it was (wake.hpa.run_hpa does the same).
+ */
 static void ahead_silent(wake_hpa_t *h)
 {
-    float zero[WAKE_HPA_AHEAD_TAPS];
+    float kept[WAKE_HPA_AHEAD_TAPS];
     unsigned i;
     for (i = 0; i < WAKE_HPA_AHEAD_TAPS; ++i) {
-        zero[i] = 0.0f;
+        kept[i] = (h->ahead_has_prev != 0u) ? h->ahead_prev[i] : 0.0f;
     }
-    ahead_keep(h, zero, 0.0f);
+    ahead_keep(h, kept, 0.0f);
+}
+
+/**
+ * wake.ahead.installed_goal: more than n / WAKE_HPA_GLITCH_DIVISOR samples of the window at full scale
+ * (counted in STEP_SUMS) shut the gate until the next HPA.
+ * @par Scaling and overflow
+ * ahead_rail <= n <= WAKE_HPA_MAX_WINDOW: rail x WAKE_HPA_GLITCH_DIVISOR fits a uint32_t.
+ */
+static void ahead_full_scale(wake_hpa_t *h)
+{
+    if (((uint32_t)h->ahead_rail * WAKE_HPA_GLITCH_DIVISOR) > (uint32_t)h->n) {
+        h->ahead_goal = 0.0f;
+        h->result.notes = (uint16_t)(h->result.notes | (uint16_t)WAKE_HPA_NOTE_FULL_SCALE);
+    }
 }
 
 #endif
@@ -686,6 +712,12 @@ static void install(wake_hpa_t *h, const float *w, float r, float mse, float rid
 {
     unsigned j;
     wake_hpa_result_t *res = &h->result;
+#if WAKE_HPA_AHEAD
+    /* the result is rewritten from here to publish(), with the tremor ahead's steps (many slices) in
+       between: an earlier result not taken yet is superseded now, so that take and apply never hand out
+       this run's weights with the earlier run's predictor and goal */
+    h->ready = 0;
+#endif
     if (h->n < h->cfg.clean_below && h->flag != WAKE_HPA_VALLEY && h->flag != WAKE_HPA_FLOOR_VALLEY) {
         /* a short warm-up window without a clean valley: its fit is not installed */
         w = h->weights;
@@ -715,6 +747,7 @@ static void publish(wake_hpa_t *h)
     wake_hpa_result_t *res = &h->result;
     unsigned j;
 #if WAKE_HPA_AHEAD
+    ahead_full_scale(h);
     for (j = 0; j < WAKE_HPA_AHEAD_TAPS; ++j) {
         res->ahead[j] = h->ahead_coef[j];
     }
@@ -764,6 +797,9 @@ static int32_t step_sums(wake_hpa_t *h, int32_t budget)
     int32_t head = 0, all = 0;
     int64_t thead = 0, tall = 0;
     int16_t lo = h->lo, hi = h->hi;
+#if WAKE_HPA_AHEAD
+    unsigned rail = h->ahead_rail;
+#endif
     unsigned t;
     for (t = start; t < split; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_SUM */
         head += x[t];
@@ -775,7 +811,18 @@ static int32_t step_sums(wake_hpa_t *h, int32_t budget)
         tall += (int32_t)t * v;
         lo = v < lo ? v : lo;
         hi = v > hi ? v : hi;
+#if WAKE_HPA_AHEAD
+        {
+            /* at full scale (INT16_MAX or INT16_MIN: clipped, or on the rail): u ^ (all ones when v < 0) is
+               |v| for v >= 0 and |v| - 1 for v < 0, in 0..32767, and 32767 only there; + 1 reaches 2^15 */
+            const uint32_t u = (uint32_t)(int32_t)v;
+            rail += ((u ^ (0u - (u >> 31))) + 1u) >> 15;
+        }
+#endif
     }
+#if WAKE_HPA_AHEAD
+    h->ahead_rail = (uint16_t)rail;   /* <= n */
+#endif
     h->sum += all;
     h->tsum += tall;
     h->prefix_rows += head;

@@ -153,6 +153,17 @@ extern "C" {
 #define WAKE_HPA_NOTE_WEIGHTS_KEPT 2
 /** wake_hpa_result_t::notes: no ridge kept the weights within the limit; they were clipped. */
 #define WAKE_HPA_NOTE_CLIPPED 4
+/**
+ * wake_hpa_result_t::notes (WAKE_HPA_AHEAD builds): more than n / WAKE_HPA_GLITCH_DIVISOR samples of the
+ * window sit at full scale (INT16_MAX or INT16_MIN): the tremor estimate the predictor reads was cut, and
+ * its held-out gain measured on it, so the gate's goal is 0 until the next HPA (wake.ahead.installed_goal).
+ */
+#define WAKE_HPA_NOTE_FULL_SCALE 8
+/**
+ * A window is clipped when more than n / WAKE_HPA_GLITCH_DIVISOR of its n samples sit at full scale
+ * (wake.rtp.full_scale.GLITCH_SHARE = 1 / this; wake.hpa.c_port.c_mirror_problems checks it).
+ */
+#define WAKE_HPA_GLITCH_DIVISOR 100u
 
 /** Status codes: zero is success, positive values report progress, errors are negative. */
 typedef enum {
@@ -345,7 +356,7 @@ typedef struct {
     uint16_t ahead_has_prev;                    /**< 1 once an HPA has produced a predictor */
     uint16_t ahead_pos;                         /**< ring index of the newest estimate */
     uint16_t ahead_held;                        /**< first window index scored by the held-out gain (n: none) */
-    uint16_t ahead_reserved;
+    uint16_t ahead_rail;                        /**< samples of the window at full scale (STEP_SUMS counts them) */
 #endif
     wake_hpa_result_t result;                   /**< the newest result */
     wake_q15_t buf[2 * WAKE_HPA_MAX_WINDOW];    /**< the two window buffers */

@@ -468,7 +468,7 @@ wake_rtp_status_t wake_rtp_get_state(const wake_rtp_t *s, wake_q23_t *correction
  * any number of times between two steps (each recomputes); the setters
  * (set_weights, reset, load_state, the tremor-ahead setters) recompute a
  * prepared step themselves; wake_rtp_step, wake_rtp_step_missing, wake_rtp_run
- * and the finishes forget it.
+ * (of one sample or more: a run of none steps nothing) and the finishes forget it.
  * @param[in,out] s  initialised instance
  * @return WAKE_RTP_OK, WAKE_RTP_E_NULL, _UNINIT or _CORRUPT.
  *

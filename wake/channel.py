@@ -104,14 +104,17 @@ class Channel:
         notes = self.rtp.install(self.weights, upd.measurement_noise, self.process_noise(upd.measurement_noise),
                                  window)
         self.measurement_noise = self.rtp.measurement_noise if self.rtp.on_c else upd.measurement_noise
-        # an HPA without a predictor shuts the gate, and so does a window clipped at the C core's full scale
+        # an HPA without a predictor shuts the gate, and so does a window clipped at the C core's full scale:
+        # the C HPA applies that rule itself to the int16 window it read (its goal is final, "clipping" among
+        # its flags), the Python HPA's goal goes through wake.ahead.installed_goal here
         coefficients = upd.ahead_coefficients
-        self.rtp.set_ahead(np.zeros(TAPS) if coefficients is None else coefficients,
-                           installed_goal(upd.ahead_goal, notes))
+        goal = upd.ahead_goal if self.config.hpa_backend == "c" else installed_goal(upd.ahead_goal, notes)
+        self.rtp.set_ahead(np.zeros(TAPS) if coefficients is None else coefficients, goal)
         self.ahead_coefficients, self.ahead_index = coefficients, upd.index
         # w_h, the voluntary motion ahead (horizon > 1); None keeps the one in use
         self.rtp.set_weights_ahead(upd.weights_ahead)
-        self.updates.append(replace(upd, applied_at=first_sample, flags=upd.flags + notes))
+        flags = upd.flags + tuple(note for note in notes if note not in upd.flags)
+        self.updates.append(replace(upd, applied_at=first_sample, flags=flags))
 
     def swap_if_ready(self, wait=False, first_sample=None):
         """Thread mode: install a finished HPA between two samples."""

@@ -2,8 +2,8 @@
  * Host unit tests of the C HPA's tremor-ahead fit (WAKE_HPA_AHEAD 1), built with AddressSanitizer and
  * UBSan by `make test`.  Agreement with wake.ahead (fit_predictor, held_out_gain, gate_target) is tested
  * from Python (tests/hpa/test_c_ahead.py); here: the horizon is validated, the first HPA's goal is 0 and
- * a steady tremor's next one opens the gate, a window without tremor shuts it, slices equal one run bit
- * for bit, the Q27 / Q30 conversion, and wake_hpa_apply() installs the predictor in the RTP.
+ * a steady tremor's next one opens the gate, a window without tremor shuts it, so does one clipped at full
+ * scale on more than 1 % of its samples, a silent one keeps the predictor, slices equal one run bit for bit, the Q27 / Q30 conversion, and wake_hpa_apply() installs the predictor in the RTP.
  */
 #include <math.h>
 #include <stdio.h>
@@ -107,8 +107,8 @@ static void test_steady_tremor_opens_the_gate(void)
     }
 }
 
-/* No tremor peak (a slow movement alone) shuts the gate; a silent window gives a zero predictor; a window
-   too short for two rows at h = 32 gives zeros. */
+/* No tremor peak (a slow movement alone) shuts the gate; a silent window shuts it and keeps the predictor
+   it had (here the no-peak window's); a window too short for two rows at h = 32 gives zeros. */
 static void test_no_tremor_shuts_the_gate(void)
 {
     wake_hpa_result_t a, b;
@@ -130,9 +130,7 @@ static void test_no_tremor_shuts_the_gate(void)
     }
     b = run_window(&hpa, stream, L, 3u * L);
     CHECK(b.flag == WAKE_HPA_SILENT && b.ahead_goal == 0.0f);
-    for (k = 0; k < WAKE_HPA_AHEAD_TAPS; ++k) {
-        CHECK(b.ahead[k] == 0.0f);
-    }
+    CHECK(memcmp(b.ahead, a.ahead, sizeof b.ahead) == 0);
     for (k = 0; k < 2u * N; ++k) {
         stream[k] = (int16_t)(3000.0 * sin(TWO_PI * 6.0 * k / 100.0));
     }
@@ -141,6 +139,107 @@ static void test_no_tremor_shuts_the_gate(void)
     for (k = 0; k < WAKE_HPA_AHEAD_TAPS; ++k) {
         CHECK(b.ahead[k] == 0.0f);
     }
+}
+
+/* The steady tremor of test_steady_tremor_opens_the_gate, scaled by @p gain and saturated to int16. */
+static void scaled_tremor(double gain)
+{
+    unsigned k;
+    for (k = 0; k < 3u * L; ++k) {
+        const double t = (double)k / 100.0;
+        const double v = gain * (6000.0 * sin(TWO_PI * 0.3 * t) + 3000.0 * sin(TWO_PI * 6.0 * t));
+        stream[k] = (int16_t)(v > 32767.0 ? 32767.0 : (v < -32768.0 ? -32768.0 : v));
+    }
+}
+
+/* wake.ahead.installed_goal: a window with more than n / 100 samples at full scale shuts the gate (goal 0,
+   WAKE_HPA_NOTE_FULL_SCALE); the same window unclipped opens it; exactly n / 100 does not shut it. */
+static void test_clipped_window_shuts_the_gate(void)
+{
+    wake_hpa_result_t a, b;
+    unsigned k, rail = 0;
+    scaled_tremor(3.0);                                   /* peak about 27,000: nothing at full scale */
+    init_h(&hpa, 1);
+    (void)run_window(&hpa, stream, L, L);
+    a = run_window(&hpa, stream + L, L, 2u * L);
+    CHECK(a.ahead_goal > 0.8f && (a.notes & WAKE_HPA_NOTE_FULL_SCALE) == 0u);
+    /* L / 100 = 5 samples of the second window on the rail: not more than 1 %, the gate stays open */
+    for (k = L; k < 2u * L && rail < L / WAKE_HPA_GLITCH_DIVISOR; k += 37u, ++rail) {
+        stream[k] = (rail & 1u) != 0u ? INT16_MIN : INT16_MAX;
+    }
+    init_h(&hpa, 1);
+    (void)run_window(&hpa, stream, L, L);
+    b = run_window(&hpa, stream + L, L, 2u * L);
+    CHECK(b.ahead_goal > 0.5f && (b.notes & WAKE_HPA_NOTE_FULL_SCALE) == 0u);
+    stream[2u * L - 1u] = INT16_MAX;                      /* one more: 6 of 500 */
+    init_h(&hpa, 1);
+    (void)run_window(&hpa, stream, L, L);
+    b = run_window(&hpa, stream + L, L, 2u * L);
+    CHECK(b.ahead_goal == 0.0f && (b.notes & WAKE_HPA_NOTE_FULL_SCALE) != 0u);
+    /* the same tremor 4 times larger: its peaks saturate on far more than 1 % of the window */
+    scaled_tremor(4.0);
+    init_h(&hpa, 1);
+    (void)run_window(&hpa, stream, L, L);
+    b = run_window(&hpa, stream + L, L, 2u * L);
+    CHECK(ahead_is_sane(&b));
+    CHECK(b.ahead_goal == 0.0f && (b.notes & WAKE_HPA_NOTE_FULL_SCALE) != 0u);
+    printf("clipped window: goal %.4f unclipped, %.4f clipped\n", (double)a.ahead_goal, (double)b.ahead_goal);
+}
+
+/* A silent window between two windows of the same tremor: the gate shuts at the silent HPA and reopens at
+   the next one, which scores the predictor kept through the silent window. */
+static void test_silent_window_keeps_the_predictor(void)
+{
+    wake_hpa_result_t a, s, b;
+    unsigned k;
+    scaled_tremor(1.0);
+    for (k = L; k < 2u * L; ++k) {
+        stream[k] = -77;
+    }
+    init_h(&hpa, 3);
+    a = run_window(&hpa, stream, L, L);
+    s = run_window(&hpa, stream + L, L, 2u * L);
+    CHECK(s.flag == WAKE_HPA_SILENT && s.ahead_goal == 0.0f);
+    CHECK(memcmp(s.ahead, a.ahead, sizeof s.ahead) == 0);
+    b = run_window(&hpa, stream + 2u * L, L, 3u * L);
+    CHECK(ahead_is_sane(&b) && b.ahead_goal > 0.8f);
+    printf("after a silent window: goal %.4f at the next HPA\n", (double)b.ahead_goal);
+}
+
+/* Found by fuzz_hpa_ahead: a run started while an earlier result was not taken rewrote the result's weights
+   and flag when its fit ended but its predictor and goal only when the tremor ahead's steps ended, many
+   slices later; a take or an apply in between handed out the mix.  Now whatever is taken at any slice of
+   the second run is the earlier result whole, or nothing until the second is published. */
+static void test_a_result_is_never_taken_half_written(void)
+{
+    static wake_hpa_t copy;
+    wake_hpa_result_t first, got, last;
+    unsigned k, taken_first = 0, refused = 0;
+    scaled_tremor(1.0);
+    for (k = 2u * L; k < 3u * L; ++k) {                   /* the third window: no tremor peak */
+        stream[k] = (int16_t)(9000.0 * sin(TWO_PI * 0.3 * (double)k / 100.0));
+    }
+    init_h(&hpa, 1);
+    (void)run_window(&hpa, stream, L, L);
+    CHECK(wake_hpa_start(&hpa, stream + L, L, 2u * L) == WAKE_HPA_OK);
+    CHECK(wake_hpa_run(&hpa) == WAKE_HPA_DONE);           /* the second result, left ready, not taken */
+    first = hpa.result;
+    CHECK(first.ahead_goal > 0.5f);
+    CHECK(wake_hpa_start(&hpa, stream + 2u * L, L, 3u * L) == WAKE_HPA_OK);
+    while (wake_hpa_slice(&hpa) == WAKE_HPA_RUNNING) {
+        memcpy(&copy, &hpa, sizeof hpa);
+        if (wake_hpa_take(&copy, &got) == WAKE_HPA_OK) {
+            ++taken_first;
+            CHECK(memcmp(&got, &first, sizeof got) == 0);
+        } else {
+            ++refused;
+        }
+    }
+    CHECK(wake_hpa_take(&hpa, &last) == WAKE_HPA_OK);
+    CHECK(last.flag == WAKE_HPA_NO_TREMOR_PEAK && last.ahead_goal == 0.0f);
+    CHECK(taken_first > 0u && refused > 0u);
+    printf("a third run over the second's untaken result: the second taken whole at %u slices, nothing at %u\n",
+           taken_first, refused);
 }
 
 static void test_conversion_and_apply(void)
@@ -186,6 +285,9 @@ int main(void)
     test_horizon_is_validated();
     test_steady_tremor_opens_the_gate();
     test_no_tremor_shuts_the_gate();
+    test_clipped_window_shuts_the_gate();
+    test_silent_window_keeps_the_predictor();
+    test_a_result_is_never_taken_half_written();
     test_conversion_and_apply();
     printf("%s (%d failures)\n", failures ? "FAILED" : "OK", failures);
     return failures ? 1 : 0;

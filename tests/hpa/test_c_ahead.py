@@ -171,3 +171,82 @@ def test_filter_with_the_c_hpa_commands_the_tremor_ahead_as_with_the_python_hpa(
         scale = np.sqrt(np.mean(ref[start:] ** 2))
         assert scale > 0
         assert np.sqrt(np.mean((got[start:] - ref[start:]) ** 2)) <= COMMAND_NRMSE * scale
+
+
+def test_the_c_hpas_clipping_rule_is_glitch_share_of_the_window_as_in_python(monkeypatch):
+    """The C HPA shuts the gate when more than GLITCH_SHARE of its int16 window sits at full scale: for full
+    scales around that share it notes "clipping" (goal 0) exactly where the fixed-point RTP's own count of
+    clipped samples crosses the Python rule (wake.rtp.adaptive), and the same window unclipped opens the gate.
+    The threshold is stated once on each side and checked by c_mirror_problems."""
+    from wake._rtp import lib
+    from wake.ahead import installed_goal
+    from wake.hpa.c_port import c_mirror_problems, run_hpa_c, window_full_scale
+    from wake.rtp.full_scale import GLITCH_SHARE
+
+    x = paper_dataset()[0].measurement[:2 * L]
+    previous = run_hpa_c(x[:L], CONFIG, taps=TAPS, index=L, full_scale=window_full_scale(x)).ahead_coefficients
+    window = x[L:]
+
+    def hpa(full_scale):
+        return run_hpa_c(window, CONFIG, taps=TAPS, index=2 * L, full_scale=full_scale, previous_ahead=previous,
+                         new_samples=L)
+
+    wide = hpa(window_full_scale(x))
+    assert "clipping" not in wide.flags and wide.ahead_goal > 0.5
+    peaks = np.sort(np.abs(window))[::-1]
+    seen = set()
+    for k in (1, 3, 4, 5, 6, 7, 12, 60):            # samples beyond the full scale: 5 is 1 % of L = 500
+        full_scale = 0.5 * (peaks[k - 1] + peaks[k])
+        clipped = int(np.count_nonzero(np.abs(np.rint(window * 32768.0 / full_scale)) > 32767))  # as FixedPointRTP
+        upd = hpa(full_scale)
+        python_says = installed_goal(wide.ahead_goal, ("clipping",) if clipped > GLITCH_SHARE * L else ())
+        seen.add(python_says == 0.0)
+        assert ("clipping" in upd.flags) == (python_says == 0.0), (k, clipped)
+        assert (upd.ahead_goal == 0.0) if python_says == 0.0 else upd.ahead_goal > 0.5
+    assert seen == {True, False}                   # both sides of the threshold were exercised
+    monkeypatch.setattr("wake.hpa.c_port.GLITCH_SHARE", 0.02)
+    assert any("WAKE_HPA_GLITCH_DIVISOR = 100" in p for p in c_mirror_problems(lib))
+
+
+def test_filter_with_the_c_hpa_takes_the_clipping_rule_from_the_c_hpa():
+    """WakeFilter(hpa_backend="c") on a stream clipped at its 90th percentile: the C HPA's own goal is 0 at
+    every HPA the fixed-point RTP saw clip (the filter no longer re-applies the rule on its result), the gate
+    stays shut as with the Python HPA, and a wide full scale opens it."""
+    from wake import ClippingWarning, WakeFilter
+
+    x = paper_dataset()[0].measurement[:6 * L]
+    peak = float(np.quantile(np.abs(x), 0.9))
+    runs = {}
+    for hb in ("python", "c"):
+        with pytest.warns(ClippingWarning):
+            runs[hb] = WakeFilter(fs=CONFIG.fs, full_scale=peak, horizon=4, hpa_backend=hb).run(x)
+    c_hpa = runs["c"].hpa[0]
+    assert all(u.flags.count("clipping") == 1 for u in c_hpa[1:])
+    assert all(u.ahead_goal == 0.0 for u in c_hpa)     # the C HPA's own result, not the installation's
+    assert [("clipping" in u.flags) for u in c_hpa] == [("clipping" in u.flags) for u in runs["python"].hpa[0]]
+    for r in runs.values():
+        assert not r.confidence.any() and not r.command.any()
+    wide = WakeFilter(fs=CONFIG.fs, full_scale=4 * np.abs(x).max(), horizon=4, hpa_backend="c").run(x)
+    assert not any("clipping" in u.flags for u in wide.hpa[0])
+    assert wide.confidence.max() > 0.3
+
+
+def test_a_silent_window_keeps_the_predictor_and_shuts_the_gate_in_both_hpas():
+    """After a constant window both HPAs keep the previous predictor (goal 0), so the next window scores it:
+    the gate reopens at the next HPA when the tremor comes back as it was."""
+    from wake.hpa import run_hpa
+    from wake.hpa.c_port import run_ahead_c, run_hpa_c
+
+    x = paper_dataset()[0].measurement[:3 * L].copy()
+    x[L:2 * L] = 0.25
+    full_scale = 2.0 ** np.ceil(np.log2(np.max(np.abs(x)) * 1.01))
+    previous = np.linspace(-0.5, 0.9, 8)
+    for hpa, extra in ((run_hpa, {}), (run_hpa_c, dict(full_scale=full_scale))):
+        upd = hpa(x[L:2 * L], CONFIG, taps=TAPS, index=2 * L, previous_ahead=previous, new_samples=L, **extra)
+        assert upd.cutoff_flag == "silent" and upd.ahead_goal == 0.0
+        np.testing.assert_allclose(upd.ahead_coefficients, previous, rtol=1e-7)
+        first = hpa(x[L:2 * L], CONFIG, taps=TAPS, index=2 * L, **extra)     # no predictor yet: zeros
+        assert first.cutoff_flag == "silent" and not first.ahead_coefficients.any()
+    chain = run_ahead_c(x, CONFIG, taps=TAPS, horizon=1, full_scale=full_scale)
+    np.testing.assert_array_equal(chain[1]["coefficients"], chain[0]["coefficients"])
+    assert chain[1]["goal"] == 0.0 and chain[2]["goal"] > 0.5

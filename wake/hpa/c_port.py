@@ -15,7 +15,7 @@ from wake.config import WakeConfig
 from wake.hpa.cutoff import CUTOFF_FLAGS, EDGE_DB, FLOOR_MARGIN_DB, FLOOR_STRIDE, MIN_DEPTH_DB
 from wake.hpa.run import HPAUpdate, clean_only_below
 from wake.registry import cutoff_rule_names, cutoff_rules, get_cutoff_rule
-from wake.rtp.full_scale import power_of_two_at_least
+from wake.rtp.full_scale import GLITCH_SHARE, power_of_two_at_least
 from wake.target import TARGET
 from wake.wavelets import default_weights
 
@@ -52,7 +52,9 @@ def c_mirror_problems(lib) -> list:
     two both state.  Each registered cut-off rule (:mod:`wake.registry`) must have its ``c_name`` numbered
     by its place in the registry, each key of :data:`~wake.hpa.CUTOFF_FLAGS` its :func:`c_flag_name`;
     ``MAX_WARMUP``, ``FLOOR_STRIDE`` and the prediction target's horizon (:mod:`wake.target`) must equal
-    the header's.  Returns one message per problem."""
+    the header's, and the share of a window at full scale that shuts the tremor ahead's gate
+    (:data:`~wake.rtp.full_scale.GLITCH_SHARE`) must be ``1 / WAKE_HPA_GLITCH_DIVISOR``.  Returns one message
+    per problem."""
     problems = []
     for number, rule in enumerate(cutoff_rules()):
         have = getattr(lib, rule.c_name, None)
@@ -71,6 +73,10 @@ def c_mirror_problems(lib) -> list:
                         ("WAKE_HPA_HORIZON", TARGET.horizon)):
         if int(getattr(lib, name)) != value:
             problems.append(f"{name} = {int(getattr(lib, name))}, the Python side says {value}")
+    if 1.0 / int(lib.WAKE_HPA_GLITCH_DIVISOR) != GLITCH_SHARE:
+        problems.append(f"WAKE_HPA_GLITCH_DIVISOR = {int(lib.WAKE_HPA_GLITCH_DIVISOR)}, but "
+                        f"wake.rtp.full_scale.GLITCH_SHARE = {GLITCH_SHARE!r} (the C HPA's clipping rule must be "
+                        "1 / GLITCH_SHARE)")
     return problems
 
 
@@ -206,7 +212,9 @@ def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index:
         With the C HPA's tremor-ahead fit (``WAKE_HPA_AHEAD``) at ``config.horizon``: its predictor and
         goal.  The C HPA publishes the goal, not the gain: ``ahead_gain`` is that goal, which is the gain
         where the window has a tremor peak and 0 where it has none (the C HPA applies
-        :func:`wake.ahead.gate_target` itself).
+        :func:`wake.ahead.gate_target` itself), or where more than
+        :data:`~wake.rtp.full_scale.GLITCH_SHARE` of the quantised window sits at full scale (the C HPA
+        applies :func:`wake.ahead.installed_goal`'s rule itself and notes ``"clipping"``).
 
     Examples
     --------
@@ -250,6 +258,8 @@ def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index:
         notes.append("weights_kept")
     if res.notes & lib.WAKE_HPA_NOTE_CLIPPED:
         notes.append("weights_clipped")
+    if res.notes & lib.WAKE_HPA_NOTE_FULL_SCALE:
+        notes.append("clipping")  # the C HPA has applied wake.ahead.installed_goal's rule: its goal is 0
     weights = np.array([res.weights[j] for j in range(J)], dtype=float)
     flag, goal = list(CUTOFF_FLAGS)[res.flag], float(res.ahead_goal)
     return HPAUpdate(int(index), float(res.cutoff), flag, weights,

@@ -13,6 +13,12 @@
  * Properties checked beyond the sanitizers: every status is one the header lists; while the instance
  * has not been corrupted, every result taken has finite weights within WAKE_HPA_WEIGHT_LIMIT, a
  * finite cut-off and a finite, non-negative measurement noise (no NaN or infinity from int16 input).
+ *
+ * Built with -DWAKE_HPA_AHEAD=1 (fuzz_hpa_ahead: the tremor-ahead fit, horizons 1..32 and the refused 0
+ * and 33 from the configuration, the RTP with its ahead predictor), also: every result's predictor is
+ * finite within +-8 (wake.ahead.COEFFICIENT_LIMIT) and its goal in [0, 1], 0 for a window without a
+ * tremor peak, a silent one or one noted WAKE_HPA_NOTE_FULL_SCALE; wake_hpa_ahead_to_rtp's Q27 / Q30
+ * values lie within the RTP's ranges; and wake_hpa_apply installs exactly those in the RTP.
  */
 #include <math.h>
 #include <stddef.h>
@@ -23,6 +29,9 @@
 #include "fuzz_input.h"
 
 enum { OP_PUSH, OP_PUSH_BURST, OP_MISSING, OP_SLICE, OP_RUN, OP_START, OP_TAKE, OP_TO_RTP, OP_APPLY,
+#if WAKE_HPA_AHEAD
+       OP_AHEAD_TO_RTP,
+#endif
        OP_CORRUPT, OP_COUNT };
 
 static wake_q15_t taps[WAKE_HPA_MAX_LEVEL * WAKE_HPA_MAX_TAPS];
@@ -108,7 +117,30 @@ static void check_result(const wake_hpa_result_t *r, unsigned level)
         FUZZ_REQUIRE(isfinite(r->weights[j]) && fabsf(r->weights[j]) <= (float)WAKE_HPA_WEIGHT_LIMIT);
     }
     FUZZ_REQUIRE(isfinite(r->cutoff) && isfinite(r->measurement_noise) && r->measurement_noise >= 0.0f);
+#if WAKE_HPA_AHEAD
+    for (j = 0; j < WAKE_HPA_AHEAD_TAPS; ++j) {
+        FUZZ_REQUIRE(isfinite(r->ahead[j]) && fabsf(r->ahead[j]) <= 8.0f);
+    }
+    FUZZ_REQUIRE(r->ahead_goal >= 0.0f && r->ahead_goal <= 1.0f);   /* false for NaN */
+    if (r->flag == WAKE_HPA_NO_TREMOR_PEAK || r->flag == WAKE_HPA_SILENT ||
+        (r->notes & WAKE_HPA_NOTE_FULL_SCALE) != 0u) {
+        FUZZ_REQUIRE(r->ahead_goal == 0.0f);
+    }
+#endif
 }
+
+#if WAKE_HPA_AHEAD
+/** wake_hpa_ahead_to_rtp of a result: the RTP's ranges (|c| <= 8 in Q27, goal in [0, 1] in Q30). */
+static void check_ahead_to_rtp(const wake_hpa_result_t *r, int32_t *c, wake_ratio_t *goal)
+{
+    unsigned j;
+    FUZZ_REQUIRE(wake_hpa_ahead_to_rtp(r, c, goal) == WAKE_HPA_OK);
+    for (j = 0; j < WAKE_HPA_AHEAD_TAPS; ++j) {
+        FUZZ_REQUIRE(c[j] >= -(INT32_C(1) << 30) && c[j] <= (INT32_C(1) << 30));
+    }
+    FUZZ_REQUIRE(*goal >= 0 && *goal <= (INT32_C(1) << 30));
+}
+#endif
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -193,9 +225,34 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 st = WAKE_HPA_OK;
             }
             break;
-        case OP_APPLY:
+        case OP_APPLY: {
+#if WAKE_HPA_AHEAD
+            int32_t c[WAKE_HPA_AHEAD_TAPS];
+            wake_ratio_t goal = 0;
+            const int check = !corrupted && hpa.magic == WAKE_HPA_MAGIC && hpa.ready != 0u;   /* a result to apply */
+            if (check) {
+                check_result(&hpa.result, hpa.cfg.level);
+                check_ahead_to_rtp(&hpa.result, c, &goal);
+            }
+#endif
             st = wake_hpa_apply(&hpa, &rtp);
+#if WAKE_HPA_AHEAD
+            if (st == WAKE_HPA_OK && check) {   /* the RTP holds exactly the converted predictor and goal */
+                FUZZ_REQUIRE(memcmp(rtp.ahead_coef, c, sizeof c) == 0 && rtp.ahead_goal == goal);
+            }
+#endif
             break;
+        }
+#if WAKE_HPA_AHEAD
+        case OP_AHEAD_TO_RTP:
+            if (hpa.magic == WAKE_HPA_MAGIC && !corrupted) {
+                int32_t c[WAKE_HPA_AHEAD_TAPS];
+                wake_ratio_t goal;
+                check_ahead_to_rtp(&hpa.result, c, &goal);
+            }
+            st = WAKE_HPA_OK;
+            break;
+#endif
         default: {   /* OP_CORRUPT: overwrite up to 16 bytes of the checked fields, keep the work pointer */
             const wake_q15_t *keep = hpa.work;
             const size_t offset = (size_t)fuzz_i32(&in) % CHECKED_BYTES;

@@ -1,7 +1,9 @@
-"""Write the libFuzzer seed corpus (csrc/tests/fuzz/seeds/{rtp,hpa}/) in the harnesses' input encoding.
+"""Write the libFuzzer seed corpus (csrc/tests/fuzz/seeds/{rtp,hpa,rtp_split,hpa_ahead}/) in the harnesses'
+input encoding.
 
 Each seed is a readable scenario the fuzzer mutates from: a valid configuration followed by a
-realistic call sequence (see the decoders in fuzz_rtp.c and fuzz_hpa.c). Run from anywhere:
+realistic call sequence (see the decoders in fuzz_rtp.c, fuzz_hpa.c and fuzz_rtp_split.c; fuzz_hpa_ahead is
+fuzz_hpa.c built with the tremor-ahead fit and reads the hpa seeds too). Run from anywhere:
 ``python csrc/tests/fuzz/make_seeds.py``; the files are committed, so this only runs when the encoding
 changes.
 """
@@ -13,6 +15,10 @@ import struct
 HERE = os.path.dirname(os.path.abspath(__file__))
 RTP_OPS = dict(step=0, missing=1, run=2, set_weights=3, reset=4, load_state=5, get_state=6, corrupt=7)
 HPA_OPS = dict(push=0, burst=1, missing=2, slice=3, run=4, start=5, take=6, to_rtp=7, apply=8, corrupt=9)
+#: fuzz_hpa.c built with WAKE_HPA_AHEAD (fuzz_hpa_ahead): one more call before corrupt
+HPA_AHEAD_OPS = dict(HPA_OPS, ahead_to_rtp=9, corrupt=10)
+SPLIT_OPS = dict(sample=0, missing=1, prepare=2, unprepared=3, set_weights=4, reset=5, load_state=6, run=7,
+                 set_ahead=8, set_ahead_ramp=9, load_ahead=10, corrupt=11)
 RTP_MAX_LEVEL = 6
 RTP_MAX_TAPS = 1 << RTP_MAX_LEVEL
 
@@ -88,8 +94,55 @@ def hpa_seeds():
     }
 
 
+def split_seed(level, mode, body):
+    """fuzz_rtp_split.c: the RTP's init (as rtp_seed), the mode word (bit 0: rate; bit 1: D = 1 + (mode >> 2) % 16,
+    else 1 + (mode >> 2) % 1000), then the calls."""
+    return rtp_seed(level, 0) + struct.pack("<H", mode) + body
+
+
+def split_seeds():
+    ops = SPLIT_OPS
+    ahead = bytes([ops["set_ahead"], 0]) + b"".join(i32(v << 26) for v in (3, -2, 1, 0, 0, 0, 0, 1)) + i32(1 << 29)
+    direct = b"".join(bytes([ops["sample"], k % 3]) + i16(tone(k)) for k in range(60))
+    direct += bytes([ops["missing"], 0, ops["missing"], 1])
+    direct += bytes([ops["prepare"], ops["set_weights"], 0]) + b"".join(i32(1 << 22) for _ in range(RTP_MAX_LEVEL))
+    direct += bytes([0]) + i32(1 << 15) + bytes([0]) + i32(1 << 9)
+    direct += bytes([ops["sample"], 0]) + i16(tone(60)) + ahead
+    direct += b"".join(bytes([ops["sample"], k % 2]) + i16(tone(k)) for k in range(61, 120))
+    direct += bytes([ops["unprepared"], 0]) + i16(7) + bytes([ops["run"], 8]) + b"".join(i16(tone(k)) for k in range(8))
+    direct += bytes([ops["prepare"], ops["set_ahead_ramp"]]) + i32(1 << 25) + bytes([ops["sample"], 0]) + i16(99)
+    direct += bytes([ops["reset"]]) + b"".join(bytes([ops["sample"], 0]) + i16(tone(k)) for k in range(20))
+
+    def rate(factor, n=200):
+        body = b""
+        for k in range(n):
+            body += bytes([ops["missing"]]) if k % 17 == 5 else bytes([ops["sample"]]) + i16(tone(k))
+            if k == n // 2:
+                body += ahead
+        return split_seed(5, 1 | 2 | ((factor - 1) << 2), body)
+
+    return {"direct_level5": split_seed(5, 0, direct), "direct_level3": split_seed(3, 2, direct),
+            "rate_d2": rate(2), "rate_d3": rate(3), "rate_d10": rate(10, 400), "rate_d1_refused": rate(1, 20)}
+
+
+def hpa_ahead_seeds():
+    """The hpa seeds' stream with the tremor ahead at horizons 1, 5 and 32 (config bit 16: clean_below and
+    horizon), each result converted for the RTP and applied; one window clipped at full scale."""
+    ops = HPA_AHEAD_OPS
+    seeds = {}
+    for h in (1, 5, 32):
+        seeds[f"horizon{h}"] = (hpa_seed(struct.pack("<H", 200) + bytes([h]), mask=16)
+                                + bytes([ops["ahead_to_rtp"], ops["apply"]]))
+    clipped = b"".join(i16(max(-32768, min(32767, 4 * tone(k)))) for k in range(500))
+    start = bytes([ops["start"]]) + struct.pack("<H", 500) + clipped + i32(1000)
+    seeds["clipped_window"] = (hpa_seed(struct.pack("<H", 200) + bytes([1]), mask=16) + start
+                               + bytes([ops["run"], ops["ahead_to_rtp"], ops["apply"], ops["take"]]))
+    return seeds
+
+
 def main():
-    for name, seeds in (("rtp", rtp_seeds()), ("hpa", hpa_seeds())):
+    for name, seeds in (("rtp", rtp_seeds()), ("hpa", hpa_seeds()), ("rtp_split", split_seeds()),
+                        ("hpa_ahead", hpa_ahead_seeds())):
         folder = os.path.join(HERE, "seeds", name)
         os.makedirs(folder, exist_ok=True)
         for stem, data in seeds.items():
