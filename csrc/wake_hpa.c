@@ -145,6 +145,8 @@ static inline unsigned chunk_end(unsigned t, unsigned step, unsigned limit)
 #define COST_PIECE 60
 #define COST_SUM 22
 #define COST_LAG 5
+/* a DFT sample with one bin, two bins: the recursion (11, 16) and its share of a block's clamps and loop
+   (reinsch_run1/2; docs/verification.md, "The DFT pass") */
 #define COST_DFT1 14
 #define COST_DFT2 20
 #define COST_SLIDE 60
@@ -1196,8 +1198,8 @@ static void start_pass(wake_hpa_t *h)
  * are those of the plain recursion, bit for bit); it is there so that a value
  * analysis, whose intervals grow by a factor above 1 per sample, can see the
  * bound (Frama-C Eva's step_dft entry).  Windows above 512 samples (a build
- * with a larger WAKE_HPA_MAX_WINDOW) reach 2^33.7 and 2^34.7: a bound 4 times
- * higher there.
+ * with a larger WAKE_HPA_MAX_WINDOW) reach 2^33.7 and 2^34.7 (2^34.5 and 2^35.5
+ * with the roundings): a bound 4 times higher there.
  */
 #if WAKE_HPA_MAX_WINDOW <= 512
 #define REINSCH_S_MAX 8589934592.0f     /* 2^33 */
