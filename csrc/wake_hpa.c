@@ -150,8 +150,10 @@ static inline unsigned chunk_end(unsigned t, unsigned step, unsigned limit)
 #define COST_SUM 22
 #endif
 #define COST_LAG 5
-#define COST_DFT1 11
-#define COST_DFT2 16
+/* a DFT sample with one bin, two bins: the recursion (11, 16) and its share of a block's clamps and loop
+   (reinsch_run1/2; docs/verification.md, "The DFT pass") */
+#define COST_DFT1 14
+#define COST_DFT2 20
 #define COST_SLIDE 60
 #define COST_RAMP 40
 /** The fixed part of a chunk of the tremor-ahead pass: the rows' sums and delay line in and out of registers. */
@@ -1230,16 +1232,53 @@ static void start_pass(wake_hpa_t *h)
  * (the difference form keeps the precision of the low bins, where 2 cos w is
  * close to 2).  Two bins share one read of the window.  Locals only: nothing
  * in the loop can alias the struct.
+ *
+ * The states' bound: s(t) = sum_{u <= t} x_c(u) sin(w (t - u + 1)) / sin w and
+ * d(t) = sum_{u <= t} x_c(u) cos(w (t - u + 1/2)) / cos(w / 2), |x_c| <= 2^16.  Over
+ * every n <= 512 and every bin 1 <= m < n / 2 the exact states stay below 2^31.7
+ * (s) and 2^32.7 (d), and the recursion's roundings add less than 2^29.2 and
+ * 2^30.2 (docs/verification.md, "The DFT pass"; tests/hpa/test_reinsch_bound.py):
+ * below REINSCH_S_MAX and REINSCH_D_MAX, which is what STEP_BIN_START assumes
+ * (the default configuration's bins, m < 0.125 n, stay below 2^30.8 and 2^24.6).  Every REINSCH_BLOCK
+ * samples and at the end of each run the states are clamped to those bounds.
+ * The clamp never changes a state of a window of int16 samples (the results
+ * are those of the plain recursion, bit for bit); it is there so that a value
+ * analysis, whose intervals grow by a factor above 1 per sample, can see the
+ * bound (Frama-C Eva's step_dft entry).  Windows above 512 samples (a build
+ * with a larger WAKE_HPA_MAX_WINDOW) reach 2^33.7 and 2^34.7 (2^34.5 and 2^35.5
+ * with the roundings): a bound 4 times higher there.
  */
+#if WAKE_HPA_MAX_WINDOW <= 512
+#define REINSCH_S_MAX 8589934592.0f     /* 2^33 */
+#define REINSCH_D_MAX 17179869184.0f    /* 2^34 */
+#else
+#define REINSCH_S_MAX 34359738368.0f    /* 2^35 */
+#define REINSCH_D_MAX 68719476736.0f    /* 2^36 */
+#endif
+/** Samples between two clamps of the Reinsch states: an interval grows at most 5.9-fold per sample (lambda = -4), 2^41 over 16. */
+#define REINSCH_BLOCK 16u
+
+/** v within [-top, top] by plain comparisons (a NaN passes unchanged). */
+static inline float clamp_abs(float v, float top)
+{
+    return (v > top) ? top : ((v < -top) ? -top : v);
+}
+
 static inline void reinsch_run1(const wake_q15_t *x, unsigned t0, unsigned t1, float mean, float lam, float *s_io,
                                 float *d_io)
 {
     float s = *s_io, d = *d_io;
-    unsigned t;
-    for (t = t0; t < t1; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_DFT1 */
-        const float xc = (float)x[t] - mean;
-        d = d + xc + lam * s;
-        s = s + d;
+    unsigned b;
+    for (b = t0; b < t1; b += REINSCH_BLOCK) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_DFT1 / REINSCH_BLOCK + 1 */
+        const unsigned stop = chunk_end(b, REINSCH_BLOCK, t1);
+        unsigned t;
+        for (t = b; t < stop; ++t) { /* wcet-loop: REINSCH_BLOCK */
+            const float xc = (float)x[t] - mean;
+            d = d + xc + lam * s;
+            s = s + d;
+        }
+        s = clamp_abs(s, REINSCH_S_MAX);
+        d = clamp_abs(d, REINSCH_D_MAX);
     }
     *s_io = s;
     *d_io = d;
@@ -1250,13 +1289,21 @@ static inline void reinsch_run2(const wake_q15_t *x, unsigned t0, unsigned t1, f
 {
     const float lam0 = lam[0], lam1 = lam[1];
     float s0 = s_io[0], d0 = d_io[0], s1 = s_io[1], d1 = d_io[1];
-    unsigned t;
-    for (t = t0; t < t1; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_DFT2 */
-        const float xc = (float)x[t] - mean;
-        d0 = d0 + xc + lam0 * s0;
-        s0 = s0 + d0;
-        d1 = d1 + xc + lam1 * s1;
-        s1 = s1 + d1;
+    unsigned b;
+    for (b = t0; b < t1; b += REINSCH_BLOCK) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_DFT2 / REINSCH_BLOCK + 1 */
+        const unsigned stop = chunk_end(b, REINSCH_BLOCK, t1);
+        unsigned t;
+        for (t = b; t < stop; ++t) { /* wcet-loop: REINSCH_BLOCK */
+            const float xc = (float)x[t] - mean;
+            d0 = d0 + xc + lam0 * s0;
+            s0 = s0 + d0;
+            d1 = d1 + xc + lam1 * s1;
+            s1 = s1 + d1;
+        }
+        s0 = clamp_abs(s0, REINSCH_S_MAX);
+        d0 = clamp_abs(d0, REINSCH_D_MAX);
+        s1 = clamp_abs(s1, REINSCH_S_MAX);
+        d1 = clamp_abs(d1, REINSCH_D_MAX);
     }
     s_io[0] = s0;
     d_io[0] = d0;

@@ -3,7 +3,7 @@
     python tests/prove/eva_check.py              (from csrc/)
     python tests/prove/eva_check.py --timeout 120 --only rtp --jobs 2
     python tests/prove/eva_check.py --only hpa_steps   (the steps of one HPA run)
-    python tests/prove/eva_check.py --hpa-report     (also analyse wake_hpa_run and the DFT pass, never failing on them)
+    python tests/prove/eva_check.py --hpa-report     (also analyse wake_hpa_run, never failing on it)
     python tests/prove/eva_check.py --entry wake_rtp_prepare --entry wake_rtp_finish   (some entries only)
 
 Runs ``frama-c -eva`` once per analysis entry (tests/prove/eva_rtp.c, tests/prove/eva_hpa.c: one ``eva_<function>``
@@ -50,7 +50,7 @@ HPA_ALL_CONFIG_ENTRIES = {"wake_hpa_apply"}
 #: the steps are static), each checking the postcondition the next assumes (docs/verification.md, "A whole HPA
 #: run"); the HPA's own code, so one configuration
 STEP_ENTRIES = ["step_sums", "step_lags", "step_lag_end", "step_diag", "step_levinson", "step_psd", "step_cutoff",
-                "step_bins", "step_bin", "step_ramp", "step_gram"]
+                "step_bins", "step_dft", "step_bin", "step_ramp", "step_gram"]
 STEP_CONFIGS = ["mul64 K1"]
 #: every step entry: the window lengths (and, per entry, the lag or the order) are split into one Eva state each
 #: (Frama_C_interval_split), kept through the calls and beyond the default limit of 100 splits; the window
@@ -59,9 +59,7 @@ STEP_OPTIONS = ("-eva-interprocedural-splits", "-eva-split-limit", "1000", "-eva
                 "-eva-slevel", "400")
 #: HPA entries analysed on request only (--hpa-report): a whole run's float loops over a window of any
 #: samples widen to every float (docs/verification.md, "What Eva does not yet cover")
-HPA_REPORT_ENTRIES = [("hpa", "wake_hpa_run"),
-                      # the one step not gated: the Goertzel recursion's bound is not an interval's (docs/verification.md)
-                      ("hpa_steps", "step_dft")]
+HPA_REPORT_ENTRIES = [("hpa", "wake_hpa_run")]
 #: entries whose inputs are floats of any bit pattern (NaN and infinities included): the code itself
 #: tests them, so Eva's non-finite float alarms are off there (-warn-special-float none); everywhere
 #: else a NaN or an infinity is an alarm
@@ -77,7 +75,7 @@ ENTRY_OPTIONS = {"wake_hpa_apply": ("-eva-slevel-function", "round_clamp:0"),
                  # one state per window length is enough for the spectrum and the valley rule (a tenth of the time)
                  "step_psd": STEP_OPTIONS + ("-eva-slevel", "100"),
                  "step_cutoff": STEP_OPTIONS + ("-eva-slevel", "100")}
-ENTRY_OPTIONS.update({e: STEP_OPTIONS for e in STEP_ENTRIES + ["step_dft"] if e not in ENTRY_OPTIONS})
+ENTRY_OPTIONS.update({e: STEP_OPTIONS for e in STEP_ENTRIES if e not in ENTRY_OPTIONS})
 #: configuration name -> preprocessor definitions
 CONFIGS = {
     "mul64 K1": "-DWAKE_RTP_KALMAN=1",

@@ -51,13 +51,14 @@
 #define DEN_MAX_R 1267650600228229401496703205376.0
 
 /**
- * The DFT pass's Reinsch states (STEP_DFT's output): NOT shown by Eva, a bound by hand (docs/verification.md).
- * s(t) = sum_{u <= t} x_c(u) sin(w (t - u + 1)) / sin w with |x_c| <= 2^16 and sin w >= sin(2 pi / n) for the
- * bins below n / 4: |s| <= n 2^16 / sin(2 pi / n) < 2^32 (n <= 500), and d(t) = s(t) - s(t - 1): |d| < 2^33;
- * a factor of 2 on each for the roundings of the recursion.
+ * The DFT pass's Reinsch states (STEP_DFT's postcondition, shown by eva_step_dft below): the bounds wake_hpa.c
+ * clamps them to every REINSCH_BLOCK samples, 2^33 for s and 2^34 for d in this build (WAKE_HPA_MAX_WINDOW <= 512).
+ * The clamp never fires on a window of int16 samples (wake_hpa.c, above reinsch_run1; docs/verification.md).
  */
-#define DFT_S_MAX 0x1p33f
-#define DFT_D_MAX 0x1p34f
+#define DFT_S_MAX REINSCH_S_MAX
+#define DFT_D_MAX REINSCH_D_MAX
+#define DFT_S_MAX_R 8589934592.0
+#define DFT_D_MAX_R 17179869184.0
 /** |X'_m|, |Q_m| (re and im) of one bin from the states above */
 #define XQ_MAX 0x1p38f
 #define XQ_MAX_R 274877906944.0
@@ -360,22 +361,36 @@ static void post_bin_sums(void)
 }
 
 /**
- * One DFT pass over the window (STEP_DFT): reported, not gated.  Interval arithmetic cannot bound the
- * Goertzel recursion over n samples (its bound is a sum of sines), so every state widens.
+ * One DFT pass (STEP_DFT) as wake_hpa_run runs it: from t = 0 with start_pass's zero states, the whole pass in
+ * one piece (a budget of INT32_MAX / 2), for every window length of the schedule, one bin or two (one Eva state
+ * each), each lambda in [-4, 0] (every bin 1 <= m < n / 2 of any configuration; the default configuration's,
+ * m <= 6 n / 100, lie in [-0.15, 0]), the window's mean as STEP_SUMS guarantees it.  Postcondition: the states
+ * STEP_BIN_START reads, s and d at the pass's end and at t = rows, within DFT_S_MAX and DFT_D_MAX.
  */
 void eva_step_dft(void)
 {
+    unsigned b;
     if (!initialised()) {
         return;
     }
-    any_bin_sums();
     begun();
     any_sums();
-    hpa.bins = (uint16_t)Frama_C_interval_split(1, (int)(6u * hpa.n / 100u));
-    hpa.m = (uint16_t)Frama_C_interval(1, (int)hpa.bins);
-    start_pass(&hpa);
+    hpa.pair = (uint16_t)Frama_C_interval_split(1, 2);
+    for (b = 0; b < 2u; ++b) {
+        hpa.lam[b] = anyf(-4.0f, 0.0f);
+        hpa.gs[b] = 0.0f;
+        hpa.hs[b] = 0.0f;
+        hpa.gd[b] = 0.0f;
+        hpa.hd[b] = 0.0f;
+    }
+    hpa.t = 0;
+    hpa.phase = STEP_DFT;
     (void)step_dft(&hpa, INT32_MAX / 2);
-    /*@ assert -DFT_S_MAX <= hpa.gs[0] <= DFT_S_MAX && -DFT_D_MAX <= hpa.gd[0] <= DFT_D_MAX; */
+    /*@ assert hpa.phase == STEP_BIN_START && hpa.t == 0 && hpa.d == 0; */
+    /*@ assert -DFT_S_MAX_R <= hpa.gs[0] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.gd[0] <= DFT_D_MAX_R; */
+    /*@ assert -DFT_S_MAX_R <= hpa.gs[1] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.gd[1] <= DFT_D_MAX_R; */
+    /*@ assert -DFT_S_MAX_R <= hpa.hs[0] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.hd[0] <= DFT_D_MAX_R; */
+    /*@ assert -DFT_S_MAX_R <= hpa.hs[1] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.hd[1] <= DFT_D_MAX_R; */
 }
 
 /**
