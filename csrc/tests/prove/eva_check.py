@@ -50,7 +50,7 @@ HPA_ALL_CONFIG_ENTRIES = {"wake_hpa_apply"}
 #: the steps are static), each checking the postcondition the next assumes (docs/verification.md, "A whole HPA
 #: run"); the HPA's own code, so one configuration
 STEP_ENTRIES = ["step_sums", "step_lags", "step_lag_end", "step_diag", "step_levinson", "step_psd", "step_cutoff",
-                "step_bins", "step_bin", "step_ramp", "step_gram"]
+                "step_bins", "step_bin", "step_ramp", "step_gram", "step_solve"]
 STEP_CONFIGS = ["mul64 K1"]
 #: every step entry: the window lengths (and, per entry, the lag or the order) are split into one Eva state each
 #: (Frama_C_interval_split), kept through the calls and beyond the default limit of 100 splits; the window
