@@ -2218,7 +2218,8 @@ static int32_t piece_cost(const wake_hpa_t *h)
         return 60 + 8 * N + (h->t == 0u ? 12 * N : 0) + (h->t == 0u && h->d == 0u ? 8 * N : 0) +
                (h->t == h->d && h->d + 1u == h->cfg.level ? 100 : 0);
     case STEP_SOLVE:
-        return 6 * J * J * J + 12 * J * J + 200;
+        /* the factorisation and substitutions, plus the bounds of the guards (18 doublings) and the guards */
+        return 6 * J * J * J + 12 * J * J + 500;
 #if WAKE_HPA_AHEAD
     case STEP_AHEAD_START:
         return COST_AHEAD_TAP;

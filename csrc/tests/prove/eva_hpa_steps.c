@@ -495,11 +495,11 @@ static float pow2f(int e)
 
 /**
  * STEP_GRAM's postcondition: G (symmetric, as step_gram writes both triangles), b, y'y and R within their
- * envelopes, and trace(G) / J within G's: either below the solve's smallest scale (zero weights) or in one
- * binade [2^e, 2^(e + 1)] of [2^-80, 2^82], one Eva state each.  The binades cover every scale; within
- * one, a guard of the solve that compares with a bound proportional to the scale (|G_ij| <= 2 J scale,
- * d_j >= lambda / 2, |z_i| <= zlim) gives the compared value an interval proportional to 2^e, which is how
- * intervals see the ratios the solve divides by.
+ * envelopes, and trace(G) / J within G's (the scale is drawn by the caller, solve_attempt).  The scale is
+ * split into ranges [2^8k, 2^(8k + 8)] of [2^-80, 2^82] and the range below the solve's smallest, one Eva
+ * state each; they cover every scale.  Within one, a guard of the solve that compares with a bound
+ * proportional to the scale (|G_ij| <= 2 J scale, d_j >= lambda / 2, |z_i| <= zlim) gives the compared
+ * value an interval proportional to 2^8k, which is how intervals see the ratios the solve divides by.
  */
 static void any_normal_equations(void)
 {
@@ -534,9 +534,9 @@ static void solve_attempt(unsigned a, float factor, float next)
     hpa.result.ridge = 0.0f;
     any_normal_equations();
     {
-        /* k = -21: a scale below the solve's smallest (zero weights); else [2^4k, 2^(4k + 4)] within G_MAX */
-        const int k = Frama_C_interval_split(-21, 20);
-        hpa.scale = k < -20 ? anyf(-G_MAX, SOLVE_MIN_SCALE) : anyf(pow2f(4 * k), pow2f(k < 20 ? 4 * k + 4 : 82));
+        /* k = -11: a scale below the solve's smallest (zero weights); else [2^8k, 2^(8k + 8)] within G_MAX */
+        const int k = Frama_C_interval_split(-11, 10);
+        hpa.scale = k < -10 ? anyf(-G_MAX, SOLVE_MIN_SCALE) : anyf(pow2f(8 * k), pow2f(k < 10 ? 8 * k + 8 : 82));
     }
     hpa.factor = factor;
     hpa.attempts = (uint16_t)a;
