@@ -266,7 +266,9 @@ static int weights_ok(const float *w, unsigned J)
 {
     unsigned j;
     for (j = 0; j < J; ++j) {
-        if (!is_finite(w[j]) || abs_f(w[j]) > (float)WAKE_HPA_WEIGHT_LIMIT) {
+        /* finite and within the limit (NaN fails both tests); written on w[j] itself, so interval analysis
+           bounds the weights that pass */
+        if (!((w[j] <= (float)WAKE_HPA_WEIGHT_LIMIT) && (w[j] >= -(float)WAKE_HPA_WEIGHT_LIMIT))) {
             return 0;
         }
     }
@@ -2115,39 +2117,128 @@ static float fit_mse(const wake_hpa_t *h, const float *w)
 }
 
 /**
- * (G + factor scale I) w = b by L D L' (no square root); 0 if a pivot is not
- * positive and finite.
+ * The smallest mean diagonal trace(G) / J of a system the solve takes (LSB^2): below it the regressors are
+ * zero to far below one LSB and the fit gives zero weights, as at trace(G) <= 0.  It keeps the ridge
+ * factor scale (>= 1e-6 2^-80 at the default ridge) a normal float, so the pivot floor below is one.
  */
-static int solve_ridge(wake_hpa_t *h, float lambda, float *w)
+#define SOLVE_MIN_SCALE 8.2718061e-25f /* 2^-80 */
+/** The smallest ridge factor once the ridge has risen (and the one the bounds of a ridge below it assume). */
+#define RIDGE_FLOOR 1e-9f
+/** A pivot d_j below PIVOT_FLOOR lambda refuses the attempt (d_j >= lambda when G is positive semi-definite). */
+#define PIVOT_FLOOR 0.5f
+/** Doublings of the bound on |L_ij| from 1 (solve_bounds): 2^18 squared is above 2^36 > 4 (2 J + f) / f. */
+#define LMAX_DOUBLINGS 18u
+
+/**
+ * The bounds of one ridge attempt (factor, scale = trace(G) / J), each a guard of solve_ridge that a positive
+ * semi-definite G never reaches (docs/verification.md, "The solve"): with M = G + lambda I, lambda = factor
+ * scale, and the pivots d_j >= PIVOT_FLOOR lambda,
+ *   |G_ij| <= sqrt(G_ii G_jj) <= trace(G)                           -> gmax = 2 J scale
+ *   L_ij^2 d_j <= M_ii <= (2 J + factor) scale                      -> |L_ij| <= lmax, the smallest power of two
+ *                                                                      with lmax^2 >= 2 (2 J + factor) / (PIVOT_FLOOR factor)
+ *   z = D L' w, so |w| <= 32 gives |z_i| <= d_i 32 (1 + (J - 1) lmax) -> zlim = 64 (1 + (J - 1) lmax) (2 J + factor) scale
+ * Each holds with a factor of 2 (sqrt 2 for lmax) to spare for the roundings.
+ */
+typedef struct {
+    float lambda; /**< the ridge factor scale */
+    float dmin;   /**< the smallest pivot, PIVOT_FLOOR lambda */
+    float gmax;   /**< the largest |G_ij| */
+    float lmax;   /**< the largest |L_ij| */
+    float zlim;   /**< the largest |z_i| of L z = b */
+} solve_bounds_t;
+
+static solve_bounds_t solve_bounds(unsigned J, float factor, float scale)
+{
+    const float f = max_f(factor, RIDGE_FLOOR);
+    const float side = (2.0f * (float)J) + f;
+    const float need = (2.0f * side) / (PIVOT_FLOOR * f);
+    solve_bounds_t s;
+    unsigned n;
+    s.lambda = factor * scale;
+    s.dmin = PIVOT_FLOOR * s.lambda;
+    s.gmax = 2.0f * (float)J * scale;
+    s.lmax = 1.0f;
+    /* need <= 4 (2 J + f) / f < 2^36 for J <= WAKE_HPA_MAX_LEVEL and f >= RIDGE_FLOOR: 18 doublings at most */
+    for (n = 0; n < LMAX_DOUBLINGS; ++n) { /* wcet-loop: 18 */
+        if ((s.lmax * s.lmax) < need) {
+            s.lmax *= 2.0f;
+        }
+    }
+    s.zlim = 64.0f * (1.0f + (((float)J - 1.0f) * s.lmax)) * side * scale;
+    return s;
+}
+
+/**
+ * G + lambda I = L D L' (no square root), D in dg, L below the diagonal of h->chol; 0 if a bound of @p s
+ * is not kept (a pivot below the floor or not finite, |G_ij| or |L_ij| above its bound).
+ */
+static int factor_ridge(wake_hpa_t *h, const solve_bounds_t *s, float *dg)
 {
     const unsigned J = h->cfg.level;
-    float dg[WAKE_HPA_MAX_LEVEL];
     float *L = h->chol;
     unsigned i, j, k;
     for (j = 0; j < J; ++j) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
-        /* d_j = M_jj - sum_k L_jk^2 d_k */
-        float dj = h->gram[j * J + j] + lambda;
+        /* d_j = M_jj - sum_k L_jk^2 d_k, in [dmin, M_jj] (each term subtracted is >= 0) */
+        const float gjj = h->gram[j * J + j];
+        float top;
+        float dj;
+        if (!((gjj <= s->gmax) && (gjj >= -s->gmax))) {
+            return 0;
+        }
+        top = gjj + s->lambda;
+        dj = top;
         for (k = 0; k < j; ++k) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
             dj -= L[j * J + k] * L[j * J + k] * dg[k];
         }
-        if (!(dj > 0.0f) || !is_finite(dj)) {
+        if (!(dj > 0.0f) || !(dj >= s->dmin) || !(dj <= top) || !is_finite(dj)) { /* NaN fails each */
             return 0;
         }
         dg[j] = dj;
         /* L_ij = (M_ij - sum_k L_ik L_jk d_k) / d_j */
         for (i = j + 1u; i < J; ++i) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
-            float v = h->gram[i * J + j];
+            const float gij = h->gram[i * J + j];
+            float v;
+            float lij;
+            if (!((gij <= s->gmax) && (gij >= -s->gmax))) {
+                return 0;
+            }
+            v = gij;
             for (k = 0; k < j; ++k) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
                 v -= L[i * J + k] * L[j * J + k] * dg[k];
             }
-            L[i * J + j] = v / dj;
+            lij = v / dj;
+            if (!((lij <= s->lmax) && (lij >= -s->lmax))) {
+                return 0;
+            }
+            L[i * J + j] = lij;
         }
     }
-    /* L z = b;  D y = z;  L' w = y */
+    return 1;
+}
+
+/**
+ * (G + factor scale I) w = b by L D L' (no square root); 0 (the ridge rises) if a bound of solve_bounds
+ * is not kept or a weight is not finite or above the limit.
+ */
+static int solve_ridge(wake_hpa_t *h, float factor, float *w)
+{
+    const unsigned J = h->cfg.level;
+    const solve_bounds_t s = solve_bounds(J, factor, h->scale);
+    const float *L = h->chol;
+    float dg[WAKE_HPA_MAX_LEVEL];
+    unsigned i;
+    unsigned k;
+    if (!factor_ridge(h, &s, dg)) {
+        return 0;
+    }
+    /* L z = b (|z_i| <= zlim);  D y = z;  L' w = y */
     for (i = 0; i < J; ++i) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
         float v = h->rhs[i];
         for (k = 0; k < i; ++k) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
             v -= L[i * J + k] * w[k];
+        }
+        if (!((v <= s.zlim) && (v >= -s.zlim))) {
+            return 0;
         }
         w[i] = v;
     }
@@ -2170,20 +2261,20 @@ static void step_solve(wake_hpa_t *h)
     const unsigned J = h->cfg.level;
     float *w = h->trial;
     unsigned j;
-    if (!(h->scale > 0.0f) || !is_finite(h->scale)) {
+    if (!(h->scale >= SOLVE_MIN_SCALE) || !is_finite(h->scale)) {
         for (j = 0; j < J; ++j) {
             w[j] = 0.0f;
         }
         finish_fit(h, w, h->noise, max_f(h->yy / (float)h->rows, 0.0f), h->cfg.ridge, 0u);
         return;
     }
-    if (solve_ridge(h, h->factor * h->scale, w)) {
+    if (solve_ridge(h, h->factor, w)) {
         finish_fit(h, w, h->noise, fit_mse(h, w), h->factor,
                h->factor > h->cfg.ridge ? (uint16_t)WAKE_HPA_NOTE_REGULARISED : (uint16_t)0u);
         return;
     }
     h->attempts = (uint16_t)(h->attempts + 1u);
-    h->factor = max_f(h->factor * 10.0f, 1e-9f);
+    h->factor = max_f(h->factor * 10.0f, RIDGE_FLOOR);
     if (h->attempts >= WAKE_HPA_RIDGE_STEPS) {
         /* a ridge of 1e7 trace(G) still fails: zero weights, never NaN */
         for (j = 0; j < J; ++j) {
@@ -2221,7 +2312,8 @@ static int32_t piece_cost(const wake_hpa_t *h)
         return 60 + 8 * N + (h->t == 0u ? 12 * N : 0) + (h->t == 0u && h->d == 0u ? 8 * N : 0) +
                (h->t == h->d && h->d + 1u == h->cfg.level ? 100 : 0);
     case STEP_SOLVE:
-        return 6 * J * J * J + 12 * J * J + 200;
+        /* the factorisation and substitutions, plus the bounds of the guards (18 doublings) and the guards */
+        return 6 * J * J * J + 12 * J * J + 500;
 #if WAKE_HPA_AHEAD
     case STEP_AHEAD_START:
         return COST_AHEAD_TAP;

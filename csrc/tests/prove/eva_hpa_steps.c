@@ -73,6 +73,19 @@
 #define CXY_MAX_R 20282409603651670423947251286016.0
 #define VHEAD_MAX 0x1p60f
 #define VHEAD_MAX_R 1152921504606846976.0
+/**
+ * The normal equations STEP_GRAM leaves, envelopes from the ones above: |G| <= 32 BANK_MAX + the mean's terms
+ * (< 2^59) < 2^82, |b| <= 32 CXY_MAX + the mean's terms (< 2^89) < 2^110, |y'y| <= 32 VHEAD_MAX^2 + the bins' and
+ * the line's terms (< 2^112) < 2^126, |R| <= 2 POWER_MAX / n + the line's terms < 2^100; trace(G) / J within G's.
+ */
+#define G_MAX 0x1p82f
+#define G_MAX_R 4835703278458516698824704.0
+#define B_MAX 0x1p110f
+#define B_MAX_R 1298074214633706907132624082305024.0
+#define YY_MAX 0x1p126f
+#define YY_MAX_R 85070591730234615865843651857942052864.0
+#define NOISE_MAX 0x1p100f
+#define NOISE_MAX_R 1267650600228229401496703205376.0
 
 static wake_q15_t taps[WAKE_HPA_MAX_LEVEL * WAKE_HPA_MAX_TAPS];
 static wake_q15_t window[WAKE_HPA_MAX_WINDOW];
@@ -475,4 +488,103 @@ void eva_step_gram(void)
     /*@ assert \forall integer i; 0 <= i < 25 ==> \is_finite(hpa.gram[i]); */
     /*@ assert \forall integer i; 0 <= i < 5 ==> \is_finite(hpa.rhs[i]); */
     /*@ assert \is_finite(hpa.yy) && \is_finite(hpa.noise) && \is_finite(hpa.scale); */
+    /*@ assert \forall integer i; 0 <= i < 25 ==> -G_MAX_R <= hpa.gram[i] <= G_MAX_R; */
+    /*@ assert \forall integer i; 0 <= i < 5 ==> -B_MAX_R <= hpa.rhs[i] <= B_MAX_R; */
+    /*@ assert -YY_MAX_R <= hpa.yy <= YY_MAX_R && -NOISE_MAX_R <= hpa.noise <= NOISE_MAX_R; */
+    /*@ assert -G_MAX_R <= hpa.scale <= G_MAX_R && hpa.factor == hpa.cfg.ridge && hpa.attempts == 0; */
+}
+
+/** 2^e, exactly (e a single value in each Eva state). */
+static float pow2f(int e)
+{
+    float p = 1.0f;
+    int i;
+    for (i = 0; i < e; ++i) {
+        p *= 2.0f;
+    }
+    for (i = 0; i > e; --i) {
+        p *= 0.5f;
+    }
+    return p;
+}
+
+/**
+ * STEP_GRAM's postcondition: G (symmetric, as step_gram writes both triangles), b, y'y and R within their
+ * envelopes, and trace(G) / J within G's (the scale is drawn by the caller, solve_attempt).  The scale is
+ * split into ranges [2^8k, 2^(8k + 8)] of [2^-80, 2^82] and the range below the solve's smallest, one Eva
+ * state each; they cover every scale.  Within one, a guard of the solve that compares with a bound
+ * proportional to the scale (|G_ij| <= 2 J scale, d_j >= lambda / 2, |z_i| <= zlim) gives the compared
+ * value an interval proportional to 2^8k, which is how intervals see the ratios the solve divides by.
+ */
+static void any_normal_equations(void)
+{
+    unsigned l, k;
+    for (l = 0; l < 5u; ++l) {
+        for (k = 0; k <= l; ++k) {
+            const float g = anyf(-G_MAX, G_MAX);
+            hpa.gram[l * 5u + k] = g;
+            hpa.gram[k * 5u + l] = g;
+        }
+        hpa.rhs[l] = anyf(-B_MAX, B_MAX);
+    }
+    hpa.yy = anyf(-YY_MAX, YY_MAX);
+    hpa.noise = anyf(-NOISE_MAX, NOISE_MAX);
+}
+
+/**
+ * One ridge attempt (STEP_SOLVE) with the factor of attempt @p a, from STEP_GRAM's postcondition.
+ * Postcondition: the attempt is refused (the ridge rises: the next attempt's factor @p next) or the run's
+ * result is published with weights within +-32, a finite e_L^2 >= 0, a finite R and ridge.  A function of
+ * its own so that its states are joined on return, one state per attempt entering the next.
+ */
+static void solve_attempt(unsigned a, float factor, float next)
+{
+    unsigned j;
+    /* what an earlier run published (any content), in range: a refused attempt leaves it as it is */
+    for (j = 0; j < WAKE_HPA_MAX_LEVEL; ++j) {
+        hpa.result.weights[j] = 0.0f;
+    }
+    hpa.result.fit_mse = 0.0f;
+    hpa.result.measurement_noise = 0.0f;
+    hpa.result.ridge = 0.0f;
+    any_normal_equations();
+    {
+        /* k = -11: a scale below the solve's smallest (zero weights); else [2^8k, 2^(8k + 8)] within G_MAX */
+        const int k = Frama_C_interval_split(-11, 10);
+        hpa.scale = k < -10 ? anyf(-G_MAX, SOLVE_MIN_SCALE) : anyf(pow2f(8 * k), pow2f(k < 10 ? 8 * k + 8 : 82));
+    }
+    hpa.factor = factor;
+    hpa.attempts = (uint16_t)a;
+    hpa.phase = STEP_SOLVE;
+    step_solve(&hpa);
+    /* refused (the ridge rises: the next attempt's factor) or the result published */
+    /*@ assert hpa.phase == STEP_SOLVE || hpa.phase == STEP_IDLE; */
+    /*@ assert a <= hpa.attempts <= a + 1 && factor <= hpa.factor <= next; */
+    /*@ assert \forall integer j; 0 <= j < WAKE_HPA_MAX_LEVEL ==>
+               -32.0 <= hpa.result.weights[j] <= 32.0 && -32.0 <= hpa.weights[j] <= 32.0; */
+    /*@ assert \is_finite(hpa.result.fit_mse) && hpa.result.fit_mse >= 0.0; */
+    /*@ assert \is_finite(hpa.result.measurement_noise) && \is_finite(hpa.result.ridge); */
+}
+
+/**
+ * Every ridge attempt of the solve, a = 0 .. WAKE_HPA_RIDGE_STEPS - 1 (the driver's loop, unrolled): the
+ * factor is the a-th of ridge, then max(10 factor, RIDGE_FLOOR), as step_solve raises it.
+ */
+void eva_step_solve(void)
+{
+    unsigned a;
+    float factor;
+    if (!initialised()) {
+        return;
+    }
+    /* the solve reads n only through rows (e_L^2 and R over rows >= 68) and the warm-up test of install:
+       the schedule's five window lengths in one state */
+    begin(&hpa, window, (uint16_t)(100 * Frama_C_interval(1, 5)), 0u);
+    factor = hpa.cfg.ridge;
+    /*@ loop unroll WAKE_HPA_RIDGE_STEPS; */
+    for (a = 0; a < WAKE_HPA_RIDGE_STEPS; ++a) {
+        const float next = max_f(factor * 10.0f, RIDGE_FLOOR);
+        solve_attempt(a, factor, next);
+        factor = next;
+    }
 }
