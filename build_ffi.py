@@ -8,8 +8,8 @@ rather than written out a second time: :func:`cdef_from_header` keeps the
 ``#define WAKE_...`` constants (as ``#define NAME ...``, cffi reads the
 values from the compiled code), enum and struct typedefs (array sizes become
 ``[...]``) and function prototypes, and drops comments, other preprocessor
-lines, conditional blocks (but ``#if WAKE_RTP_AHEAD`` and ``#if WAKE_HPA_AHEAD``, which the
-Python build compiles in) and
+lines, conditional blocks (but ``#if WAKE_RTP_AHEAD``, ``#if WAKE_RTP_VOLUNTARY_AHEAD`` and ``#if WAKE_HPA_AHEAD``,
+which the Python build compiles in) and
 ``static inline`` helpers.  A public header
 therefore holds only those four kinds of declaration.
 """
@@ -26,7 +26,7 @@ CSRC = "csrc"
 
 def _strip_conditionals(lines):
     """Drop #if/#ifdef blocks (C++ guards, configuration checks); keep #ifndef ones and ``#if WAKE_RTP_AHEAD`` /
-    ``#if WAKE_HPA_AHEAD`` (the Python build compiles both in)."""
+    ``#if WAKE_RTP_VOLUNTARY_AHEAD`` / ``#if WAKE_HPA_AHEAD`` (the Python build compiles them in)."""
     out, stack = [], []  # stack of "keep"/"drop" per open conditional
     for line in lines:
         s = line.strip()
@@ -35,8 +35,9 @@ def _strip_conditionals(lines):
             kind = m.group(1)
             if kind in ("if", "ifdef", "ifndef"):
                 # keep the include guard, `#ifndef NAME / #define NAME default` blocks and the optional
-                # parts the Python build compiles in (the tremor ahead: WAKE_RTP_AHEAD 1, WAKE_HPA_AHEAD 1)
-                keep = kind == "ifndef" or re.fullmatch(r"#\s*if\s+WAKE_(RTP|HPA)_AHEAD", s) is not None
+                # parts the Python build compiles in (the tremor ahead: WAKE_RTP_AHEAD 1, WAKE_HPA_AHEAD 1; the
+                # voluntary motion ahead: WAKE_RTP_VOLUNTARY_AHEAD 1)
+                keep = kind == "ifndef" or re.fullmatch(r"#\s*if\s+WAKE_(RTP|HPA|RTP_VOLUNTARY)_AHEAD", s) is not None
                 stack.append("keep" if keep else "drop")
             elif kind == "endif":
                 stack.pop()
@@ -89,8 +90,10 @@ ffibuilder.set_source(
     include_dirs=[CSRC],
     # The HPA's floats must round the same on every machine: no fused multiply-add.
     extra_compile_args=["-ffp-contract=off"],
-    # The HPA fits the tremor ahead (WAKE_HPA_AHEAD) on the host. Host limits of the C HPA: any window up to 1024 samples, AR order up to 128, every PSD bin.
-    define_macros=[("WAKE_HPA_AHEAD", "1"), ("WAKE_HPA_MAX_WINDOW", "1024"), ("WAKE_HPA_MAX_ORDER", "128"), ("WAKE_HPA_MAX_PSD_BINS", "512")],
+    # The HPA fits the tremor ahead (WAKE_HPA_AHEAD) on the host; the RTP runs the voluntary motion ahead
+    # (WAKE_RTP_VOLUNTARY_AHEAD, w_h). Host limits of the C HPA: any window up to 1024 samples, AR order up to 128,
+    # every PSD bin.
+    define_macros=[("WAKE_HPA_AHEAD", "1"), ("WAKE_RTP_VOLUNTARY_AHEAD", "1"), ("WAKE_HPA_MAX_WINDOW", "1024"), ("WAKE_HPA_MAX_ORDER", "128"), ("WAKE_HPA_MAX_PSD_BINS", "512")],
 )
 
 if __name__ == "__main__":

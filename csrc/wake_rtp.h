@@ -118,6 +118,34 @@ extern "C" {
 #define WAKE_RTP_SPLIT 0
 #endif
 
+/**
+ * 0 (default): the core as above.  1: also the voluntary motion h samples
+ * ahead (issue 32): a second weight vector w_h from the HPA
+ * (wake_rtp_set_voluntary_ahead) and, per step, v_h(n) = w_h' (a + d) from the
+ * state of the one-step prediction (wake_rtp_voluntary_ahead_output): a second
+ * 2^J-tap FIR h_h = B' w_h over the same window plus one product, since d
+ * moves along w only (the constant-time form above):
+ *
+ * @code
+ *   w_h' d = w_h' d_s + k (z - z_s),    k = w_h' w / |w|^2
+ * @endcode
+ *
+ * The float twin is wake/rtp/reference.py (ReferenceRTP.last_voluntary_ahead).
+ * Until a w_h is installed the output is y(n), the one-step prediction held.
+ * The struct grows by w_h, the second FIR and four scalars; the one-step
+ * prediction and every other output are the same, bit for bit, in both builds.
+ * The host extension (build_ffi.py) builds with 1; firmware leaves it 0, so its
+ * code, cost and static bounds do not move.  Not with WAKE_RTP_SPLIT 1 (the
+ * split step has no second FIR): that combination does not compile.
+ */
+#ifndef WAKE_RTP_VOLUNTARY_AHEAD
+#define WAKE_RTP_VOLUNTARY_AHEAD 0
+#endif
+
+#if WAKE_RTP_VOLUNTARY_AHEAD && WAKE_RTP_SPLIT
+#error "WAKE_RTP_VOLUNTARY_AHEAD 1 and WAKE_RTP_SPLIT 1 together are not supported: the split step has no second FIR for w_h"
+#endif
+
 /** Taps of the tremor-ahead predictor (wake.ahead.TAPS); fixed: the step writes its eight products out and wraps the line index with a mask. */
 #define WAKE_RTP_AHEAD_TAPS 8
 /**
@@ -288,6 +316,20 @@ typedef struct {
     wake_q15_t ahead_line[2 * WAKE_RTP_AHEAD_TAPS];  /**< tremor estimates e, Q15 of FS, each stored twice
                                                           (k and k + 8): newest first they are the
                                                           contiguous ahead_line[ahead_head .. + 7] */
+#endif
+#if WAKE_RTP_VOLUNTARY_AHEAD
+    /* the voluntary motion ahead (WAKE_RTP_VOLUNTARY_AHEAD): w_h set by wake_rtp_set_voluntary_ahead; the
+       restart scalars rebuilt with the FIR by every restart and by the setter */
+    wake_q24_t vol_weights[WAKE_RTP_MAX_LEVEL];  /**< w_h, Q24, |w_h| <= 64 (0 until set) */
+    int64_t vol_z_start;                         /**< z_s = w' d_s, Q23 of FS in int64 (|.| < 2^41) */
+    int64_t vol_start;                           /**< w_h' d_s, Q23 of FS in int64 (|.| < 2^41) */
+    int32_t vol_gain;                            /**< k = w_h' w / |w|^2, Q24, saturated to [-128, 128) (0 for w = 0) */
+    wake_q23_t vol_output;                       /**< v_h(n) = w_h' (a + d) after the last step (y(n) while unset), Q23 of FS */
+    uint32_t vol_saturations;                    /**< narrowings of v_h that saturated (sticks at UINT32_MAX); apart
+                                                      from saturations, which describe y */
+    uint16_t vol_set;                            /**< 1 once a w_h is installed, else 0 (v_h = y(n)) */
+    uint16_t vol_reserved;                       /**< 0 */
+    wake_fir_t vol_fir[WAKE_RTP_MAX_TAPS];       /**< h_h = B' w_h, oldest sample first, as fir */
 #endif
 #if WAKE_RTP_SPLIT
     /* the split step (WAKE_RTP_SPLIT): what wake_rtp_prepare computed for the next finish; the
@@ -582,6 +624,48 @@ wake_rtp_status_t wake_rtp_load_ahead_state(wake_rtp_t *s, const wake_q15_t *lin
  * Reads only.
  */
 wake_rtp_status_t wake_rtp_get_ahead_state(const wake_rtp_t *s, wake_q15_t *line);
+#endif
+
+#if WAKE_RTP_VOLUNTARY_AHEAD
+/**
+ * @brief Install w_h, the HPA's weights of the voluntary motion h samples ahead, between two samples.
+ *
+ * The ring, d, P and the one-step prediction are untouched: from the next step
+ * on the core also outputs v_h(n) = w_h' (a + d) (ReferenceRTP.set_weights_ahead).
+ * Weights, R and q installed later (wake_rtp_set_weights) keep this w_h.
+ * @param[in,out] s              initialised instance
+ * @param[in]     weights_ahead  J weights w_h, Q24, |w_h| <= 64
+ * @return WAKE_RTP_OK, WAKE_RTP_E_NULL, _UNINIT, _CORRUPT or _WEIGHTS (on
+ *         error nothing changes).
+ *
+ * @par Scaling and overflow
+ * The FIR taps h_h = B' w_h as wake_rtp_init's h = B' w (exact int64, Q39,
+ * rounded once to Q(WAKE_RTP_FIR_FRAC)).  w_h' d_s and z_s = w' d_s: J
+ * products < 2^60 after a floor shift by 3, rounded once to Q23 (|.| < 2^41).
+ * k = w_h' w / |w|^2: the J products Q48 (< 2^60 after the floor shift by 3)
+ * over |w|^2 (Q24, < 2^40) by the exact long division of set_weights, rounded
+ * once to Q24 and narrowed to int32 with saturation ([-128, 128), counted in
+ * vol_saturations); 0 when w = 0 (d = d_s then).
+ */
+wake_rtp_status_t wake_rtp_set_voluntary_ahead(wake_rtp_t *s, const wake_q24_t *weights_ahead);
+
+/**
+ * @brief The voluntary motion h samples ahead made by the last step: v_h(n) = w_h' (a + d).
+ *
+ * y(n), the one-step prediction, while no w_h is installed; 0 before the first
+ * step and after reset.
+ * @param[in]  s       initialised instance (not modified)
+ * @param[out] output  v_h(n), Q23 of FS
+ * @return WAKE_RTP_OK, WAKE_RTP_E_NULL, _UNINIT or _CORRUPT.
+ * @par Scaling and overflow
+ * Reads only.  Per step (wake_rtp_step, wake_rtp_step_missing, wake_rtp_run):
+ * v_h = round(h_h' window / 2^(FIR + 15 - 23)) + w_h' d_s + round(k (z - z_s) / 2^24):
+ * the FIR exact in int64 (< 2^47) as y's; z - z_s clamped to +-2^41, its
+ * product with k (Q24) from two 32 x 32 -> 64-bit products (< 2^62), rounded
+ * once; the sum (< 2^49) narrowed once to int32 Q23 with saturation (counted in
+ * vol_saturations).
+ */
+wake_rtp_status_t wake_rtp_voluntary_ahead_output(const wake_rtp_t *s, wake_q23_t *output);
 #endif
 
 /**

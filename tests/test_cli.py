@@ -185,9 +185,9 @@ def test_run_with_a_horizon_writes_the_tremor_ahead_columns_and_says_the_roundin
     assert not np.array_equal(data[600:, 7], data[599:-1, 2])
 
 
-def test_run_on_the_c_core_with_a_horizon_says_why_there_is_no_voluntary_ahead_column(recording, tmp_path,
-                                                                                       capsys):
+def test_run_on_the_c_core_with_a_horizon_writes_its_voluntary_ahead_column(recording, tmp_path, capsys):
     from support import NO_CORE, has_c_backend
+    from wake import WakeFilter
 
     if not has_c_backend():
         pytest.skip(NO_CORE)
@@ -195,9 +195,12 @@ def test_run_on_the_c_core_with_a_horizon_says_why_there_is_no_voluntary_ahead_c
     out = tmp_path / "out.csv"
     assert main(["run", str(path), "--fs", "100", "--column", "0", "--out", str(out), "--horizon-ms", "50",
                  "--backend", "c"]) == 0
-    said = capsys.readouterr().out
-    assert "no voluntary_ahead column: voluntary_ahead at horizon 5 needs backend='reference'" in said
-    assert out.read_text().splitlines()[0].endswith(",a_command")
+    assert "no voluntary_ahead column" not in capsys.readouterr().out
+    assert out.read_text().splitlines()[0].endswith(",a_command,a_voluntary_ahead")
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    ref = WakeFilter(fs=100.0, horizon=5, backend="c").run(data[:, 1])
+    np.testing.assert_array_equal(data[:, 7], ref.voluntary_ahead)    # the C core's w_h' (a + d)
+    assert not np.array_equal(data[600:, 7], data[595:-5, 2])         # not the one-step estimate held
 
 
 @pytest.mark.parametrize("ms", ["4", "330", "nan"])

@@ -100,14 +100,16 @@ def test_the_reference_rtp_outputs_w_h_dot_the_state_of_its_one_step_prediction(
         block.set_weights_ahead([1.0, np.nan, 0, 0, 0])
 
 
-@pytest.mark.parametrize("fs, h", [(100.0, 5), (1000.0, 50)])
-def test_batch_equals_streaming(fs, h):
+@pytest.mark.parametrize("fs, h, backend", [(100.0, 5, "reference"), (1000.0, 50, "reference"), (100.0, 5, "c")])
+def test_batch_equals_streaming(fs, h, backend):
+    if backend == "c" and not has_c_backend():
+        pytest.skip(NO_CORE)
     x = make_signal(12.0, seed=2).measurement
     if fs != FS:
         x = np.interp(np.arange(x.size * 10) / fs, np.arange(x.size) / FS, x)
     x[700:705] = np.nan
-    res = WakeFilter(fs=fs, backend="reference", horizon=h).run(x)
-    f = WakeFilter(fs=fs, backend="reference", horizon=h)
+    res = WakeFilter(fs=fs, backend=backend, horizon=h).run(x)
+    f = WakeFilter(fs=fs, backend=backend, horizon=h)
     raw = []
     for v in x[:2000]:
         f.update(float(v))
@@ -119,17 +121,20 @@ def test_batch_equals_streaming(fs, h):
     assert rms(res.voluntary_ahead[-500:] - res.voluntary[-500:]) > 0   # it is its own output
 
 
-def test_a_saved_stream_goes_on_with_its_w_h():
+@pytest.mark.parametrize("backend", ["reference", "c"])
+def test_a_saved_stream_goes_on_with_its_w_h(backend):
+    if backend == "c" and not has_c_backend():
+        pytest.skip(NO_CORE)
     x = make_signal(14.0, seed=5).measurement
-    f = WakeFilter(backend="reference", horizon=5)
+    f = WakeFilter(backend=backend, horizon=5)
     f.update_block(x[:900])
-    g = WakeFilter(backend="reference", horizon=5)
+    g = WakeFilter(backend=backend, horizon=5)
     g.set_state(f.get_state())
     np.testing.assert_array_equal(f.update_block_voluntary_ahead(x[900:])[1],
                                   g.update_block_voluntary_ahead(x[900:])[1])
 
 
-@pytest.mark.parametrize("settings, needs", [(dict(backend="c"), "backend='reference'"),
+@pytest.mark.parametrize("settings, needs", [(dict(backend="c", hpa_backend="c"), "hpa_backend='python'"),
                                              (dict(backend="reference", hpa_backend="c"), "hpa_backend='python'")])
 def test_a_backend_without_w_h_refuses_it_and_names_the_one_that_can(settings, needs):
     if not has_c_backend():
@@ -149,3 +154,27 @@ def test_a_backend_without_w_h_refuses_it_and_names_the_one_that_can(settings, n
     one = WakeFilter(horizon=1, **settings)
     np.testing.assert_array_equal(one.run(x).voluntary_ahead, one.run(x).voluntary)
     assert one.update(1.0) == one.last_voluntary_ahead
+
+
+@pytest.mark.parametrize("h", [2, 5, 10])
+def test_the_c_core_gives_it_as_the_float_reference_does(paper_signals, h):
+    """backend='c' with the Python HPA: w_h' (a + d) in fixed point (WAKE_RTP_VOLUNTARY_AHEAD), its NRMSE
+    against the voluntary truth at n + h within 1 % relative of the float reference's (the bound
+    tests/test_filter_c.py holds the one-step voluntary to)."""
+    if not has_c_backend():
+        pytest.skip(NO_CORE)
+    from wake.eval.metrics import nrmse
+
+    for s in paper_signals[:3]:
+        c = WakeFilter(backend="c", horizon=h).run(s.measurement)
+        r = WakeFilter(backend="reference", horizon=h).run(s.measurement)
+        assert c.backend == "c" and c.full_scale[0] is not None       # the C core ran after the warm-up
+        nc, nr = nrmse(s.voluntary, c.voluntary_ahead, 500), nrmse(s.voluntary, r.voluntary_ahead, 500)
+        assert abs(nc - nr) <= 0.01 * nr, (nc, nr)
+        assert c.saturations[0] == 0 and c.clipped[0] == 0
+        # until the switch to the C core (the first HPA) both ran the float reference: bit for bit
+        first = c.hpa[0][0].index
+        np.testing.assert_array_equal(c.voluntary_ahead[:first], r.voluntary_ahead[:first])
+        # and after it the C core runs w_h, not the one-step prediction held
+        held = PredictionTarget(h - 1).voluntary_from(c.voluntary)
+        assert rms((c.voluntary_ahead - held)[600:]) > 1e-3

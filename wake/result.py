@@ -53,7 +53,7 @@ class WakeResult:
 
         Until the first HPA fits ``w_h`` it is the one-step prediction held over ``h`` samples, and at
         ``h = 1`` it equals :attr:`voluntary`.  ``ValueError`` on a backend that cannot produce it
-        (:func:`wake.target.voluntary_ahead_refusal`: the float reference and the Python HPA can).
+        (:func:`wake.target.voluntary_ahead_refusal`: the Python HPA can, on either RTP backend).
 
         Examples
         --------

@@ -70,16 +70,16 @@ def voluntary_ahead_refusal(horizon: int, backend: str, hpa_backend: str = "pyth
     ``refuse``, ``ValueError`` with that reason instead of returning it).
 
     At ``horizon = 1`` it is the one-step ``voluntary`` on every backend.  Beyond, the second weight
-    vector ``w_h`` is fitted by the Python HPA only and run by the float reference RTP only: the C RTP
-    has no second weight vector and the C HPA does not fit one (docs/design.md, "Voluntary motion at
-    n + h").
+    vector ``w_h`` is fitted by the Python HPA only (the C HPA does not fit one) and run by both RTPs,
+    the float reference and the C core (built with ``WAKE_RTP_VOLUNTARY_AHEAD``; docs/design.md,
+    "Voluntary motion at n + h").
 
     Examples
     --------
-    >>> voluntary_ahead_refusal(5, "reference") is None, voluntary_ahead_refusal(1, "c") is None
+    >>> voluntary_ahead_refusal(5, "reference") is None, voluntary_ahead_refusal(5, "c") is None
     (True, True)
-    >>> print(voluntary_ahead_refusal(5, "c").split(" (")[0])
-    voluntary_ahead at horizon 5 needs backend='reference'
+    >>> print(voluntary_ahead_refusal(5, "c", "c").split(" (")[0])
+    voluntary_ahead at horizon 5 needs hpa_backend='python'
     """
     why = _why_no_voluntary_ahead(horizon, backend, hpa_backend)
     if why is not None and refuse:
@@ -90,9 +90,9 @@ def voluntary_ahead_refusal(horizon: int, backend: str, hpa_backend: str = "pyth
 def _why_no_voluntary_ahead(horizon: int, backend: str, hpa_backend: str):
     if horizon == 1:
         return None
-    if backend != "reference":
-        return (f"voluntary_ahead at horizon {horizon} needs backend='reference' (the float RTP runs the second "
-                f"weight vector w_h; the C core has none), got backend={backend!r}")
+    if backend not in ("reference", "c"):
+        return (f"voluntary_ahead at horizon {horizon} needs backend='reference' or 'c' (the RTPs that run the "
+                f"second weight vector w_h), got backend={backend!r}")
     if hpa_backend != "python":
         return (f"voluntary_ahead at horizon {horizon} needs hpa_backend='python' (the Python HPA fits the "
                 f"second weight vector w_h; the C HPA does not), got hpa_backend={hpa_backend!r}")

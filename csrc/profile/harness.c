@@ -75,7 +75,14 @@ __attribute__((used)) const uint32_t g_profile_info[] = {
 int profile_init(void)
 {
     const struct profile_config *c = &g_profile_config;
+#if WAKE_RTP_VOLUNTARY_AHEAD
+    /* a build with the voluntary motion ahead (wake profile --define WAKE_RTP_VOLUNTARY_AHEAD=1): the second
+       weight set is w_h, installed so that every step runs its FIR */
+    int st = (int)wake_rtp_init(&g_state, c->level, c->taps, c->weights, c->r, c->q, c->p0);
+    return st != 0 ? st : (int)wake_rtp_set_voluntary_ahead(&g_state, c->weights2);
+#else
     return (int)wake_rtp_init(&g_state, c->level, c->taps, c->weights, c->r, c->q, c->p0);
+#endif
 }
 
 /** wake_rtp_set_weights with the second weight set; returns the status. */

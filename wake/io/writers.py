@@ -46,7 +46,7 @@ VOLUNTARY_AHEAD_COLUMN = ("voluntary_ahead", True)
 def ahead_columns(config) -> tuple:
     """The ahead columns of each channel of a filter with ``config`` (``(name, has_unit)`` pairs):
     :data:`AHEAD_COLUMNS`, then :data:`VOLUNTARY_AHEAD_COLUMN` unless
-    :func:`wake.target.voluntary_ahead_refusal` refuses it (a C backend at a horizon above 1).
+    :func:`wake.target.voluntary_ahead_refusal` refuses it (the C HPA at a horizon above 1).
 
     Examples
     --------

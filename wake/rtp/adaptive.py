@@ -77,9 +77,9 @@ class AdaptiveRTP:
     ``FixedPointRTP.from_reference`` carries it into at the switch.
 
     The voluntary motion ahead (:meth:`set_weights_ahead`, :attr:`last_voluntary_ahead`, :meth:`run_outputs`)
-    runs in the float reference only; the C core has no second weight vector, and once it runs the column is
-    its one-step prediction held (what it has; :func:`wake.target.voluntary_ahead_refusal` keeps a filter
-    from surfacing it at a horizon above 1).
+    runs in the core too: the float reference's ``w_h' (a + d)``, then the C core's fixed-point twin
+    (:mod:`wake.rtp.fixed_voluntary`), which the switch carries ``w_h`` into.  Until an HPA installs a ``w_h``
+    it is the one-step prediction held.
 
     Examples
     --------
@@ -131,15 +131,15 @@ class AdaptiveRTP:
 
     @property
     def last_voluntary_ahead(self) -> float:
-        """The voluntary motion predicted ``h`` samples ahead after the last sample (on the C core: the
-        one-step prediction, held)."""
-        if not self.on_c:
+        """The voluntary motion predicted ``h`` samples ahead after the last sample (the one-step prediction,
+        held, until a ``w_h`` is installed)."""
+        if not self.on_c or self.core.has_weights_ahead:
             return self.core.last_voluntary_ahead
         return float(getattr(self, "last_prediction", self.core.last_output))   # what step / run returned last
 
     def set_weights_ahead(self, weights_ahead) -> None:
-        """Install ``w_h`` in the float reference (None: keep the one it has); the C core has no ``w_h``."""
-        if weights_ahead is not None and not self.on_c:
+        """Install ``w_h`` in the core, float or C (None: keep the one it has)."""
+        if weights_ahead is not None:
             self.core.set_weights_ahead(weights_ahead)
 
     def step(self, sample: float) -> float:
@@ -179,10 +179,7 @@ class AdaptiveRTP:
 
     def _core_run(self, x) -> np.ndarray:
         """``(n, 5)``: the core's voluntary outputs, tremor ahead and voluntary motion ahead over ``x`` (no
-        full-scale move; on the C core the one-step prediction stands for the voluntary motion ahead)."""
-        if self.on_c:
-            out = self.core.run_ahead(x)
-            return np.column_stack((*out, out[0]))
+        full-scale move)."""
         return np.column_stack(self.core.run_outputs(x))
 
     def _run(self, x) -> np.ndarray:

@@ -2,12 +2,11 @@
 
 :class:`FixedPointRTP` has the interface of
 :class:`wake.rtp.reference.ReferenceRTP` but runs the integer recursion of
-the C library, the one firmware runs.  Values cross the boundary in physical
-units and are quantised with ``full_scale`` (FS) into the formats of
-:mod:`wake.rtp.qformat` (which needs no compiled core); importing this module
-checks that the compiled core has those formats.
-
-See ``docs/fixed_point.md`` for the error analysis.
+the C library, the one firmware runs (with the voluntary motion ahead, ``w_h``,
+:mod:`wake.rtp.fixed_voluntary`).  Values cross the boundary in physical units and
+are quantised with ``full_scale`` (FS) into the formats of :mod:`wake.rtp.qformat`
+(which needs no compiled core); importing this module checks that the compiled core
+has those formats.  See ``docs/fixed_point.md`` for the error analysis.
 """
 
 from __future__ import annotations
@@ -16,6 +15,7 @@ import numpy as np
 
 from wake._rtp import ffi, lib
 from wake.rtp.fixed_ahead import AheadMixin
+from wake.rtp.fixed_voluntary import VoluntaryAheadMixin
 from wake.rtp.qformat import (  # noqa: F401  (re-exported: the formats of this core)
     _INT32_MAX, _INT32_MIN, FIR_FRAC, MAX_LEVEL, P_FRAC, SAMPLE_FRAC, STATE_FRAC, TAP_FRAC, TAP_ROW_ABS_MAX,
     WEIGHT_FRAC, WEIGHT_MAX, format_mismatches, quantize_taps, quantize_variance, quantize_weights,
@@ -50,7 +50,7 @@ def _check(status, what):
         raise RuntimeError(f"{what} failed: {_STATUS_TEXT.get(status, 'unknown error')} (status {status})")
 
 
-class FixedPointRTP(AheadMixin):
+class FixedPointRTP(AheadMixin, VoluntaryAheadMixin):
     """One channel of the RTP on the fixed-point C core.
 
     Parameters
@@ -331,7 +331,7 @@ class FixedPointRTP(AheadMixin):
         r, q, clamped = representable_noise(measurement_noise, process_noise, full_scale)
         p0 = representable_noise(1.0, initial_covariance, full_scale)[1]
         rtp = cls(reference.taps, reference.weights, r, q, p0, full_scale=full_scale)
-        rtp._carry_ahead_from(reference)   # the tremor ahead (reference.ahead) and fs carry over
+        rtp._carry_from(reference)   # the tremor ahead (reference.ahead), fs and w_h carry over
         if reference.primed:
             window = np.concatenate((reference.buffer[reference.head:], reference.buffer[: reference.head]))
             top_p = _INT32_MAX * full_scale**2 / 2.0**P_FRAC
@@ -359,7 +359,7 @@ class FixedPointRTP(AheadMixin):
         r, q, clamped = representable_noise(self.measurement_noise, self.process_noise, scale)
         p0 = representable_noise(1.0, self.initial_covariance, scale)[1]
         new = type(self)(self.taps, self.weights, r, q, p0, full_scale=scale, fs=self.fs)
-        new._carry_ahead_from(self)
+        new._carry_from(self)   # the tremor ahead, fs and w_h
         if self.primed:
             top_p = _INT32_MAX * scale**2 / 2.0**P_FRAC
             top_x = _INT32_MAX * scale / 2.0**STATE_FRAC

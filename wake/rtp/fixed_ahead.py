@@ -48,14 +48,16 @@ def _check(status, what):
 class AheadMixin:
     """``set_ahead``, ``last_ahead`` and ``run_ahead`` of the C core (the contract of issue 32)."""
 
-    #: Pickled struct sizes this core loads: its own, and the one before the tremor ahead (the ahead
-    #: fields were appended to the struct, so an older struct is its prefix).
-    _STRUCT_SIZES = (ffi.sizeof("wake_rtp_t"), ffi.offsetof("wake_rtp_t", "ahead_coef"))
+    #: Pickled struct sizes this core loads: its own, the one before the voluntary motion ahead (w_h) and the
+    #: one before the tremor ahead (each part was appended to the struct, so an older struct is its prefix; a
+    #: state without w_h holds the one-step prediction until an HPA installs one).
+    _STRUCT_SIZES = (ffi.sizeof("wake_rtp_t"), ffi.offsetof("wake_rtp_t", "vol_weights"),
+                     ffi.offsetof("wake_rtp_t", "ahead_coef"))
 
     def _restore_ahead(self, st):
         """After unpickling: ``fs``, and for a state saved before the tremor ahead, none installed at 100 Hz."""
         self.fs = float(st.get("fs", 100.0))
-        if len(st["struct"]) < ffi.sizeof("wake_rtp_t"):
+        if len(st["struct"]) <= ffi.offsetof("wake_rtp_t", "ahead_coef"):
             self._state.ahead_ramp = quantize_ramp(ramp_step(self.fs))   # the rest stays 0: shut, no predictor
 
     def _init_ahead(self, fs):

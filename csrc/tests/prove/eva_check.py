@@ -38,6 +38,10 @@ RTP_ENTRIES = ["wake_rtp_init", "wake_rtp_set_weights", "wake_rtp_reset", "wake_
 #: entries of the split step, analysed in every configuration with WAKE_RTP_SPLIT 1 added
 SPLIT_ENTRIES = ["wake_rtp_prepare", "wake_rtp_finish", "wake_rtp_finish_missing"]
 SPLIT_DEFS = " -DWAKE_RTP_SPLIT=1"
+#: entries of the voluntary motion at n + h, analysed in every configuration with WAKE_RTP_VOLUNTARY_AHEAD 1 added
+#: (wake_rtp_step with it on: --entry wake_rtp_step --voluntary-ahead)
+VOLUNTARY_ENTRIES = ["wake_rtp_set_voluntary_ahead", "wake_rtp_voluntary_ahead_output"]
+VOLUNTARY_DEFS = " -DWAKE_RTP_VOLUNTARY_AHEAD=1"
 #: HPA entries whose analysis is checked (every alarm listed and justified)
 HPA_ENTRIES = ["wake_hpa_default_config", "wake_hpa_init", "wake_hpa_push", "wake_hpa_push_missing",
                "wake_hpa_start", "wake_hpa_slice", "wake_hpa_take", "wake_hpa_to_rtp", "wake_hpa_apply"]
@@ -132,7 +136,7 @@ def analyse(unit: str, entry: str, defs: str, timeout: int, slevel: int, extra=(
             "seconds": time.monotonic() - start, "log": out}
 
 
-ARGS = argparse.Namespace(timeout=300, slevel=100)
+ARGS = argparse.Namespace(timeout=300, slevel=100, voluntary_ahead=False)
 
 
 #: seconds a step entry may take whatever --timeout says: step_diag (160 states of 32 diagonal entries) takes about
@@ -146,7 +150,9 @@ ENTRY_TIMEOUT = {"step_solve": 900}
 def analyse_and_print(unit: str, entry: str, config: str, args) -> dict:
     """One analysis with the options its entry needs; its table row printed."""
     timeout = max(args.timeout, ENTRY_TIMEOUT.get(entry, STEP_TIMEOUT)) if unit == "hpa_steps" else args.timeout
-    defs = CONFIGS[config] + (SPLIT_DEFS if entry in SPLIT_ENTRIES else "")
+    defs = CONFIGS[config] + (SPLIT_DEFS if entry in SPLIT_ENTRIES else "") \
+        + (VOLUNTARY_DEFS if entry in VOLUNTARY_ENTRIES or (args.voluntary_ahead and entry not in SPLIT_ENTRIES)
+           else "")
     r = analyse(unit, entry, defs, timeout, args.slevel, entry_options(entry))
     print(f"| {entry} | {config} | {len(r['alarms'])} | {r['seconds']:.1f} | {r['status']} |", flush=True)
     return r
@@ -173,17 +179,19 @@ def main(argv=None) -> int:
     parser.add_argument("--only", choices=["rtp", "hpa", "hpa_steps"], help="one unit only")
     parser.add_argument("--entry", action="append", metavar="FUNCTION",
                         help="only this public function (repeatable), e.g. --entry wake_rtp_finish")
+    parser.add_argument("--voluntary-ahead", action="store_true",
+                        help="build every RTP entry with WAKE_RTP_VOLUNTARY_AHEAD 1 (not with the split entries)")
     parser.add_argument("--hpa-report", action="store_true",
                         help="analyse the HPA entries not yet checked and report their alarms (never fails on them)")
     parser.add_argument("--jobs", type=int, default=2, help="analyses run at once (default 2)")
     args = parser.parse_args(argv)
-    ARGS.timeout, ARGS.slevel = args.timeout, args.slevel
+    ARGS.timeout, ARGS.slevel, ARGS.voluntary_ahead = args.timeout, args.slevel, args.voluntary_ahead
     if shutil.which("frama-c") is None:
         print("eva_check: frama-c not found (Debian: apt-get install frama-c-base)", file=sys.stderr)
         return 3
     plan = []
     if args.only in (None, "rtp"):
-        plan += [("rtp", e, c) for e in RTP_ENTRIES + SPLIT_ENTRIES for c in CONFIGS]
+        plan += [("rtp", e, c) for e in RTP_ENTRIES + SPLIT_ENTRIES + VOLUNTARY_ENTRIES for c in CONFIGS]
     if args.only in (None, "hpa"):
         plan += [("hpa", e, c) for e in HPA_ENTRIES
                  for c in (CONFIGS if e in HPA_ALL_CONFIG_ENTRIES else HPA_CONFIGS)]

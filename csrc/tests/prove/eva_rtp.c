@@ -174,3 +174,22 @@ void eva_wake_rtp_get_ahead_state(void)
     (void)wake_rtp_get_ahead_state(&rtp, ahead_line);
 }
 #endif
+
+#if WAKE_RTP_VOLUNTARY_AHEAD
+/* the voluntary motion at n + h (WAKE_RTP_VOLUNTARY_AHEAD 1): analysed with the switch on */
+static wake_q24_t weights_ahead[WAKE_RTP_MAX_LEVEL];
+
+void eva_wake_rtp_set_voluntary_ahead(void)
+{
+    any_instance();
+    unknown(weights_ahead, sizeof weights_ahead);
+    (void)wake_rtp_set_voluntary_ahead(&rtp, weights_ahead);
+}
+
+void eva_wake_rtp_voluntary_ahead_output(void)
+{
+    wake_q23_t output;
+    any_instance();
+    (void)wake_rtp_voluntary_ahead_output(&rtp, &output);
+}
+#endif

@@ -83,6 +83,10 @@ def build_parser():
                         "the instructions per second, with and without the tremor ahead (J = 5)")
     p.add_argument("--json", metavar="PATH", help="write every number as JSON")
     p.add_argument("--markdown", metavar="PATH", help="write the tables as Markdown")
+    p.add_argument("--define", action="append", default=[], metavar="NAME=VALUE",
+                   help="build every image with -DNAME=VALUE too (repeatable), e.g. WAKE_RTP_VOLUNTARY_AHEAD=1 for "
+                        "the cost of the voluntary motion ahead; --check and the goals still hold the default "
+                        "build's figures")
     p.add_argument("--build-dir", metavar="DIR", help="keep the objects and images here (default: a temp dir)")
     p.add_argument("--csrc", metavar="DIR", help="the csrc/ directory (default: next to the package)")
     return p
@@ -101,18 +105,19 @@ def _measure(args, targets, levels, wavelets):
     _emulator_modules()
     build_root = Path(args.build_dir) if args.build_dir else Path(tempfile.mkdtemp(prefix="wake-profile-"))
     profiles, footprints = [], {}
+    extra = [f"-D{d}" for d in getattr(args, "define", [])]   # --define: every image below
     for t in targets:
         for level in levels:
             # a firmware for level J builds the core with WAKE_RTP_MAX_LEVEL=J (the struct's size)
             image = build_image(t, build_dir=Path(build_root) / f"J{level}", csrc=args.csrc,
-                                defs=[f"-DWAKE_RTP_MAX_LEVEL={level}"])
+                                defs=[f"-DWAKE_RTP_MAX_LEVEL={level}", *extra])
             emu = Emulator(image)
             if level == DEFAULT_LEVEL or t not in footprints:
                 footprints[t] = footprint(image, emu)
                 for key, (_label, base, defs) in FOOTPRINT_VARIANTS.items():
                     if base == t:  # the same target with some code left out: memory only
                         lean = build_image(t, build_dir=Path(build_root) / f"J{level}-{key}", csrc=args.csrc,
-                                           defs=[f"-DWAKE_RTP_MAX_LEVEL={level}", *defs])
+                                           defs=[f"-DWAKE_RTP_MAX_LEVEL={level}", *defs, *extra])
                         footprints[key] = footprint(lean)
             n = args.samples or ((2 * 2**level + 16) if args.quick else None)
             for w in wavelets:
@@ -123,7 +128,7 @@ def _measure(args, targets, levels, wavelets):
             if level == DEFAULT_LEVEL and DEFAULT_WAVELET in wavelets and t != "m4-Os":
                 # the core without the tremor ahead, held to the cost issue's goals
                 lean = Emulator(build_image(t, build_dir=Path(build_root) / f"J{level}-lean", csrc=args.csrc,
-                                            defs=[f"-DWAKE_RTP_MAX_LEVEL={level}", *LEAN_BUILD[1]]))
+                                            defs=[f"-DWAKE_RTP_MAX_LEVEL={level}", *LEAN_BUILD[1], *extra]))
                 for kalman in (True, False):
                     prof = profile_configuration(lean, DEFAULT_WAVELET, level, kalman=kalman, n=n)
                     prof.build = LEAN_BUILD[0]

@@ -1,0 +1,105 @@
+"""The voluntary motion ahead of the fixed-point C core (``WAKE_RTP_VOLUNTARY_AHEAD``): the Python side of
+:class:`~wake.rtp.fixed.FixedPointRTP`.
+
+With ``horizon = h > 1`` the HPA fits a second weight vector ``w_h`` (``HPAUpdate.weights_ahead``) and the
+RTP outputs ``v_h(n) = w_h' (a + d)``, the voluntary motion predicted for ``n + h`` from the state of the
+one-step prediction (:class:`wake.rtp.reference.ReferenceRTP` is the float twin).  The C core runs it as a
+second FIR ``B' w_h`` over the window plus one product, ``w_h' d = w_h' d_s + k (z - z_s)`` with
+``k = w_h' w / |w|^2`` (docs/design.md, "Voluntary motion at n + h"); the output is Q23 of the full scale.
+Until a ``w_h`` is installed it is the one-step prediction held, as in the float reference.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from wake._rtp import ffi, lib
+from wake.rtp.qformat import STATE_FRAC, quantize_weights
+
+__all__ = ["VoluntaryAheadMixin"]
+
+_WEIGHTS_ERROR = int(lib.WAKE_RTP_E_WEIGHTS)
+
+
+def _check(status, what):
+    status = int(status)
+    if status != int(lib.WAKE_RTP_OK):
+        extra = " (w_h outside ±64)" if status == _WEIGHTS_ERROR else ""
+        raise RuntimeError(f"{what} failed with status {status}{extra}")
+
+
+class VoluntaryAheadMixin:
+    """``set_weights_ahead``, ``last_voluntary_ahead`` and ``run_outputs`` of the C core (issue 32).
+
+    Needs the struct ``_state``, ``level``, ``full_scale`` and ``step`` / ``last_ahead`` of
+    :class:`~wake.rtp.fixed.FixedPointRTP`.
+
+    Examples
+    --------
+    >>> from wake.wavelets import filter_bank_taps
+    >>> from wake.rtp.fixed import FixedPointRTP
+    >>> rtp = FixedPointRTP(filter_bank_taps("sym3", 3), [0, 0, 1], 1e-3, full_scale=4.0)
+    >>> rtp.set_weights_ahead([0, 0, 0.5])          # w_h: half of the approximation
+    >>> _ = rtp.run(np.ones(20)); round(rtp.last_voluntary_ahead, 4)
+    0.5
+    >>> rtp.set_weights_ahead([0, 0, 99.0])
+    Traceback (most recent call last):
+    ...
+    ValueError: weights must lie within ±64 in Q24 (int32); got max |w| 99
+    """
+
+    @property
+    def has_weights_ahead(self) -> bool:
+        """Whether a ``w_h`` is installed (until then :attr:`last_voluntary_ahead` is the one-step prediction)."""
+        return bool(self._state.vol_set)
+
+    @property
+    def weights_ahead(self):
+        """``w_h`` as the C core holds it (Q24, dequantised), or None while none is installed."""
+        if not self._state.vol_set:
+            return None
+        return np.array([self._state.vol_weights[j] for j in range(self.level)]) / 2.0**24
+
+    def set_weights_ahead(self, weights_ahead) -> None:
+        """Install ``w_h`` (``level`` finite numbers within ±64) between two samples.
+
+        The window, ``d``, ``P`` and every other output are untouched.  The C core has no way back to "no
+        ``w_h``": None raises ValueError (the float reference's None keeps the one-step prediction).
+        """
+        if weights_ahead is None:
+            raise ValueError("weights_ahead must be level finite numbers; the C core cannot uninstall w_h "
+                             "(None is the float reference's 'hold the one-step prediction')")
+        w_q = quantize_weights(weights_ahead, self.level)
+        _check(lib.wake_rtp_set_voluntary_ahead(self._state, ffi.from_buffer("int32_t[]", w_q)),
+               "wake_rtp_set_voluntary_ahead")
+
+    @property
+    def voluntary_ahead_saturations(self) -> int:
+        """Narrowings of ``v_h`` that saturated (apart from :attr:`saturations`, which describe ``y``)."""
+        return int(self._state.vol_saturations)
+
+    @property
+    def last_voluntary_ahead(self) -> float:
+        """``w_h' (a + d)`` after the last sample (Q23 of the full scale); the one-step prediction ``y(n)``
+        (Q23) while no ``w_h`` is installed."""
+        return self._state.vol_output * (self.full_scale / 2.0**STATE_FRAC)
+
+    def run_outputs(self, samples):
+        """A loop of :meth:`step` (NaN = missing sample): ``(voluntary, predicted, confidence, command,
+        voluntary_ahead)`` arrays, as :meth:`ReferenceRTP.run_outputs`; while no ``w_h`` is installed the
+        last row is the returned one-step prediction (Q15), as before the C core had ``w_h``."""
+        x = np.asarray(samples, dtype=float).reshape(-1)
+        out = np.empty((5, x.size))
+        for k, v in enumerate(x):
+            out[0, k] = self.step(v)
+            out[1:4, k] = self.last_ahead
+            out[4, k] = self.last_voluntary_ahead if self._state.vol_set else out[0, k]
+        return out[0], out[1], out[2], out[3], out[4]
+
+    def _carry_from(self, other) -> None:
+        """Take ``other``'s tremor ahead and fs (``AheadMixin._carry_ahead_from``) and its ``w_h`` when it has
+        one (``other`` a FixedPointRTP or a ReferenceRTP)."""
+        self._carry_ahead_from(other)
+        w_h = getattr(other, "weights_ahead", None)
+        if w_h is not None:
+            self.set_weights_ahead(w_h)
