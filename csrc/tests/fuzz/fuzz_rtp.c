@@ -19,6 +19,7 @@
 
 #include "wake_rtp.h"
 #include "fuzz_input.h"
+#include "fuzz_rtp_input.h"
 
 enum { OP_STEP, OP_MISSING, OP_RUN, OP_SET_WEIGHTS, OP_RESET, OP_LOAD_STATE, OP_GET_STATE,
 #if WAKE_RTP_AHEAD
@@ -33,49 +34,11 @@ static int status_known(wake_rtp_status_t st)
     return st <= WAKE_RTP_OK && st >= WAKE_RTP_E_AHEAD;
 }
 
-/** J weights: raw int32 or scaled into [-64, 64] Q24 (|raw| >> 1 <= 2^30 = 64 in Q24). */
-static void read_weights(fuzz_input_t *in, wake_q24_t *w, unsigned level)
-{
-    unsigned j;
-    const int scaled = (fuzz_u8(in) & 1u) == 0u;
-    for (j = 0; j < level; ++j) {
-        int32_t raw = fuzz_i32(in);
-        w[j] = scaled ? raw / 2 : raw;
-    }
-}
-
-/** A Q(P_FRAC) noise value: raw, or small and positive. */
-static wake_cov_t read_noise(fuzz_input_t *in)
-{
-    const uint8_t mode = fuzz_u8(in);
-    int32_t raw = fuzz_i32(in);
-    return (mode & 1u) != 0u ? raw : (raw & 0xFFFFFF) + 1;
-}
-
 static void check_unchanged_on_error(wake_rtp_status_t st, const wake_rtp_t *before, const wake_rtp_t *after)
 {
     FUZZ_REQUIRE(status_known(st));
     if (st != WAKE_RTP_OK) {
         FUZZ_REQUIRE(memcmp(before, after, sizeof *before) == 0);
-    }
-}
-
-/**
- * The Kalman accumulators s, z and q |w|^2 are the recursion's own outputs, clamped by it every sample
- * to +-2^50, +-2^40 and [0, 2^47]; the per-sample path trusts those ranges rather than re-checking
- * them (a check costs cycles on every sample; docs/verification.md, "Corrupted state"). A corrupted
- * value is brought back into its range, keeping the fuzzer's bits.
- */
-static void keep_accumulators_in_range(wake_rtp_t *s)
-{
-    if (s->s > (INT64_C(1) << 50) || s->s < -(INT64_C(1) << 50)) {
-        s->s >>= 13;
-    }
-    if (s->z > (INT64_C(1) << 40) || s->z < -(INT64_C(1) << 40)) {
-        s->z >>= 23;
-    }
-    if (s->q_omega < 0 || s->q_omega > (INT64_C(1) << 47)) {
-        s->q_omega = (int64_t)((uint64_t)s->q_omega >> 17);
     }
 }
 

@@ -49,6 +49,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 }
 #else
 #include "fuzz_input.h"
+#include "fuzz_rtp_input.h"
 
 enum { OP_SAMPLE, OP_MISSING, OP_PREPARE, OP_UNPREPARED, OP_SET_WEIGHTS, OP_RESET, OP_LOAD_STATE, OP_RUN,
 #if WAKE_RTP_AHEAD
@@ -71,39 +72,6 @@ static int status_known(wake_rtp_status_t st)
 static int same_state(const wake_rtp_t *a, const wake_rtp_t *b)
 {
     return memcmp(a, b, offsetof(wake_rtp_t, split_fir)) == 0;
-}
-
-/** J weights: raw int32 or scaled into [-64, 64] Q24. */
-static void read_weights(fuzz_input_t *in, wake_q24_t *w, unsigned level)
-{
-    unsigned j;
-    const int scaled = (fuzz_u8(in) & 1u) == 0u;
-    for (j = 0; j < level; ++j) {
-        int32_t raw = fuzz_i32(in);
-        w[j] = scaled ? raw / 2 : raw;
-    }
-}
-
-/** A Q(P_FRAC) noise value: raw, or small and positive. */
-static wake_cov_t read_noise(fuzz_input_t *in)
-{
-    const uint8_t mode = fuzz_u8(in);
-    int32_t raw = fuzz_i32(in);
-    return (mode & 1u) != 0u ? raw : (raw & 0xFFFFFF) + 1;
-}
-
-/** As fuzz_rtp.c: the Kalman accumulators brought back into the ranges the recursion keeps them in. */
-static void keep_accumulators_in_range(wake_rtp_t *s)
-{
-    if (s->s > (INT64_C(1) << 50) || s->s < -(INT64_C(1) << 50)) {
-        s->s >>= 13;
-    }
-    if (s->z > (INT64_C(1) << 40) || s->z < -(INT64_C(1) << 40)) {
-        s->z >>= 23;
-    }
-    if (s->q_omega < 0 || s->q_omega > (INT64_C(1) << 47)) {
-        s->q_omega = (int64_t)((uint64_t)s->q_omega >> 17);
-    }
 }
 
 /** One sample (or a missing one) on both, in the direct mode. */
