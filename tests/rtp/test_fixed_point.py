@@ -21,6 +21,8 @@ P_FRAC = _c.P_FRAC
 
 LSB15 = 2.0**-15
 from support import CSRC
+import fixed_point_bound
+from fixed_point_bound import kalman_bound_step, quantized
 REPO = str(CSRC.parent)
 CSRC = os.path.join(REPO, "csrc")
 
@@ -43,14 +45,9 @@ def twin(c):
     return ReferenceRTP(c.taps, c.weights, c.measurement_noise, c.process_noise, c.initial_covariance)
 
 
-def quantized(x, fs):
-    return np.clip(np.round(np.asarray(x) / fs * 32768), -32768, 32767) / 32768 * fs
-
-
 def static_bound(c):
-    """docs/fixed_point.md, eq. (B1), in full-scale units: Q15 output rounding, Q23 rounding of
-    the FIR sum, and the rounding of the N FIR taps h = B'w to Q(FIR_FRAC) times |sample| <= 1."""
-    return 2.0**-16 + 2.0**-24 + c.n_taps * 2.0 ** -(_c.FIR_FRAC + 1)
+    """docs/fixed_point.md, eq. (B1), in full-scale units (:func:`fixed_point_bound.static_bound`)."""
+    return fixed_point_bound.static_bound(c.n_taps, _c)
 
 
 def reference_with_bound(c, x, fs):
@@ -60,10 +57,6 @@ def reference_with_bound(c, x, fs):
     g = w'Pw / S and rho = sum|w| 2^-24 + |e| (sum|w|)^2 4 LSB_P / S.
     """
     ref = twin(c)
-    w = ref.weights
-    sw = np.abs(w).sum()
-    lsb_p = 2.0**-P_FRAC
-    r = ref.measurement_noise / fs**2
     sb = static_bound(c)
     out = np.empty(len(x))
     bound = np.empty(len(x))
@@ -72,12 +65,7 @@ def reference_with_bound(c, x, fs):
         if np.isnan(m):
             out[k] = ref.step_missing()
         else:
-            P = ref.covariance.reshape(ref.level, ref.level) / fs**2
-            wu = float(w @ P @ w)
-            if wu > 0 or ref.process_noise > 0:
-                S = wu + r
-                e = abs(m - ref.last_output) / fs if ref.primed else 0.0
-                B = (1 - wu / S) * B + sw * 2.0**-24 + e * sw * sw * 4 * lsb_p / S
+            B = kalman_bound_step(ref, m, B, fs, _c)
             out[k] = ref.step(m)
         bound[k] = sb + B
     return out, bound * fs

@@ -19,16 +19,14 @@ from wake.wavelets import filter_bank_taps
 _c = pytest.importorskip("wake.rtp.fixed", reason="the C extension wake._rtp is not built")
 FixedPointRTP = _c.FixedPointRTP
 
+from fixed_point_bound import kalman_bound_step, quantized, static_bound  # noqa: E402
+
 
 def signal(n, seed, amp=1.0):
     rng = np.random.default_rng(seed)
     t = np.arange(n) / 100.0
     return amp * (0.6 * np.sin(2 * np.pi * 0.7 * t + rng.uniform(0, 6)) + 0.2 * np.sin(2 * np.pi * 6.0 * t)
                   + 0.02 * rng.standard_normal(n))
-
-
-def quantized(x, fs):
-    return np.clip(np.round(np.asarray(x) / fs * 32768), -32768, 32767) / 32768 * fs
 
 
 def fitted_weights(x, horizon, level=5):
@@ -56,18 +54,12 @@ def twin_with_bound(c, ref, x, fs):
     ``k = w_h' w / |w|^2``, and the roundings of ``k`` (Q24) and of ``w_h' d_s`` (Q23) times ``|z - z_s|``.
     """
     w, w_h = ref.weights, ref.weights_ahead
-    sw, omega = np.abs(w).sum(), float(w @ w)
+    omega = float(w @ w)
     k = float(w_h @ w) / omega
-    lsb_p, r = 2.0**-_c.P_FRAC, ref.measurement_noise / fs**2
-    static = 2.0**-16 + 2.0**-24 + c.n_taps * 2.0 ** -(_c.FIR_FRAC + 1)
+    static = static_bound(c.n_taps, _c)
     out, bound, B, z0 = np.empty(len(x)), np.empty(len(x)), 0.0, float(w @ ref.correction)
     for i, m in enumerate(x):
-        P = ref.covariance.reshape(ref.level, ref.level) / fs**2
-        wu = float(w @ P @ w)
-        if wu > 0 or ref.process_noise > 0:
-            S = wu + r
-            e = abs(m - ref.last_output) / fs if ref.primed else 0.0
-            B = (1 - wu / S) * B + sw * 2.0**-24 + e * sw * sw * 4 * lsb_p / S
+        B = kalman_bound_step(ref, m, B, fs, _c)
         ref.step(m)
         out[i] = ref.last_voluntary_ahead
         moved = abs(float(w @ ref.correction) - z0) / fs
