@@ -17,6 +17,7 @@
 #include "wake_rtp.h"
 
 #include "check.h"
+#include "averaging_taps.h"
 
 #if WAKE_RTP_AHEAD
 
@@ -41,17 +42,6 @@ static uint32_t rng_u32(void)
 static double rng_uniform(double lo, double hi)
 {
     return lo + (hi - lo) * (double)rng_u32() / 4294967296.0;
-}
-
-/* Row j averages the newest 2^(j+1) samples (unit DC gain). */
-static void make_taps(int16_t *taps)
-{
-    int j, i;
-    for (j = 0; j < J; ++j) {
-        int len = 1 << (j + 1);
-        for (i = 0; i < N; ++i) taps[j * N + i] = 0;
-        for (i = N - len; i < N; ++i) taps[j * N + i] = (int16_t)(32768 / len - (len == 1));
-    }
 }
 
 /* The float twin of the per-sample rule (wake.ahead.AheadStep). */
@@ -88,7 +78,7 @@ static void test_status_codes(void)
     int16_t line[TAPS];
     int32_t g, p, cmd;
     wake_rtp_t s;
-    make_taps(taps);
+    make_averaging_taps(taps, J, N);
     CHECK(wake_rtp_set_ahead(NULL, c, 0) == WAKE_RTP_E_NULL, "null instance");
     memset(&s, 0, sizeof(s));
     CHECK(wake_rtp_set_ahead(&s, c, 0) == WAKE_RTP_E_UNINIT, "uninitialised");
@@ -134,7 +124,7 @@ static void test_against_double(int live)
     int32_t c_q[TAPS];
     double sum_c = 0.0, worst_p = 0.0, worst_cmd = 0.0, worst_gate = 0.0, bound_p, bound_gate;
     int n, i;
-    make_taps(taps);
+    make_averaging_taps(taps, J, N);
     CHECK(wake_rtp_init(&s, J, taps, w, 40000, live ? 30 : 0, live ? 40000 : 0) == WAKE_RTP_OK, "init");
     memset(&r, 0, sizeof(r));
     r.alpha = WAKE_RTP_AHEAD_RAMP_DEFAULT / Q30;
@@ -194,7 +184,7 @@ static void test_missing_reset_and_voluntary(void)
     int32_t g, p, cmd;
     wake_rtp_t a, b;
     int n, i;
-    make_taps(taps);
+    make_averaging_taps(taps, J, N);
     for (i = 0; i < TAPS; ++i) c[i] = (int32_t)((i + 1) << 24);
     CHECK(wake_rtp_init(&a, J, taps, w, 1000, 5, 1000) == WAKE_RTP_OK, "init a");
     CHECK(wake_rtp_init(&b, J, taps, w, 1000, 5, 1000) == WAKE_RTP_OK, "init b");
@@ -236,7 +226,7 @@ static void test_state_round_trip(void)
     int32_t p;
     wake_rtp_t s;
     int i;
-    make_taps(taps);
+    make_averaging_taps(taps, J, N);
     CHECK(wake_rtp_init(&s, J, taps, w, 1000, 0, 0) == WAKE_RTP_OK, "init");
     for (i = 0; i < TAPS; ++i) line[i] = (int16_t)(1000 * (i + 1));
     CHECK(wake_rtp_load_ahead_state(&s, line, WAKE_RTP_GATE_ONE / 2) == WAKE_RTP_OK, "load");
@@ -258,7 +248,7 @@ static void test_corrupted(void)
     int16_t y;
     wake_rtp_t s;
     int i;
-    make_taps(taps);
+    make_averaging_taps(taps, J, N);
     for (i = 0; i < TAPS; ++i) c[i] = (i & 1) ? -WAKE_RTP_AHEAD_COEF_MAX : WAKE_RTP_AHEAD_COEF_MAX;
     CHECK(wake_rtp_init(&s, J, taps, w, 1000, 0, 0) == WAKE_RTP_OK, "init");
     CHECK(wake_rtp_set_ahead(&s, c, WAKE_RTP_GATE_ONE) == WAKE_RTP_OK, "set");

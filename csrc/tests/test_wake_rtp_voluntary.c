@@ -16,6 +16,7 @@
 #include "wake_rtp.h"
 
 #include "check.h"
+#include "averaging_taps.h"
 
 #if WAKE_RTP_VOLUNTARY_AHEAD
 
@@ -26,17 +27,6 @@ static const double Q15 = 32768.0;
 static const double Q23 = 8388608.0;
 static const double Q24 = 16777216.0;
 static const double PI = 3.14159265358979323846;
-
-/* Row j averages the newest 2^(j+1) samples (unit DC gain). */
-static void make_taps(int16_t *taps)
-{
-    int j, i;
-    for (j = 0; j < J; ++j) {
-        int len = 1 << (j + 1);
-        for (i = 0; i < N; ++i) taps[j * N + i] = 0;
-        for (i = N - len; i < N; ++i) taps[j * N + i] = (int16_t)(32768 / len - (len == 1));
-    }
-}
 
 /* The literal float recursion (ReferenceRTP): window, d, P; y = w'(a + d), v_h = w_h'(a + d). */
 typedef struct {
@@ -106,7 +96,7 @@ static void test_status_codes(void)
     const int32_t w[J] = {4194304, 4194304, 4194304, 4194304};
     int32_t wh[J] = {0, 0, 0, WAKE_RTP_WEIGHT_MAX + 1};
     wake_q23_t out = 7;
-    make_taps(taps);
+    make_averaging_taps(taps, J, N);
     memset(&s, 0, sizeof(s));
     CHECK(wake_rtp_set_voluntary_ahead(NULL, w) == WAKE_RTP_E_NULL, "null instance");
     CHECK(wake_rtp_set_voluntary_ahead(&s, w) == WAKE_RTP_E_UNINIT, "uninitialised");
@@ -141,7 +131,7 @@ static void test_against_double(int missing)
     const wake_cov_t r = 24159191, q = WAKE_RTP_KALMAN ? 241592 : 0, p0 = WAKE_RTP_KALMAN ? 24159191 : 0;
     double worst = 0.0, moved = 0.0, worst_y = 0.0;
     int k, identical = 1;
-    make_taps(taps);
+    make_averaging_taps(taps, J, N);
     CHECK(wake_rtp_init(&s, J, taps, w, r, q, p0) == WAKE_RTP_OK, "init");
     CHECK(wake_rtp_init(&plain, J, taps, w, r, q, p0) == WAKE_RTP_OK, "init");
     CHECK(wake_rtp_set_voluntary_ahead(&s, wh) == WAKE_RTP_OK, "set w_h");
@@ -189,7 +179,7 @@ static void test_load_state_and_reset(void)
     wake_q15_t y;
     double want = 0.0;
     int i, j;
-    make_taps(taps);
+    make_averaging_taps(taps, J, N);
     for (i = 0; i < N; ++i) window[i] = sample_at(3 * i);
     if (WAKE_RTP_KALMAN) {
         for (j = 0; j < J; ++j) {
