@@ -6,13 +6,16 @@
  * values, raw float bits included, so that init's refusals and the accepted configurations are both
  * reached), the filter bank and start weights, then a sequence of calls: push (one sample or a burst
  * of up to 255 generated ones, so that windows fill within one input), push_missing (bursts: long
- * gaps), slice (bursts), run, start on an input window, take, to_rtp, apply to an RTP instance, and
- * "corrupt", which overwrites part of the checked fields with input bytes (the work pointer excepted).
+ * gaps), slice (bursts), run, start on an input window, take, to_rtp, apply to an RTP instance,
+ * "corrupt", which overwrites part of the checked fields with input bytes (the work pointer excepted),
+ * and "scribble", which breaks start's contract: it overwrites the window the last accepted start
+ * took, also while a run reads it.
  * Built with ASan and UBSan (csrc/Makefile, target fuzz).
  *
  * Properties checked beyond the sanitizers: every status is one the header lists; while the instance
- * has not been corrupted, every result taken has finite weights within WAKE_HPA_WEIGHT_LIMIT, a
- * finite cut-off and a finite, non-negative measurement noise (no NaN or infinity from int16 input).
+ * has not been corrupted, every result taken has finite weights within WAKE_HPA_WEIGHT_LIMIT, a finite
+ * cut-off and a finite measurement noise (no NaN or infinity from int16 input), non-negative unless a
+ * window was scribbled on.
  *
  * Built with -DWAKE_HPA_AHEAD=1 (fuzz_hpa_ahead: the tremor-ahead fit, horizons 1..32 and the refused 0
  * and 33 from the configuration, the RTP with its ahead predictor), also: every result's predictor is
@@ -32,10 +35,13 @@ enum { OP_PUSH, OP_PUSH_BURST, OP_MISSING, OP_SLICE, OP_RUN, OP_START, OP_TAKE, 
 #if WAKE_HPA_AHEAD
        OP_AHEAD_TO_RTP,
 #endif
-       OP_CORRUPT, OP_COUNT };
+       OP_CORRUPT, OP_SCRIBBLE, OP_COUNT };
 
 static wake_q15_t taps[WAKE_HPA_MAX_LEVEL * WAKE_HPA_MAX_TAPS];
-static wake_q15_t window[WAKE_HPA_MAX_WINDOW];
+/* two caller windows: wake_hpa_start's window "must stay unchanged until the result is ready", so
+   OP_START writes the one the last accepted start did not take (the only run that can still read a
+   caller's window is the last accepted start's) */
+static wake_q15_t windows[2][WAKE_HPA_MAX_WINDOW];
 static wake_hpa_t hpa;
 static wake_rtp_t rtp;
 
@@ -110,13 +116,19 @@ static void read_config(fuzz_input_t *in, wake_hpa_config_t *c)
     }
 }
 
-static void check_result(const wake_hpa_result_t *r, unsigned level)
+/**
+ * A result's ranges.  @p consistent: no window was scribbled on during a run; the noise is then >= 0
+ * (it is a sum of squares about a fitted line, exact in int64 for one window's content, and may come
+ * out negative when the content changed between the passes that sum it).
+ */
+static void check_result(const wake_hpa_result_t *r, unsigned level, int consistent)
 {
     unsigned j;
     for (j = 0; j < level; ++j) {
         FUZZ_REQUIRE(isfinite(r->weights[j]) && fabsf(r->weights[j]) <= (float)WAKE_HPA_WEIGHT_LIMIT);
     }
-    FUZZ_REQUIRE(isfinite(r->cutoff) && isfinite(r->measurement_noise) && r->measurement_noise >= 0.0f);
+    FUZZ_REQUIRE(isfinite(r->cutoff) && isfinite(r->measurement_noise));
+    FUZZ_REQUIRE(!consistent || r->measurement_noise >= 0.0f);
 #if WAKE_HPA_AHEAD
     for (j = 0; j < WAKE_HPA_AHEAD_TAPS; ++j) {
         FUZZ_REQUIRE(isfinite(r->ahead[j]) && fabsf(r->ahead[j]) <= 8.0f);
@@ -153,7 +165,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     float weights[WAKE_HPA_MAX_LEVEL];
     wake_q24_t w24[WAKE_RTP_MAX_LEVEL];
     wake_cov_t r, q;
-    unsigned i, n, level, ops = 0, corrupted = 0;
+    unsigned i, n, level, ops = 0, corrupted = 0, scribbled = 0, taken = 0;
     uint8_t shift;
 
     read_config(&in, &cfg);
@@ -207,15 +219,31 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         case OP_RUN:
             st = wake_hpa_run(&hpa);
             break;
-        case OP_START:
+        case OP_START: {
+            wake_q15_t *const free_window = windows[1u - taken];
             n = fuzz_u16(&in) % (WAKE_HPA_MAX_WINDOW + 1u);
-            fuzz_bytes(&in, window, n * sizeof window[0]);
-            st = wake_hpa_start(&hpa, window, (uint16_t)n, (uint32_t)fuzz_i32(&in));
+            fuzz_bytes(&in, free_window, n * sizeof free_window[0]);
+            st = wake_hpa_start(&hpa, free_window, (uint16_t)n, (uint32_t)fuzz_i32(&in));
+            if (st == WAKE_HPA_OK) {
+                taken = 1u - taken;
+            }
             break;
+        }
+        case OP_SCRIBBLE: {   /* a contract violation: results keep their ranges, all but the noise's sign */
+            const size_t offset = fuzz_u16(&in) % WAKE_HPA_MAX_WINDOW;
+            size_t len = (size_t)fuzz_u8(&in) + 1u;
+            if (len > WAKE_HPA_MAX_WINDOW - offset) {
+                len = WAKE_HPA_MAX_WINDOW - offset;
+            }
+            fuzz_bytes(&in, windows[taken] + offset, len * sizeof windows[0][0]);
+            scribbled = 1;
+            st = WAKE_HPA_OK;
+            break;
+        }
         case OP_TAKE:
             st = wake_hpa_take(&hpa, &res);
             if (st == WAKE_HPA_OK && !corrupted) {
-                check_result(&res, hpa.cfg.level);
+                check_result(&res, hpa.cfg.level, !scribbled);
             }
             break;
         case OP_TO_RTP:
@@ -231,7 +259,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             wake_ratio_t goal = 0;
             const int check = !corrupted && hpa.magic == WAKE_HPA_MAGIC && hpa.ready != 0u;   /* a result to apply */
             if (check) {
-                check_result(&hpa.result, hpa.cfg.level);
+                check_result(&hpa.result, hpa.cfg.level, !scribbled);
                 check_ahead_to_rtp(&hpa.result, c, &goal);
             }
 #endif

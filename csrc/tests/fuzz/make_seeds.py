@@ -14,9 +14,10 @@ import struct
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 RTP_OPS = dict(step=0, missing=1, run=2, set_weights=3, reset=4, load_state=5, get_state=6, corrupt=7)
-HPA_OPS = dict(push=0, burst=1, missing=2, slice=3, run=4, start=5, take=6, to_rtp=7, apply=8, corrupt=9)
+HPA_OPS = dict(push=0, burst=1, missing=2, slice=3, run=4, start=5, take=6, to_rtp=7, apply=8, corrupt=9,
+               scribble=10)
 #: fuzz_hpa.c built with WAKE_HPA_AHEAD (fuzz_hpa_ahead): one more call before corrupt
-HPA_AHEAD_OPS = dict(HPA_OPS, ahead_to_rtp=9, corrupt=10)
+HPA_AHEAD_OPS = dict(HPA_OPS, ahead_to_rtp=9, corrupt=10, scribble=11)
 SPLIT_OPS = dict(sample=0, missing=1, prepare=2, unprepared=3, set_weights=4, reset=5, load_state=6, run=7,
                  set_ahead=8, set_ahead_ramp=9, load_ahead=10, corrupt=11)
 RTP_MAX_LEVEL = 6
@@ -83,6 +84,14 @@ def hpa_seed(mask_fields=b"", mask=0, missing=0):
     return out
 
 
+def scribbled_run(ops, n=128):
+    """A caller's window (a tremor about an offset) started, then zeroed (a contract violation) after the
+    pass that sums it and before the lag sums: the noise comes out negative (fuzz_hpa.c, check_result)."""
+    start = bytes([ops["start"]]) + struct.pack("<H", n) + b"".join(i16(16000 + tone(k) / 4) for k in range(n))
+    zero = bytes([ops["scribble"]]) + struct.pack("<H", 0) + bytes([n - 1]) + bytes(2 * n)
+    return start + i32(n) + bytes([ops["slice"], 0]) + zero + bytes([ops["run"], ops["take"], ops["apply"]])
+
+
 def hpa_seeds():
     small = bytes([3]) + struct.pack("<H", 200) + bytes([8])      # level 3, window 200, order 8
     start = bytes([HPA_OPS["start"]]) + struct.pack("<H", 128) + b"".join(i16(tone(k)) for k in range(128)) + i32(128)
@@ -91,6 +100,7 @@ def hpa_seeds():
         "long_gap": hpa_seed(missing=120),
         "level3_window200": hpa_seed(small, mask=1 | 2 | 4),
         "start_window": hpa_seed() + start + bytes([HPA_OPS["run"], HPA_OPS["take"]]),
+        "scribbled_window": hpa_seed() + scribbled_run(HPA_OPS),
     }
 
 
@@ -137,6 +147,7 @@ def hpa_ahead_seeds():
     start = bytes([ops["start"]]) + struct.pack("<H", 500) + clipped + i32(1000)
     seeds["clipped_window"] = (hpa_seed(struct.pack("<H", 200) + bytes([1]), mask=16) + start
                                + bytes([ops["run"], ops["ahead_to_rtp"], ops["apply"], ops["take"]]))
+    seeds["scribbled_window"] = hpa_seed(struct.pack("<H", 200) + bytes([5]), mask=16) + scribbled_run(ops)
     return seeds
 
 
