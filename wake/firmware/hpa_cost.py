@@ -308,10 +308,14 @@ def report(results: dict, rtp_step_bound: int | None = None) -> list[str]:
     return lines
 
 
-def function_report(*, defs=(), sliced=False, windows=None, build_dir=None) -> list[str]:
+def function_report(*, defs=(), sliced=False, windows=None, build_dir=None, raw=None) -> list[str]:
     """The tables of ``--functions``: per function, and with the tremor-ahead fit per part of it (each part's
-    max and median over the windows, per window and per sample of the window), beside the build without it."""
+    max and median over the windows, per window and per sample of the window), beside the build without it.
+    ``raw`` (a dict), if given, receives the :func:`function_profile` results (``"build"``, and with the fit
+    ``"without fit"``) with every window's counts."""
     res = function_profile(defs=defs, sliced=sliced, windows=windows, build_dir=build_dir)
+    raw = {} if raw is None else raw
+    raw["build"] = res
     rows = res["rows"]
     run = "sliced run" if sliced else "whole HPA"
 
@@ -344,8 +348,8 @@ def function_report(*, defs=(), sliced=False, windows=None, build_dir=None) -> l
     fit_s = [f / r["samples"] for f, r in zip(fit, rows)]
     lines.append(f"| the fit's steps | {max(fit):,} / {np.median(fit):,.0f} | "
                  f"{max(fit_s):.1f} / {np.median(fit_s):.1f} |")
-    plain = {r["window"]: r["whole"] for r in function_profile(sliced=sliced, windows=windows,
-                                                                 build_dir=build_dir)["rows"]}
+    raw["without fit"] = function_profile(sliced=sliced, windows=windows, build_dir=build_dir)
+    plain = {r["window"]: r["whole"] for r in raw["without fit"]["rows"]}
     diff = [r["whole"] - plain[r["window"]] for r in rows]
     rest = [d - f for d, f in zip(diff, fit)]
     lines.append(f"| the HPA's other steps, more than in the build without the fit | {max(rest):,} / "
@@ -363,7 +367,7 @@ def function_report(*, defs=(), sliced=False, windows=None, build_dir=None) -> l
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description="Cortex-M cost of the on-device HPA")
-    ap.add_argument("--json", help="write the figures here")
+    ap.add_argument("--json", help="write the figures here (with --functions: every window's counts)")
     ap.add_argument("--check", action="store_true", help="exit 1 when a Cortex-M4F target is missed")
     ap.add_argument("--breakdown", metavar="WINDOW", nargs="?", const="synthetic 1",
                     help="print where one sliced HPA goes, per step, on Cortex-M4F (default window: synthetic 1)")
@@ -379,7 +383,10 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     defs = ["-DWAKE_HPA_AHEAD=1"] if args.ahead else []
     if args.functions:
-        print("\n".join(function_report(defs=defs, sliced=args.sliced)))
+        raw = {}
+        print("\n".join(function_report(defs=defs, sliced=args.sliced, raw=raw)))
+        if args.json:
+            Path(args.json).write_text(json.dumps(raw, indent=1))
         return 0
     if args.breakdown or args.calibrate:
         if args.breakdown:
