@@ -209,7 +209,7 @@ def function_profile(target="m4f-O2", *, windows=None, build_dir=None, csrc=None
     (``addr2line -i`` on the image's debug information; out-of-line callees such as ``memset`` count
     under their own name) and to a part (:data:`AHEAD_PARTS`, else by the step the instance is in when
     its block starts).  A whole HPA (``wake_hpa_run``), or with ``sliced`` every ``wake_hpa_slice``
-    call of a sliced run summed.  Returns ``{"target", "rows"}``, a row per window with ``whole``,
+    call of a sliced run summed.  Returns ``{"target", "sliced", "rows"}``, a row per window with ``whole``,
     ``samples`` (the window's), ``bins`` (the DFT bins below f_d: the low bins the fit's oscillators
     run), ``functions`` and ``parts`` (name -> instructions; each sums to ``whole``).
     """
