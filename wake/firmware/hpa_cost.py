@@ -45,8 +45,8 @@ STEP_NAMES = ("idle", "sums", "lags", "lag end", "Rxx diagonal", "Levinson", "AR
 #: The tremor-ahead fit's steps (built with -DWAKE_HPA_AHEAD=1).
 AHEAD_STEPS = ("ahead start", "ahead pass", "ahead solve")
 #: The parts of the tremor-ahead fit, by function: an instruction counts for the part of the innermost
-#: function of its inline chain listed here (helpers inlined into them count with them: int64_to_float
-#: with the FIR, ring_back with the rows).  Any other instruction run while the instance is in one of
+#: function of its inline chain listed here (the small functions inlined into them count with them:
+#: int64_to_float with the FIR, ring_back with the rows).  Any other instruction run while the instance is in one of
 #: AHEAD_STEPS is those steps' dispatch ("ahead steps' dispatch": the run loop, the slice cost model,
 #: the instance check); the rest is "the HPA's other steps".
 AHEAD_PARTS = {
