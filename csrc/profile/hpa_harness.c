@@ -68,3 +68,5 @@ int main(void)
 
 /** Where the step number lives in the struct on this target (the profiler's per-step breakdown). */
 __attribute__((used)) const uint32_t g_hpa_phase_offset = (uint32_t)offsetof(wake_hpa_t, phase);
+/** Where the count of the DFT bins below f_d lives (the profiler's per-function report: the low bins). */
+__attribute__((used)) const uint32_t g_hpa_bins_offset = (uint32_t)offsetof(wake_hpa_t, bins);

@@ -56,3 +56,29 @@ def test_a_slice_stays_within_its_budget_plus_the_entry_check(tmp_path):
     largest = max(r["max_slice"] for r in rows.values())
     assert budget // 2 < largest <= budget + 400
     assert sum(r["slices"] for r in rows.values()) < 500      # done within the next L = 500 samples
+
+
+def test_the_per_function_profile_accounts_for_every_instruction_of_the_tremor_ahead_build(tmp_path):
+    """--functions: each executed instruction counts once, under one function and one part, and the fit's parts
+    are at least the arithmetic its formulation needs (one multiply-accumulate per tap and sample for the
+    estimate's FIR, four float operations per low bin and sample for the oscillators, 16 products per row)."""
+    pytest.importorskip("unicorn")
+    pytest.importorskip("capstone")
+    from wake.firmware.hpa_cost import AHEAD_PARTS, function_profile, function_report, profile_windows
+
+    window = {"synthetic 1": profile_windows(n_synthetic=1)["synthetic 1"]}
+    res = function_profile("m4f-O2", windows=window, build_dir=tmp_path, defs=["-DWAKE_HPA_AHEAD=1"])
+    row = res["rows"][0]
+    assert row["whole"] > 300_000
+    assert sum(row["functions"].values()) == row["whole"]
+    assert sum(row["parts"].values()) == row["whole"]
+    assert set(AHEAD_PARTS.values()) <= set(row["parts"])            # every part of the fit ran
+    taps, pass_samples, rows = 32, row["samples"] - 32, row["samples"] - 32 - 7 - 1   # J = 5, horizon 1
+    assert 0 < row["bins"] <= 64
+    assert row["parts"]["pass: the estimate's 2^J-tap FIR"] >= taps * pass_samples
+    assert row["parts"]["pass: the low-bin oscillators"] >= 4 * row["bins"] * pass_samples
+    assert row["parts"]["pass: the row sums"] >= 32 * rows
+    assert row["parts"]["ahead steps' dispatch"] < 5_000                # one piece per step in a whole run
+    # the report's totals are the same run's
+    lines = function_report(defs=["-DWAKE_HPA_AHEAD=1"], windows=window, build_dir=tmp_path)
+    assert f"| all | {row['whole']:,} | {row['whole']:,} |" in lines
