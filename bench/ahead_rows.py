@@ -57,21 +57,12 @@ def kept_rows(variant: str, count: int) -> np.ndarray:
 
 
 def fit_on(variant: str):
-    """``fit_predictor`` restricted to the variant's rows (the same ridge, clip and degenerate cases)."""
+    """``fit_predictor`` restricted to the variant's rows (``wake.ahead.fit_rows``: the same solve)."""
     def fit(estimate, truth, horizon, taps=ahead.TAPS, ridge=ahead.RIDGE):
         y, t = np.asarray(estimate, dtype=float), np.asarray(truth, dtype=float)
         X = ahead.lagged(y, taps)[taps - 1:y.size - horizon]
-        target = t[taps - 1 + horizon:]
         keep = kept_rows(variant, X.shape[0])
-        X, target = X[keep], target[keep]
-        if X.shape[0] < 2:
-            return np.zeros(taps)
-        G = X.T @ X
-        scale = np.trace(G) / taps
-        if not scale > 0:
-            return np.zeros(taps)
-        c = np.linalg.solve(G + ridge * scale * np.eye(taps), X.T @ target)
-        return np.clip(c, -ahead.COEFFICIENT_LIMIT, ahead.COEFFICIENT_LIMIT)
+        return ahead.fit_rows(X[keep], t[taps - 1 + horizon:][keep], ridge)
     return fit
 
 

@@ -47,7 +47,7 @@ import numbers
 import numpy as np
 
 __all__ = ["TAPS", "MAX_HORIZON", "RIDGE", "GATE_TAU_S", "NO_TREMOR_FLAGS", "MIN_HELD_OUT", "COEFFICIENT_LIMIT",
-           "fit_predictor", "lagged",
+           "fit_predictor", "fit_rows", "lagged",
            "predictions", "held_out_gain", "gate_target", "check_model", "ramp_step", "horizon_from_ms", "check_horizon", "bank_horizon",
            "AheadStep"]
 
@@ -109,8 +109,39 @@ def fit_predictor(estimate, truth, horizon: int, taps: int = TAPS, ridge: float 
         raise ValueError(f"estimate and truth must be 1-D and of one length, got shapes {y.shape} and {t.shape}")
     if horizon < 1:
         raise ValueError(f"horizon must be at least 1 sample, got {horizon}")
-    X = lagged(y, taps)[taps - 1:y.size - horizon]
-    target = t[taps - 1 + horizon:]
+    return fit_rows(lagged(y, taps)[taps - 1:y.size - horizon], t[taps - 1 + horizon:], ridge)
+
+
+def fit_rows(rows, target, ridge: float = RIDGE):
+    """The predictor's ridge least squares on given rows: what :func:`fit_predictor` solves.
+
+    Parameters
+    ----------
+    rows : array_like, shape (m, taps)
+        Lagged estimates, newest first (rows of :func:`lagged`).
+    target : array_like, shape (m,)
+        The truth each row predicts.
+    ridge : float
+        Relative to the Gram matrix's mean diagonal (:data:`RIDGE`).
+
+    Returns
+    -------
+    numpy.ndarray, shape (taps,)
+        The coefficients, each clipped to +-:data:`COEFFICIENT_LIMIT`; zeros with fewer than two rows or no
+        power.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wake.ahead import fit_rows, lagged
+    >>> s = np.sin(0.3 * np.arange(200))
+    >>> c = fit_rows(lagged(s, 2)[1:-1], s[2:], ridge=1e-9)   # s[k+1] = 2 cos(0.3) s[k] - s[k-1]
+    >>> bool(np.allclose(c, [2 * np.cos(0.3), -1.0], atol=1e-4))
+    True
+    """
+    X = np.asarray(rows, dtype=float)
+    target = np.asarray(target, dtype=float)
+    taps = X.shape[1]
     if X.shape[0] < 2:
         return np.zeros(taps)
     G = X.T @ X
