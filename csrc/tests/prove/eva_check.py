@@ -107,7 +107,11 @@ UNITS = {"rtp": ("eva_rtp.c", False, ""),
          "hpa": ("eva_hpa.c", True, ""),
          "hpa_ahead": ("eva_hpa.c", True, AHEAD_DEFS),
          "hpa_steps": ("eva_hpa_steps.c", False, "")}
-ALARM = re.compile(r"^\[eva:alarm\] (?P<file>[\w./]+):(?P<line>\d+): Warning: \n(?P<body>(?:  .*\n)+)", re.M)
+#: an alarm: Eva's assertion on the lines below the warning, or, when the warning fits on one line (a driver's
+#: `//@ assert` not proven in a file of a short name, e.g. "[eva:alarm] tests/prove/eva_hpa.c:189: Warning: assertion
+#: got status unknown."), its status on the warning's own line
+ALARM = re.compile(r"^\[eva:alarm\] (?P<file>[\w./]+):(?P<line>\d+): Warning: "
+                   r"(?:\n(?P<body>(?:  .*\n)+)|(?P<status>assertion got status .*)\n)", re.M)
 # | wake_rtp.c | invalid RHS operand for shift | `0 ≤ up < 64` | justification |
 ROW = re.compile(r"^\|\s*(?P<file>wake_\w+\.c)\s*\|\s*(?P<kind>[^|]+?)\s*\|\s*`(?P<assert>[^`]+)`\s*\|")
 
@@ -143,7 +147,7 @@ def analyse(unit: str, entry: str, defs: str, timeout: int, slevel: int, extra=(
     out = proc.stdout + proc.stderr
     alarms = []
     for m in ALARM.finditer(out):
-        body = normalise(m["body"])
+        body = normalise(m["body"] or m["status"])
         kind, _, assertion = body.partition(". assert ")
         assertion = assertion.split(";")[0]     # the assertion, without Eva's note on temporaries
         if body.startswith("assertion got status"):
