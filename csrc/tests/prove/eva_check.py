@@ -64,6 +64,10 @@ AHEAD_HPA_ENTRIES = HPA_ENTRIES + ["wake_hpa_ahead_to_rtp"]
 STEP_ENTRIES = ["step_sums", "step_lags", "step_lag_end", "step_diag", "step_levinson", "step_psd", "step_cutoff",
                 "step_bins", "step_dft", "step_bin", "step_ramp", "step_gram", "step_solve"]
 STEP_CONFIGS = ["mul64 K1"]
+#: the tremor-ahead steps of a run (tests/prove/eva_hpa_ahead_steps.c, the build with WAKE_HPA_AHEAD 1), as the
+#: steps above; the pass is analysed on request only (--hpa-report, HPA_REPORT_ENTRIES): its per-bin oscillators
+#: widen over the window (docs/verification.md, "The tremor-ahead build")
+AHEAD_STEP_ENTRIES = ["step_sums_ahead", "step_ahead_start", "step_ahead_solve"]
 #: every step entry: the window lengths (and, per entry, the lag or the order) are split into one Eva state each
 #: (Frama_C_interval_split), kept through the calls and beyond the default limit of 100 splits; the window
 #: loops (up to 500 samples) unrolled
@@ -71,11 +75,14 @@ STEP_OPTIONS = ("-eva-interprocedural-splits", "-eva-split-limit", "1000", "-eva
                 "-eva-slevel", "400")
 #: HPA entries analysed on request only (--hpa-report): a whole run's float loops over a window of any
 #: samples widen to every float (docs/verification.md, "What Eva does not yet cover")
-HPA_REPORT_ENTRIES = [("hpa", "wake_hpa_run")]
+HPA_REPORT_ENTRIES = [("hpa", "wake_hpa_run"), ("hpa_ahead_steps", "step_ahead_pass")]
 #: entries whose inputs are floats of any bit pattern (NaN and infinities included): the code itself
 #: tests them, so Eva's non-finite float alarms are off there (-warn-special-float none); everywhere
 #: else a NaN or an infinity is an alarm
-RAW_FLOAT_ENTRIES = {"wake_hpa_init", "wake_hpa_to_rtp", "wake_hpa_apply", "wake_hpa_ahead_to_rtp"}
+RAW_FLOAT_ENTRIES = {"wake_hpa_init", "wake_hpa_to_rtp", "wake_hpa_apply", "wake_hpa_ahead_to_rtp",
+                     # the tremor ahead's solve tests what it divides by and clips what it produces, a NaN or an
+                     # infinity on the way included (eva_hpa_ahead_steps.c)
+                     "step_ahead_solve"}
 #: extra Eva options per entry of the tremor-ahead build, after ENTRY_OPTIONS'. apply: its driver ranges the RTP's
 #: predictor and goal (docs/verification.md, "The tremor-ahead build"), so more states pass the RTP's check, and
 #: with the default 100 states per statement the refusal path of wake_hpa_to_rtp (outputs unset) is joined with
@@ -92,7 +99,8 @@ ENTRY_OPTIONS = {"wake_hpa_apply": ("-eva-slevel-function", "round_clamp:0"),
                  # one state per window length is enough for the spectrum and the valley rule (a tenth of the time)
                  "step_psd": STEP_OPTIONS + ("-eva-slevel", "100"),
                  "step_cutoff": STEP_OPTIONS + ("-eva-slevel", "100")}
-ENTRY_OPTIONS.update({e: STEP_OPTIONS for e in STEP_ENTRIES if e not in ENTRY_OPTIONS})
+ENTRY_OPTIONS.update({e: STEP_OPTIONS for e in STEP_ENTRIES + AHEAD_STEP_ENTRIES + ["step_ahead_pass"]
+                      if e not in ENTRY_OPTIONS})
 #: configuration name -> preprocessor definitions
 CONFIGS = {
     "mul64 K1": "-DWAKE_RTP_KALMAN=1",
@@ -106,7 +114,8 @@ CONFIGS = {
 UNITS = {"rtp": ("eva_rtp.c", False, ""),
          "hpa": ("eva_hpa.c", True, ""),
          "hpa_ahead": ("eva_hpa.c", True, AHEAD_DEFS),
-         "hpa_steps": ("eva_hpa_steps.c", False, "")}
+         "hpa_steps": ("eva_hpa_steps.c", False, ""),
+         "hpa_ahead_steps": ("eva_hpa_ahead_steps.c", False, AHEAD_DEFS)}
 #: an alarm: Eva's assertion on the lines below the warning, or, when the warning fits on one line (a driver's
 #: `//@ assert` not proven in a file of a short name, e.g. "[eva:alarm] tests/prove/eva_hpa.c:189: Warning: assertion
 #: got status unknown."), its status on the warning's own line
@@ -168,11 +177,16 @@ STEP_TIMEOUT = 400
 #: entries that need more on a loaded machine: step_solve's 16 ridge attempts (about 70 s of CPU; 4 min of wall
 #: time at a load average of 8)
 ENTRY_TIMEOUT = {"step_solve": 900}
+#: the tremor-ahead build's apply, with 300 states per statement: 34 to 72 s per configuration at a load average of
+#: about 3 on a 2-core machine, beyond EVA_TIMEOUT's 120 s on a busier one
+AHEAD_ENTRY_TIMEOUT = {"wake_hpa_apply": 400}
 
 
 def analyse_and_print(unit: str, entry: str, config: str, args) -> dict:
     """One analysis with the options its entry needs; its table row printed."""
-    timeout = max(args.timeout, ENTRY_TIMEOUT.get(entry, STEP_TIMEOUT)) if unit == "hpa_steps" else args.timeout
+    timeout = max(args.timeout, ENTRY_TIMEOUT.get(entry, STEP_TIMEOUT)) if unit.endswith("_steps") else args.timeout
+    if unit == "hpa_ahead":
+        timeout = max(timeout, AHEAD_ENTRY_TIMEOUT.get(entry, 0))
     defs = CONFIGS[config] + (SPLIT_DEFS if entry in SPLIT_ENTRIES else "") \
         + (VOLUNTARY_DEFS if entry in VOLUNTARY_ENTRIES or (args.voluntary_ahead and entry not in SPLIT_ENTRIES)
            else "")
@@ -226,17 +240,22 @@ def main(argv=None) -> int:
     if args.only in (None, "hpa_ahead"):
         plan += [("hpa_ahead", e, c) for e in AHEAD_HPA_ENTRIES
                  for c in (CONFIGS if e in HPA_ALL_CONFIG_ENTRIES else HPA_CONFIGS)]
+    if args.only in (None, "hpa_ahead_steps"):
+        plan += [("hpa_ahead_steps", e, c) for e in AHEAD_STEP_ENTRIES for c in STEP_CONFIGS]
     if args.hpa_report:
         print("| HPA entry (report only) | configuration | alarms | seconds | status |")
         print("|---|---|---:|---:|---|")
         for unit, entry in HPA_REPORT_ENTRIES:
+            if args.entry and entry not in args.entry:
+                continue
             r = analyse_and_print(unit, entry, "mul64 K1", args)
             if len(r["alarms"]) <= 40:
                 for file, kind, assertion, line in r["alarms"]:
                     print(f"  - {file}:{line} {kind}: `{assertion}`")
         print()
     if args.entry:
-        unknown = set(args.entry) - {e for _, e, _ in plan}
+        unknown = set(args.entry) - {e for _, e, _ in plan} - \
+            ({e for _, e in HPA_REPORT_ENTRIES} if args.hpa_report else set())
         if unknown:
             parser.error(f"--entry: not an analysed entry: {', '.join(sorted(unknown))}")
         plan = [p for p in plan if p[1] in args.entry]
