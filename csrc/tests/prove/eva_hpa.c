@@ -186,8 +186,8 @@ void eva_wake_hpa_apply(void)
 #if WAKE_HPA_AHEAD
         {
             /* the RTP's predictor and goal start within their ranges: out of them the RTP's check refuses the
-               instance before apply writes anything (the RTP's own entries show that refusal); Eva joins the
-               states of apply's statuses, so the ranges after a successful apply are checked for every status */
+               instance before apply writes anything (the RTP's own entries show that refusal).  Eva joins the
+               states of apply's statuses, so the ranges are checked after the call whatever its status */
             unsigned k;
             for (k = 0; k < WAKE_HPA_AHEAD_TAPS; ++k) {
                 rtp.ahead_coef[k] = Frama_C_interval(-WAKE_RTP_AHEAD_COEF_MAX, WAKE_RTP_AHEAD_COEF_MAX);
