@@ -5,10 +5,12 @@
     python tests/prove/eva_check.py --only hpa_steps   (the steps of one HPA run)
     python tests/prove/eva_check.py --hpa-report     (also analyse wake_hpa_run, never failing on it)
     python tests/prove/eva_check.py --entry wake_rtp_prepare --entry wake_rtp_finish   (some entries only)
+    python tests/prove/eva_check.py --only hpa_ahead   (the HPA entries in the tremor-ahead build)
 
 Runs ``frama-c -eva`` once per analysis entry (tests/prove/eva_rtp.c, tests/prove/eva_hpa.c: one ``eva_<function>``
 per public function, inputs ranged as the API allows; tests/prove/eva_hpa_steps.c: one ``eva_step_<step>`` per step
-of an HPA run, from its precondition, asserting its postcondition) and per configuration (the 64-bit multiply and
+of an HPA run, from its precondition, asserting its postcondition; the HPA entries again in the tremor-ahead
+build, WAKE_HPA_AHEAD 1) and per configuration (the 64-bit multiply and
 the Cortex-M0+ split arithmetic, WAKE_RTP_KALMAN 1 and 0; the -O2 and -Os source paths), each bounded
 by ``--timeout`` seconds and run ``--jobs`` at a time, on the ILP32 data model of a Cortex-M (machdep gcc_x86_32). It prints a
 Markdown table of the alarms per entry and configuration, then compares the distinct alarms
@@ -50,12 +52,22 @@ HPA_ENTRIES = ["wake_hpa_default_config", "wake_hpa_init", "wake_hpa_push", "wak
 #: in all of them
 HPA_CONFIGS = ["mul64 K1", "m0split K0"]
 HPA_ALL_CONFIG_ENTRIES = {"wake_hpa_apply"}
+#: the tremor-ahead build (off by default; docs/verification.md, "The tremor-ahead build"): WAKE_HPA_AHEAD 1
+#: and the RTP's WAKE_RTP_AHEAD it needs (on by default, stated so that the unit does not depend on that
+#: default). Every HPA entry again, with the ahead counters, fields and steps compiled in, and the entry
+#: that exists only there; the same configurations as above
+AHEAD_DEFS = " -DWAKE_HPA_AHEAD=1 -DWAKE_RTP_AHEAD=1"
+AHEAD_HPA_ENTRIES = HPA_ENTRIES + ["wake_hpa_ahead_to_rtp"]
 #: the steps of one HPA run, each from its precondition (tests/prove/eva_hpa_steps.c, which includes wake_hpa.c:
 #: the steps are static), each checking the postcondition the next assumes (docs/verification.md, "A whole HPA
 #: run"); the HPA's own code, so one configuration
 STEP_ENTRIES = ["step_sums", "step_lags", "step_lag_end", "step_diag", "step_levinson", "step_psd", "step_cutoff",
                 "step_bins", "step_dft", "step_bin", "step_ramp", "step_gram", "step_solve"]
 STEP_CONFIGS = ["mul64 K1"]
+#: the tremor-ahead steps of a run (tests/prove/eva_hpa_ahead_steps.c, the build with WAKE_HPA_AHEAD 1), as the
+#: steps above; the pass is analysed on request only (--hpa-report, HPA_REPORT_ENTRIES): its per-bin oscillators
+#: widen over the window (docs/verification.md, "The tremor-ahead build")
+AHEAD_STEP_ENTRIES = ["step_sums_ahead", "step_ahead_start", "step_ahead_solve"]
 #: every step entry: the window lengths (and, per entry, the lag or the order) are split into one Eva state each
 #: (Frama_C_interval_split), kept through the calls and beyond the default limit of 100 splits; the window
 #: loops (up to 500 samples) unrolled
@@ -63,11 +75,19 @@ STEP_OPTIONS = ("-eva-interprocedural-splits", "-eva-split-limit", "1000", "-eva
                 "-eva-slevel", "400")
 #: HPA entries analysed on request only (--hpa-report): a whole run's float loops over a window of any
 #: samples widen to every float (docs/verification.md, "What Eva does not yet cover")
-HPA_REPORT_ENTRIES = [("hpa", "wake_hpa_run")]
+HPA_REPORT_ENTRIES = [("hpa", "wake_hpa_run"), ("hpa_ahead_steps", "step_ahead_pass")]
 #: entries whose inputs are floats of any bit pattern (NaN and infinities included): the code itself
 #: tests them, so Eva's non-finite float alarms are off there (-warn-special-float none); everywhere
 #: else a NaN or an infinity is an alarm
-RAW_FLOAT_ENTRIES = {"wake_hpa_init", "wake_hpa_to_rtp", "wake_hpa_apply"}
+RAW_FLOAT_ENTRIES = {"wake_hpa_init", "wake_hpa_to_rtp", "wake_hpa_apply", "wake_hpa_ahead_to_rtp",
+                     # the tremor ahead's solve tests what it divides by and clips what it produces, a NaN or an
+                     # infinity on the way included (eva_hpa_ahead_steps.c)
+                     "step_ahead_solve"}
+#: extra Eva options per entry of the tremor-ahead build, after ENTRY_OPTIONS'. apply: its driver ranges the RTP's
+#: predictor and goal (docs/verification.md, "The tremor-ahead build"), so more states pass the RTP's check, and
+#: with the default 100 states per statement the refusal path of wake_hpa_to_rtp (outputs unset) is joined with
+#: the others again (a false "uninitialized" at wake_rtp_set_weights, as without round_clamp:0)
+AHEAD_ENTRY_OPTIONS = {"wake_hpa_apply": ("-eva-slevel", "300")}
 #: extra Eva options per entry. apply: round_clamp's three branches, per weight, would exceed the slevel
 #: inside wake_hpa_to_rtp's loop and merge states where fewer weights are written (a false "uninitialized"
 #: at wake_rtp_set_weights); joining inside round_clamp (slevel 0 there) keeps one state per call
@@ -79,7 +99,8 @@ ENTRY_OPTIONS = {"wake_hpa_apply": ("-eva-slevel-function", "round_clamp:0"),
                  # one state per window length is enough for the spectrum and the valley rule (a tenth of the time)
                  "step_psd": STEP_OPTIONS + ("-eva-slevel", "100"),
                  "step_cutoff": STEP_OPTIONS + ("-eva-slevel", "100")}
-ENTRY_OPTIONS.update({e: STEP_OPTIONS for e in STEP_ENTRIES if e not in ENTRY_OPTIONS})
+ENTRY_OPTIONS.update({e: STEP_OPTIONS for e in STEP_ENTRIES + AHEAD_STEP_ENTRIES + ["step_ahead_pass"]
+                      if e not in ENTRY_OPTIONS})
 #: configuration name -> preprocessor definitions
 CONFIGS = {
     "mul64 K1": "-DWAKE_RTP_KALMAN=1",
@@ -88,7 +109,18 @@ CONFIGS = {
     "m0split K0": "-DWAKE_RTP_KALMAN=0 -DWAKE_RTP_NO_LONG_MULTIPLY=1",
     "Os K1": "-DWAKE_RTP_KALMAN=1 -D__OPTIMIZE_SIZE__=1",
 }
-ALARM = re.compile(r"^\[eva:alarm\] (?P<file>[\w./]+):(?P<line>\d+): Warning: \n(?P<body>(?:  .*\n)+)", re.M)
+#: analysis unit -> (its entries' file in tests/prove, whether wake_hpa.c is added to the sources (eva_hpa_steps.c
+#: includes it: the steps are static), definitions added to every configuration's)
+UNITS = {"rtp": ("eva_rtp.c", False, ""),
+         "hpa": ("eva_hpa.c", True, ""),
+         "hpa_ahead": ("eva_hpa.c", True, AHEAD_DEFS),
+         "hpa_steps": ("eva_hpa_steps.c", False, ""),
+         "hpa_ahead_steps": ("eva_hpa_ahead_steps.c", False, AHEAD_DEFS)}
+#: an alarm: Eva's assertion on the lines below the warning, or, when the warning fits on one line (a driver's
+#: `//@ assert` not proven in a file of a short name, e.g. "[eva:alarm] tests/prove/eva_hpa.c:189: Warning: assertion
+#: got status unknown."), its status on the warning's own line
+ALARM = re.compile(r"^\[eva:alarm\] (?P<file>[\w./]+):(?P<line>\d+): Warning: "
+                   r"(?:\n(?P<body>(?:  .*\n)+)|(?P<status>assertion got status .*)\n)", re.M)
 # | wake_rtp.c | invalid RHS operand for shift | `0 ≤ up < 64` | justification |
 ROW = re.compile(r"^\|\s*(?P<file>wake_\w+\.c)\s*\|\s*(?P<kind>[^|]+?)\s*\|\s*`(?P<assert>[^`]+)`\s*\|")
 
@@ -107,10 +139,10 @@ def listed_alarms() -> set:
 
 
 def analyse(unit: str, entry: str, defs: str, timeout: int, slevel: int, extra=()) -> dict:
-    # eva_hpa_steps.c includes wake_hpa.c (its steps are static)
-    sources = ["wake_rtp.c", f"tests/prove/eva_{unit}.c"] + (["wake_hpa.c"] if unit == "hpa" else [])
+    driver, with_hpa, unit_defs = UNITS[unit]
+    sources = ["wake_rtp.c", f"tests/prove/{driver}"] + (["wake_hpa.c"] if with_hpa else [])
     cmd = ["frama-c", "-machdep", "gcc_x86_32",
-           "-cpp-extra-args=-I. -include tests/prove/eva_builtins.h " + defs, *sources,
+           "-cpp-extra-args=-I. -include tests/prove/eva_builtins.h " + defs + unit_defs, *sources,
            "-eva", "-main", f"eva_{entry}", "-eva-slevel", str(slevel), "-eva-auto-loop-unroll", "400",
            "-eva-split-return", "full", *extra,
            "-eva-msg-key=-initial-state,-final-states", "-eva-warn-key", "garbled-mix=active"]
@@ -124,7 +156,7 @@ def analyse(unit: str, entry: str, defs: str, timeout: int, slevel: int, extra=(
     out = proc.stdout + proc.stderr
     alarms = []
     for m in ALARM.finditer(out):
-        body = normalise(m["body"])
+        body = normalise(m["body"] or m["status"])
         kind, _, assertion = body.partition(". assert ")
         assertion = assertion.split(";")[0]     # the assertion, without Eva's note on temporaries
         if body.startswith("assertion got status"):
@@ -145,23 +177,30 @@ STEP_TIMEOUT = 400
 #: entries that need more on a loaded machine: step_solve's 16 ridge attempts (about 70 s of CPU; 4 min of wall
 #: time at a load average of 8)
 ENTRY_TIMEOUT = {"step_solve": 900}
+#: the tremor-ahead build's apply, with 300 states per statement: 34 to 72 s per configuration at a load average of
+#: about 3 on a 2-core machine, beyond EVA_TIMEOUT's 120 s on a busier one
+AHEAD_ENTRY_TIMEOUT = {"wake_hpa_apply": 400}
 
 
 def analyse_and_print(unit: str, entry: str, config: str, args) -> dict:
     """One analysis with the options its entry needs; its table row printed."""
-    timeout = max(args.timeout, ENTRY_TIMEOUT.get(entry, STEP_TIMEOUT)) if unit == "hpa_steps" else args.timeout
+    timeout = max(args.timeout, ENTRY_TIMEOUT.get(entry, STEP_TIMEOUT)) if unit.endswith("_steps") else args.timeout
+    if unit == "hpa_ahead":
+        timeout = max(timeout, AHEAD_ENTRY_TIMEOUT.get(entry, 0))
     defs = CONFIGS[config] + (SPLIT_DEFS if entry in SPLIT_ENTRIES else "") \
         + (VOLUNTARY_DEFS if entry in VOLUNTARY_ENTRIES or (args.voluntary_ahead and entry not in SPLIT_ENTRIES)
            else "")
-    r = analyse(unit, entry, defs, timeout, args.slevel, entry_options(entry))
-    print(f"| {entry} | {config} | {len(r['alarms'])} | {r['seconds']:.1f} | {r['status']} |", flush=True)
+    r = analyse(unit, entry, defs, timeout, args.slevel, entry_options(entry, unit))
+    label = config + (" ahead" if UNITS[unit][2] == AHEAD_DEFS else "")
+    print(f"| {entry} | {label} | {len(r['alarms'])} | {r['seconds']:.1f} | {r['status']} |", flush=True)
     return r
 
 
-def entry_options(entry: str) -> tuple:
+def entry_options(entry: str, unit: str = "") -> tuple:
     """The Eva options an entry adds to the common ones."""
     raw = ("-warn-special-float", "none") if entry in RAW_FLOAT_ENTRIES else ()
-    return raw + ENTRY_OPTIONS.get(entry, ())
+    ahead = AHEAD_ENTRY_OPTIONS.get(entry, ()) if unit == "hpa_ahead" else ()
+    return raw + ENTRY_OPTIONS.get(entry, ()) + ahead
 
 
 def run_plan(plan: list, jobs: int) -> list:
@@ -176,7 +215,8 @@ def main(argv=None) -> int:
     parser.add_argument("--timeout", type=int, default=300, help="seconds per analysis (default 300)")
     parser.add_argument("--slevel", type=int, default=100, help="Eva's -eva-slevel (default 100; loops with a "
                         "computable bound up to 400 iterations are unrolled)")
-    parser.add_argument("--only", choices=["rtp", "hpa", "hpa_steps"], help="one unit only")
+    parser.add_argument("--only", choices=list(UNITS), help="one unit only (hpa_ahead: the HPA entries with "
+                        "WAKE_HPA_AHEAD 1)")
     parser.add_argument("--entry", action="append", metavar="FUNCTION",
                         help="only this public function (repeatable), e.g. --entry wake_rtp_finish")
     parser.add_argument("--voluntary-ahead", action="store_true",
@@ -197,17 +237,25 @@ def main(argv=None) -> int:
                  for c in (CONFIGS if e in HPA_ALL_CONFIG_ENTRIES else HPA_CONFIGS)]
     if args.only in (None, "hpa_steps"):
         plan += [("hpa_steps", e, c) for e in STEP_ENTRIES for c in STEP_CONFIGS]
+    if args.only in (None, "hpa_ahead"):
+        plan += [("hpa_ahead", e, c) for e in AHEAD_HPA_ENTRIES
+                 for c in (CONFIGS if e in HPA_ALL_CONFIG_ENTRIES else HPA_CONFIGS)]
+    if args.only in (None, "hpa_ahead_steps"):
+        plan += [("hpa_ahead_steps", e, c) for e in AHEAD_STEP_ENTRIES for c in STEP_CONFIGS]
     if args.hpa_report:
         print("| HPA entry (report only) | configuration | alarms | seconds | status |")
         print("|---|---|---:|---:|---|")
         for unit, entry in HPA_REPORT_ENTRIES:
+            if args.entry and entry not in args.entry:
+                continue
             r = analyse_and_print(unit, entry, "mul64 K1", args)
             if len(r["alarms"]) <= 40:
                 for file, kind, assertion, line in r["alarms"]:
                     print(f"  - {file}:{line} {kind}: `{assertion}`")
         print()
     if args.entry:
-        unknown = set(args.entry) - {e for _, e, _ in plan}
+        unknown = set(args.entry) - {e for _, e, _ in plan} - \
+            ({e for _, e in HPA_REPORT_ENTRIES} if args.hpa_report else set())
         if unknown:
             parser.error(f"--entry: not an analysed entry: {', '.join(sorted(unknown))}")
         plan = [p for p in plan if p[1] in args.entry]
@@ -217,11 +265,11 @@ def main(argv=None) -> int:
     print("|---|---|---:|---:|---|")
     for (unit, entry, config), r in zip(plan, run_plan(plan, max(1, args.jobs))):
         if r["status"] != "ok":
-            failures.append(f"{entry} ({config}): {r['status']}")
+            failures.append(f"{entry} ({config}, {unit}): {r['status']}")
             if "log" in r:
                 print(r["log"][-3000:], file=sys.stderr)
         for file, kind, assertion, line in r["alarms"]:
-            distinct[(file, assertion)].add((kind, line, f"{entry} ({config})"))
+            distinct[(file, assertion)].add((kind, line, f"{entry} ({config}, {unit})"))
     print(f"\n{len(distinct)} distinct alarms (file, assertion):")
     for (file, assertion), seen in sorted(distinct.items()):
         kinds = sorted({k for k, _, _ in seen})

@@ -9,6 +9,10 @@
  * any_checked_fields). The run's numeric state is the run's own output; slice and run are analysed
  * from a run started on a window of any int16 samples by a valid init (the default configuration),
  * which is how they are reached.
+ *
+ * Built with WAKE_HPA_AHEAD 1 too (eva_check.py's tremor-ahead unit, hpa_ahead): the same entries, the
+ * ahead counters also of any content, the ahead part of apply checked, and
+ * eva_wake_hpa_ahead_to_rtp, which exists only there.
  */
 #include <float.h>
 #include <stddef.h>
@@ -79,6 +83,14 @@ static int any_checked_fields(void)
         return 0;
     }
     unknown(&hpa.count, offsetof(wake_hpa_t, lo) - offsetof(wake_hpa_t, count));
+#if WAKE_HPA_AHEAD
+    /* the tremor ahead's counters, which check_instance and the next run read: any content too */
+    unknown(&hpa.ahead_prev_index, sizeof hpa.ahead_prev_index);
+    unknown(&hpa.ahead_has_prev, sizeof hpa.ahead_has_prev);
+    unknown(&hpa.ahead_pos, sizeof hpa.ahead_pos);
+    unknown(&hpa.ahead_held, sizeof hpa.ahead_held);
+    unknown(&hpa.ahead_rail, sizeof hpa.ahead_rail);
+#endif
     hpa.work = Frama_C_nondet(0, 1) ? window : hpa.buf;
     return 1;
 }
@@ -171,6 +183,42 @@ void eva_wake_hpa_apply(void)
         rtp.z = Frama_C_long_long_interval(-(INT64_C(1) << 40), INT64_C(1) << 40);
         rtp.q_omega = Frama_C_long_long_interval(0, INT64_C(1) << 47);
         unknown(&hpa.result, sizeof hpa.result);   /* any result, NaN and infinities included */
+#if WAKE_HPA_AHEAD
+        {
+            /* the RTP's predictor and goal start within their ranges: out of them the RTP's check refuses the
+               instance before apply writes anything (the RTP's own entries show that refusal).  Eva joins the
+               states of apply's statuses, so the ranges are checked after the call whatever its status */
+            unsigned k;
+            for (k = 0; k < WAKE_HPA_AHEAD_TAPS; ++k) {
+                rtp.ahead_coef[k] = Frama_C_interval(-WAKE_RTP_AHEAD_COEF_MAX, WAKE_RTP_AHEAD_COEF_MAX);
+            }
+            rtp.ahead_goal = Frama_C_interval(0, WAKE_RTP_GATE_ONE);
+            (void)wake_hpa_apply(&hpa, &rtp);
+            /* what apply installs (the result's predictor and goal converted) lies within the RTP's ranges */
+            /*@ assert \forall integer k; 0 <= k < WAKE_HPA_AHEAD_TAPS ==>
+                       -1073741824 <= rtp.ahead_coef[k] <= 1073741824; */
+            /*@ assert 0 <= rtp.ahead_goal <= 1073741824; */
+        }
+#else
         (void)wake_hpa_apply(&hpa, &rtp);
+#endif
     }
 }
+
+#if WAKE_HPA_AHEAD
+/**
+ * A result of any bit pattern (NaN and infinities included: -warn-special-float none, the conversion clamps
+ * them): the RTP's ranges, |c| <= 8 in Q27 and the goal in [0, 1] in Q30, as fuzz_hpa_ahead checks.
+ */
+void eva_wake_hpa_ahead_to_rtp(void)
+{
+    int32_t c[WAKE_HPA_AHEAD_TAPS];
+    wake_ratio_t goal;
+    unknown(&result, sizeof result);
+    if (wake_hpa_ahead_to_rtp(&result, c, &goal) == WAKE_HPA_OK) {
+        /*@ assert \forall integer k; 0 <= k < WAKE_HPA_AHEAD_TAPS ==>
+                   -1073741824 <= c[k] <= 1073741824; */
+        /*@ assert 0 <= goal <= 1073741824; */
+    }
+}
+#endif
