@@ -406,6 +406,69 @@ void eva_step_dft(void)
     /*@ assert -DFT_S_MAX_R <= hpa.hs[1] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.hd[1] <= DFT_D_MAX_R; */
 }
 
+/** The Reinsch states of a pass in progress, and the ones kept at t = rows, within the clamp bounds. */
+static void any_dft_states(void)
+{
+    unsigned b;
+    for (b = 0; b < 2u; ++b) {
+        hpa.gs[b] = anyf(-DFT_S_MAX, DFT_S_MAX);
+        hpa.hs[b] = anyf(-DFT_S_MAX, DFT_S_MAX);
+        hpa.gd[b] = anyf(-DFT_D_MAX, DFT_D_MAX);
+        hpa.hd[b] = anyf(-DFT_D_MAX, DFT_D_MAX);
+    }
+}
+
+static void post_dft_states(void)
+{
+    /*@ assert -DFT_S_MAX_R <= hpa.gs[0] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.gd[0] <= DFT_D_MAX_R; */
+    /*@ assert -DFT_S_MAX_R <= hpa.gs[1] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.gd[1] <= DFT_D_MAX_R; */
+    /*@ assert -DFT_S_MAX_R <= hpa.hs[0] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.hd[0] <= DFT_D_MAX_R; */
+    /*@ assert -DFT_S_MAX_R <= hpa.hs[1] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.hd[1] <= DFT_D_MAX_R; */
+}
+
+/**
+ * A chunk of a DFT pass as a sliced run gives it: from any sample t of the pass (an interval over [0, n), not
+ * split) with the states any within the clamp bounds (the pass's invariant: the clamps at the end of every block
+ * and every run keep them there), any budget, one bin or two, each lambda in [-4, 0], the mean as STEP_SUMS
+ * guarantees it.  Postcondition: the invariant, the pass's next sample t <= n (0 when the pass ends, STEP_BIN_START
+ * next), and what the chunk spent within what the dispatch allows, 0 < r <= max(budget, cost).
+ *
+ * The budget covers [1, INT32_MAX / 2] in ranges on which the chunk's length is one value q = budget / cost
+ * (one Eva state each, q = 0 .. n; the last range every budget of at least n costs): intervals alone do not
+ * relate what a chunk spends, q items at most, to the budget it was given.
+ */
+void eva_step_dft_chunk(void)
+{
+    unsigned b;
+    int32_t budget, cost, r;
+    int q;
+    if (!initialised()) {
+        return;
+    }
+    begun();
+    any_sums();
+    hpa.pair = (uint16_t)Frama_C_interval_split(1, 2);
+    for (b = 0; b < 2u; ++b) {
+        hpa.lam[b] = anyf(-4.0f, 0.0f);
+    }
+    any_dft_states();
+    hpa.t = (uint16_t)Frama_C_unsigned_int_interval(0u, hpa.n - 1u);
+    hpa.phase = STEP_DFT;
+    cost = hpa.pair == 2u ? COST_DFT2 : COST_DFT1;
+    q = Frama_C_interval_split(0, (int)hpa.n);
+    if (q == 0) {
+        budget = Frama_C_int_interval(1, cost - 1);
+    } else if (q < (int)hpa.n) {
+        budget = Frama_C_int_interval(q * cost, q * cost + cost - 1);
+    } else {
+        budget = Frama_C_int_interval(q * cost, INT32_MAX / 2);
+    }
+    r = step_dft(&hpa, budget);
+    /*@ assert (hpa.phase == STEP_DFT && 0 < hpa.t < hpa.n) || (hpa.phase == STEP_BIN_START && hpa.t == 0 && hpa.d == 0); */
+    post_dft_states();
+    /*@ assert 0 < r <= (budget > cost ? budget : cost); */
+}
+
 /**
  * One bin of a pass: its X'_m and Q_m(0) from the pass's states (STEP_BIN_START), then its slide over the
  * 2^J fit rows (STEP_BIN_END), for every bin m of the cut-off range of every window length (one Eva state
