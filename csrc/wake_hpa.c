@@ -1565,7 +1565,8 @@ static inline void ahead_fir_tap(wake_hpa_t *h, unsigned i)
 static int32_t step_ramp(wake_hpa_t *h, int32_t budget)
 {
     const unsigned n = h->n, rows = h->rows, N = 1u << h->cfg.level;
-    const unsigned start = h->t, end = chunk_end(start, items(budget, COST_RAMP), N);
+    const unsigned start = h->t, count = chunk_count(start, items(budget, COST_RAMP), N);
+    const unsigned end = chunk_end(start, count, N);
     const float slope = h->slope, mu = h->mean, fr = (float)rows;
     const float lead = (float)N - 0.5f * (float)(n - 1u), centre = 0.5f * (float)(n - 1u);
     const wake_q15_t *x = h->work;
@@ -1585,7 +1586,7 @@ static int32_t step_ramp(wake_hpa_t *h, int32_t budget)
         h->d = 0;
         h->phase = STEP_GRAM;
     }
-    return (int32_t)(end - start) * COST_RAMP;
+    return (int32_t)count * COST_RAMP;
 }
 
 #if WAKE_HPA_AHEAD

@@ -103,6 +103,24 @@ static float anyf(float lo, float hi)
     return Frama_C_float_interval(lo, hi);
 }
 
+/**
+ * A chunk's budget, any in [1, INT32_MAX / 2], in the range q of ranges on which the chunk's length is one value:
+ * q = 0 .. @p n - 1 a budget of q items at @p cost (below one item's cost for q = 0), q = n every budget of at least
+ * n items (a whole loop of n items).  Intervals alone do not relate what a chunk spends, min(budget / cost, what is
+ * left) items, to the budget it was given; within one range they do.  q is split by the caller (one Eva state each):
+ * a split made in a callee is joined on its return here.
+ */
+static int32_t budget_range(int q, unsigned n, int32_t cost)
+{
+    if (q == 0) {
+        return Frama_C_int_interval(1, cost - 1);
+    }
+    if (q < (int)n) {
+        return Frama_C_int_interval(q * cost, q * cost + cost - 1);
+    }
+    return Frama_C_int_interval(q * cost, INT32_MAX / 2);
+}
+
 /** The default configuration, any filter bank (init takes any Q15 taps), weights init accepts. */
 static int initialised(void)
 {
@@ -432,10 +450,7 @@ static void post_dft_states(void)
  * and every run keep them there), any budget, one bin or two, each lambda in [-4, 0], the mean as STEP_SUMS
  * guarantees it.  Postcondition: the invariant, the pass's next sample t <= n (0 when the pass ends, STEP_BIN_START
  * next), and what the chunk spent within what the dispatch allows, 0 < r <= max(budget, cost).
- *
- * The budget covers [1, INT32_MAX / 2] in ranges on which the chunk's length is one value q = budget / cost
- * (one Eva state each, q = 0 .. n; the last range every budget of at least n costs): intervals alone do not
- * relate what a chunk spends, q items at most, to the budget it was given.
+ * The budget: any, in the ranges of budget_range (one state each).
  */
 void eva_step_dft_chunk(void)
 {
@@ -456,13 +471,7 @@ void eva_step_dft_chunk(void)
     hpa.phase = STEP_DFT;
     cost = hpa.pair == 2u ? COST_DFT2 : COST_DFT1;
     q = Frama_C_interval_split(0, (int)hpa.n);
-    if (q == 0) {
-        budget = Frama_C_int_interval(1, cost - 1);
-    } else if (q < (int)hpa.n) {
-        budget = Frama_C_int_interval(q * cost, q * cost + cost - 1);
-    } else {
-        budget = Frama_C_int_interval(q * cost, INT32_MAX / 2);
-    }
+    budget = budget_range(q, hpa.n, cost);
     r = step_dft(&hpa, budget);
     /*@ assert (hpa.phase == STEP_DFT && 0 < hpa.t < hpa.n) || (hpa.phase == STEP_BIN_START && hpa.t == 0 && hpa.d == 0); */
     post_dft_states();
@@ -520,6 +529,41 @@ void eva_step_ramp(void)
     (void)step_ramp(&hpa, INT32_MAX / 2);
     /*@ assert hpa.phase == STEP_GRAM && hpa.d == 0 && hpa.t == 0; */
     post_bin_sums();
+}
+
+/**
+ * |U(i)| = |sum_{u < rows} u x_c(i + u)| < 2^19 L^2 / 2 < 2^37 (STEP_RAMP's ramp_u between chunks; |x_c| < 2^19 with
+ * the mean within MEAN_MAX): an envelope, not the tight bound, in which one row's change (|rows x_c| + |wsum| < 2^30)
+ * is below half an ulp (2^35), so that float addition keeps U inside: an invariant of the slide
+ */
+#define RAMP_U_MAX 0x1p60f
+#define RAMP_U_MAX_R 1152921504606846976.0
+
+/**
+ * A chunk of the ramp as a sliced run gives it: from any row i < 2^J (an interval, not split), U(i) within its
+ * envelope (from the exact sums at i = 0), the targets' sums within theirs, any budget (budget_range).
+ * Postcondition: the envelopes, i <= 2^J (0 when the ramp ends, STEP_GRAM next) and 0 < r <= max(budget, cost).
+ */
+void eva_step_ramp_chunk(void)
+{
+    int32_t budget, r;
+    int q;
+    if (!initialised()) {
+        return;
+    }
+    any_bin_sums();
+    begun();
+    any_sums();
+    hpa.ramp_u = anyf(-RAMP_U_MAX, RAMP_U_MAX);
+    hpa.t = Frama_C_unsigned_short_interval(0u, N_TAPS - 1u);
+    hpa.phase = STEP_RAMP;
+    q = Frama_C_interval_split(0, (int)N_TAPS);
+    budget = budget_range(q, N_TAPS, COST_RAMP);
+    r = step_ramp(&hpa, budget);
+    /*@ assert (hpa.phase == STEP_RAMP && 0 < hpa.t < N_TAPS) || (hpa.phase == STEP_GRAM && hpa.t == 0 && hpa.d == 0); */
+    /*@ assert -RAMP_U_MAX_R <= hpa.ramp_u <= RAMP_U_MAX_R; */
+    post_bin_sums();
+    /*@ assert 0 < r <= (budget > COST_RAMP ? budget : COST_RAMP); */
 }
 
 /**
