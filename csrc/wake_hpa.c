@@ -92,7 +92,10 @@ static void sin_cos_octant(float x, float *s, float *c)
 /**
  * cos and sin of pi num / den for 0 <= num <= den (an angle in [0, pi]).
  * The reflections to [0, pi/4] are done on the integers, so the only
- * rounding before the polynomial is one division and one product.
+ * rounding before the polynomial is one division and one product.  Their
+ * tests compare a itself (a > floor(b / 2) is 2a > b for integers), so that a
+ * value analysis of an angle known as an interval reduces a by them and sees
+ * b - a and b - 2a stay in [0, b] (Frama-C Eva's step_psd_chunk entry).
  */
 static void unit_phasor(uint32_t num, uint32_t den, float *c, float *s)
 {
@@ -100,11 +103,11 @@ static void unit_phasor(uint32_t num, uint32_t den, float *c, float *s)
     int swap = 0;
     uint32_t a = num, b = den;     /* angle = pi a / b */
     float x, sv, cv;
-    if (2u * a > b) {              /* (pi/2, pi]: cos(pi - t) = -cos t */
+    if (a > b / 2u) {              /* 2a > b, (pi/2, pi]: cos(pi - t) = -cos t */
         a = b - a;
         sign_c = -1.0f;
     }
-    if (4u * a > b) {              /* (pi/4, pi/2]: swap with pi/2 - t = pi (b - 2a) / 2b */
+    if (a > b / 4u) {              /* 4a > b, (pi/4, pi/2]: swap with pi/2 - t = pi (b - 2a) / 2b */
         a = b - 2u * a;
         b = 2u * b;
         swap = 1;
@@ -1078,8 +1081,8 @@ static void step_levinson(wake_hpa_t *h)
  */
 static int32_t step_psd(wake_hpa_t *h, int32_t budget)
 {
-    const unsigned start = h->t;
-    const unsigned end = chunk_end(h->t, items(budget, cost_psd_bin(h)), h->psd_end + 1u);
+    const unsigned start = h->t, count = chunk_count(start, items(budget, cost_psd_bin(h)), h->psd_end + 1u);
+    const unsigned end = chunk_end(start, count, h->psd_end + 1u);
     const unsigned k_lo = h->psd_lo, k_hi = h->psd_hi, run = h->psd_hi + 2u;
     unsigned t, m;
     for (t = h->t; t < end; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_PSD_BIN */
@@ -1117,7 +1120,7 @@ static int32_t step_psd(wake_hpa_t *h, int32_t budget)
         h->t = 0;    /* the next steps count from 0 (t may exceed n here) */
         h->phase = STEP_CUTOFF;
     }
-    return (int32_t)(end - start) * (cost_psd_bin(h));
+    return (int32_t)count * cost_psd_bin(h);
 }
 
 /** The PSD minimum (the first D maximum) over the bins cut_lo .. top. */

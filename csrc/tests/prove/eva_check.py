@@ -53,9 +53,9 @@ HPA_ALL_CONFIG_ENTRIES = {"wake_hpa_apply"}
 #: the steps of one HPA run, each from its precondition (tests/prove/eva_hpa_steps.c, which includes wake_hpa.c:
 #: the steps are static), each checking the postcondition the next assumes (docs/verification.md, "A whole HPA
 #: run"); the HPA's own code, so one configuration
-STEP_ENTRIES = ["step_sums", "step_lags", "step_lag_end", "step_diag", "step_levinson", "step_psd", "step_cutoff",
-                "step_bins", "step_dft", "step_dft_chunk", "step_bin", "step_ramp", "step_ramp_chunk", "step_gram",
-                "step_solve"]
+STEP_ENTRIES = ["step_sums", "step_lags", "step_lag_end", "step_diag", "step_levinson", "step_psd", "step_psd_chunk",
+                "step_cutoff", "step_bins", "step_dft", "step_dft_chunk", "step_bin", "step_ramp", "step_ramp_chunk",
+                "step_gram", "step_solve"]
 STEP_CONFIGS = ["mul64 K1"]
 #: every step entry: the window lengths (and, per entry, the lag or the order) are split into one Eva state each
 #: (Frama_C_interval_split), kept through the calls and beyond the default limit of 100 splits; the window
@@ -86,7 +86,8 @@ ENTRY_OPTIONS = {"wake_hpa_apply": ("-eva-slevel-function", "round_clamp:0"),
                  "step_dft_chunk": STEP_OPTIONS + ("-eva-slevel-function",
                                                    "reinsch_run1:0,reinsch_run2:0,clamp_abs:0,reinsch_block:0,"
                                                    "eva_step_dft_chunk:20000,step_dft:20000"),
-                 # a chunk of the ramp: room for one state per budget range, row and outcome
+                 # chunks of the spectrum and of the ramp: room for one state per budget range, item and outcome
+                 "step_psd_chunk": STEP_OPTIONS + ("-eva-slevel-function", "eva_step_psd_chunk:20000,step_psd:20000"),
                  "step_ramp_chunk": STEP_OPTIONS + ("-eva-slevel-function", "eva_step_ramp_chunk:20000,step_ramp:20000")}
 ENTRY_OPTIONS.update({e: STEP_OPTIONS for e in STEP_ENTRIES if e not in ENTRY_OPTIONS})
 #: configuration name -> preprocessor definitions

@@ -336,6 +336,45 @@ void eva_step_psd(void)
     post_den();
 }
 
+/**
+ * A chunk of the spectrum as a sliced run gives it: from any item t of the pass (an interval over 0 .. psd_last, not
+ * split), with every field the pass carries between chunks within the pass's invariant (D of every bin, the two
+ * previous bins', the peak's and the floor's within DEN_MAX, the peak any bin), and any budget (budget_range).  The
+ * step reads no field of n: the full window.  Postcondition: the invariant, t <= psd_last (0 when the pass ends,
+ * STEP_CUTOFF next) and 0 < r <= max(budget, cost).
+ */
+void eva_step_psd_chunk(void)
+{
+    unsigned i;
+    int32_t budget, cost, r;
+    int q;
+    if (!initialised()) {
+        return;
+    }
+    begin(&hpa, window, hpa.cfg.window, 0u);
+    any_den();
+    hpa.a[0] = 1.0f;
+    for (i = 1; i <= WAKE_HPA_MAX_ORDER; ++i) {
+        hpa.a[i] = anyf(-A_MAX, A_MAX);
+    }
+    hpa.psd_end = (uint16_t)psd_last(&hpa);
+    hpa.t = Frama_C_unsigned_short_interval(0u, hpa.psd_end);
+    hpa.peak = Frama_C_unsigned_short_interval(0u, UINT16_MAX);
+    hpa.prev1 = anyf(-DEN_MAX, DEN_MAX);
+    hpa.prev2 = anyf(-DEN_MAX, DEN_MAX);
+    hpa.den_floor = anyf(-DEN_MAX, DEN_MAX);
+    hpa.den_peak = anyf(-DEN_MAX, DEN_MAX);
+    hpa.phase = STEP_PSD;
+    cost = cost_psd_bin(&hpa);
+    q = Frama_C_interval_split(0, (int)hpa.psd_end + 1);
+    budget = budget_range(q, hpa.psd_end + 1u, cost);
+    r = step_psd(&hpa, budget);
+    /*@ assert (hpa.phase == STEP_PSD && 0 < hpa.t <= hpa.psd_end) || (hpa.phase == STEP_CUTOFF && hpa.t == 0); */
+    post_den();
+    /*@ assert -DEN_MAX_R <= hpa.prev1 <= DEN_MAX_R && -DEN_MAX_R <= hpa.prev2 <= DEN_MAX_R; */
+    /*@ assert 0 < r <= (budget > cost ? budget : cost); */
+}
+
 /** The valley rule on any spectrum STEP_PSD can leave (or a silent Levinson's default cut-off). */
 void eva_step_cutoff(void)
 {
