@@ -11,6 +11,9 @@
  * and 400 samples and the full window of 500), then
  * ranges the fields the step reads as the steps before it guarantee.  wake_hpa_run gives every loop
  * step its whole loop in one piece (a budget of INT32_MAX / 2): the entries call the step the same way.
+ * The *_chunk entries call a loop step as a sliced run does: from any index of its loop (an interval), with
+ * the fields it carries between chunks within its invariant and any budget (docs/verification.md, "Chunks
+ * of a sliced run").
  */
 #include <float.h>
 #include <stddef.h>
@@ -107,8 +110,8 @@ static float anyf(float lo, float hi)
  * A chunk's budget, any in [1, INT32_MAX / 2], in the range q of ranges on which the chunk's length is one value:
  * q = 0 .. @p n - 1 a budget of q items at @p cost (below one item's cost for q = 0), q = n every budget of at least
  * n items (a whole loop of n items).  Intervals alone do not relate what a chunk spends, min(budget / cost, what is
- * left) items, to the budget it was given; within one range they do.  q is split by the caller (one Eva state each):
- * a split made in a callee is joined on its return here.
+ * left) items, to the budget it was given; within one range they do.  The caller splits q (one Eva state each) in
+ * its own scope, where the split lasts until the assertions after the step.
  */
 static int32_t budget_range(int q, unsigned n, int32_t cost)
 {
