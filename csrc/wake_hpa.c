@@ -103,11 +103,11 @@ static void unit_phasor(uint32_t num, uint32_t den, float *c, float *s)
     int swap = 0;
     uint32_t a = num, b = den;     /* angle = pi a / b */
     float x, sv, cv;
-    if (a > b / 2u) {              /* 2a > b, (pi/2, pi]: cos(pi - t) = -cos t */
+    if (a > (b / 2u)) {            /* 2a > b, (pi/2, pi]: cos(pi - t) = -cos t */
         a = b - a;
         sign_c = -1.0f;
     }
-    if (a > b / 4u) {              /* 4a > b, (pi/4, pi/2]: swap with pi/2 - t = pi (b - 2a) / 2b */
+    if (a > (b / 4u)) {            /* 4a > b, (pi/4, pi/2]: swap with pi/2 - t = pi (b - 2a) / 2b */
         a = b - 2u * a;
         b = 2u * b;
         swap = 1;
@@ -133,7 +133,7 @@ static void turn(uint32_t k, uint32_t n, float *c, float *s)
 static inline unsigned chunk_end(unsigned t, unsigned step, unsigned limit)
 {
     const unsigned end = t + step;   /* named once: a value analysis bounds it by the comparison below */
-    return end < limit ? end : limit;
+    return (end < limit) ? end : limit;
 }
 
 /**
@@ -144,7 +144,7 @@ static inline unsigned chunk_end(unsigned t, unsigned step, unsigned limit)
 static inline unsigned chunk_count(unsigned t, unsigned step, unsigned limit)
 {
     const unsigned rest = limit - t;
-    return step < rest ? step : rest;
+    return (step < rest) ? step : rest;
 }
 
 /*
@@ -1081,7 +1081,8 @@ static void step_levinson(wake_hpa_t *h)
  */
 static int32_t step_psd(wake_hpa_t *h, int32_t budget)
 {
-    const unsigned start = h->t, count = chunk_count(start, items(budget, cost_psd_bin(h)), h->psd_end + 1u);
+    const unsigned start = h->t;
+    const unsigned count = chunk_count(start, items(budget, cost_psd_bin(h)), h->psd_end + 1u);
     const unsigned end = chunk_end(start, count, h->psd_end + 1u);
     const unsigned k_lo = h->psd_lo, k_hi = h->psd_hi, run = h->psd_hi + 2u;
     unsigned t, m;
@@ -1292,13 +1293,16 @@ static inline float clamp_abs(float v, float top)
  * lost.  The next block starts at next: b + REINSCH_BLOCK, or t1 after the last.
  */
 typedef struct {
-    unsigned base, k0, top, next;
+    unsigned base;
+    unsigned k0;
+    unsigned top;
+    unsigned next;
 } reinsch_block_t;
 
 static inline reinsch_block_t reinsch_block(unsigned b, unsigned t1)
 {
     reinsch_block_t r;
-    if (b + REINSCH_BLOCK <= t1) {
+    if ((b + REINSCH_BLOCK) <= t1) {
         r.base = b;
         r.k0 = 0u;
         r.top = REINSCH_BLOCK;
@@ -1306,7 +1310,7 @@ static inline reinsch_block_t reinsch_block(unsigned b, unsigned t1)
     } else if (t1 >= REINSCH_BLOCK) {
         const unsigned skip = b - (t1 - REINSCH_BLOCK);   /* < REINSCH_BLOCK: the min is for the analysis */
         r.base = t1 - REINSCH_BLOCK;
-        r.k0 = skip < REINSCH_BLOCK ? skip : REINSCH_BLOCK;
+        r.k0 = (skip < REINSCH_BLOCK) ? skip : REINSCH_BLOCK;
         r.top = REINSCH_BLOCK;
         r.next = t1;
     } else {
@@ -1325,7 +1329,7 @@ static inline void reinsch_run1(const wake_q15_t *x, unsigned t0, unsigned t1, f
     unsigned b = t0;
     while (b < t1) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_DFT1 / REINSCH_BLOCK + 1 */
         const reinsch_block_t blk = reinsch_block(b, t1);
-        const wake_q15_t *const xb = x + blk.base;
+        const wake_q15_t *const xb = &x[blk.base];
         unsigned k;
         for (k = blk.k0; k < blk.top; ++k) { /* wcet-loop: REINSCH_BLOCK */
             const float xc = (float)xb[k] - mean;
@@ -1348,7 +1352,7 @@ static inline void reinsch_run2(const wake_q15_t *x, unsigned t0, unsigned t1, f
     unsigned b = t0;
     while (b < t1) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_DFT2 / REINSCH_BLOCK + 1 */
         const reinsch_block_t blk = reinsch_block(b, t1);
-        const wake_q15_t *const xb = x + blk.base;
+        const wake_q15_t *const xb = &x[blk.base];
         unsigned k;
         for (k = blk.k0; k < blk.top; ++k) { /* wcet-loop: REINSCH_BLOCK */
             const float xc = (float)xb[k] - mean;
@@ -1374,7 +1378,8 @@ static int32_t step_dft(wake_hpa_t *h, int32_t budget)
 {
     const unsigned start = h->t, n = h->n, rows = h->rows, two = h->pair == 2u;
     const int32_t cost = two ? COST_DFT2 : COST_DFT1;
-    const unsigned count = chunk_count(start, items(budget, cost), n), end = chunk_end(start, count, n);
+    const unsigned count = chunk_count(start, items(budget, cost), n);
+    const unsigned end = chunk_end(start, count, n);
     const unsigned split = end < rows ? end : (start > rows ? start : rows);
     if (two) {
         reinsch_run2(h->work, start, split, h->mean, h->lam, h->gs, h->gd);
@@ -1568,7 +1573,8 @@ static inline void ahead_fir_tap(wake_hpa_t *h, unsigned i)
 static int32_t step_ramp(wake_hpa_t *h, int32_t budget)
 {
     const unsigned n = h->n, rows = h->rows, N = 1u << h->cfg.level;
-    const unsigned start = h->t, count = chunk_count(start, items(budget, COST_RAMP), N);
+    const unsigned start = h->t;
+    const unsigned count = chunk_count(start, items(budget, COST_RAMP), N);
     const unsigned end = chunk_end(start, count, N);
     const float slope = h->slope, mu = h->mean, fr = (float)rows;
     const float lead = (float)N - 0.5f * (float)(n - 1u), centre = 0.5f * (float)(n - 1u);
