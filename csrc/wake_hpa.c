@@ -92,7 +92,10 @@ static void sin_cos_octant(float x, float *s, float *c)
 /**
  * cos and sin of pi num / den for 0 <= num <= den (an angle in [0, pi]).
  * The reflections to [0, pi/4] are done on the integers, so the only
- * rounding before the polynomial is one division and one product.
+ * rounding before the polynomial is one division and one product.  Their
+ * tests compare a itself (a > floor(b / 2) is 2a > b for integers), so that a
+ * value analysis of an angle known as an interval reduces a by them and sees
+ * b - a and b - 2a stay in [0, b] (Frama-C Eva's step_psd_chunk entry).
  */
 static void unit_phasor(uint32_t num, uint32_t den, float *c, float *s)
 {
@@ -100,11 +103,11 @@ static void unit_phasor(uint32_t num, uint32_t den, float *c, float *s)
     int swap = 0;
     uint32_t a = num, b = den;     /* angle = pi a / b */
     float x, sv, cv;
-    if (2u * a > b) {              /* (pi/2, pi]: cos(pi - t) = -cos t */
+    if (a > (b / 2u)) {            /* 2a > b, (pi/2, pi]: cos(pi - t) = -cos t */
         a = b - a;
         sign_c = -1.0f;
     }
-    if (4u * a > b) {              /* (pi/4, pi/2]: swap with pi/2 - t = pi (b - 2a) / 2b */
+    if (a > (b / 4u)) {            /* 4a > b, (pi/4, pi/2]: swap with pi/2 - t = pi (b - 2a) / 2b */
         a = b - 2u * a;
         b = 2u * b;
         swap = 1;
@@ -129,7 +132,19 @@ static void turn(uint32_t k, uint32_t n, float *c, float *s)
 /** min(t + step, limit): where one slice of an inner loop stops. */
 static inline unsigned chunk_end(unsigned t, unsigned step, unsigned limit)
 {
-    return t + step < limit ? t + step : limit;
+    const unsigned end = t + step;   /* named once: a value analysis bounds it by the comparison below */
+    return (end < limit) ? end : limit;
+}
+
+/**
+ * The items of a slice of an inner loop from t < limit, at most step: chunk_end(t, step, limit) - t, computed
+ * from limit - t so that a value analysis, which loses the relation between a chunk's start and its end, still
+ * bounds it (1 <= count <= limit - t) and what the chunk spends, count times its cost.
+ */
+static inline unsigned chunk_count(unsigned t, unsigned step, unsigned limit)
+{
+    const unsigned rest = limit - t;
+    return (step < rest) ? step : rest;
 }
 
 /*
@@ -1067,7 +1082,8 @@ static void step_levinson(wake_hpa_t *h)
 static int32_t step_psd(wake_hpa_t *h, int32_t budget)
 {
     const unsigned start = h->t;
-    const unsigned end = chunk_end(h->t, items(budget, cost_psd_bin(h)), h->psd_end + 1u);
+    const unsigned count = chunk_count(start, items(budget, cost_psd_bin(h)), h->psd_end + 1u);
+    const unsigned end = chunk_end(start, count, h->psd_end + 1u);
     const unsigned k_lo = h->psd_lo, k_hi = h->psd_hi, run = h->psd_hi + 2u;
     unsigned t, m;
     for (t = h->t; t < end; ++t) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_PSD_BIN */
@@ -1105,7 +1121,7 @@ static int32_t step_psd(wake_hpa_t *h, int32_t budget)
         h->t = 0;    /* the next steps count from 0 (t may exceed n here) */
         h->phase = STEP_CUTOFF;
     }
-    return (int32_t)(end - start) * (cost_psd_bin(h));
+    return (int32_t)count * cost_psd_bin(h);
 }
 
 /** The PSD minimum (the first D maximum) over the bins cut_lo .. top. */
@@ -1266,21 +1282,63 @@ static inline float clamp_abs(float v, float top)
     return (v > top) ? top : ((v < -top) ? -top : v);
 }
 
+/*
+ * Where the samples t0 <= t < t1 of a run are read: blocks of REINSCH_BLOCK samples from t0, the states
+ * clamped after each.  A block is read as x[base + k] for k0 <= k < top <= REINSCH_BLOCK: a full block at
+ * base = b, the last, shorter one as the last samples of the REINSCH_BLOCK samples before t1 (base = t1 -
+ * REINSCH_BLOCK, k0 = b - base; base = 0 when t1 < REINSCH_BLOCK).  The same samples in the same order as
+ * blocks of x[t], b <= t < min(b + REINSCH_BLOCK, t1); written so that every index is bounded by t1 alone
+ * (base <= t1 - REINSCH_BLOCK, k < REINSCH_BLOCK), which a value analysis sees for a run that starts at any
+ * t0 (a chunk of a sliced pass, Frama-C Eva's step_dft_chunk entry), where the relation between b and t1 is
+ * lost.  The next block starts at next: b + REINSCH_BLOCK, or t1 after the last.
+ */
+typedef struct {
+    unsigned base;
+    unsigned k0;
+    unsigned top;
+    unsigned next;
+} reinsch_block_t;
+
+static inline reinsch_block_t reinsch_block(unsigned b, unsigned t1)
+{
+    reinsch_block_t r;
+    if ((b + REINSCH_BLOCK) <= t1) {
+        r.base = b;
+        r.k0 = 0u;
+        r.top = REINSCH_BLOCK;
+        r.next = b + REINSCH_BLOCK;
+    } else if (t1 >= REINSCH_BLOCK) {
+        const unsigned skip = b - (t1 - REINSCH_BLOCK);   /* < REINSCH_BLOCK: the min is for the analysis */
+        r.base = t1 - REINSCH_BLOCK;
+        r.k0 = (skip < REINSCH_BLOCK) ? skip : REINSCH_BLOCK;
+        r.top = REINSCH_BLOCK;
+        r.next = t1;
+    } else {
+        r.base = 0u;
+        r.k0 = b;
+        r.top = t1;
+        r.next = t1;
+    }
+    return r;
+}
+
 static inline void reinsch_run1(const wake_q15_t *x, unsigned t0, unsigned t1, float mean, float lam, float *s_io,
                                 float *d_io)
 {
     float s = *s_io, d = *d_io;
-    unsigned b;
-    for (b = t0; b < t1; b += REINSCH_BLOCK) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_DFT1 / REINSCH_BLOCK + 1 */
-        const unsigned stop = chunk_end(b, REINSCH_BLOCK, t1);
-        unsigned t;
-        for (t = b; t < stop; ++t) { /* wcet-loop: REINSCH_BLOCK */
-            const float xc = (float)x[t] - mean;
+    unsigned b = t0;
+    while (b < t1) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_DFT1 / REINSCH_BLOCK + 1 */
+        const reinsch_block_t blk = reinsch_block(b, t1);
+        const wake_q15_t *const xb = &x[blk.base];
+        unsigned k;
+        for (k = blk.k0; k < blk.top; ++k) { /* wcet-loop: REINSCH_BLOCK */
+            const float xc = (float)xb[k] - mean;
             d = d + xc + lam * s;
             s = s + d;
         }
         s = clamp_abs(s, REINSCH_S_MAX);
         d = clamp_abs(d, REINSCH_D_MAX);
+        b = blk.next;
     }
     *s_io = s;
     *d_io = d;
@@ -1291,12 +1349,13 @@ static inline void reinsch_run2(const wake_q15_t *x, unsigned t0, unsigned t1, f
 {
     const float lam0 = lam[0], lam1 = lam[1];
     float s0 = s_io[0], d0 = d_io[0], s1 = s_io[1], d1 = d_io[1];
-    unsigned b;
-    for (b = t0; b < t1; b += REINSCH_BLOCK) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_DFT2 / REINSCH_BLOCK + 1 */
-        const unsigned stop = chunk_end(b, REINSCH_BLOCK, t1);
-        unsigned t;
-        for (t = b; t < stop; ++t) { /* wcet-loop: REINSCH_BLOCK */
-            const float xc = (float)x[t] - mean;
+    unsigned b = t0;
+    while (b < t1) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_DFT2 / REINSCH_BLOCK + 1 */
+        const reinsch_block_t blk = reinsch_block(b, t1);
+        const wake_q15_t *const xb = &x[blk.base];
+        unsigned k;
+        for (k = blk.k0; k < blk.top; ++k) { /* wcet-loop: REINSCH_BLOCK */
+            const float xc = (float)xb[k] - mean;
             d0 = d0 + xc + lam0 * s0;
             s0 = s0 + d0;
             d1 = d1 + xc + lam1 * s1;
@@ -1306,6 +1365,7 @@ static inline void reinsch_run2(const wake_q15_t *x, unsigned t0, unsigned t1, f
         d0 = clamp_abs(d0, REINSCH_D_MAX);
         s1 = clamp_abs(s1, REINSCH_S_MAX);
         d1 = clamp_abs(d1, REINSCH_D_MAX);
+        b = blk.next;
     }
     s_io[0] = s0;
     d_io[0] = d0;
@@ -1318,7 +1378,8 @@ static int32_t step_dft(wake_hpa_t *h, int32_t budget)
 {
     const unsigned start = h->t, n = h->n, rows = h->rows, two = h->pair == 2u;
     const int32_t cost = two ? COST_DFT2 : COST_DFT1;
-    const unsigned end = chunk_end(start, items(budget, cost), n);
+    const unsigned count = chunk_count(start, items(budget, cost), n);
+    const unsigned end = chunk_end(start, count, n);
     const unsigned split = end < rows ? end : (start > rows ? start : rows);
     if (two) {
         reinsch_run2(h->work, start, split, h->mean, h->lam, h->gs, h->gd);
@@ -1342,7 +1403,7 @@ static int32_t step_dft(wake_hpa_t *h, int32_t budget)
         h->d = 0;
         h->phase = STEP_BIN_START;
     }
-    return (int32_t)(end - start) * cost;
+    return (int32_t)count * cost;
 }
 
 /**
@@ -1512,7 +1573,9 @@ static inline void ahead_fir_tap(wake_hpa_t *h, unsigned i)
 static int32_t step_ramp(wake_hpa_t *h, int32_t budget)
 {
     const unsigned n = h->n, rows = h->rows, N = 1u << h->cfg.level;
-    const unsigned start = h->t, end = chunk_end(start, items(budget, COST_RAMP), N);
+    const unsigned start = h->t;
+    const unsigned count = chunk_count(start, items(budget, COST_RAMP), N);
+    const unsigned end = chunk_end(start, count, N);
     const float slope = h->slope, mu = h->mean, fr = (float)rows;
     const float lead = (float)N - 0.5f * (float)(n - 1u), centre = 0.5f * (float)(n - 1u);
     const wake_q15_t *x = h->work;
@@ -1532,7 +1595,7 @@ static int32_t step_ramp(wake_hpa_t *h, int32_t budget)
         h->d = 0;
         h->phase = STEP_GRAM;
     }
-    return (int32_t)(end - start) * COST_RAMP;
+    return (int32_t)count * COST_RAMP;
 }
 
 #if WAKE_HPA_AHEAD

@@ -61,8 +61,9 @@ AHEAD_HPA_ENTRIES = HPA_ENTRIES + ["wake_hpa_ahead_to_rtp"]
 #: the steps of one HPA run, each from its precondition (tests/prove/eva_hpa_steps.c, which includes wake_hpa.c:
 #: the steps are static), each checking the postcondition the next assumes (docs/verification.md, "A whole HPA
 #: run"); the HPA's own code, so one configuration
-STEP_ENTRIES = ["step_sums", "step_lags", "step_lag_end", "step_diag", "step_levinson", "step_psd", "step_cutoff",
-                "step_bins", "step_dft", "step_bin", "step_ramp", "step_gram", "step_solve"]
+STEP_ENTRIES = ["step_sums", "step_lags", "step_lag_end", "step_diag", "step_levinson", "step_psd", "step_psd_chunk",
+                "step_cutoff", "step_bins", "step_dft", "step_dft_chunk", "step_bin", "step_ramp", "step_ramp_chunk",
+                "step_gram", "step_solve"]
 STEP_CONFIGS = ["mul64 K1"]
 #: the tremor-ahead steps of a run (tests/prove/eva_hpa_ahead_steps.c, the build with WAKE_HPA_AHEAD 1), as the
 #: steps above; the pass is analysed on request only (--hpa-report, HPA_REPORT_ENTRIES): its per-bin oscillators
@@ -98,7 +99,16 @@ ENTRY_OPTIONS = {"wake_hpa_apply": ("-eva-slevel-function", "round_clamp:0"),
                  "step_levinson": STEP_OPTIONS + ("-eva-subdivide-non-linear", "20"),
                  # one state per window length is enough for the spectrum and the valley rule (a tenth of the time)
                  "step_psd": STEP_OPTIONS + ("-eva-slevel", "100"),
-                 "step_cutoff": STEP_OPTIONS + ("-eva-slevel", "100")}
+                 "step_cutoff": STEP_OPTIONS + ("-eva-slevel", "100"),
+                 # a chunk of a DFT pass from any t: the Reinsch loops' states joined (their clamps bound them; the
+                 # 3 branches of each clamp and the 16 exits of a block's loop would otherwise multiply them), and room
+                 # in the entry and the step for one state per budget range and outcome (about 15,000)
+                 "step_dft_chunk": STEP_OPTIONS + ("-eva-slevel-function",
+                                                   "reinsch_run1:0,reinsch_run2:0,clamp_abs:0,reinsch_block:0,"
+                                                   "eva_step_dft_chunk:20000,step_dft:20000"),
+                 # chunks of the spectrum and of the ramp: room for one state per budget range, item and outcome
+                 "step_psd_chunk": STEP_OPTIONS + ("-eva-slevel-function", "eva_step_psd_chunk:20000,step_psd:20000"),
+                 "step_ramp_chunk": STEP_OPTIONS + ("-eva-slevel-function", "eva_step_ramp_chunk:20000,step_ramp:20000")}
 ENTRY_OPTIONS.update({e: STEP_OPTIONS for e in STEP_ENTRIES + AHEAD_STEP_ENTRIES + ["step_ahead_pass"]
                       if e not in ENTRY_OPTIONS})
 #: configuration name -> preprocessor definitions

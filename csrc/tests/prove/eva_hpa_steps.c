@@ -11,6 +11,9 @@
  * and 400 samples and the full window of 500), then
  * ranges the fields the step reads as the steps before it guarantee.  wake_hpa_run gives every loop
  * step its whole loop in one piece (a budget of INT32_MAX / 2): the entries call the step the same way.
+ * The *_chunk entries call a loop step as a sliced run does: from any index of its loop (an interval), with
+ * the fields it carries between chunks within its invariant and any budget (docs/verification.md, "Chunks
+ * of a sliced run").
  */
 #include <float.h>
 #include <stddef.h>
@@ -101,6 +104,24 @@ static int64_t any64(int64_t lo, int64_t hi)
 static float anyf(float lo, float hi)
 {
     return Frama_C_float_interval(lo, hi);
+}
+
+/**
+ * A chunk's budget, any in [1, INT32_MAX / 2], in the range q of ranges on which the chunk's length is one value:
+ * q = 0 .. @p n - 1 a budget of q items at @p cost (below one item's cost for q = 0), q = n every budget of at least
+ * n items (a whole loop of n items).  Intervals alone do not relate what a chunk spends, min(budget / cost, what is
+ * left) items, to the budget it was given; within one range they do.  The caller splits q (one Eva state each) in
+ * its own scope, where the split lasts until the assertions after the step.
+ */
+static int32_t budget_range(int q, unsigned n, int32_t cost)
+{
+    if (q == 0) {
+        return Frama_C_int_interval(1, cost - 1);
+    }
+    if (q < (int)n) {
+        return Frama_C_int_interval(q * cost, q * cost + cost - 1);
+    }
+    return Frama_C_int_interval(q * cost, INT32_MAX / 2);
 }
 
 /** The default configuration, any filter bank (init takes any Q15 taps), weights init accepts. */
@@ -318,6 +339,45 @@ void eva_step_psd(void)
     post_den();
 }
 
+/**
+ * A chunk of the spectrum as a sliced run gives it: from any item t of the pass (an interval over 0 .. psd_last, not
+ * split), with every field the pass carries between chunks within the pass's invariant (D of every bin, the two
+ * previous bins', the peak's and the floor's within DEN_MAX, the peak any bin), and any budget (budget_range).  The
+ * step reads no field of n: the full window.  Postcondition: the invariant, t <= psd_last (0 when the pass ends,
+ * STEP_CUTOFF next) and 0 < r <= max(budget, cost).
+ */
+void eva_step_psd_chunk(void)
+{
+    unsigned i;
+    int32_t budget, cost, r;
+    int q;
+    if (!initialised()) {
+        return;
+    }
+    begin(&hpa, window, hpa.cfg.window, 0u);
+    any_den();
+    hpa.a[0] = 1.0f;
+    for (i = 1; i <= WAKE_HPA_MAX_ORDER; ++i) {
+        hpa.a[i] = anyf(-A_MAX, A_MAX);
+    }
+    hpa.psd_end = (uint16_t)psd_last(&hpa);
+    hpa.t = Frama_C_unsigned_short_interval(0u, hpa.psd_end);
+    hpa.peak = Frama_C_unsigned_short_interval(0u, UINT16_MAX);
+    hpa.prev1 = anyf(-DEN_MAX, DEN_MAX);
+    hpa.prev2 = anyf(-DEN_MAX, DEN_MAX);
+    hpa.den_floor = anyf(-DEN_MAX, DEN_MAX);
+    hpa.den_peak = anyf(-DEN_MAX, DEN_MAX);
+    hpa.phase = STEP_PSD;
+    cost = cost_psd_bin(&hpa);
+    q = Frama_C_interval_split(0, (int)hpa.psd_end + 1);
+    budget = budget_range(q, hpa.psd_end + 1u, cost);
+    r = step_psd(&hpa, budget);
+    /*@ assert (hpa.phase == STEP_PSD && 0 < hpa.t <= hpa.psd_end) || (hpa.phase == STEP_CUTOFF && hpa.t == 0); */
+    post_den();
+    /*@ assert -DEN_MAX_R <= hpa.prev1 <= DEN_MAX_R && -DEN_MAX_R <= hpa.prev2 <= DEN_MAX_R; */
+    /*@ assert 0 < r <= (budget > cost ? budget : cost); */
+}
+
 /** The valley rule on any spectrum STEP_PSD can leave (or a silent Levinson's default cut-off). */
 void eva_step_cutoff(void)
 {
@@ -406,6 +466,60 @@ void eva_step_dft(void)
     /*@ assert -DFT_S_MAX_R <= hpa.hs[1] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.hd[1] <= DFT_D_MAX_R; */
 }
 
+/** The Reinsch states of a pass in progress, and the ones kept at t = rows, within the clamp bounds. */
+static void any_dft_states(void)
+{
+    unsigned b;
+    for (b = 0; b < 2u; ++b) {
+        hpa.gs[b] = anyf(-DFT_S_MAX, DFT_S_MAX);
+        hpa.hs[b] = anyf(-DFT_S_MAX, DFT_S_MAX);
+        hpa.gd[b] = anyf(-DFT_D_MAX, DFT_D_MAX);
+        hpa.hd[b] = anyf(-DFT_D_MAX, DFT_D_MAX);
+    }
+}
+
+static void post_dft_states(void)
+{
+    /*@ assert -DFT_S_MAX_R <= hpa.gs[0] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.gd[0] <= DFT_D_MAX_R; */
+    /*@ assert -DFT_S_MAX_R <= hpa.gs[1] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.gd[1] <= DFT_D_MAX_R; */
+    /*@ assert -DFT_S_MAX_R <= hpa.hs[0] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.hd[0] <= DFT_D_MAX_R; */
+    /*@ assert -DFT_S_MAX_R <= hpa.hs[1] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.hd[1] <= DFT_D_MAX_R; */
+}
+
+/**
+ * A chunk of a DFT pass as a sliced run gives it: from any sample t of the pass (an interval over [0, n), not
+ * split) with the states any within the clamp bounds (the pass's invariant: the clamps at the end of every block
+ * and every run keep them there), any budget, one bin or two, each lambda in [-4, 0], the mean as STEP_SUMS
+ * guarantees it.  Postcondition: the invariant, the pass's next sample t <= n (0 when the pass ends, STEP_BIN_START
+ * next), and what the chunk spent within what the dispatch allows, 0 < r <= max(budget, cost).
+ * The budget: any, in the ranges of budget_range (one state each).
+ */
+void eva_step_dft_chunk(void)
+{
+    unsigned b;
+    int32_t budget, cost, r;
+    int q;
+    if (!initialised()) {
+        return;
+    }
+    begun();
+    any_sums();
+    hpa.pair = (uint16_t)Frama_C_interval_split(1, 2);
+    for (b = 0; b < 2u; ++b) {
+        hpa.lam[b] = anyf(-4.0f, 0.0f);
+    }
+    any_dft_states();
+    hpa.t = (uint16_t)Frama_C_unsigned_int_interval(0u, hpa.n - 1u);
+    hpa.phase = STEP_DFT;
+    cost = hpa.pair == 2u ? COST_DFT2 : COST_DFT1;
+    q = Frama_C_interval_split(0, (int)hpa.n);
+    budget = budget_range(q, hpa.n, cost);
+    r = step_dft(&hpa, budget);
+    /*@ assert (hpa.phase == STEP_DFT && 0 < hpa.t < hpa.n) || (hpa.phase == STEP_BIN_START && hpa.t == 0 && hpa.d == 0); */
+    post_dft_states();
+    /*@ assert 0 < r <= (budget > cost ? budget : cost); */
+}
+
 /**
  * One bin of a pass: its X'_m and Q_m(0) from the pass's states (STEP_BIN_START), then its slide over the
  * 2^J fit rows (STEP_BIN_END), for every bin m of the cut-off range of every window length (one Eva state
@@ -457,6 +571,41 @@ void eva_step_ramp(void)
     (void)step_ramp(&hpa, INT32_MAX / 2);
     /*@ assert hpa.phase == STEP_GRAM && hpa.d == 0 && hpa.t == 0; */
     post_bin_sums();
+}
+
+/**
+ * |U(i)| = |sum_{u < rows} u x_c(i + u)| < 2^19 L^2 / 2 < 2^37 (STEP_RAMP's ramp_u between chunks; |x_c| < 2^19 with
+ * the mean within MEAN_MAX): an envelope, not the tight bound, in which one row's change (|rows x_c| + |wsum| < 2^30)
+ * is below half an ulp (2^35), so that float addition keeps U inside: an invariant of the slide
+ */
+#define RAMP_U_MAX 0x1p60f
+#define RAMP_U_MAX_R 1152921504606846976.0
+
+/**
+ * A chunk of the ramp as a sliced run gives it: from any row i < 2^J (an interval, not split), U(i) within its
+ * envelope (from the exact sums at i = 0), the targets' sums within theirs, any budget (budget_range).
+ * Postcondition: the envelopes, i <= 2^J (0 when the ramp ends, STEP_GRAM next) and 0 < r <= max(budget, cost).
+ */
+void eva_step_ramp_chunk(void)
+{
+    int32_t budget, r;
+    int q;
+    if (!initialised()) {
+        return;
+    }
+    any_bin_sums();
+    begun();
+    any_sums();
+    hpa.ramp_u = anyf(-RAMP_U_MAX, RAMP_U_MAX);
+    hpa.t = Frama_C_unsigned_short_interval(0u, N_TAPS - 1u);
+    hpa.phase = STEP_RAMP;
+    q = Frama_C_interval_split(0, (int)N_TAPS);
+    budget = budget_range(q, N_TAPS, COST_RAMP);
+    r = step_ramp(&hpa, budget);
+    /*@ assert (hpa.phase == STEP_RAMP && 0 < hpa.t < N_TAPS) || (hpa.phase == STEP_GRAM && hpa.t == 0 && hpa.d == 0); */
+    /*@ assert -RAMP_U_MAX_R <= hpa.ramp_u <= RAMP_U_MAX_R; */
+    post_bin_sums();
+    /*@ assert 0 < r <= (budget > COST_RAMP ? budget : COST_RAMP); */
 }
 
 /**
