@@ -54,13 +54,16 @@ HPA_ALL_CONFIG_ENTRIES = {"wake_hpa_apply"}
 #: the steps are static), each checking the postcondition the next assumes (docs/verification.md, "A whole HPA
 #: run"); the HPA's own code, so one configuration
 STEP_ENTRIES = ["step_sums", "step_lags", "step_lag_end", "step_diag", "step_levinson", "step_psd", "step_cutoff",
-                "step_bins", "step_dft", "step_bin", "step_ramp", "step_gram", "step_solve"]
+                "step_bins", "step_dft", "step_bin", "step_ramp", "step_gram", "step_solve",
+                "step_sums_chunk", "step_lags_chunk", "dispatch_slice", "dispatch_run"]
 STEP_CONFIGS = ["mul64 K1"]
 #: every step entry: the window lengths (and, per entry, the lag or the order) are split into one Eva state each
 #: (Frama_C_interval_split), kept through the calls and beyond the default limit of 100 splits; the window
 #: loops (up to 500 samples) unrolled
 STEP_OPTIONS = ("-eva-interprocedural-splits", "-eva-split-limit", "1000", "-eva-auto-loop-unroll", "600",
                 "-eva-slevel", "400")
+#: the chunk entries' states (eva_hpa_steps.c: start index x lag x budget class) kept apart
+CHUNK_OPTIONS = ("-eva-slevel", "20000", "-eva-split-limit", "20000")
 #: HPA entries analysed on request only (--hpa-report): a whole run's float loops over a window of any
 #: samples widen to every float (docs/verification.md, "What Eva does not yet cover")
 HPA_REPORT_ENTRIES = [("hpa", "wake_hpa_run")]
@@ -78,7 +81,15 @@ ENTRY_OPTIONS = {"wake_hpa_apply": ("-eva-slevel-function", "round_clamp:0"),
                  "step_levinson": STEP_OPTIONS + ("-eva-subdivide-non-linear", "20"),
                  # one state per window length is enough for the spectrum and the valley rule (a tenth of the time)
                  "step_psd": STEP_OPTIONS + ("-eva-slevel", "100"),
-                 "step_cutoff": STEP_OPTIONS + ("-eva-slevel", "100")}
+                 "step_cutoff": STEP_OPTIONS + ("-eva-slevel", "100"),
+                 # the chunk entries keep one Eva state per start index, lag and budget class (up to 20,000):
+                 # the slevel and the split limit must not merge them
+                 "step_sums_chunk": STEP_OPTIONS + CHUNK_OPTIONS,
+                 "step_lags_chunk": STEP_OPTIONS + CHUNK_OPTIONS + ("-eva-min-loop-unroll", "130"),
+                 # the dispatch with run_step's contract (eva_hpa_steps.c) instead of its body: the steps are shown
+                 # by the step and chunk entries
+                 "dispatch_slice": STEP_OPTIONS + ("-eva-use-spec", "run_step"),
+                 "dispatch_run": STEP_OPTIONS + ("-eva-use-spec", "run_step")}
 ENTRY_OPTIONS.update({e: STEP_OPTIONS for e in STEP_ENTRIES if e not in ENTRY_OPTIONS})
 #: configuration name -> preprocessor definitions
 CONFIGS = {
