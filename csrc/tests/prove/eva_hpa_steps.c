@@ -11,6 +11,10 @@
  * and 400 samples and the full window of 500), then
  * ranges the fields the step reads as the steps before it guarantee.  wake_hpa_run gives every loop
  * step its whole loop in one piece (a budget of INT32_MAX / 2): the entries call the step the same way.
+ * The chunk entries (eva_step_sums_chunk, eva_step_lags_chunk) call an integer loop step from any index of its
+ * loop with a small budget, and the dispatch entries (eva_dispatch_slice, eva_dispatch_run) run wake_hpa_slice
+ * and wake_hpa_run from a run in any phase with run_step's contract instead of its body (docs/verification.md,
+ * "The dispatch and the integer chunks").
  */
 #include <float.h>
 #include <stddef.h>
@@ -212,6 +216,9 @@ void eva_step_lag_end(void)
     /*@ assert -R_MAX <= hpa.diag <= R_MAX; */
     /*@ assert \forall integer i; 0 <= i <= 17 ==> -R_MAX <= hpa.r[i] <= R_MAX; */
     /*@ assert \forall integer i; 0 <= i < 32 ==> -WSUM_MAX <= hpa.wsum[i] <= WSUM_MAX; */
+    /* what the dispatch's contract of run_step assumes (the phase and d) */
+    /*@ assert (hpa.phase == STEP_DIAG && hpa.t == 0) || hpa.phase == STEP_LAGS || hpa.phase == STEP_LEVINSON; */
+    /*@ assert hpa.d <= hpa.lags; */
 }
 
 void eva_step_diag(void)
@@ -351,6 +358,7 @@ void eva_step_bins(void)
     /*@ assert hpa.bins <= 6 * hpa.n / 100 && hpa.m == 1; */
     /*@ assert hpa.phase == STEP_DFT || (hpa.phase == STEP_RAMP && hpa.bins == 0); */
     /*@ assert -4.0 <= hpa.lam[0] <= 0.0 && -4.0 <= hpa.lam[1] <= 0.0; */
+    /*@ assert hpa.phase == STEP_DFT ==> 1 <= hpa.pair <= 2; */
 }
 
 /** The sums over the bins and the targets, within their envelopes (earlier bins' terms). */
