@@ -176,6 +176,7 @@ static void post_lag_state(void)
     /*@ assert -X_MAX * hpa.d <= hpa.prefix_lo <= X_MAX * hpa.d && -X_MAX * hpa.d <= hpa.suffix <= X_MAX * hpa.d; */
     /*@ assert -X_MAX * (hpa.rows + hpa.d) <= hpa.prefix_hi <= X_MAX * (hpa.rows + hpa.d); */
     /*@ assert hpa.phase == STEP_LAGS || hpa.phase == STEP_LEVINSON; */
+    /*@ assert hpa.d <= hpa.lags; */
 }
 
 void eva_step_sums(void)
@@ -448,6 +449,7 @@ void eva_step_bin(void)
     (void)step_bin_end(&hpa, INT32_MAX / 2);
     /*@ assert hpa.phase == STEP_BIN_START || hpa.phase == STEP_DFT || hpa.phase == STEP_RAMP; */
     /*@ assert -4.0 <= hpa.lam[0] <= 0.0 && -4.0 <= hpa.lam[1] <= 0.0; */
+    /*@ assert 1 <= hpa.pair <= 2 && hpa.d < hpa.pair; */
     post_bin_sums();
 }
 
@@ -492,7 +494,7 @@ void eva_step_gram(void)
     while (hpa.phase == STEP_GRAM) {
         step_gram(&hpa);
     }
-    /*@ assert hpa.phase == STEP_SOLVE; */
+    /*@ assert hpa.phase == STEP_SOLVE && hpa.d <= hpa.lags; */
     /*@ assert \forall integer i; 0 <= i < 25 ==> \is_finite(hpa.gram[i]); */
     /*@ assert \forall integer i; 0 <= i < 5 ==> \is_finite(hpa.rhs[i]); */
     /*@ assert \is_finite(hpa.yy) && \is_finite(hpa.noise) && \is_finite(hpa.scale); */
