@@ -156,7 +156,10 @@ ARGS = argparse.Namespace(timeout=300, slevel=100, voluntary_ahead=False)
 STEP_TIMEOUT = 400
 #: entries that need more on a loaded machine: step_solve's 16 ridge attempts (about 70 s of CPU; 4 min of wall
 #: time at a load average of 8)
-ENTRY_TIMEOUT = {"step_solve": 900}
+ENTRY_TIMEOUT = {"step_solve": 900,
+                 # one state per start index, lag near its end and budget class: about 250 s of CPU, 6 min of wall
+                 # time one at a time at a load average of 2 to 3
+                 "step_lags_chunk": 900}
 
 
 def analyse_and_print(unit: str, entry: str, config: str, args) -> dict:
