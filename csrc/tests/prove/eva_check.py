@@ -9,8 +9,9 @@
 
 Runs ``frama-c -eva`` once per analysis entry (tests/prove/eva_rtp.c, tests/prove/eva_hpa.c: one ``eva_<function>``
 per public function, inputs ranged as the API allows; tests/prove/eva_hpa_steps.c: one ``eva_step_<step>`` per step
-of an HPA run, from its precondition, asserting its postcondition; the HPA entries again in the tremor-ahead
-build, WAKE_HPA_AHEAD 1) and per configuration (the 64-bit multiply and
+of an HPA run, from its precondition, asserting its postcondition, the loop steps' chunks from any index, and
+the dispatch ``eva_dispatch_slice``, ``eva_dispatch_run`` with run_step's contract; the HPA entries again in the
+tremor-ahead build, WAKE_HPA_AHEAD 1) and per configuration (the 64-bit multiply and
 the Cortex-M0+ split arithmetic, WAKE_RTP_KALMAN 1 and 0; the -O2 and -Os source paths), each bounded
 by ``--timeout`` seconds and run ``--jobs`` at a time, on the ILP32 data model of a Cortex-M (machdep gcc_x86_32). It prints a
 Markdown table of the alarms per entry and configuration, then compares the distinct alarms
@@ -63,7 +64,7 @@ AHEAD_HPA_ENTRIES = HPA_ENTRIES + ["wake_hpa_ahead_to_rtp"]
 #: run"); the HPA's own code, so one configuration
 STEP_ENTRIES = ["step_sums", "step_lags", "step_lag_end", "step_diag", "step_levinson", "step_psd", "step_psd_chunk",
                 "step_cutoff", "step_bins", "step_dft", "step_dft_chunk", "step_bin", "step_ramp", "step_ramp_chunk",
-                "step_gram", "step_solve"]
+                "step_gram", "step_solve", "step_sums_chunk", "step_lags_chunk", "dispatch_slice", "dispatch_run"]
 STEP_CONFIGS = ["mul64 K1"]
 #: the tremor-ahead steps of a run (tests/prove/eva_hpa_ahead_steps.c, the build with WAKE_HPA_AHEAD 1), as the
 #: steps above; the pass is analysed on request only (--hpa-report, HPA_REPORT_ENTRIES): its per-bin oscillators
@@ -74,6 +75,8 @@ AHEAD_STEP_ENTRIES = ["step_sums_ahead", "step_ahead_start", "step_ahead_solve"]
 #: loops (up to 500 samples) unrolled
 STEP_OPTIONS = ("-eva-interprocedural-splits", "-eva-split-limit", "1000", "-eva-auto-loop-unroll", "600",
                 "-eva-slevel", "400")
+#: the chunk entries' states (eva_hpa_steps.c: start index x lag x budget class) kept apart
+CHUNK_OPTIONS = ("-eva-slevel", "20000", "-eva-split-limit", "20000")
 #: HPA entries analysed on request only (--hpa-report): a whole run's float loops over a window of any
 #: samples widen to every float (docs/verification.md, "What Eva does not yet cover")
 HPA_REPORT_ENTRIES = [("hpa", "wake_hpa_run"), ("hpa_ahead_steps", "step_ahead_pass")]
@@ -108,7 +111,15 @@ ENTRY_OPTIONS = {"wake_hpa_apply": ("-eva-slevel-function", "round_clamp:0"),
                                                    "eva_step_dft_chunk:20000,step_dft:20000"),
                  # chunks of the spectrum and of the ramp: room for one state per budget range, item and outcome
                  "step_psd_chunk": STEP_OPTIONS + ("-eva-slevel-function", "eva_step_psd_chunk:20000,step_psd:20000"),
-                 "step_ramp_chunk": STEP_OPTIONS + ("-eva-slevel-function", "eva_step_ramp_chunk:20000,step_ramp:20000")}
+                 "step_ramp_chunk": STEP_OPTIONS + ("-eva-slevel-function", "eva_step_ramp_chunk:20000,step_ramp:20000"),
+                 # the chunk entries keep one Eva state per start index, lag and budget class (up to 20,000):
+                 # the slevel and the split limit must not merge them
+                 "step_sums_chunk": STEP_OPTIONS + CHUNK_OPTIONS,
+                 "step_lags_chunk": STEP_OPTIONS + CHUNK_OPTIONS + ("-eva-min-loop-unroll", "130"),
+                 # the dispatch with run_step's contract (eva_hpa_steps.c) instead of its body: the steps are shown
+                 # by the step and chunk entries
+                 "dispatch_slice": STEP_OPTIONS + ("-eva-use-spec", "run_step"),
+                 "dispatch_run": STEP_OPTIONS + ("-eva-use-spec", "run_step")}
 ENTRY_OPTIONS.update({e: STEP_OPTIONS for e in STEP_ENTRIES + AHEAD_STEP_ENTRIES + ["step_ahead_pass"]
                       if e not in ENTRY_OPTIONS})
 #: configuration name -> preprocessor definitions
@@ -201,7 +212,10 @@ ARGS = argparse.Namespace(timeout=300, slevel=100, voluntary_ahead=False)
 STEP_TIMEOUT = 400
 #: entries that need more on a loaded machine: step_solve's 16 ridge attempts (about 70 s of CPU; 4 min of wall
 #: time at a load average of 8)
-ENTRY_TIMEOUT = {"step_solve": 900}
+ENTRY_TIMEOUT = {"step_solve": 900,
+                 # one state per start index, lag near its end and budget class: about 250 s of CPU, 6 min of wall
+                 # time one at a time at a load average of 2 to 3
+                 "step_lags_chunk": 900}
 #: the tremor-ahead build's apply, with 300 states per statement: 34 to 72 s per configuration at a load average of
 #: about 3 on a 2-core machine, beyond EVA_TIMEOUT's 120 s on a busier one
 AHEAD_ENTRY_TIMEOUT = {"wake_hpa_apply": 400}

@@ -14,6 +14,10 @@
  * The *_chunk entries call a loop step as a sliced run does: from any index of its loop (an interval), with
  * the fields it carries between chunks within its invariant and any budget (docs/verification.md, "Chunks
  * of a sliced run").
+ * The integer chunk entries (eva_step_sums_chunk, eva_step_lags_chunk) call an integer loop step from any index of its
+ * loop with a small budget, and the dispatch entries (eva_dispatch_slice, eva_dispatch_run) run wake_hpa_slice
+ * and wake_hpa_run from a run in any phase with run_step's contract instead of its body (docs/verification.md,
+ * "The dispatch and the integer chunks").
  */
 #include <float.h>
 #include <stddef.h>
@@ -193,6 +197,7 @@ static void post_lag_state(void)
     /*@ assert -X_MAX * hpa.d <= hpa.prefix_lo <= X_MAX * hpa.d && -X_MAX * hpa.d <= hpa.suffix <= X_MAX * hpa.d; */
     /*@ assert -X_MAX * (hpa.rows + hpa.d) <= hpa.prefix_hi <= X_MAX * (hpa.rows + hpa.d); */
     /*@ assert hpa.phase == STEP_LAGS || hpa.phase == STEP_LEVINSON; */
+    /*@ assert hpa.d <= hpa.lags; */
 }
 
 void eva_step_sums(void)
@@ -233,6 +238,9 @@ void eva_step_lag_end(void)
     /*@ assert -R_MAX <= hpa.diag <= R_MAX; */
     /*@ assert \forall integer i; 0 <= i <= 17 ==> -R_MAX <= hpa.r[i] <= R_MAX; */
     /*@ assert \forall integer i; 0 <= i < 32 ==> -WSUM_MAX <= hpa.wsum[i] <= WSUM_MAX; */
+    /* what the dispatch's contract of run_step assumes (the phase and d) */
+    /*@ assert (hpa.phase == STEP_DIAG && hpa.t == 0) || hpa.phase == STEP_LAGS || hpa.phase == STEP_LEVINSON; */
+    /*@ assert hpa.d <= hpa.lags; */
 }
 
 void eva_step_diag(void)
@@ -411,6 +419,7 @@ void eva_step_bins(void)
     /*@ assert hpa.bins <= 6 * hpa.n / 100 && hpa.m == 1; */
     /*@ assert hpa.phase == STEP_DFT || (hpa.phase == STEP_RAMP && hpa.bins == 0); */
     /*@ assert -4.0 <= hpa.lam[0] <= 0.0 && -4.0 <= hpa.lam[1] <= 0.0; */
+    /*@ assert hpa.phase == STEP_DFT ==> 1 <= hpa.pair <= 2; */
 }
 
 /** The sums over the bins and the targets, within their envelopes (earlier bins' terms). */
@@ -554,6 +563,7 @@ void eva_step_bin(void)
     (void)step_bin_end(&hpa, INT32_MAX / 2);
     /*@ assert hpa.phase == STEP_BIN_START || hpa.phase == STEP_DFT || hpa.phase == STEP_RAMP; */
     /*@ assert -4.0 <= hpa.lam[0] <= 0.0 && -4.0 <= hpa.lam[1] <= 0.0; */
+    /*@ assert 1 <= hpa.pair <= 2 && hpa.d < hpa.pair; */
     post_bin_sums();
 }
 
@@ -633,7 +643,7 @@ void eva_step_gram(void)
     while (hpa.phase == STEP_GRAM) {
         step_gram(&hpa);
     }
-    /*@ assert hpa.phase == STEP_SOLVE; */
+    /*@ assert hpa.phase == STEP_SOLVE && hpa.d <= hpa.lags; */
     /*@ assert \forall integer i; 0 <= i < 25 ==> \is_finite(hpa.gram[i]); */
     /*@ assert \forall integer i; 0 <= i < 5 ==> \is_finite(hpa.rhs[i]); */
     /*@ assert \is_finite(hpa.yy) && \is_finite(hpa.noise) && \is_finite(hpa.scale); */
@@ -736,4 +746,206 @@ void eva_step_solve(void)
         solve_attempt(a, factor, next);
         factor = next;
     }
+}
+
+/* ---- chunks of the integer loop steps (docs/verification.md, "The dispatch and the integer chunks") ------ */
+
+/** The items a chunk entry gives a loop step: every budget that buys 1 .. CHUNK_ITEMS of them. */
+#define CHUNK_ITEMS 4
+
+/**
+ * A budget that buys exactly @p k items of cost @p c (items(): 1 up to 2c - 1, else budget / c): one Eva
+ * state per k, so that the spent amount can be compared with the budget.
+ */
+static int32_t budget_of(unsigned k, int32_t c)
+{
+    return k == 1u ? Frama_C_interval(1, 2 * c - 1) : Frama_C_interval((int)k * c, ((int)k + 1) * c - 1);
+}
+
+/** |sum_{u < t} u x(u)| <= 2^15 t (t - 1) / 2 */
+static int64_t tsum_max(unsigned t)
+{
+    return X_MAX * (int64_t)t * ((int64_t)t - 1) / 2;
+}
+
+/**
+ * A chunk of STEP_SUMS from any index t0 < n (one Eva state per value), with the partial sums the samples
+ * before t0 can give (S and T over t < t0, P(rows) and T(rows) over t < min(t0, rows)), any smallest and largest
+ * sample so far, and any budget that buys 1 .. CHUNK_ITEMS samples.  Postcondition: the budget bound, and the
+ * partial sums up to the new index, or at the window's end STEP_SUMS's postcondition (or a silent window).
+ */
+void eva_step_sums_chunk(void)
+{
+    unsigned t0, m0;
+    int32_t budget, r;
+    if (!started()) {
+        return;
+    }
+    t0 = (unsigned)Frama_C_interval_split(0, (int)hpa.n - 1);
+    m0 = t0 < hpa.rows ? t0 : hpa.rows;
+    hpa.t = (uint16_t)t0;
+    hpa.sum = any64(-X_MAX * (int64_t)t0, X_MAX * (int64_t)t0);
+    hpa.tsum = any64(-tsum_max(t0), tsum_max(t0));
+    hpa.prefix_rows = any64(-X_MAX * (int64_t)m0, X_MAX * (int64_t)m0);
+    hpa.tsum_rows = any64(-tsum_max(m0), tsum_max(m0));
+    if (t0 > 0u) {
+        hpa.lo = (int16_t)Frama_C_short_interval(INT16_MIN, INT16_MAX);
+        hpa.hi = (int16_t)Frama_C_short_interval(INT16_MIN, INT16_MAX);
+    }
+    budget = budget_of((unsigned)Frama_C_interval_split(1, CHUNK_ITEMS), COST_SUM);
+    r = step_sums(&hpa, budget);
+    /*@ assert 0 < r && (r <= budget || r == COST_SUM); */
+    if (hpa.phase == STEP_SUMS) {
+        /*@ assert t0 < hpa.t < hpa.n; */
+        /*@ assert -X_MAX * hpa.t <= hpa.sum <= X_MAX * hpa.t; */
+        /*@ assert -X_MAX * hpa.t * (hpa.t - 1) / 2 <= hpa.tsum <= X_MAX * hpa.t * (hpa.t - 1) / 2; */
+        /*@ assert hpa.t <= hpa.rows ==> -X_MAX * hpa.t <= hpa.prefix_rows <= X_MAX * hpa.t; */
+        /*@ assert hpa.t <= hpa.rows ==>
+                   -X_MAX * hpa.t * (hpa.t - 1) / 2 <= hpa.tsum_rows <= X_MAX * hpa.t * (hpa.t - 1) / 2; */
+        /*@ assert -X_MAX * hpa.rows <= hpa.prefix_rows <= X_MAX * hpa.rows; */
+        /*@ assert -X_MAX * hpa.rows * (hpa.rows - 1) / 2 <= hpa.tsum_rows <= X_MAX * hpa.rows * (hpa.rows - 1) / 2; */
+    } else if (hpa.phase == STEP_LAGS) {
+        post_sums();
+    } else {
+        /*@ assert hpa.phase == STEP_IDLE; */
+    }
+}
+
+/** |x(t) x(t + d)| <= 2^30 */
+#define PRODUCT_MAX (1LL << 30)
+
+/**
+ * A chunk of STEP_LAGS from any index t0 < n - d of any lag d < lags, with the lag sums the products before t0
+ * can give (those of t < min(t0, rows) in the head, the others in the tail), the sums as STEP_SUMS leaves them, and
+ * any budget that buys 1 .. CHUNK_ITEMS products.  t0 is one Eva state per value; so is d where a chunk of
+ * CHUNK_ITEMS can reach the lag's end (d >= n - t0 - CHUNK_ITEMS - 1), the lags below in one state (no chunk from
+ * t0 ends them).  Postcondition: the budget bound, and the lag sums up to the new index, or at the lag's end (t = n - d)
+ * STEP_LAGS's postcondition.
+ */
+void eva_step_lags_chunk(void)
+{
+    unsigned t0, head, tail, d, near;
+    int32_t budget, r;
+    if (!started()) {
+        return;
+    }
+    t0 = (unsigned)Frama_C_interval_split(0, (int)hpa.n - 1);
+    /* d < lags and t0 < n - d */
+    near = hpa.n - t0 - 1u < CHUNK_ITEMS + 1u ? 0u : hpa.n - t0 - 1u - (CHUNK_ITEMS + 1u);
+    if (near >= hpa.lags) {
+        d = (unsigned)Frama_C_interval(0, (int)hpa.lags - 1);
+    } else if (near > 0u && Frama_C_nondet(0, 1)) {
+        d = (unsigned)Frama_C_interval(0, (int)near - 1);
+    } else {
+        d = (unsigned)Frama_C_interval_split((int)near, (int)(hpa.n - t0 - 1u < hpa.lags - 1u ? hpa.n - t0 - 1u
+                                                                                              : hpa.lags - 1u));
+    }
+    any_lag_state(d);
+    head = t0 < hpa.rows ? t0 : hpa.rows;
+    tail = t0 - head;
+    hpa.t = (uint16_t)t0;
+    hpa.acc_head = any64(-PRODUCT_MAX * (int64_t)head, PRODUCT_MAX * (int64_t)head);
+    hpa.acc_tail = any64(-PRODUCT_MAX * (int64_t)tail, PRODUCT_MAX * (int64_t)tail);
+    hpa.phase = STEP_LAGS;
+    budget = budget_of((unsigned)Frama_C_interval_split(1, CHUNK_ITEMS), COST_LAG);
+    r = step_lags(&hpa, budget);
+    /*@ assert 0 < r && (r <= budget || r == COST_LAG); */
+    /*@ assert t0 < hpa.t <= hpa.n - hpa.d; */
+    /*@ assert hpa.t <= hpa.rows ==> -PRODUCT_MAX * hpa.t <= hpa.acc_head <= PRODUCT_MAX * hpa.t; */
+    /*@ assert -PRODUCT_MAX * hpa.rows <= hpa.acc_head <= PRODUCT_MAX * hpa.rows; */
+    /*@ assert hpa.t <= hpa.rows ==> hpa.acc_tail == 0; */
+    /*@ assert hpa.t > hpa.rows ==>
+               -PRODUCT_MAX * (hpa.t - hpa.rows) <= hpa.acc_tail <= PRODUCT_MAX * (hpa.t - hpa.rows); */
+    if (hpa.phase == STEP_LAGS) {
+        /*@ assert hpa.t < hpa.n - hpa.d; */
+    } else {
+        /*@ assert hpa.phase == STEP_LAG_END && hpa.t == hpa.n - hpa.d; */
+        /*@ assert -ACC_MAX <= hpa.acc_head <= ACC_MAX && -ACC_MAX <= hpa.acc_tail <= ACC_MAX; */
+    }
+}
+
+/* ---- the dispatch (docs/verification.md, "The dispatch and the integer chunks") --------------------------------- */
+
+/**
+ * run_step as the dispatch sees it: one piece of the step `phase` names, from a state of a run, within @p budget
+ * (@p fixed: piece_cost, the cost of an indivisible step or of one item of a loop step).  The dispatch entries below
+ * use this contract instead of the body (-eva-use-spec run_step); the step entries show each clause (the list in
+ * docs/verification.md).  What piece_cost reads and the steps may write: the phase, and t, d, pair in the phases
+ * whose cost depends on them; the configuration, the window's length and order and the PSD bins (cut_hi,
+ * cut_shallow) are set by init and begin, which no step writes (assigns).
+ */
+/*@ requires \valid(h);
+    requires STEP_SUMS <= h->phase <= STEP_SOLVE;
+    requires h->d <= h->lags && h->pair <= 2;
+    requires 1 <= budget <= INT32_MAX / 2;
+    requires 1 <= fixed;
+    assigns h->phase, h->t, h->d, h->m, h->bins, h->psd_end, h->peak, h->pair, h->flag, h->attempts, h->lo, h->hi,
+            h->sum, h->prefix_rows, h->tsum, h->tsum_rows, h->prefix_lo, h->prefix_hi, h->suffix, h->acc_head,
+            h->acc_tail, h->diag, h->mean, h->cutoff, h->xr, h->xi, h->qr, h->qi, h->lam[0 .. 1], h->gs[0 .. 1],
+            h->gd[0 .. 1], h->hs[0 .. 1], h->hd[0 .. 1], h->rot[0 .. 1], h->ph[0 .. 5], h->power, h->cross, h->slope,
+            h->ramp_u, h->prev1, h->prev2, h->err, h->den_peak, h->den_floor, h->yy, h->noise, h->scale, h->factor,
+            h->gram[0 .. WAKE_HPA_MAX_LEVEL * WAKE_HPA_MAX_LEVEL - 1], h->rhs[0 .. WAKE_HPA_MAX_LEVEL - 1],
+            h->chol[0 .. WAKE_HPA_MAX_LEVEL * WAKE_HPA_MAX_LEVEL - 1], h->trial[0 .. WAKE_HPA_MAX_LEVEL - 1],
+            h->rowsum[0 .. WAKE_HPA_MAX_LEVEL - 1], h->colsum[0 .. WAKE_HPA_MAX_LEVEL - 1], h->sy, h->vv, h->trace,
+            h->weights[0 .. WAKE_HPA_MAX_LEVEL - 1], h->r[0 .. WAKE_HPA_MAX_ORDER], h->a[0 .. WAKE_HPA_MAX_ORDER],
+            h->den[0 .. WAKE_HPA_MAX_PSD_BINS - 1], h->bank_rxx[0 .. WAKE_HPA_MAX_TAPS * WAKE_HPA_MAX_LEVEL - 1],
+            h->cxy[0 .. WAKE_HPA_MAX_TAPS - 1], h->wsum[0 .. WAKE_HPA_MAX_TAPS - 1],
+            h->vhead[0 .. WAKE_HPA_MAX_TAPS - 1], h->result, h->ready;
+    ensures STEP_IDLE <= h->phase <= STEP_SOLVE;
+    ensures h->d <= h->lags && h->pair <= 2;
+    ensures 0 < \result <= (budget >= fixed ? budget : fixed);
+*/
+static int32_t run_step(wake_hpa_t *h, int32_t budget, int32_t fixed);
+
+/**
+ * A run in any phase: an instance init accepted (the default configuration, any bank), a run begun on a window of
+ * each length of the schedule (one Eva state each), the phase any of the run's (one state each), and the fields
+ * piece_cost reads within what the run gives them: the order reached t < order in STEP_LEVINSON, the entry G[d][t],
+ * t <= d < J, in STEP_GRAM, one bin or two in a DFT pass; every other counter within check_instance's ranges.
+ */
+static int dispatching(void)
+{
+    if (!started()) {
+        return 0;
+    }
+    hpa.phase = (uint16_t)Frama_C_interval_split(STEP_SUMS, STEP_SOLVE);
+    hpa.m = 1;
+    hpa.pair = (uint16_t)Frama_C_interval(1, 2);
+    if (hpa.phase == STEP_LEVINSON) {
+        hpa.t = (uint16_t)Frama_C_interval(0, (int)hpa.order - 1);
+    } else if (hpa.phase == STEP_GRAM) {
+        hpa.d = (uint16_t)Frama_C_interval_split(0, (int)hpa.cfg.level - 1);
+        hpa.t = (uint16_t)Frama_C_interval(0, (int)hpa.d);
+    }
+    return 1;
+}
+
+/** The fields piece_cost reads, within the ranges above, or the run done. */
+static void post_dispatch(void)
+{
+    /*@ assert STEP_IDLE <= hpa.phase <= STEP_SOLVE && hpa.d <= hpa.lags && hpa.pair <= 2; */
+}
+
+/** A slice (WAKE_HPA_SLICE_BUDGET) of a run in any phase: wake_hpa_slice's check, run_pieces, its budget arithmetic. */
+void eva_dispatch_slice(void)
+{
+    wake_hpa_status_t st;
+    if (!dispatching()) {
+        return;
+    }
+    st = wake_hpa_slice(&hpa);
+    /* every such state passes the instance check: the dispatch is reached in every phase */
+    /*@ assert st == WAKE_HPA_DONE || st == WAKE_HPA_RUNNING; */
+    post_dispatch();
+}
+
+/** wake_hpa_run on a run in any phase (after slices): run_pieces(INT32_MAX / 2) until the run is done. */
+void eva_dispatch_run(void)
+{
+    wake_hpa_status_t st;
+    if (!dispatching()) {
+        return;
+    }
+    st = wake_hpa_run(&hpa);
+    /*@ assert st == WAKE_HPA_DONE && hpa.phase == STEP_IDLE; */
 }
