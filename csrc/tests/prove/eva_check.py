@@ -12,8 +12,7 @@
 Runs ``frama-c -eva`` once per analysis entry (tests/prove/eva_rtp.c, tests/prove/eva_hpa.c: one ``eva_<function>``
 per public function, inputs ranged as the API allows; tests/prove/eva_hpa_steps.c: one ``eva_step_<step>`` per step
 of an HPA run, from its precondition, asserting its postcondition; the HPA entries again in the tremor-ahead
-build, WAKE_HPA_AHEAD 1; the RTP entries that run the voluntary motion's restart again in the build with
-WAKE_RTP_VOLUNTARY_AHEAD 1) and per configuration (the 64-bit multiply and
+build, WAKE_HPA_AHEAD 1) and per configuration (the 64-bit multiply and
 the Cortex-M0+ split arithmetic, WAKE_RTP_KALMAN 1 and 0; the -O2 and -Os source paths), each bounded
 by ``--timeout`` seconds and run ``--jobs`` at a time, on the ILP32 data model of a Cortex-M (machdep gcc_x86_32). It prints a
 Markdown table of the alarms per entry and configuration, then compares the distinct alarms
