@@ -5,7 +5,9 @@
     python tests/prove/eva_check.py --only hpa_steps   (the steps of one HPA run)
     python tests/prove/eva_check.py --hpa-report     (also analyse wake_hpa_run, never failing on it)
     python tests/prove/eva_check.py --entry wake_rtp_prepare --entry wake_rtp_finish   (some entries only)
+    python tests/prove/eva_check.py --only rtp --entry wake_rtp_step --config "m0split K1"   (some configurations only)
     python tests/prove/eva_check.py --only hpa_ahead   (the HPA entries in the tremor-ahead build)
+    python tests/prove/eva_check.py --only rtp_voluntary   (set_weights and load_state with WAKE_RTP_VOLUNTARY_AHEAD 1)
 
 Runs ``frama-c -eva`` once per analysis entry (tests/prove/eva_rtp.c, tests/prove/eva_hpa.c: one ``eva_<function>``
 per public function, inputs ranged as the API allows; tests/prove/eva_hpa_steps.c: one ``eva_step_<step>`` per step
@@ -45,6 +47,20 @@ SPLIT_DEFS = " -DWAKE_RTP_SPLIT=1"
 #: (wake_rtp_step with it on: --entry wake_rtp_step --voluntary-ahead)
 VOLUNTARY_ENTRIES = ["wake_rtp_set_voluntary_ahead", "wake_rtp_voluntary_ahead_output"]
 VOLUNTARY_DEFS = " -DWAKE_RTP_VOLUNTARY_AHEAD=1"
+#: the entries whose code runs the voluntary motion's restart (its gain k = w_h' w / |w|^2 by long division and its
+#: FIR build), analysed again in the build with WAKE_RTP_VOLUNTARY_AHEAD 1 (unit rtp_voluntary), every configuration
+VOLUNTARY_BUILD_ENTRIES = ["wake_rtp_set_weights", "wake_rtp_load_state"]
+#: extra Eva options per entry in a build with WAKE_RTP_VOLUNTARY_AHEAD 1 (unit rtp_voluntary, or --voluntary-ahead)
+#: and WAKE_RTP_KALMAN 1 (the functions named exist only there). The voluntary restart runs once per state the
+#: restart's FIR build leaves (hundreds), and with 100 states per statement each of its calls reached the long
+#: division for k about 14 times, each of those 66 turns of up to 100 states: 90 % of the analysis (-eva-show-perf).
+#: Joining inside the voluntary restart and the division (one state per call; the division's quotient is clamped
+#: to +-2^50 whatever the states) gives the same result (no alarm) in a tenth of the time or less
+VOLUNTARY_ENTRY_OPTIONS = {e: ("-eva-slevel-function", "divide_wide:0,voluntary_ahead_restart:0")
+                           for e in VOLUNTARY_BUILD_ENTRIES}
+#: seconds per entry in that build whatever --timeout says: 9 to 33 s per configuration at a load average of 1 to 2
+#: on a 2-core machine, beyond EVA_TIMEOUT's 120 s on a busier one
+VOLUNTARY_ENTRY_TIMEOUT = {e: 300 for e in VOLUNTARY_BUILD_ENTRIES}
 #: HPA entries whose analysis is checked (every alarm listed and justified)
 HPA_ENTRIES = ["wake_hpa_default_config", "wake_hpa_init", "wake_hpa_push", "wake_hpa_push_missing",
                "wake_hpa_start", "wake_hpa_slice", "wake_hpa_take", "wake_hpa_to_rtp", "wake_hpa_apply"]
@@ -136,7 +152,8 @@ UNITS = {"rtp": ("eva_rtp.c", False, ""),
          "hpa": ("eva_hpa.c", True, ""),
          "hpa_ahead": ("eva_hpa.c", True, AHEAD_DEFS),
          "hpa_steps": ("eva_hpa_steps.c", False, ""),
-         "hpa_ahead_steps": ("eva_hpa_ahead_steps.c", False, AHEAD_DEFS)}
+         "hpa_ahead_steps": ("eva_hpa_ahead_steps.c", False, AHEAD_DEFS),
+         "rtp_voluntary": ("eva_rtp.c", False, VOLUNTARY_DEFS)}
 #: an alarm: Eva's assertion on the lines below the warning, or, when the warning fits on one line (a driver's
 #: `//@ assert` not proven in a file of a short name, e.g. "[eva:alarm] tests/prove/eva_hpa.c:189: Warning: assertion
 #: got status unknown."), its status on the warning's own line
@@ -226,20 +243,31 @@ def analyse_and_print(unit: str, entry: str, config: str, args) -> dict:
     timeout = max(args.timeout, ENTRY_TIMEOUT.get(entry, STEP_TIMEOUT)) if unit.endswith("_steps") else args.timeout
     if unit == "hpa_ahead":
         timeout = max(timeout, AHEAD_ENTRY_TIMEOUT.get(entry, 0))
+    voluntary = voluntary_build(unit, entry, args)
+    if voluntary:
+        timeout = max(timeout, VOLUNTARY_ENTRY_TIMEOUT.get(entry, 0))
     defs = CONFIGS[config] + (SPLIT_DEFS if entry in SPLIT_ENTRIES else "") \
-        + (VOLUNTARY_DEFS if entry in VOLUNTARY_ENTRIES or (args.voluntary_ahead and entry not in SPLIT_ENTRIES)
-           else "")
-    r = analyse(unit, entry, defs, timeout, args.slevel, entry_options(entry, unit))
-    label = config + (" ahead" if UNITS[unit][2] == AHEAD_DEFS else "")
+        + (VOLUNTARY_DEFS if voluntary and UNITS[unit][2] != VOLUNTARY_DEFS else "")
+    r = analyse(unit, entry, defs, timeout, args.slevel,
+                entry_options(entry, unit, voluntary and "-DWAKE_RTP_KALMAN=1" in CONFIGS[config]))
+    label = config + {AHEAD_DEFS: " ahead", VOLUNTARY_DEFS: " voluntary"}.get(UNITS[unit][2], "")
     print(f"| {entry} | {label} | {len(r['alarms'])} | {r['seconds']:.1f} | {r['status']} |", flush=True)
     return r
 
 
-def entry_options(entry: str, unit: str = "") -> tuple:
-    """The Eva options an entry adds to the common ones."""
+def voluntary_build(unit: str, entry: str, args) -> bool:
+    """Whether the analysis builds with WAKE_RTP_VOLUNTARY_AHEAD 1."""
+    return unit == "rtp_voluntary" or entry in VOLUNTARY_ENTRIES or \
+        (args.voluntary_ahead and unit == "rtp" and entry not in SPLIT_ENTRIES)
+
+
+def entry_options(entry: str, unit: str = "", voluntary_kalman: bool = False) -> tuple:
+    """The Eva options an entry adds to the common ones (voluntary_kalman: built with WAKE_RTP_VOLUNTARY_AHEAD 1
+    and WAKE_RTP_KALMAN 1)."""
     raw = ("-warn-special-float", "none") if entry in RAW_FLOAT_ENTRIES else ()
     ahead = AHEAD_ENTRY_OPTIONS.get(entry, ()) if unit == "hpa_ahead" else ()
-    return raw + ENTRY_OPTIONS.get(entry, ()) + ahead
+    vol = VOLUNTARY_ENTRY_OPTIONS.get(entry, ()) if voluntary_kalman else ()
+    return raw + ENTRY_OPTIONS.get(entry, ()) + ahead + vol
 
 
 def run_plan(plan: list, jobs: int) -> list:
@@ -255,9 +283,11 @@ def main(argv=None) -> int:
     parser.add_argument("--slevel", type=int, default=100, help="Eva's -eva-slevel (default 100; loops with a "
                         "computable bound up to 400 iterations are unrolled)")
     parser.add_argument("--only", choices=list(UNITS), help="one unit only (hpa_ahead: the HPA entries with "
-                        "WAKE_HPA_AHEAD 1)")
+                        "WAKE_HPA_AHEAD 1; rtp_voluntary: set_weights and load_state with WAKE_RTP_VOLUNTARY_AHEAD 1)")
     parser.add_argument("--entry", action="append", metavar="FUNCTION",
                         help="only this public function (repeatable), e.g. --entry wake_rtp_finish")
+    parser.add_argument("--config", action="append", choices=list(CONFIGS), metavar="NAME",
+                        help="only this configuration (repeatable), e.g. --config 'm0split K1'")
     parser.add_argument("--voluntary-ahead", action="store_true",
                         help="build every RTP entry with WAKE_RTP_VOLUNTARY_AHEAD 1 (not with the split entries)")
     parser.add_argument("--hpa-report", action="store_true",
@@ -281,6 +311,8 @@ def main(argv=None) -> int:
                  for c in (CONFIGS if e in HPA_ALL_CONFIG_ENTRIES else HPA_CONFIGS)]
     if args.only in (None, "hpa_ahead_steps"):
         plan += [("hpa_ahead_steps", e, c) for e in AHEAD_STEP_ENTRIES for c in STEP_CONFIGS]
+    if args.only in (None, "rtp_voluntary") and not args.voluntary_ahead:
+        plan += [("rtp_voluntary", e, c) for e in VOLUNTARY_BUILD_ENTRIES for c in CONFIGS]
     if args.hpa_report:
         print("| HPA entry (report only) | configuration | alarms | seconds | status |")
         print("|---|---|---:|---:|---|")
@@ -298,6 +330,8 @@ def main(argv=None) -> int:
         if unknown:
             parser.error(f"--entry: not an analysed entry: {', '.join(sorted(unknown))}")
         plan = [p for p in plan if p[1] in args.entry]
+    if args.config:
+        plan = [p for p in plan if p[2] in args.config]
     listed = listed_alarms()
     failures, distinct = [], collections.defaultdict(set)
     print("| entry | configuration | alarms | seconds | status |")
