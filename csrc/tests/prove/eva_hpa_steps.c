@@ -442,6 +442,26 @@ static void post_bin_sums(void)
     /*@ assert \forall integer i; 0 <= i < WAKE_HPA_MAX_TAPS ==> -VHEAD_MAX_R <= hpa.vhead[i] <= VHEAD_MAX_R; */
 }
 
+/** The Reinsch states of a pass in progress, and the ones kept at t = rows, within the clamp bounds. */
+static void any_dft_states(void)
+{
+    unsigned b;
+    for (b = 0; b < 2u; ++b) {
+        hpa.gs[b] = anyf(-DFT_S_MAX, DFT_S_MAX);
+        hpa.hs[b] = anyf(-DFT_S_MAX, DFT_S_MAX);
+        hpa.gd[b] = anyf(-DFT_D_MAX, DFT_D_MAX);
+        hpa.hd[b] = anyf(-DFT_D_MAX, DFT_D_MAX);
+    }
+}
+
+static void post_dft_states(void)
+{
+    /*@ assert -DFT_S_MAX_R <= hpa.gs[0] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.gd[0] <= DFT_D_MAX_R; */
+    /*@ assert -DFT_S_MAX_R <= hpa.gs[1] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.gd[1] <= DFT_D_MAX_R; */
+    /*@ assert -DFT_S_MAX_R <= hpa.hs[0] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.hd[0] <= DFT_D_MAX_R; */
+    /*@ assert -DFT_S_MAX_R <= hpa.hs[1] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.hd[1] <= DFT_D_MAX_R; */
+}
+
 /**
  * One DFT pass (STEP_DFT) as wake_hpa_run runs it: from t = 0 with start_pass's zero states, the whole pass in
  * one piece (a budget of INT32_MAX / 2), for every window length of the schedule, one bin or two (one Eva state
@@ -469,30 +489,7 @@ void eva_step_dft(void)
     hpa.phase = STEP_DFT;
     (void)step_dft(&hpa, INT32_MAX / 2);
     /*@ assert hpa.phase == STEP_BIN_START && hpa.t == 0 && hpa.d == 0; */
-    /*@ assert -DFT_S_MAX_R <= hpa.gs[0] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.gd[0] <= DFT_D_MAX_R; */
-    /*@ assert -DFT_S_MAX_R <= hpa.gs[1] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.gd[1] <= DFT_D_MAX_R; */
-    /*@ assert -DFT_S_MAX_R <= hpa.hs[0] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.hd[0] <= DFT_D_MAX_R; */
-    /*@ assert -DFT_S_MAX_R <= hpa.hs[1] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.hd[1] <= DFT_D_MAX_R; */
-}
-
-/** The Reinsch states of a pass in progress, and the ones kept at t = rows, within the clamp bounds. */
-static void any_dft_states(void)
-{
-    unsigned b;
-    for (b = 0; b < 2u; ++b) {
-        hpa.gs[b] = anyf(-DFT_S_MAX, DFT_S_MAX);
-        hpa.hs[b] = anyf(-DFT_S_MAX, DFT_S_MAX);
-        hpa.gd[b] = anyf(-DFT_D_MAX, DFT_D_MAX);
-        hpa.hd[b] = anyf(-DFT_D_MAX, DFT_D_MAX);
-    }
-}
-
-static void post_dft_states(void)
-{
-    /*@ assert -DFT_S_MAX_R <= hpa.gs[0] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.gd[0] <= DFT_D_MAX_R; */
-    /*@ assert -DFT_S_MAX_R <= hpa.gs[1] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.gd[1] <= DFT_D_MAX_R; */
-    /*@ assert -DFT_S_MAX_R <= hpa.hs[0] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.hd[0] <= DFT_D_MAX_R; */
-    /*@ assert -DFT_S_MAX_R <= hpa.hs[1] <= DFT_S_MAX_R && -DFT_D_MAX_R <= hpa.hd[1] <= DFT_D_MAX_R; */
+    post_dft_states();
 }
 
 /**
