@@ -64,7 +64,8 @@ def test_the_per_function_profile_accounts_for_every_instruction_of_the_tremor_a
     estimate's FIR, four float operations per low bin and sample for the oscillators, 16 products per row)."""
     pytest.importorskip("unicorn")
     pytest.importorskip("capstone")
-    from wake.firmware.hpa_cost import AHEAD_PARTS, function_profile, function_report, profile_windows
+    from wake.firmware.hpa_cost import profile_windows
+    from wake.firmware.hpa_functions import AHEAD_PARTS, function_profile, function_report
 
     window = {"synthetic 1": profile_windows(n_synthetic=1)["synthetic 1"]}
     res = function_profile("m4f-O2", windows=window, build_dir=tmp_path, defs=["-DWAKE_HPA_AHEAD=1"])
