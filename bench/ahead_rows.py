@@ -70,19 +70,11 @@ def held_out_on(variant: str):
     """``held_out_gain`` over the held-out targets the variant's rows keep (the C HPA scores the previous
     predictor from the fit's own sums, so it would see only those)."""
     def held(estimate, truth, previous, horizon, new_samples):
-        if previous is None:
+        pairs = ahead.held_out_pairs(estimate, truth, previous, horizon, new_samples)
+        if pairs is None:
             return 0.0
-        y, t = np.asarray(estimate, dtype=float), np.asarray(truth, dtype=float)
-        c = np.asarray(previous, dtype=float)
-        first = max(y.size - int(new_samples), c.size - 1 + horizon)
-        if y.size - first < ahead.MIN_HELD_OUT:
-            return 0.0
-        p = ahead.predictions(y, c)[first - horizon:y.size - horizon]
-        target = t[first:]
-        keep = kept_rows(variant, p.size)
-        p, target = p[keep], target[keep]
-        pp = float(p @ p)
-        return float(np.clip(float(target @ p) / pp, 0.0, 1.0)) if pp > 0 else 0.0
+        keep = kept_rows(variant, pairs[0].size)
+        return ahead.scale_gain(pairs[0][keep], pairs[1][keep])
     return held
 
 

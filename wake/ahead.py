@@ -48,7 +48,7 @@ import numpy as np
 
 __all__ = ["TAPS", "MAX_HORIZON", "RIDGE", "GATE_TAU_S", "NO_TREMOR_FLAGS", "MIN_HELD_OUT", "COEFFICIENT_LIMIT",
            "fit_predictor", "fit_rows", "lagged",
-           "predictions", "held_out_gain", "gate_target", "check_model", "ramp_step", "horizon_from_ms", "check_horizon", "bank_horizon",
+           "predictions", "held_out_gain", "held_out_pairs", "scale_gain", "gate_target", "check_model", "ramp_step", "horizon_from_ms", "check_horizon", "bank_horizon",
            "AheadStep"]
 
 #: Taps of the direct predictor: the knee on the synthetic set, as good as any order on PADS.
@@ -180,16 +180,37 @@ def held_out_gain(estimate, truth, previous, horizon: int, new_samples: int) -> 
         over-shoots, 0 when it is uncorrelated or anti-correlated, or with fewer than
         :data:`MIN_HELD_OUT` samples to score.
     """
+    pairs = held_out_pairs(estimate, truth, previous, horizon, new_samples)
+    return 0.0 if pairs is None else scale_gain(*pairs)
+
+
+def held_out_pairs(estimate, truth, previous, horizon: int, new_samples: int):
+    """What :func:`held_out_gain` scores: the previous model's predictions and the truth they predict.
+
+    Parameters are those of :func:`held_out_gain`.  Returns ``(predictions, targets)``, two arrays of the held-out
+    samples, or None when there is no previous model or fewer than :data:`MIN_HELD_OUT` samples to score.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wake.ahead import held_out_pairs
+    >>> p, t = held_out_pairs(np.ones(50), np.ones(50), [0.5, 0.5], horizon=1, new_samples=20)
+    >>> p.size, float(p[0]), held_out_pairs(np.ones(50), np.ones(50), None, 1, 20)
+    (20, 1.0, None)
+    """
     if previous is None:
-        return 0.0
+        return None
     y = np.asarray(estimate, dtype=float)
     t = np.asarray(truth, dtype=float)
     c = np.asarray(previous, dtype=float)
     first_target = max(y.size - int(new_samples), c.size - 1 + horizon)
     if y.size - first_target < MIN_HELD_OUT:
-        return 0.0
-    p = predictions(y, c)[first_target - horizon:y.size - horizon]
-    target = t[first_target:]
+        return None
+    return predictions(y, c)[first_target - horizon:y.size - horizon], t[first_target:]
+
+
+def scale_gain(p, target) -> float:
+    """``<target, p> / <p, p>`` clipped to [0, 1]; 0 when ``p`` has no power."""
     pp = float(p @ p)
     if not pp > 0:
         return 0.0
