@@ -215,9 +215,9 @@ def analyse(unit: str, entry: str, defs: str, timeout: int, slevel: int, extra=(
         alarms.append((Path(m["file"]).name, kind, normalise(assertion), int(m["line"])))
     ok = proc.returncode == 0 and "ANALYSIS SUMMARY" in out and "degeneration" not in out.lower()
     status = "ok" if ok else f"error {proc.returncode}"
-    if ok and len(alarms) < unproven_in_summary(out):
-        status = f"error: the summary counts {unproven_in_summary(out)} alarms and unproven properties, " \
-                 f"{len(alarms)} were read"
+    counted = unproven_in_summary(out)
+    if ok and len(alarms) < counted:
+        status = f"error: the summary counts {counted} alarms and unproven properties, {len(alarms)} were read"
     return {"status": status, "alarms": alarms, "seconds": time.monotonic() - start, "log": out}
 
 
