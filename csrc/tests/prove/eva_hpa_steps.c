@@ -463,6 +463,26 @@ static void post_dft_states(void)
 }
 
 /**
+ * A DFT pass of a run begun on each window length of the schedule, the sums as STEP_SUMS guarantees them, one bin
+ * or two (one Eva state each), each lambda in [-4, 0] (every bin 1 <= m < n / 2 of any configuration; the default
+ * configuration's, m <= 6 n / 100, lie in [-0.15, 0]); 0 when init refuses.
+ */
+static int dft_pass_set(void)
+{
+    unsigned b;
+    if (!initialised()) {
+        return 0;
+    }
+    begun();
+    any_sums();
+    hpa.pair = (uint16_t)Frama_C_interval_split(1, 2);
+    for (b = 0; b < 2u; ++b) {
+        hpa.lam[b] = anyf(-4.0f, 0.0f);
+    }
+    return 1;
+}
+
+/**
  * One DFT pass (STEP_DFT) as wake_hpa_run runs it: from t = 0 with start_pass's zero states, the whole pass in
  * one piece (a budget of INT32_MAX / 2), for every window length of the schedule, one bin or two (one Eva state
  * each), each lambda in [-4, 0] (every bin 1 <= m < n / 2 of any configuration; the default configuration's,
@@ -472,14 +492,10 @@ static void post_dft_states(void)
 void eva_step_dft(void)
 {
     unsigned b;
-    if (!initialised()) {
+    if (!dft_pass_set()) {
         return;
     }
-    begun();
-    any_sums();
-    hpa.pair = (uint16_t)Frama_C_interval_split(1, 2);
     for (b = 0; b < 2u; ++b) {
-        hpa.lam[b] = anyf(-4.0f, 0.0f);
         hpa.gs[b] = 0.0f;
         hpa.hs[b] = 0.0f;
         hpa.gd[b] = 0.0f;
@@ -502,17 +518,10 @@ void eva_step_dft(void)
  */
 void eva_step_dft_chunk(void)
 {
-    unsigned b;
     int32_t budget, cost, r;
     int q;
-    if (!initialised()) {
+    if (!dft_pass_set()) {
         return;
-    }
-    begun();
-    any_sums();
-    hpa.pair = (uint16_t)Frama_C_interval_split(1, 2);
-    for (b = 0; b < 2u; ++b) {
-        hpa.lam[b] = anyf(-4.0f, 0.0f);
     }
     any_dft_states();
     hpa.t = (uint16_t)Frama_C_unsigned_int_interval(0u, hpa.n - 1u);
@@ -747,17 +756,11 @@ void eva_step_solve(void)
 
 /* ---- chunks of the integer loop steps (docs/verification.md, "The dispatch and the integer chunks") ------ */
 
-/** The items a chunk entry gives a loop step: every budget that buys 1 .. CHUNK_ITEMS of them. */
-#define CHUNK_ITEMS 4
-
 /**
- * A budget that buys exactly @p k items of cost @p c (items(): 1 up to 2c - 1, else budget / c): one Eva
- * state per k, so that the spent amount can be compared with the budget.
+ * The items a chunk entry gives an integer loop step: every budget that buys 1 .. CHUNK_ITEMS of them, the
+ * ranges 0 .. CHUNK_ITEMS of budget_range (a loop of CHUNK_ITEMS + 1 items, so each range buys one count).
  */
-static int32_t budget_of(unsigned k, int32_t c)
-{
-    return k == 1u ? Frama_C_interval(1, 2 * c - 1) : Frama_C_interval((int)k * c, ((int)k + 1) * c - 1);
-}
+#define CHUNK_ITEMS 4
 
 /** |sum_{u < t} u x(u)| <= 2^15 t (t - 1) / 2 */
 static int64_t tsum_max(unsigned t)
@@ -789,7 +792,7 @@ void eva_step_sums_chunk(void)
         hpa.lo = (int16_t)Frama_C_short_interval(INT16_MIN, INT16_MAX);
         hpa.hi = (int16_t)Frama_C_short_interval(INT16_MIN, INT16_MAX);
     }
-    budget = budget_of((unsigned)Frama_C_interval_split(1, CHUNK_ITEMS), COST_SUM);
+    budget = budget_range(Frama_C_interval_split(0, CHUNK_ITEMS), CHUNK_ITEMS + 1u, COST_SUM);
     r = step_sums(&hpa, budget);
     /*@ assert 0 < r && (r <= budget || r == COST_SUM); */
     if (hpa.phase == STEP_SUMS) {
@@ -844,7 +847,7 @@ void eva_step_lags_chunk(void)
     hpa.acc_head = any64(-PRODUCT_MAX * (int64_t)head, PRODUCT_MAX * (int64_t)head);
     hpa.acc_tail = any64(-PRODUCT_MAX * (int64_t)tail, PRODUCT_MAX * (int64_t)tail);
     hpa.phase = STEP_LAGS;
-    budget = budget_of((unsigned)Frama_C_interval_split(1, CHUNK_ITEMS), COST_LAG);
+    budget = budget_range(Frama_C_interval_split(0, CHUNK_ITEMS), CHUNK_ITEMS + 1u, COST_LAG);
     r = step_lags(&hpa, budget);
     /*@ assert 0 < r && (r <= budget || r == COST_LAG); */
     /*@ assert t0 < hpa.t <= hpa.n - hpa.d; */
