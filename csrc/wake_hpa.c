@@ -2356,8 +2356,8 @@ static void step_solve(wake_hpa_t *h)
  * Cost of the next indivisible step, or of one item of a loop step (without COST_PIECE).  The contract is what
  * run_pieces' termination proof assumes (docs/verification.md, "Termination"): Eva shows it in the default
  * configuration on every phase, from any 16-bit counter t (the dispatch entries); by reading, in any
- * configuration wake_hpa.h and config_ok admit: at least COST_LAG, at most Levinson's 80 + 12 (t + 1) + 2 p <
- * 10^6 for any t (t < p <= 255 in a run: 3,662), the cut-off's 400 + 26 cut_hi <= 13,660 (cut_hi <=
+ * configuration wake_hpa.h and config_ok admit: at least COST_LAG, at most Levinson's 80 + 12 (t + 1) +
+ * 2 WAKE_HPA_MAX_ORDER < 10^6 for any t (t < p <= 255 in a run: 3,662), the cut-off's 400 + 26 cut_hi <= 13,660 (cut_hi <=
  * WAKE_HPA_MAX_PSD_BINS - 2), the Gram entry's 160 + 28 2^J <= 7,328, every other below 7,000.
  */
 /*@ requires \valid_read(h);

@@ -429,7 +429,7 @@ wake_hpa_status_t wake_hpa_slice(wake_hpa_t *h);
  * @brief Run the current HPA to the end.
  *
  * One call spends at most INT32_MAX / 2 units of the slices' cost model (about 1.07e9), far above what a whole
- * run spends in any configuration this header admits (1.2e7 measured at the largest; docs/verification.md,
+ * run spends in any configuration this header admits (2.2e7 measured at its limits; docs/verification.md,
  * "Termination"): a bound that makes the call's end a proven property, never reached by a run.  Should it be
  * (WAKE_HPA_RUNNING), the run stays where it stopped and a further call or slice goes on from there.
  * @return WAKE_HPA_DONE, WAKE_HPA_OK (nothing was running), WAKE_HPA_RUNNING (the run is not done after
