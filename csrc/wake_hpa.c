@@ -2527,7 +2527,7 @@ wake_hpa_status_t wake_hpa_run(wake_hpa_t *h)
         return WAKE_HPA_OK;
     }
     run_pieces(h, INT32_MAX / 2);
-    return h->phase == STEP_IDLE ? WAKE_HPA_DONE : WAKE_HPA_RUNNING;
+    return (h->phase == STEP_IDLE) ? WAKE_HPA_DONE : WAKE_HPA_RUNNING;
 }
 
 wake_hpa_status_t wake_hpa_take(wake_hpa_t *h, wake_hpa_result_t *out)
