@@ -2352,7 +2352,18 @@ static void step_solve(wake_hpa_t *h)
 /* Public: running, results                                                 */
 /* ------------------------------------------------------------------------ */
 
-/** Cost of the next indivisible step, or of one item of a loop step (without COST_PIECE). */
+/**
+ * Cost of the next indivisible step, or of one item of a loop step (without COST_PIECE).  The contract is what
+ * run_pieces' termination proof assumes (docs/verification.md, "Termination"): Eva shows it in the default
+ * configuration on every phase, from any 16-bit counter t (the dispatch entries); by reading, in any
+ * configuration wake_hpa.h and config_ok admit: at least COST_LAG, at most Levinson's 80 + 12 (t + 1) +
+ * 2 WAKE_HPA_MAX_ORDER < 10^6 for any t (t < p <= 255 in a run: 3,662), the cut-off's 400 + 26 cut_hi <= 13,660 (cut_hi <=
+ * WAKE_HPA_MAX_PSD_BINS - 2), the Gram entry's 160 + 28 2^J <= 7,328, every other below 7,000.
+ */
+/*@ requires \valid_read(h);
+    assigns \nothing;
+    ensures 1 <= \result <= 1000000;
+*/
 static int32_t piece_cost(const wake_hpa_t *h)
 {
     const int32_t J = (int32_t)h->cfg.level, N = (int32_t)1 << J;
@@ -2470,6 +2481,16 @@ static void run_pieces(wake_hpa_t *h, int32_t budget)
 {
     int32_t left = budget;
     int first = 1;
+    /* termination (WP; docs/verification.md, "Termination"): a piece after the first runs only if need <= left,
+       need >= 1 + COST_PIECE, and every piece lowers left by what run_step spent (> 0) plus COST_PIECE */
+    /*@ loop invariant first == 0 || first == 1;
+        loop invariant first == 1 ==> left == budget;
+        loop invariant left <= budget;
+        loop invariant STEP_IDLE <= h->phase <= (WAKE_HPA_AHEAD ? STEP_AHEAD_SOLVE : STEP_SOLVE);
+        loop invariant h->d <= h->lags && h->pair <= 2;
+        loop assigns left, first, *h;
+        loop variant left;
+    */
     while (h->phase != STEP_IDLE) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_PIECE */
         const int32_t need = piece_cost(h) + COST_PIECE;
         if (!first && need > left) {
@@ -2495,7 +2516,9 @@ wake_hpa_status_t wake_hpa_slice(wake_hpa_t *h)
 
 wake_hpa_status_t wake_hpa_run(wake_hpa_t *h)
 {
-    /* no time limit: every loop step runs to its end in one piece (the same arithmetic as slices) */
+    /* no time limit: every loop step runs to its end in one piece (the same arithmetic as slices).  One call of
+       run_pieces: its budget is far above what a whole run spends (docs/verification.md, "Termination"), and its
+       loop ends (WP), so this call ends too */
     wake_hpa_status_t st = check_instance(h);
     if (st != WAKE_HPA_OK) {
         return st;
@@ -2503,10 +2526,8 @@ wake_hpa_status_t wake_hpa_run(wake_hpa_t *h)
     if (h->phase == STEP_IDLE) {
         return WAKE_HPA_OK;
     }
-    while (h->phase != STEP_IDLE) { /* wcet-loop: the number of steps of one HPA */
-        run_pieces(h, INT32_MAX / 2);
-    }
-    return WAKE_HPA_DONE;
+    run_pieces(h, INT32_MAX / 2);
+    return (h->phase == STEP_IDLE) ? WAKE_HPA_DONE : WAKE_HPA_RUNNING;
 }
 
 wake_hpa_status_t wake_hpa_take(wake_hpa_t *h, wake_hpa_result_t *out)

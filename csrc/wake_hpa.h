@@ -168,7 +168,7 @@ extern "C" {
 /** Status codes: zero is success, positive values report progress, errors are negative. */
 typedef enum {
     WAKE_HPA_OK = 0,            /**< success; for slice/run: nothing to do */
-    WAKE_HPA_RUNNING = 1,       /**< slice: more work remains */
+    WAKE_HPA_RUNNING = 1,       /**< slice (run: never, see wake_hpa_run): more work remains */
     WAKE_HPA_DONE = 2,          /**< slice/run: the result just became ready */
     WAKE_HPA_STARTED = 3,       /**< push: a window was complete and an HPA started */
     WAKE_HPA_E_NULL = -1,       /**< a required pointer is NULL */
@@ -427,7 +427,13 @@ wake_hpa_status_t wake_hpa_slice(wake_hpa_t *h);
 
 /**
  * @brief Run the current HPA to the end.
- * @return WAKE_HPA_DONE, WAKE_HPA_OK (nothing was running) or an error.
+ *
+ * One call spends at most INT32_MAX / 2 units of the slices' cost model (about 1.07e9), far above what a whole
+ * run spends in any configuration this header admits (2.2e7 measured at its limits; docs/verification.md,
+ * "Termination"): a bound that makes the call's end a proven property, never reached by a run.  Should it be
+ * (WAKE_HPA_RUNNING), the run stays where it stopped and a further call or slice goes on from there.
+ * @return WAKE_HPA_DONE, WAKE_HPA_OK (nothing was running), WAKE_HPA_RUNNING (the run is not done after
+ *         INT32_MAX / 2 cost units: never within this header's limits) or an error.
  */
 wake_hpa_status_t wake_hpa_run(wake_hpa_t *h);
 
