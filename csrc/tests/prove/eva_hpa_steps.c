@@ -267,11 +267,11 @@ void eva_step_diag(void)
 }
 
 /**
- * A chunk of lag d's diagonal (STEP_DIAG) as a sliced run gives it: from any row t < 2^J - d (an interval, not split)
- * of every lag d < 2^J (one Eva state each), diag any int64 (wake_hpa.c clamps it to DIAG_MAX, its bound at every row,
- * when a chunk loads it, so no interval of it need be an invariant), Rxx B' within its envelope, the prefix sums of
- * lag d, the sums as STEP_SUMS leaves them, each window length of the schedule (one state each), any budget
- * (budget_range).  Postcondition: Rxx B' within its envelope; t < 2^J - d (STEP_DIAG) or the lag done (next_lag:
+ * A chunk of lag d's diagonal (STEP_DIAG) as a sliced run gives it: from any row t < 2^J - d (an interval on either
+ * side of the row from which the chunk ends the lag, one state each) of every lag d < 2^J (one Eva state each), diag
+ * any int64 (wake_hpa.c clamps it to DIAG_MAX, its bound at every row, when a chunk loads it, so no interval of it
+ * need be an invariant), Rxx B' within its envelope, the prefix sums of lag d, the sums as STEP_SUMS leaves them, each
+ * window length of the schedule (one state each), any budget (budget_range).  Postcondition: Rxx B' within its envelope; t < 2^J - d (STEP_DIAG) or the lag done (next_lag:
  * t = 0, the prefix sums of d + 1, STEP_LAGS or STEP_LEVINSON); 0 < r <= max(budget, cost).
  */
 void eva_step_diag_chunk(void)
