@@ -961,22 +961,51 @@ static void step_lag_end(wake_hpa_t *h)
     h->phase = STEP_DIAG;
 }
 
+/** v within [-top, top] by plain comparisons, for 0 <= top <= INT64_MAX (no negation of v: no overflow). */
+static inline int64_t clamp_abs_i64(int64_t v, int64_t top)
+{
+    return (v > top) ? top : ((v < -top) ? -top : v);
+}
+
+/**
+ * The bound of diag, n^2 Rxx(i, i + d) = sum_{t = i}^{i + rows - 1} y(t) y(t + d) with y(t) = n x(t) - S.
+ * y(t) = sum_u (x(t) - x(u)) over the n samples, one term 0 and each within 2^16 - 1, so |y| < n 2^16;
+ * by Cauchy-Schwarz |diag| <= rows max y^2 < n^3 2^32 (rows < n): below 2^59 for n <= 512 and 2^62 for
+ * n <= 1024.  diag is exact (int64 sums, no rounding), so these bound it at every row of the slide.
+ * STEP_DIAG clamps diag to DIAG_MAX when a chunk loads it: the clamp never changes it (the results are
+ * those of the plain slide, bit for bit); it is there so that a value analysis, whose interval for diag
+ * grows by up to 2 max y^2 (2^51) per row, sees a bound that holds from chunk to chunk (Frama-C Eva's
+ * step_diag_chunk entry).  2^60 is also what STEP_LAG_END's analysis shows of it (eva_hpa_steps.c, R_MAX).
+ */
+#if WAKE_HPA_MAX_WINDOW <= 512
+#define DIAG_MAX INT64_C(1152921504606846976)    /* 2^60 */
+#else
+#define DIAG_MAX INT64_C(4611686018427387904)    /* 2^62 */
+#endif
+
 /**
  * One chunk of lag d's diagonal: (Rxx B')[i][l] += Rxx(i, i+d) B[l][i+d] and
  * the mirror entry, with n^2 Rxx(i, i+d) = diag slid exactly along the rows:
  *   n^2 Rxx(i+1, i+1+d) = n^2 Rxx(i, i+d) - y(i) y(i+d) + y(i+rows) y(i+rows+d).
+ *
+ * @par Scaling and overflow
+ * |y| < 2^26 (n <= 1024) fits an int32, y y' an int64; diag is loaded through the clamp to DIAG_MAX, which
+ * never fires (above), and a chunk of at most 2^J rows moves it by at most 2^J 2^53 more: within int64.
+ * Rxx = diag / n^2 as a float: |Rxx| < n 2^32 <= 2^42.
  */
 static int32_t step_diag(wake_hpa_t *h, int32_t budget)
 {
     const unsigned d = h->d, rows = h->rows, J = h->cfg.level, N = 1u << J;
-    const unsigned start = h->t, end = chunk_end(start, items(budget, COST_DIAG), N - d);
+    const unsigned start = h->t, rest = (N - d) - start, step = items(budget, COST_DIAG);
+    const unsigned count = chunk_count(start, step, N - d);
+    const unsigned end = chunk_end(start, count, N - d);
     /* |n x| <= 2^25 and |S| <= 2^25 (n <= 1024): y = n x - S fits an int32, y y' an int64 */
     const int32_t n = (int32_t)h->n, S = (int32_t)h->sum;
     const wake_q15_t *x = h->work;
     const float inv_nn = 1.0f / ((float)n * (float)n);
     const float *tapf = h->tapf;
     float *bank = h->bank_rxx;
-    int64_t z = h->diag;
+    int64_t z = clamp_abs_i64(h->diag, DIAG_MAX);
     unsigned i, l;
     for (i = start; i < end; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
         const float rxx = int64_to_float(z) * inv_nn;
@@ -998,10 +1027,10 @@ static int32_t step_diag(wake_hpa_t *h, int32_t budget)
     }
     h->diag = z;
     h->t = (uint16_t)end;
-    if (end == N - d) {
+    if (step >= rest) {   /* end == N - d, tested on what a value analysis keeps of the chunk's start */
         next_lag(h);
     }
-    return (int32_t)(end - start) * COST_DIAG;
+    return (int32_t)count * COST_DIAG;
 }
 
 /**

@@ -80,6 +80,7 @@ AHEAD_HPA_ENTRIES = HPA_ENTRIES + ["wake_hpa_ahead_to_rtp"]
 #: run"); the HPA's own code, so one configuration
 STEP_ENTRIES = ["step_sums", "step_lags", "step_lag_end", "step_diag", "step_levinson", "step_psd", "step_psd_chunk",
                 "step_cutoff", "step_bins", "step_dft", "step_dft_chunk", "step_bin", "step_ramp", "step_ramp_chunk",
+                "step_diag_chunk",
                 "step_gram", "step_solve", "step_sums_chunk", "step_lags_chunk", "dispatch_slice", "dispatch_run"]
 STEP_CONFIGS = ["mul64 K1"]
 #: the tremor-ahead steps of a run (tests/prove/eva_hpa_ahead_steps.c, the build with WAKE_HPA_AHEAD 1), as the
@@ -128,6 +129,10 @@ ENTRY_OPTIONS = {"wake_hpa_apply": ("-eva-slevel-function", "round_clamp:0"),
                  # chunks of the spectrum and of the ramp: room for one state per budget range, item and outcome
                  "step_psd_chunk": STEP_OPTIONS + ("-eva-slevel-function", "eva_step_psd_chunk:20000,step_psd:20000"),
                  "step_ramp_chunk": STEP_OPTIONS + ("-eva-slevel-function", "eva_step_ramp_chunk:20000,step_ramp:20000"),
+                 # a chunk of a lag's diagonal from any row: room in the entry for one state per window length, lag,
+                 # budget range and side of the lag's end; the step's states joined (the clamp where a chunk loads
+                 # diag bounds it whatever the join; with 20,000 there, the lag d = 0 alone ran past 12 minutes)
+                 "step_diag_chunk": STEP_OPTIONS + ("-eva-slevel-function", "eva_step_diag_chunk:20000,step_diag:0"),
                  # the chunk entries keep one Eva state per start index, lag and budget class (up to 20,000):
                  # the slevel and the split limit must not merge them
                  "step_sums_chunk": STEP_OPTIONS + CHUNK_OPTIONS,
@@ -232,7 +237,10 @@ STEP_TIMEOUT = 400
 ENTRY_TIMEOUT = {"step_solve": 900,
                  # one state per start index, lag near its end and budget class: about 250 s of CPU, 6 min of wall
                  # time one at a time at a load average of 2 to 3
-                 "step_lags_chunk": 900}
+                 "step_lags_chunk": 900,
+                 # one state per window length, lag, budget class and side of the lag's end: about 440 s of CPU,
+                 # 14 min of wall time at a load average of about 3 to 4
+                 "step_diag_chunk": 1500}
 #: the tremor-ahead build's apply, with 300 states per statement: 34 to 72 s per configuration at a load average of
 #: about 3 on a 2-core machine, beyond EVA_TIMEOUT's 120 s on a busier one
 AHEAD_ENTRY_TIMEOUT = {"wake_hpa_apply": 400}

@@ -13,7 +13,8 @@
  * step its whole loop in one piece (a budget of INT32_MAX / 2): the entries call the step the same way.
  * The *_chunk entries call a loop step as a sliced run does: from any index of its loop (an interval), with
  * the fields it carries between chunks within its invariant and any budget (docs/verification.md, "Chunks
- * of a sliced run").
+ * of a sliced run"): the spectrum, the DFT pass, the ramp and the diagonals of Rxx B' (eva_step_diag_chunk, from
+ * any diag: the step clamps what a chunk loads to its bound); a bin's slide has no chunk entry yet.
  * The integer chunk entries (eva_step_sums_chunk, eva_step_lags_chunk) call an integer loop step from any index of its
  * loop with a small budget, and the dispatch entries (eva_dispatch_slice, eva_dispatch_run) run wake_hpa_slice
  * and wake_hpa_run from a run in any phase with run_step's contract instead of its body (docs/verification.md,
@@ -263,6 +264,56 @@ void eva_step_diag(void)
     /*@ assert \forall integer i; 0 <= i < WAKE_HPA_MAX_TAPS * WAKE_HPA_MAX_LEVEL ==>
                -BANK_MAX_R <= hpa.bank_rxx[i] <= BANK_MAX_R; */
     post_lag_state();
+}
+
+/**
+ * A chunk of lag d's diagonal (STEP_DIAG) as a sliced run gives it: from any row t < 2^J - d (an interval on either
+ * side of the row from which the chunk ends the lag, one state each) of every lag d < 2^J (one Eva state each), diag
+ * any int64 (wake_hpa.c clamps it to DIAG_MAX, its bound at every row, when a chunk loads it, so no interval of it
+ * need be an invariant), Rxx B' within its envelope, the prefix sums of lag d, the sums as STEP_SUMS leaves them, each
+ * window length of the schedule (one state each), any budget (budget_range).  Postcondition: Rxx B' within its envelope; t < 2^J - d (STEP_DIAG) or the lag done (next_lag:
+ * t = 0, the prefix sums of d + 1, STEP_LAGS or STEP_LEVINSON); 0 < r <= max(budget, cost).
+ */
+void eva_step_diag_chunk(void)
+{
+    unsigned i, d;
+    int32_t budget, r;
+    int q;
+    if (!initialised()) {
+        return;
+    }
+    for (i = 0; i < WAKE_HPA_MAX_TAPS * WAKE_HPA_MAX_LEVEL; ++i) {
+        hpa.bank_rxx[i] = anyf(-BANK_MAX, BANK_MAX);
+    }
+    begun();
+    d = (unsigned)Frama_C_interval_split(0, (int)N_TAPS - 1);
+    any_lag_state(d);
+    hpa.phase = STEP_DIAG;
+    hpa.diag = any64(INT64_MIN, INT64_MAX);
+    q = Frama_C_interval_split(0, (int)(N_TAPS - d));
+    budget = budget_range(q, N_TAPS - d, COST_DIAG);
+    {
+        /* the chunk from t runs max(q, 1) rows or the rest, and ends the lag iff t >= edge: t drawn on either side
+           of the edge, one state each, so that each state leaves the step (whose states are joined inside it) with
+           one outcome */
+        const unsigned rows_q = q == 0 ? 1u : (unsigned)q;
+        const unsigned edge = rows_q >= N_TAPS - d ? 0u : N_TAPS - d - rows_q;
+        if (edge > 0u && Frama_C_interval_split(0, 1) == 1) {
+            hpa.t = Frama_C_unsigned_short_interval(0u, (uint16_t)(edge - 1u));
+        } else {
+            hpa.t = Frama_C_unsigned_short_interval((uint16_t)edge, (uint16_t)(N_TAPS - 1u - d));
+        }
+    }
+    r = step_diag(&hpa, budget);
+    /*@ assert \forall integer i; 0 <= i < WAKE_HPA_MAX_TAPS * WAKE_HPA_MAX_LEVEL ==>
+               -BANK_MAX_R <= hpa.bank_rxx[i] <= BANK_MAX_R; */
+    if (hpa.phase == STEP_DIAG) {
+        /*@ assert hpa.d == d && 0 < hpa.t < N_TAPS - d; */
+    } else {
+        /*@ assert hpa.d == d + 1 && hpa.t == 0; */
+        post_lag_state();
+    }
+    /*@ assert 0 < r <= (budget > COST_DIAG ? budget : COST_DIAG); */
 }
 
 /**
