@@ -1750,8 +1750,44 @@ static inline float ahead_estimate(const int32_t *fir, const wake_q15_t *x, unsi
  * sum_m v_m(t) of the voluntary truth's bins for a block of samples from t, each oscillator moved on by
  * Reinsch's recursion run forwards (e += lambda v;  v += e).  v[q] sums the bins in the order m = 1, 2, ...,
  * whatever the block, so the blocks' sizes do not change a bit of the result; each run (of eight, four, two
- * or one samples) keeps its sums in registers.
+ * or one samples) keeps its sums in registers, and stores each oscillator clamped (ahead_osc_store).
+ *
+ * The oscillators' bound.  In exact arithmetic v(t) = (2/n) Re Z e^{j w (t - N)} and its increment
+ * e(t) = v(t) - v(t-1) = (2/n) Re Z e^{j w (t - N)} (1 - e^{-j w}), |Z| = |X'_m|, so |v| <= (2/n) |X'_m| and
+ * |e| <= 2 sin(w/2) (2/n) |X'_m|.  For a window of int16 samples (|x_c| <= 2^16) |X_m| <= n 2^16, and the
+ * end-point line's part is |slope R_m| <= (2^16 / (n - 1)) (n/2) / sin(pi m / n) <= 2^16 n^2 / (4 (n - 1)), so
+ * (2/n) |X'_m| < 2^17 + 2^16: |v| < 2^18, |e| < 2^19.  The computed states differ from these by the roundings
+ * of the DFT pass and the bins' start (below 2^31.3 in X'_m for n <= 512, docs/verification.md, "The DFT
+ * pass": below 2^27 in (2/n) X'_m for n >= 2 2^J = 64) and of the recursion, whose matrix [[1, lambda],
+ * [1, 1 + lambda]] has determinant 1 and eigenvalues e^{+-j w}: an error d in a state moves the later states
+ * by at most about d / sin(w/2) <= d n / 2, so the roundings of up to 1,024 samples, each below 3 u of the
+ * state's bound (u = 2^-24), add less than 1024 x 3 u x 512 < 10 % to it.  So |v| < 2^28 and |e| < 2^29 on every
+ * window; AHEAD_V_MAX and AHEAD_E_MAX are 2^7 times those, and also hold what STEP_BIN_START guarantees,
+ * |X'_m| <= 2^38: (2/n) 2^38 <= 2^35 and 2^36 for every n >= 16.  The clamp never changes a state of a window
+ * of int16 samples (the results are those of the plain recursion, bit for bit); it is there so that a value
+ * analysis, whose intervals grow by up to 3 + 2 sqrt 2 per sample (lambda = -4) while the exact recursion
+ * rotates, sees a bound: from the clamp bounds a block of AHEAD_BLOCK samples reaches |v| < 2^53.1 (2^58 over
+ * 30 bins) before the next clamp, far below FLT_MAX (Frama-C Eva's step_ahead_pass_chunk entry,
+ * docs/verification.md, "The tremor-ahead build").
  */
+#define AHEAD_V_MAX 34359738368.0f      /* 2^35 */
+#define AHEAD_E_MAX 68719476736.0f      /* 2^36 */
+
+/**
+ * Oscillator m's state (v, e) back after a run of samples, each clamped to its bound (clamp_abs): one test of
+ * both on the path every window takes (four comparisons and branches; two clamps' conditional moves cost more).
+ */
+static inline void ahead_osc_store(float *osc, float v, float e)
+{
+    if (v <= AHEAD_V_MAX && v >= -AHEAD_V_MAX && e <= AHEAD_E_MAX && e >= -AHEAD_E_MAX) {
+        osc[0] = v;
+        osc[1] = e;
+    } else {
+        osc[0] = clamp_abs(v, AHEAD_V_MAX);
+        osc[1] = clamp_abs(e, AHEAD_E_MAX);
+    }
+}
+
 static void ahead_voluntary8(float *osc, unsigned bins, float *v)
 {
     float v0 = 0.0f, v1 = 0.0f, v2 = 0.0f, v3 = 0.0f, v4 = 0.0f, v5 = 0.0f, v6 = 0.0f, v7 = 0.0f;
@@ -1767,8 +1803,7 @@ static void ahead_voluntary8(float *osc, unsigned bins, float *v)
         v5 += vm; e += lam * vm; vm += e;
         v6 += vm; e += lam * vm; vm += e;
         v7 += vm; e += lam * vm; vm += e;
-        osc[3u * m] = vm;
-        osc[3u * m + 1u] = e;
+        ahead_osc_store(&osc[3u * m], vm, e);
     }
     v[0] = v0; v[1] = v1; v[2] = v2; v[3] = v3; v[4] = v4; v[5] = v5; v[6] = v6; v[7] = v7;
 }
@@ -1784,8 +1819,7 @@ static void ahead_voluntary4(float *osc, unsigned bins, float *v)
         v1 += vm; e += lam * vm; vm += e;
         v2 += vm; e += lam * vm; vm += e;
         v3 += vm; e += lam * vm; vm += e;
-        osc[3u * m] = vm;
-        osc[3u * m + 1u] = e;
+        ahead_osc_store(&osc[3u * m], vm, e);
     }
     v[0] = v0; v[1] = v1; v[2] = v2; v[3] = v3;
 }
@@ -1799,8 +1833,7 @@ static void ahead_voluntary2(float *osc, unsigned bins, float *v)
         const float lam = osc[3u * m + 2u];
         v0 += vm; e += lam * vm; vm += e;
         v1 += vm; e += lam * vm; vm += e;
-        osc[3u * m] = vm;
-        osc[3u * m + 1u] = e;
+        ahead_osc_store(&osc[3u * m], vm, e);
     }
     v[0] = v0; v[1] = v1;
 }
@@ -1813,30 +1846,44 @@ static void ahead_voluntary1(float *osc, unsigned bins, float *v)
         float vm = osc[3u * m], e = osc[3u * m + 1u];
         const float lam = osc[3u * m + 2u];
         v0 += vm; e += lam * vm; vm += e;
-        osc[3u * m] = vm;
-        osc[3u * m + 1u] = e;
+        ahead_osc_store(&osc[3u * m], vm, e);
     }
     v[0] = v0;
 }
 
-/** @p count <= AHEAD_BLOCK samples: eight at once, or in runs of four, two and one. */
+/**
+ * @p count <= AHEAD_BLOCK samples: eight at once, or in runs of four, two and one (below eight, at most one of
+ * each: a value analysis sees the offsets 0, 4 and 6 without relating them to the count).
+ */
 static void ahead_voluntary(float *osc, unsigned bins, unsigned count, float *v)
 {
-    unsigned q = 0;
     if (count == AHEAD_BLOCK) {
         ahead_voluntary8(osc, bins, v);
-        q = count;
+    } else {
+        unsigned q = 0;
+        if (count >= 4u) {
+            ahead_voluntary4(osc, bins, v);
+            q = 4u;
+        }
+        if (q + 2u <= count) {
+            ahead_voluntary2(osc, bins, &v[q]);
+            q += 2u;
+        }
+        if (q < count) {
+            ahead_voluntary1(osc, bins, &v[q]);
+        }
     }
-    for (; q + 4u <= count; q += 4u) { /* wcet-loop: 1 */
-        ahead_voluntary4(osc, bins, &v[q]);
-    }
-    if (q + 2u <= count) {
-        ahead_voluntary2(osc, bins, &v[q]);
-        q += 2u;
-    }
-    if (q < count) {
-        ahead_voluntary1(osc, bins, &v[q]);
-    }
+}
+
+/**
+ * The ring index of y(t - 1) at the pass's sample t (ahead_clear starts the ring at its last index for t = 2^J): a
+ * chunk of the pass takes its ring position from its start, and hands on the one of its end, so that its ring
+ * indices depend on t alone, not on a field carried between chunks (a value analysis of a chunk from any t sees
+ * them; in a run the two are the same).
+ */
+static inline unsigned ahead_ring_pos(unsigned t, unsigned N)
+{
+    return (WAKE_HPA_AHEAD_RING - 1u + t - N) % WAKE_HPA_AHEAD_RING;
 }
 
 /** The ring index @p back samples before @p pos. */
@@ -1903,49 +1950,78 @@ static inline unsigned ahead_items(const wake_hpa_t *h, int32_t budget)
 }
 
 /**
- * One chunk of the pass over t = N .. n-1, a block of up to AHEAD_BLOCK samples at a time: the block's
- * truth T(t) = x_c(t) - slope r(t) - sum_m v_m(t) and estimates y(t) (into the ring), then its rows.
+ * One block of the pass: samples t .. t + count - 1 (count <= AHEAD_BLOCK), @p pos the ring index of y(t - 1):
+ * the block's truth T(t) = x_c(t) - slope r(t) - sum_m v_m(t) and estimates y(t) (into the ring), then its rows.
+ * A function of its own (inlined: one call) so that a value analysis keeps a block's states apart by its count
+ * inside it and joins them between blocks.
  */
+static void ahead_block(wake_hpa_t *h, unsigned t, unsigned count, unsigned pos)
+{
+    const unsigned N = 1u << h->cfg.level;
+    const float centre = 0.5f * (float)(h->n - 1u), mean = h->mean, slope = h->slope;
+    const wake_q15_t *x = h->work;
+    float *ring = h->ahead_ring;
+    float vol[AHEAD_BLOCK], y[AHEAD_BLOCK];
+    unsigned q;
+    /* the block reads only the elements it writes; zeroed so that a value analysis, which joins blocks of
+       different counts, sees every element it reads initialised and bounded (stores, not a call) */
+    for (q = 0; q < AHEAD_BLOCK; q += 2u) { /* wcet-loop: AHEAD_BLOCK / 2 */
+        vol[q] = 0.0f;
+        vol[q + 1u] = 0.0f;
+        y[q] = 0.0f;
+        y[q + 1u] = 0.0f;
+    }
+    ahead_voluntary(h->bin_osc, h->bins, count, vol);
+    for (q = 0; q + 2u <= count; q += 2u) { /* wcet-loop: AHEAD_BLOCK / 2 */
+        ahead_estimate2(h->ahead_fir, x, t + q, N, &y[q]);
+    }
+    if (q < count) {
+        y[q] = ahead_estimate(h->ahead_fir, x, t + q, N);
+    }
+    for (q = 0; q < count; ++q) { /* wcet-loop: AHEAD_BLOCK */
+        const unsigned s = t + q, at = pos + 1u + q;
+        ring[at < WAKE_HPA_AHEAD_RING ? at : at - WAKE_HPA_AHEAD_RING] = y[q];
+        if (s < N + WAKE_HPA_AHEAD_TAPS) {
+            h->ahead_head[s - N] = y[q];
+        }
+        vol[q] = (((float)x[s] - mean) - slope * ((float)s - centre)) - vol[q];
+    }
+    ahead_rows(h, vol, t, count, pos);
+}
+
+/**
+ * The pass's samples start .. end - 1, a block of up to AHEAD_BLOCK samples at a time (ahead_block).  A function of its
+ * own (inlined: one call) so that a value analysis can join the states of its blocks without joining the chunk's ends.
+ */
+static void ahead_blocks(wake_hpa_t *h, unsigned start, unsigned end)
+{
+    unsigned t = start, pos = ahead_ring_pos(start, 1u << h->cfg.level);
+    while (t < end) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_AHEAD / (AHEAD_BLOCK / 2) */
+        const unsigned left = end - t;   /* named once: a value analysis bounds the count by the comparison */
+        const unsigned count = left < AHEAD_BLOCK ? left : AHEAD_BLOCK;
+        ahead_block(h, t, count, pos);
+        pos += count;   /* < RING + AHEAD_BLOCK; the wrap tests pos itself, which a value analysis bounds */
+        pos = pos < WAKE_HPA_AHEAD_RING ? pos : pos - WAKE_HPA_AHEAD_RING;
+        t += count;
+    }
+}
+
+/** One chunk of the pass over t = N .. n-1 (ahead_blocks); the ring position of its end for the next chunk. */
 static int32_t step_ahead_pass(wake_hpa_t *h, int32_t budget)
 {
     const unsigned N = 1u << h->cfg.level, n = h->n;
-    const unsigned start = h->t, end = chunk_end(start, ahead_items(h, budget), n);
-    const float centre = 0.5f * (float)(n - 1u), mean = h->mean, slope = h->slope;
-    const wake_q15_t *x = h->work;
-    float *ring = h->ahead_ring;
-    unsigned t, pos = h->ahead_pos;
-    t = start;
-    while (t < end) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_AHEAD / (AHEAD_BLOCK / 2) */
-        const unsigned count = end - t < AHEAD_BLOCK ? end - t : AHEAD_BLOCK;
-        float vol[AHEAD_BLOCK], y[AHEAD_BLOCK];
-        unsigned q;
-        ahead_voluntary(h->bin_osc, h->bins, count, vol);
-        for (q = 0; q + 2u <= count; q += 2u) { /* wcet-loop: AHEAD_BLOCK / 2 */
-            ahead_estimate2(h->ahead_fir, x, t + q, N, &y[q]);
-        }
-        if (q < count) {
-            y[q] = ahead_estimate(h->ahead_fir, x, t + q, N);
-        }
-        for (q = 0; q < count; ++q) { /* wcet-loop: AHEAD_BLOCK */
-            const unsigned s = t + q, at = pos + 1u + q;
-            ring[at < WAKE_HPA_AHEAD_RING ? at : at - WAKE_HPA_AHEAD_RING] = y[q];
-            if (s < N + WAKE_HPA_AHEAD_TAPS) {
-                h->ahead_head[s - N] = y[q];
-            }
-            vol[q] = (((float)x[s] - mean) - slope * ((float)s - centre)) - vol[q];
-        }
-        ahead_rows(h, vol, t, count, pos);
-        pos = pos + count < WAKE_HPA_AHEAD_RING ? pos + count : pos + count - WAKE_HPA_AHEAD_RING;
-        t += count;
-    }
-    h->ahead_pos = (uint16_t)pos;
-    h->t = (uint16_t)end;
+    const unsigned start = h->t, k = chunk_count(start, ahead_items(h, budget), n), end = chunk_end(start, k, n);
+    ahead_blocks(h, start, end);
     if (end == n) {
+        h->ahead_pos = (uint16_t)ahead_ring_pos(n, N);   /* of n, not end: a value analysis relates it to n */
         h->t = 0;
         h->d = 0;
         h->phase = STEP_AHEAD_SOLVE;
+    } else {
+        h->ahead_pos = (uint16_t)ahead_ring_pos(end, N);
+        h->t = (uint16_t)end;
     }
-    return COST_AHEAD_CHUNK + (int32_t)(end - start) * cost_ahead(h, end - start);
+    return COST_AHEAD_CHUNK + (int32_t)k * cost_ahead(h, k);   /* k = end - start, bounded by n - start */
 }
 
 /** y(k) of the pass's last rows (k within WAKE_HPA_AHEAD_RING of n - 1). */

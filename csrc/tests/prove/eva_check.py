@@ -84,9 +84,8 @@ STEP_ENTRIES = ["step_sums", "step_lags", "step_lag_end", "step_diag", "step_lev
                 "step_gram", "step_solve", "step_sums_chunk", "step_lags_chunk", "dispatch_slice", "dispatch_run"]
 STEP_CONFIGS = ["mul64 K1"]
 #: the tremor-ahead steps of a run (tests/prove/eva_hpa_ahead_steps.c, the build with WAKE_HPA_AHEAD 1), as the
-#: steps above; the pass is analysed on request only (--hpa-report, HPA_REPORT_ENTRIES): its per-bin oscillators
-#: widen over the window (docs/verification.md, "The tremor-ahead build")
-AHEAD_STEP_ENTRIES = ["step_sums_ahead", "step_ahead_start", "step_ahead_solve"]
+#: steps above; the pass as a chunk from any sample with its invariant (docs/verification.md, "The tremor-ahead build")
+AHEAD_STEP_ENTRIES = ["step_sums_ahead", "step_ahead_start", "step_ahead_pass_chunk", "step_ahead_solve"]
 #: every step entry: the window lengths (and, per entry, the lag or the order) are split into one Eva state each
 #: (Frama_C_interval_split), kept through the calls and beyond the default limit of 100 splits; the window
 #: loops (up to 500 samples) unrolled
@@ -96,7 +95,7 @@ STEP_OPTIONS = ("-eva-interprocedural-splits", "-eva-split-limit", "1000", "-eva
 CHUNK_OPTIONS = ("-eva-slevel", "20000", "-eva-split-limit", "20000")
 #: HPA entries analysed on request only (--hpa-report): a whole run's float loops over a window of any
 #: samples widen to every float (docs/verification.md, "What Eva does not yet cover")
-HPA_REPORT_ENTRIES = [("hpa", "wake_hpa_run"), ("hpa_ahead_steps", "step_ahead_pass")]
+HPA_REPORT_ENTRIES = [("hpa", "wake_hpa_run")]
 #: entries whose inputs are floats of any bit pattern (NaN and infinities included): the code itself
 #: tests them, so Eva's non-finite float alarms are off there (-warn-special-float none); everywhere
 #: else a NaN or an infinity is an alarm
@@ -140,9 +139,13 @@ ENTRY_OPTIONS = {"wake_hpa_apply": ("-eva-slevel-function", "round_clamp:0"),
                  # the dispatch with run_step's contract (eva_hpa_steps.c) instead of its body: the steps are shown
                  # by the step and chunk entries
                  "dispatch_slice": STEP_OPTIONS + ("-eva-use-spec", "run_step"),
-                 "dispatch_run": STEP_OPTIONS + ("-eva-use-spec", "run_step")}
-ENTRY_OPTIONS.update({e: STEP_OPTIONS for e in STEP_ENTRIES + AHEAD_STEP_ENTRIES + ["step_ahead_pass"]
-                      if e not in ENTRY_OPTIONS})
+                 "dispatch_run": STEP_OPTIONS + ("-eva-use-spec", "run_step"),
+                 # a chunk of the tremor-ahead pass from any sample: each block's states kept apart inside
+                 # ahead_block and joined between blocks (ahead_blocks: its loop reaches its invariant), the
+                 # oscillators' clamped stores joined (the clamps' branches would multiply the states per bin)
+                 "step_ahead_pass_chunk": STEP_OPTIONS + ("-eva-slevel-function",
+                                                          "ahead_osc_store:0,clamp_abs:0,ahead_blocks:0")}
+ENTRY_OPTIONS.update({e: STEP_OPTIONS for e in STEP_ENTRIES + AHEAD_STEP_ENTRIES if e not in ENTRY_OPTIONS})
 #: configuration name -> preprocessor definitions
 CONFIGS = {
     "mul64 K1": "-DWAKE_RTP_KALMAN=1",

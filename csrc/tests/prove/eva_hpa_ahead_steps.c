@@ -40,15 +40,22 @@
 /** |X'_m| <= 2^38 (STEP_BIN_START's postcondition) */
 #define XQ_MAX 0x1p38f
 /**
- * The pass's sums (STEP_AHEAD_PASS's postcondition, envelopes): |y(t)| <= 2^15 + 32 FIR_MAX 2^15 / 2^20 < 2^29;
- * the lag sums of at most 500 rows of y y within 2^67, the right-hand side's of y T within 2^88 (T, the
- * truth, is x_c - the line - the low bins: within 2^16 + 2^20 + 30 (2/n) 2 |X'| < 2^40 from the bins'
- * envelope), the held-out sums <T, P> and <P, P> of P = c_prev . u (|c_prev| <= 8) within 2^100
+ * The pass's sums (STEP_AHEAD_PASS's invariant between chunks and its postcondition): |y(t)| <= 2^15 + 32 FIR_MAX
+ * 2^15 / 2^20 < 2^29 in the ring and the head; the lag sums, the right-hand side and the held-out sums within
+ * envelopes, not their tight bounds (those are 500 y y < 2^67, 500 y T < 2^88 and <T, P>, <P, P> < 2^100 with T,
+ * the truth, within 2^16 + 2^20 + 30 (2/n) 2 |X'| < 2^40) but invariants: each term a row adds is below half an ulp
+ * of its envelope, so float addition keeps the sum inside.  The terms' bounds are what intervals give within a
+ * block of the pass: y y <= 2^58 (envelope 2^83), y T <= 2^29 2^58.1 (T within a block: the oscillators grow from
+ * their clamp bounds to |v| < 2^53.1 over AHEAD_BLOCK samples, 30 bins of them; envelope 2^112), T P <= 2^58.1 2^35
+ * and P P <= 2^70 (P = c_prev . u, |c_prev| <= 8; envelope 2^118)
  */
 #define Y_MAX 0x1p29f
-#define LAG_MAX 0x1p67f
-#define RHS_MAX 0x1p88f
-#define HELD_MAX 0x1p100f
+#define LAG_MAX 0x1p83f
+#define RHS_MAX 0x1p112f
+#define HELD_MAX 0x1p118f
+/** The oscillators' clamp bounds (AHEAD_V_MAX, AHEAD_E_MAX in wake_hpa.c): the pass's invariant between blocks */
+#define OSC_V_MAX 0x1p35f
+#define OSC_E_MAX 0x1p36f
 /** the predictor's clip (wake.ahead.COEFFICIENT_LIMIT) */
 #define C_MAX 8.0f
 
@@ -159,14 +166,23 @@ void eva_step_ahead_start(void)
 }
 
 /**
- * STEP_AHEAD_PASS, the whole pass in one piece, from STEP_AHEAD_START's postcondition and the low bins'
- * oscillators as STEP_BIN_START leaves them: v(N) = (2/n) Re Z, v(N) - v(N-1) = (2/n) Re(Z (1 - e^{-jw}))
- * with |Z| = |X'_m| <= 2^38, lambda in [-4, 0]; every bin count of the cut-off range (m <= 6 n / 100).
- * Postcondition: the pass's sums within their envelopes, the solve's first piece.
+ * A chunk of STEP_AHEAD_PASS as a sliced run gives it (and the whole pass, a chunk from t = 2^J with a budget that
+ * holds it): from any sample t of the pass (an interval over [2^J, n), not split) with everything the pass carries
+ * from one chunk to the next anywhere within its invariant, and any budget in [1, INT32_MAX / 2].  The invariant:
+ * the low bins' oscillators within their clamp bounds (v within 2^35, e within 2^36, lambda in [-4, 0]; every bin
+ * count of the cut-off range, m <= 6 n / 100), the estimates y in the ring and the head within Y_MAX, the lag sums,
+ * the right-hand side and the held-out sums within their envelopes; besides, the FIR as STEP_AHEAD_START leaves it,
+ * the mean and the slope as STEP_SUMS does, any previous predictor, any held-out start, any ring position (the pass
+ * reads its ring position from t).  STEP_AHEAD_START's postcondition (t = 2^J, the ring and the sums zero) and the
+ * oscillators as STEP_BIN_START leaves them (v(N) = (2/n) Re Z, v(N) - v(N-1) = (2/n) Re(Z (1 - e^{-jw})), |Z| =
+ * |X'_m| <= 2^38: within 2^32.4 and 2^33.4 for n >= 100) lie inside it, so the whole pass is a chain of such chunks.
+ * Postcondition: the invariant, and either the pass's next sample 2^J < t < n, or STEP_AHEAD_SOLVE with its ring
+ * position that of the pass's end (the solve's precondition); what the chunk spent positive.
  */
-void eva_step_ahead_pass(void)
+void eva_step_ahead_pass_chunk(void)
 {
     unsigned i;
+    int32_t r;
     if (!initialised()) {
         return;
     }
@@ -175,9 +191,8 @@ void eva_step_ahead_pass(void)
     hpa.slope = anyf(-SLOPE_MAX, SLOPE_MAX);
     hpa.bins = (uint16_t)Frama_C_interval(0, (int)(6u * hpa.n / 100u));
     for (i = 0; i < WAKE_HPA_MAX_BINS; ++i) {
-        const float two_n = 2.0f / (float)hpa.n;
-        hpa.bin_osc[3u * i] = two_n * anyf(-XQ_MAX, XQ_MAX);
-        hpa.bin_osc[3u * i + 1u] = two_n * anyf(-2.0f * XQ_MAX, 2.0f * XQ_MAX);
+        hpa.bin_osc[3u * i] = anyf(-OSC_V_MAX, OSC_V_MAX);
+        hpa.bin_osc[3u * i + 1u] = anyf(-OSC_E_MAX, OSC_E_MAX);
         hpa.bin_osc[3u * i + 2u] = anyf(-4.0f, 0.0f);
     }
     for (i = 0; i < N_TAPS; ++i) {
@@ -185,26 +200,36 @@ void eva_step_ahead_pass(void)
     }
     any_previous();
     for (i = 0; i < WAKE_HPA_AHEAD_RING; ++i) {
-        hpa.ahead_ring[i] = 0.0f;
+        hpa.ahead_ring[i] = anyf(-Y_MAX, Y_MAX);
     }
     for (i = 0; i < WAKE_HPA_AHEAD_TAPS; ++i) {
-        hpa.ahead_lag[i] = 0.0f;
-        hpa.ahead_rhs[i] = 0.0f;
+        hpa.ahead_head[i] = anyf(-Y_MAX, Y_MAX);
+        hpa.ahead_lag[i] = anyf(-LAG_MAX, LAG_MAX);
+        hpa.ahead_rhs[i] = anyf(-RHS_MAX, RHS_MAX);
     }
-    hpa.ahead_tp = 0.0f;
-    hpa.ahead_pp = 0.0f;
-    hpa.ahead_pos = WAKE_HPA_AHEAD_RING - 1u;
+    hpa.ahead_tp = anyf(-HELD_MAX, HELD_MAX);
+    hpa.ahead_pp = anyf(-HELD_MAX, HELD_MAX);
+    hpa.ahead_pos = (uint16_t)Frama_C_interval(0, WAKE_HPA_AHEAD_RING - 1);
     hpa.ahead_held = (uint16_t)Frama_C_interval(N_TAPS + WAKE_HPA_AHEAD_TAPS - 1u + HORIZON, hpa.n);
-    hpa.t = N_TAPS;
+    hpa.t = (uint16_t)Frama_C_unsigned_int_interval(N_TAPS, hpa.n - 1u);
     hpa.phase = STEP_AHEAD_PASS;
-    (void)step_ahead_pass(&hpa, INT32_MAX / 2);
-    /*@ assert hpa.phase == STEP_AHEAD_SOLVE && hpa.d == 0; */
-    /*@ assert hpa.ahead_pos == (WAKE_HPA_AHEAD_RING - 1 + hpa.n - N_TAPS) % WAKE_HPA_AHEAD_RING; */
+    r = step_ahead_pass(&hpa, Frama_C_int_interval(1, INT32_MAX / 2));
+    /*@ assert hpa.phase == STEP_AHEAD_PASS || hpa.phase == STEP_AHEAD_SOLVE; */
+    /*@ assert hpa.ahead_pos < WAKE_HPA_AHEAD_RING; */
+    /*@ assert hpa.phase == STEP_AHEAD_PASS ==> N_TAPS <= hpa.t; */
+    /*@ assert hpa.phase == STEP_AHEAD_PASS ==> hpa.t < hpa.n; */
+    /*@ assert hpa.phase == STEP_AHEAD_SOLVE ==> hpa.t == 0 && hpa.d == 0; */
+    /*@ assert hpa.phase == STEP_AHEAD_SOLVE ==>
+               hpa.ahead_pos == (WAKE_HPA_AHEAD_RING - 1 + hpa.n - N_TAPS) % WAKE_HPA_AHEAD_RING; */
+    /*@ assert \forall integer i; 0 <= i < WAKE_HPA_MAX_BINS ==>
+               -OSC_V_MAX <= hpa.bin_osc[3 * i] <= OSC_V_MAX && -OSC_E_MAX <= hpa.bin_osc[3 * i + 1] <= OSC_E_MAX &&
+               -4.0 <= hpa.bin_osc[3 * i + 2] <= 0.0; */
     /*@ assert \forall integer i; 0 <= i < WAKE_HPA_AHEAD_RING ==> -Y_MAX <= hpa.ahead_ring[i] <= Y_MAX; */
     /*@ assert \forall integer i; 0 <= i < WAKE_HPA_AHEAD_TAPS ==> -Y_MAX <= hpa.ahead_head[i] <= Y_MAX; */
     /*@ assert \forall integer i; 0 <= i < WAKE_HPA_AHEAD_TAPS ==> -LAG_MAX <= hpa.ahead_lag[i] <= LAG_MAX; */
     /*@ assert \forall integer i; 0 <= i < WAKE_HPA_AHEAD_TAPS ==> -RHS_MAX <= hpa.ahead_rhs[i] <= RHS_MAX; */
     /*@ assert -HELD_MAX <= hpa.ahead_tp <= HELD_MAX && -HELD_MAX <= hpa.ahead_pp <= HELD_MAX; */
+    /*@ assert r > 0; */
 }
 
 /**
