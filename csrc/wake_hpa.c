@@ -169,7 +169,8 @@ static inline unsigned chunk_count(unsigned t, unsigned step, unsigned limit)
    (reinsch_run1/2; docs/verification.md, "The DFT pass") */
 #define COST_DFT1 14
 #define COST_DFT2 20
-#define COST_SLIDE 60
+/* a row of a bin's slide and its share of a block's clamps (step_bin_end; 60 before the clamps) */
+#define COST_SLIDE 90
 #define COST_RAMP 40
 /** The fixed part of a chunk of the tremor-ahead pass: the rows' sums and delay line in and out of registers. */
 #define COST_AHEAD_CHUNK 150
@@ -1462,8 +1463,9 @@ static void reinsch_value(float s, float d, float lam, float cw, float sw, uint3
  * rotation each row (32 rotations drift by a few ulp).
  *
  * @par Scaling and overflow
- * The state a chunk carries to the next, Q_m and the six phasor parts, is clamped where a chunk loads it
- * and again after every SLIDE_BLOCK rows (clamp_abs: Q_m to SLIDE_Q_MAX, each part to PHASOR_MAX).  The bounds: turn() and unit_phasor() give parts within 1 and a modulus within 2^-20 of 1, and
+ * The state a chunk carries to the next, Q_m and the six phasor parts, is clamped at the start of every
+ * block of SLIDE_BLOCK rows, the first where a chunk loads it (clamp_abs: Q_m to SLIDE_Q_MAX, each part to
+ * PHASOR_MAX); a chunk stores it as its last block leaves it, and the next chunk's first block clamps it.  The bounds: turn() and unit_phasor() give parts within 1 and a modulus within 2^-20 of 1, and
  * each rotation by (cw, sw), itself of modulus within 2^-20 of 1 and rounded to float, multiplies a
  * phasor's modulus by less than 1 + 2^-19, so the 2^J <= 64 rows of a slide keep every modulus, and so
  * every part, below (1 + 2^-20)(1 + 2^-19)^64 < 1 + 2^-12 < PHASOR_MAX = 1 + 2^-8 (the largest part on
@@ -1481,7 +1483,7 @@ static void reinsch_value(float s, float d, float lam, float cw, float sw, uint3
  * for n = 64, so 4.  Q_m's interval grows by less than 2^21 per row, additively, but without a bound on
  * the rows between two of its clamps none of its intervals is an invariant of the block loop (a value
  * analysis joins the blocks there), so it is clamped with the phasors.  Cost: two comparisons per clamp,
- * eight clamps per block of 4 rows.  The chunk counts its rows with chunk_count, as the other float chunks,
+ * eight clamps per block of 4 rows (none after a chunk's last block: a chunk's fixed cost stays small).  The chunk counts its rows with chunk_count, as the other float chunks,
  * and tests the slide's end as step >= rest (the rows the budget buys against the rows left), as step_diag.
  */
 #define PHASOR_MAX 1.00390625f              /* 1 + 2^-8 */
@@ -1492,19 +1494,37 @@ static void reinsch_value(float s, float d, float lam, float cw, float sw, uint3
 static int32_t step_bin_end(wake_hpa_t *h, int32_t budget)
 {
     const unsigned n = h->n, rows = h->rows, N = 1u << h->cfg.level;
-    const unsigned start = h->t, rest = N - start, step = items(budget, COST_SLIDE);
-    const unsigned count = chunk_count(start, step, N), end = chunk_end(start, count, N);
+    const unsigned start = h->t;
+    const unsigned rest = N - start;
+    const unsigned step = items(budget, COST_SLIDE);
+    const unsigned count = chunk_count(start, step, N);
+    const unsigned end = chunk_end(start, count, N);
     const float scale = 2.0f / (float)n, mean = h->mean, xr = h->xr, xi = h->xi;
     const float cw = h->rot[0], sw = h->rot[1];
-    float qr = clamp_abs(h->qr, SLIDE_Q_MAX), qi = clamp_abs(h->qi, SLIDE_Q_MAX);
-    float ac = clamp_abs(h->ph[0], PHASOR_MAX), as = clamp_abs(h->ph[1], PHASOR_MAX);
-    float ic = clamp_abs(h->ph[2], PHASOR_MAX), is = clamp_abs(h->ph[3], PHASOR_MAX);
-    float rc = clamp_abs(h->ph[4], PHASOR_MAX), rs = clamp_abs(h->ph[5], PHASOR_MAX), t0, t1;
+    float qr = h->qr;
+    float qi = h->qi;
+    float ac = h->ph[0];
+    float as = h->ph[1];
+    float ic = h->ph[2];
+    float is = h->ph[3];
+    float rc = h->ph[4];
+    float rs = h->ph[5];
+    float t0, t1;
     unsigned i = start;
-    while (i < end) { /* wcet-loop: WAKE_HPA_MAX_TAPS / SLIDE_BLOCK */
+    do { /* wcet-loop: WAKE_HPA_MAX_TAPS / SLIDE_BLOCK */
         unsigned k;
+        qr = clamp_abs(qr, SLIDE_Q_MAX);
+        qi = clamp_abs(qi, SLIDE_Q_MAX);
+        ac = clamp_abs(ac, PHASOR_MAX);
+        as = clamp_abs(as, PHASOR_MAX);
+        ic = clamp_abs(ic, PHASOR_MAX);
+        is = clamp_abs(is, PHASOR_MAX);
+        rc = clamp_abs(rc, PHASOR_MAX);
+        rs = clamp_abs(rs, PHASOR_MAX);
         for (k = 0u; k < SLIDE_BLOCK; ++k) { /* wcet-loop: SLIDE_BLOCK */
-            float xc, pr, pi;
+            float xc;
+            float pr;
+            float pi;
             if (i >= end) {
                 break;
             }
@@ -1533,15 +1553,7 @@ static int32_t step_bin_end(wake_hpa_t *h, int32_t budget)
             rs = t1;
             ++i;
         }
-        qr = clamp_abs(qr, SLIDE_Q_MAX);
-        qi = clamp_abs(qi, SLIDE_Q_MAX);
-        ac = clamp_abs(ac, PHASOR_MAX);
-        as = clamp_abs(as, PHASOR_MAX);
-        ic = clamp_abs(ic, PHASOR_MAX);
-        is = clamp_abs(is, PHASOR_MAX);
-        rc = clamp_abs(rc, PHASOR_MAX);
-        rs = clamp_abs(rs, PHASOR_MAX);
-    }
+    } while (i < end);   /* a chunk has at least one row; with none, its first block would stop at once */
     h->qr = qr;
     h->qi = qi;
     h->ph[0] = ac;

@@ -627,13 +627,15 @@ void eva_step_bin(void)
 
 /**
  * The carried state of a slide the chunk entry below starts from: wider than the bounds step_bin_end clamps it
- * to where a chunk loads it and after every block of rows (PHASOR_MAX, SLIDE_Q_MAX = 2^36 in this build), so that
- * the clamp is what restores the invariant; after a chunk, within those bounds again.
+ * to at the start of every block of rows, the first where a chunk loads it (PHASOR_MAX, SLIDE_Q_MAX = 2^36 in this
+ * build), so that the clamp is what restores the invariant.  After a chunk, the state its last block of at most 4
+ * rows leaves: Q_m within 2^36 + 4 2^21 < 2^37, the phasor parts within PHASOR_MAX 1.37^4 < 4 (the next chunk
+ * clamps them again).
  */
 #define SLIDE_PH_IN 2.0f
 #define SLIDE_Q_IN 0x1p100f
-#define SLIDE_Q_MAX_R 68719476736.0
-#define PHASOR_MAX_R 1.00390625
+#define SLIDE_Q_OUT_R 137438953472.0
+#define SLIDE_PH_OUT_R 4.0
 /** cos w and sin w of every bin of the default schedule, w = 2 pi m / n <= 2 pi 0.06 (m <= 6 n / 100) */
 #define ROT_COS_MIN 0.9297f
 #define ROT_SIN_MAX 0.3682f
@@ -645,8 +647,8 @@ void eva_step_bin(void)
  * bin of the pass, one state each), its rotation e^{j w} any in the box of the schedule's bins, X'_m within the
  * bound step_bin_start leaves (XQ_MAX), the carried Q_m and phasors any in a box wider than the clamps, the sums
  * over the bins within their envelopes, the mean as STEP_SUMS guarantees it, any budget (budget_range).
- * Postcondition: Cxy and vhead within their envelopes; STEP_BIN_END with 0 < t < 2^J, the phasors within PHASOR_MAX
- * and Q_m within SLIDE_Q_MAX (what the next chunk loads), or the slide done (next_bin: t = 0, the next
+ * Postcondition: Cxy and vhead within their envelopes; STEP_BIN_END with 0 < t < 2^J, the phasors within 4 and Q_m
+ * within 2^37 (finite: the next chunk clamps them where it loads them), or the slide done (next_bin: t = 0, the next
  * bin's STEP_BIN_START, the next pass's STEP_DFT or STEP_RAMP, lambda in [-4, 0], d < pair);
  * 0 < r <= max(budget, cost).
  */
@@ -700,8 +702,8 @@ void eva_step_bin_end_chunk(void)
     post_bin_sums();
     if (hpa.phase == STEP_BIN_END) {
         /*@ assert 0 < hpa.t < N_TAPS; */
-        /*@ assert -SLIDE_Q_MAX_R <= hpa.qr <= SLIDE_Q_MAX_R && -SLIDE_Q_MAX_R <= hpa.qi <= SLIDE_Q_MAX_R; */
-        /*@ assert \forall integer i; 0 <= i < 6 ==> -PHASOR_MAX_R <= hpa.ph[i] <= PHASOR_MAX_R; */
+        /*@ assert -SLIDE_Q_OUT_R <= hpa.qr <= SLIDE_Q_OUT_R && -SLIDE_Q_OUT_R <= hpa.qi <= SLIDE_Q_OUT_R; */
+        /*@ assert \forall integer i; 0 <= i < 6 ==> -SLIDE_PH_OUT_R <= hpa.ph[i] <= SLIDE_PH_OUT_R; */
     } else {
         /*@ assert hpa.t == 0; */
         /*@ assert hpa.phase == STEP_BIN_START || hpa.phase == STEP_DFT || hpa.phase == STEP_RAMP; */
