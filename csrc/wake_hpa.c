@@ -1465,7 +1465,8 @@ static void reinsch_value(float s, float d, float lam, float cw, float sw, uint3
  * @par Scaling and overflow
  * The state a chunk carries to the next, Q_m and the six phasor parts, is clamped at the start of every
  * block of SLIDE_BLOCK rows, the first where a chunk loads it (clamp_abs: Q_m to SLIDE_Q_MAX, each part to
- * PHASOR_MAX); a chunk stores it as its last block leaves it, and the next chunk's first block clamps it.  The bounds: turn() and unit_phasor() give parts within 1 and a modulus within 2^-20 of 1, and
+ * PHASOR_MAX); a chunk stores it as its last block leaves it, and the next chunk's first block clamps it.
+ * The bounds: turn() and unit_phasor() give parts within 1 and a modulus within 2^-20 of 1, and
  * each rotation by (cw, sw), itself of modulus within 2^-20 of 1 and rounded to float, multiplies a
  * phasor's modulus by less than 1 + 2^-19, so the 2^J <= 64 rows of a slide keep every modulus, and so
  * every part, below (1 + 2^-20)(1 + 2^-19)^64 < 1 + 2^-12 < PHASOR_MAX = 1 + 2^-8 (the largest part on
@@ -1483,8 +1484,9 @@ static void reinsch_value(float s, float d, float lam, float cw, float sw, uint3
  * for n = 64, so 4.  Q_m's interval grows by less than 2^21 per row, additively, but without a bound on
  * the rows between two of its clamps none of its intervals is an invariant of the block loop (a value
  * analysis joins the blocks there), so it is clamped with the phasors.  Cost: two comparisons per clamp,
- * eight clamps per block of 4 rows (none after a chunk's last block: a chunk's fixed cost stays small).  The chunk counts its rows with chunk_count, as the other float chunks,
- * and tests the slide's end as step >= rest (the rows the budget buys against the rows left), as step_diag.
+ * eight clamps per block of 4 rows (none after a chunk's last block: a chunk's fixed cost stays small).
+ * The chunk counts its rows with chunk_count, as the other float chunks, and tests the slide's end as
+ * step >= rest (the rows the budget buys against the rows left), as step_diag.
  */
 #define PHASOR_MAX 1.00390625f              /* 1 + 2^-8 */
 #define SLIDE_Q_MAX (4.0f * REINSCH_D_MAX)
