@@ -169,7 +169,8 @@ static inline unsigned chunk_count(unsigned t, unsigned step, unsigned limit)
    (reinsch_run1/2; docs/verification.md, "The DFT pass") */
 #define COST_DFT1 14
 #define COST_DFT2 20
-#define COST_SLIDE 60
+/* a row of a bin's slide and its share of a block's clamps (step_bin_end; 60 before the clamps) */
+#define COST_SLIDE 90
 #define COST_RAMP 40
 /** The fixed part of a chunk of the tremor-ahead pass: the rows' sums and delay line in and out of registers. */
 #define COST_AHEAD_CHUNK 150
@@ -1460,42 +1461,101 @@ static void reinsch_value(float s, float d, float lam, float cw, float sw, uint3
  * and v_c(t) for t < N (the targets the fit does not use) into vhead.  The
  * phasors e^{j w (N - i)}, e^{j w i}, e^{j w (rows + i)} advance by one
  * rotation each row (32 rotations drift by a few ulp).
+ *
+ * @par Scaling and overflow
+ * The state a chunk carries to the next, Q_m and the six phasor parts, is clamped at the start of every
+ * block of SLIDE_BLOCK rows, the first where a chunk loads it (clamp_abs: Q_m to SLIDE_Q_MAX, each part to
+ * PHASOR_MAX); a chunk stores it as its last block leaves it, and the next chunk's first block clamps it.
+ * The bounds: turn() and unit_phasor() give parts within 1 and a modulus within 2^-20 of 1, and
+ * each rotation by (cw, sw), itself of modulus within 2^-20 of 1 and rounded to float, multiplies a
+ * phasor's modulus by less than 1 + 2^-19, so the 2^J <= 64 rows of a slide keep every modulus, and so
+ * every part, below (1 + 2^-20)(1 + 2^-19)^64 < 1 + 2^-12 < PHASOR_MAX = 1 + 2^-8 (the largest part on
+ * real windows: 1 + 1.1e-6).  Q_m(0) comes from the Reinsch states within REINSCH_S_MAX and REINSCH_D_MAX
+ * (reinsch_value: |Re y| <= 2 |s| + |d|, |Im y| <= |s| + |d|, so each part within 4 REINSCH_D_MAX), and
+ * |Q_m(i)| <= rows max |x_c| < n 2^16 (2^25 for n <= 512) at every row (the largest part seen: 2^23.3),
+ * below SLIDE_Q_MAX = 4 REINSCH_D_MAX.  The clamps never fire on a window of int16 samples (the results
+ * are those of the plain slide, bit for bit, the same operations in the same order per row); they are
+ * there for a value analysis of a chunk from any row (Frama-C Eva's step_bin_end_chunk entry), whose
+ * interval of a phasor grows by a factor up to |cos w| + |sin w| <= 2^(1/2) per rotation: 2^16 over 32
+ * rows, but at most 2^(3/2) over the 3 rotations before the last row of a block of 4.  A row's term of
+ * vhead, (2/n) Re(X'_m e^{j w i}), then stays within (2/n) 2 |X'| PHASOR_MAX 2^(3/2), 2^35.5 for n >= 64
+ * and |X'| <= 2^38 (2^34.9 for n >= 100, 2^34.5 at the default schedule's top bin), below half an ulp of
+ * vhead's envelope 2^60 (2^36): float addition keeps the sum inside.  A block of 5 rows would give 2^36
+ * for n = 64, so 4.  Q_m's interval grows by less than 2^21 per row, additively, but without a bound on
+ * the rows between two of its clamps none of its intervals is an invariant of the block loop (a value
+ * analysis joins the blocks there), so it is clamped with the phasors.  Cost: two comparisons per clamp,
+ * eight clamps per block of 4 rows (none after a chunk's last block: a chunk's fixed cost stays small).
+ * The chunk counts its rows with chunk_count, as the other float chunks, and tests the slide's end as
+ * step >= rest (the rows the budget buys against the rows left), as step_diag.
  */
+#define PHASOR_MAX 1.00390625f              /* 1 + 2^-8 */
+#define SLIDE_Q_MAX (4.0f * REINSCH_D_MAX)
+/** Rows of a slide between two clamps of its phasors (above). */
+#define SLIDE_BLOCK 4u
+
 static int32_t step_bin_end(wake_hpa_t *h, int32_t budget)
 {
     const unsigned n = h->n, rows = h->rows, N = 1u << h->cfg.level;
-    const unsigned start = h->t, end = chunk_end(start, items(budget, COST_SLIDE), N);
+    const unsigned start = h->t;
+    const unsigned rest = N - start;
+    const unsigned step = items(budget, COST_SLIDE);
+    const unsigned count = chunk_count(start, step, N);
+    const unsigned end = chunk_end(start, count, N);
     const float scale = 2.0f / (float)n, mean = h->mean, xr = h->xr, xi = h->xi;
     const float cw = h->rot[0], sw = h->rot[1];
-    float qr = h->qr, qi = h->qi, ac = h->ph[0], as = h->ph[1], ic = h->ph[2], is = h->ph[3];
-    float rc = h->ph[4], rs = h->ph[5], t0, t1;
-    unsigned i;
-    for (i = start; i < end; ++i) { /* wcet-loop: WAKE_HPA_MAX_TAPS */
-        float xc;
-        const float pr = xr * ac - xi * as;       /* P = X e^{j w (N - i)} */
-        const float pi = xr * as + xi * ac;
-        h->cxy[i] += scale * (pr * qr + pi * qi);
-        h->vhead[i] += scale * (xr * ic - xi * is);
-        xc = (float)h->work[i] - mean;
-        qr -= xc * ic;
-        qi += xc * is;
-        xc = (float)h->work[i + rows] - mean;
-        qr += xc * rc;
-        qi -= xc * rs;
-        /* e^{j w (N - i - 1)} = e^{j w (N - i)} e^{-j w};  the others times e^{j w} */
-        t0 = ac * cw + as * sw;
-        t1 = as * cw - ac * sw;
-        ac = t0;
-        as = t1;
-        t0 = ic * cw - is * sw;
-        t1 = is * cw + ic * sw;
-        ic = t0;
-        is = t1;
-        t0 = rc * cw - rs * sw;
-        t1 = rs * cw + rc * sw;
-        rc = t0;
-        rs = t1;
-    }
+    float qr = h->qr;
+    float qi = h->qi;
+    float ac = h->ph[0];
+    float as = h->ph[1];
+    float ic = h->ph[2];
+    float is = h->ph[3];
+    float rc = h->ph[4];
+    float rs = h->ph[5];
+    float t0, t1;
+    unsigned i = start;
+    do { /* wcet-loop: WAKE_HPA_MAX_TAPS / SLIDE_BLOCK */
+        unsigned k;
+        qr = clamp_abs(qr, SLIDE_Q_MAX);
+        qi = clamp_abs(qi, SLIDE_Q_MAX);
+        ac = clamp_abs(ac, PHASOR_MAX);
+        as = clamp_abs(as, PHASOR_MAX);
+        ic = clamp_abs(ic, PHASOR_MAX);
+        is = clamp_abs(is, PHASOR_MAX);
+        rc = clamp_abs(rc, PHASOR_MAX);
+        rs = clamp_abs(rs, PHASOR_MAX);
+        for (k = 0u; k < SLIDE_BLOCK; ++k) { /* wcet-loop: SLIDE_BLOCK */
+            float xc;
+            float pr;
+            float pi;
+            if (i >= end) {
+                break;
+            }
+            pr = xr * ac - xi * as;       /* P = X e^{j w (N - i)} */
+            pi = xr * as + xi * ac;
+            h->cxy[i] += scale * (pr * qr + pi * qi);
+            h->vhead[i] += scale * (xr * ic - xi * is);
+            xc = (float)h->work[i] - mean;
+            qr -= xc * ic;
+            qi += xc * is;
+            xc = (float)h->work[i + rows] - mean;
+            qr += xc * rc;
+            qi -= xc * rs;
+            /* e^{j w (N - i - 1)} = e^{j w (N - i)} e^{-j w};  the others times e^{j w} */
+            t0 = ac * cw + as * sw;
+            t1 = as * cw - ac * sw;
+            ac = t0;
+            as = t1;
+            t0 = ic * cw - is * sw;
+            t1 = is * cw + ic * sw;
+            ic = t0;
+            is = t1;
+            t0 = rc * cw - rs * sw;
+            t1 = rs * cw + rc * sw;
+            rc = t0;
+            rs = t1;
+            ++i;
+        }
+    } while (i < end);   /* a chunk has at least one row; with none, its first block would stop at once */
     h->qr = qr;
     h->qi = qi;
     h->ph[0] = ac;
@@ -1505,10 +1565,10 @@ static int32_t step_bin_end(wake_hpa_t *h, int32_t budget)
     h->ph[4] = rc;
     h->ph[5] = rs;
     h->t = (uint16_t)end;
-    if (end == N) {
+    if (step >= rest) {   /* end == N, tested on what a value analysis keeps of the chunk's start */
         next_bin(h);
     }
-    return (int32_t)(end - start) * COST_SLIDE;
+    return (int32_t)count * COST_SLIDE;
 }
 
 /**

@@ -80,7 +80,7 @@ AHEAD_HPA_ENTRIES = HPA_ENTRIES + ["wake_hpa_ahead_to_rtp"]
 #: run"); the HPA's own code, so one configuration
 STEP_ENTRIES = ["step_sums", "step_lags", "step_lag_end", "step_diag", "step_levinson", "step_psd", "step_psd_chunk",
                 "step_cutoff", "step_bins", "step_dft", "step_dft_chunk", "step_bin", "step_ramp", "step_ramp_chunk",
-                "step_diag_chunk",
+                "step_diag_chunk", "step_bin_end_chunk",
                 "step_gram", "step_solve", "step_sums_chunk", "step_lags_chunk", "dispatch_slice", "dispatch_run"]
 STEP_CONFIGS = ["mul64 K1"]
 #: the tremor-ahead steps of a run (tests/prove/eva_hpa_ahead_steps.c, the build with WAKE_HPA_AHEAD 1), as the
@@ -132,6 +132,11 @@ ENTRY_OPTIONS = {"wake_hpa_apply": ("-eva-slevel-function", "round_clamp:0"),
                  # budget range and side of the lag's end; the step's states joined (the clamp where a chunk loads
                  # diag bounds it whatever the join; with 20,000 there, the lag d = 0 alone ran past 12 minutes)
                  "step_diag_chunk": STEP_OPTIONS + ("-eva-slevel-function", "eva_step_diag_chunk:20000,step_diag:0"),
+                 # a chunk of a bin's slide from any row: room in the entry for one state per window length, pair, bin
+                 # of the pass, budget range and side of the slide's end; the step's states joined (its clamps bound
+                 # the carried state whatever the join; the block's loop of SLIDE_BLOCK rows is unrolled)
+                 "step_bin_end_chunk": STEP_OPTIONS + ("-eva-slevel-function",
+                                                       "eva_step_bin_end_chunk:20000,step_bin_end:0,clamp_abs:0"),
                  # the chunk entries keep one Eva state per start index, lag and budget class (up to 20,000):
                  # the slevel and the split limit must not merge them
                  "step_sums_chunk": STEP_OPTIONS + CHUNK_OPTIONS,

@@ -14,7 +14,8 @@
  * The *_chunk entries call a loop step as a sliced run does: from any index of its loop (an interval), with
  * the fields it carries between chunks within its invariant and any budget (docs/verification.md, "Chunks
  * of a sliced run"): the spectrum, the DFT pass, the ramp and the diagonals of Rxx B' (eva_step_diag_chunk, from
- * any diag: the step clamps what a chunk loads to its bound); a bin's slide has no chunk entry yet.
+ * any diag: the step clamps what a chunk loads to its bound) and a bin's slide (eva_step_bin_end_chunk, from any
+ * Q_m and phasors: the step clamps them where a chunk loads them and its phasors every SLIDE_BLOCK rows).
  * The integer chunk entries (eva_step_sums_chunk, eva_step_lags_chunk) call an integer loop step from any index of its
  * loop with a small budget, and the dispatch entries (eva_dispatch_slice, eva_dispatch_run) run wake_hpa_slice
  * and wake_hpa_run from a run in any phase with run_step's contract instead of its body (docs/verification.md,
@@ -622,6 +623,94 @@ void eva_step_bin(void)
     /*@ assert -4.0 <= hpa.lam[0] <= 0.0 && -4.0 <= hpa.lam[1] <= 0.0; */
     /*@ assert 1 <= hpa.pair <= 2 && hpa.d < hpa.pair; */
     post_bin_sums();
+}
+
+/**
+ * The carried state of a slide the chunk entry below starts from: wider than the bounds step_bin_end clamps it
+ * to at the start of every block of rows, the first where a chunk loads it (PHASOR_MAX, SLIDE_Q_MAX = 2^36 in this
+ * build), so that the clamp is what restores the invariant.  After a chunk, the state its last block of at most 4
+ * rows leaves: Q_m within 2^36 + 4 2^21 < 2^37, the phasor parts within PHASOR_MAX 1.37^4 < 4 (the next chunk
+ * clamps them again).
+ */
+#define SLIDE_PH_IN 2.0f
+#define SLIDE_Q_IN 0x1p100f
+#define SLIDE_Q_OUT_R 137438953472.0
+#define SLIDE_PH_OUT_R 4.0
+/** cos w and sin w of every bin of the default schedule, w = 2 pi m / n <= 2 pi 0.06 (m <= 6 n / 100) */
+#define ROT_COS_MIN 0.9297f
+#define ROT_SIN_MAX 0.3682f
+
+/**
+ * A chunk of a bin's slide (STEP_BIN_END) as a sliced run gives it: from any row t < 2^J (an interval on either side
+ * of the row from which the chunk ends the slide, one state each), for every window length of the schedule (one
+ * state each), any bin of the pass (m an interval: m < bins with a pass of two bins, m = bins with one; d either
+ * bin of the pass, one state each), its rotation e^{j w} any in the box of the schedule's bins, X'_m within the
+ * bound step_bin_start leaves (XQ_MAX), the carried Q_m and phasors any in a box wider than the clamps, the sums
+ * over the bins within their envelopes, the mean as STEP_SUMS guarantees it, any budget (budget_range).
+ * Postcondition: Cxy and vhead within their envelopes; STEP_BIN_END with 0 < t < 2^J, the phasors within 4 and Q_m
+ * within 2^37 (finite: the next chunk clamps them where it loads them), or the slide done (next_bin: t = 0, the next
+ * bin's STEP_BIN_START, the next pass's STEP_DFT or STEP_RAMP, lambda in [-4, 0], d < pair);
+ * 0 < r <= max(budget, cost).
+ */
+void eva_step_bin_end_chunk(void)
+{
+    unsigned b, bins;
+    int32_t budget, r;
+    int q;
+    if (!initialised()) {
+        return;
+    }
+    any_bin_sums();
+    begun();
+    any_sums();
+    bins = 6u * hpa.n / 100u;
+    hpa.bins = (uint16_t)bins;
+    hpa.pair = (uint16_t)Frama_C_interval_split(1, 2);
+    if (hpa.pair == 2u) {
+        hpa.m = Frama_C_unsigned_short_interval(1u, (uint16_t)(bins - 1u));
+    } else {
+        hpa.m = (uint16_t)bins;
+    }
+    hpa.d = (uint16_t)Frama_C_interval_split(0, (int)hpa.pair - 1);
+    for (b = 0; b < 2u; ++b) {
+        hpa.lam[b] = anyf(-4.0f, 0.0f);
+    }
+    hpa.rot[0] = anyf(ROT_COS_MIN, 1.0f);
+    hpa.rot[1] = anyf(0.0f, ROT_SIN_MAX);
+    hpa.xr = anyf(-XQ_MAX, XQ_MAX);
+    hpa.xi = anyf(-XQ_MAX, XQ_MAX);
+    hpa.qr = anyf(-SLIDE_Q_IN, SLIDE_Q_IN);
+    hpa.qi = anyf(-SLIDE_Q_IN, SLIDE_Q_IN);
+    for (b = 0; b < 6u; ++b) {
+        hpa.ph[b] = anyf(-SLIDE_PH_IN, SLIDE_PH_IN);
+    }
+    hpa.phase = STEP_BIN_END;
+    q = Frama_C_interval_split(0, (int)N_TAPS);
+    budget = budget_range(q, N_TAPS, COST_SLIDE);
+    {
+        /* the chunk from t runs max(q, 1) rows or the rest, and ends the slide iff t >= edge: t drawn on either
+           side of the edge, one state each, so that each state leaves the step with one outcome */
+        const unsigned rows_q = q == 0 ? 1u : (unsigned)q;
+        const unsigned edge = rows_q >= N_TAPS ? 0u : N_TAPS - rows_q;
+        if (edge > 0u && Frama_C_interval_split(0, 1) == 1) {
+            hpa.t = Frama_C_unsigned_short_interval(0u, (uint16_t)(edge - 1u));
+        } else {
+            hpa.t = Frama_C_unsigned_short_interval((uint16_t)edge, (uint16_t)(N_TAPS - 1u));
+        }
+    }
+    r = step_bin_end(&hpa, budget);
+    post_bin_sums();
+    if (hpa.phase == STEP_BIN_END) {
+        /*@ assert 0 < hpa.t < N_TAPS; */
+        /*@ assert -SLIDE_Q_OUT_R <= hpa.qr <= SLIDE_Q_OUT_R && -SLIDE_Q_OUT_R <= hpa.qi <= SLIDE_Q_OUT_R; */
+        /*@ assert \forall integer i; 0 <= i < 6 ==> -SLIDE_PH_OUT_R <= hpa.ph[i] <= SLIDE_PH_OUT_R; */
+    } else {
+        /*@ assert hpa.t == 0; */
+        /*@ assert hpa.phase == STEP_BIN_START || hpa.phase == STEP_DFT || hpa.phase == STEP_RAMP; */
+        /*@ assert -4.0 <= hpa.lam[0] <= 0.0 && -4.0 <= hpa.lam[1] <= 0.0; */
+        /*@ assert 1 <= hpa.pair <= 2 && hpa.d < hpa.pair; */
+    }
+    /*@ assert 0 < r <= (budget > COST_SLIDE ? budget : COST_SLIDE); */
 }
 
 /** The end-point line's ramp into the targets (STEP_RAMP). */
