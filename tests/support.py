@@ -32,3 +32,13 @@ def missing_tools(*names):
     if not missing:
         return None
     return f"{' and '.join(missing)} {'is' if len(missing) == 1 else 'are'} not installed (on PATH)"
+
+
+def prove_script(name):
+    """The module of one of csrc/tests/prove's scripts (eva_check, wp_check, assigns_check), loaded from its file."""
+    import importlib.util
+    path = Path(__file__).resolve().parents[1] / "csrc" / "tests" / "prove" / f"{name}.py"
+    spec = importlib.util.spec_from_file_location(name, path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod

@@ -2,18 +2,11 @@
 write that run_step's assigns list does not hold (docs/verification.md, "Termination", "What the steps write").
 The logs below follow the shapes of Frama-C 25's messages; no Frama-C is needed."""
 
-import importlib.util
-from pathlib import Path
-
-ROOT = Path(__file__).resolve().parents[1]
+from support import prove_script
 
 
 def _check():
-    spec = importlib.util.spec_from_file_location("assigns_check",
-                                                  ROOT / "csrc" / "tests" / "prove" / "assigns_check.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return prove_script("assigns_check")
 
 
 LOG = """[inout] Out (external) for function step_lag_end:

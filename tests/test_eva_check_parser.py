@@ -2,17 +2,11 @@
 prints them, and refuses a log whose summary counts more than it read (docs/verification.md, "Frama-C Eva").
 The logs below follow the shapes of Frama-C 25's messages; no Frama-C is needed."""
 
-import importlib.util
-from pathlib import Path
-
-ROOT = Path(__file__).resolve().parents[1]
+from support import prove_script
 
 
 def _check():
-    spec = importlib.util.spec_from_file_location("eva_check", ROOT / "csrc" / "tests" / "prove" / "eva_check.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return prove_script("eva_check")
 
 
 WRAPPED = """[eva:alarm] wake_rtp.c:812: Warning: 

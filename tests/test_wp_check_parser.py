@@ -2,17 +2,11 @@
 variant's two among them (docs/verification.md, "Termination").  The logs below follow the shapes of Frama-C 25's
 messages; no Frama-C is needed."""
 
-import importlib.util
-from pathlib import Path
-
-ROOT = Path(__file__).resolve().parents[1]
+from support import prove_script
 
 
 def _check():
-    spec = importlib.util.spec_from_file_location("wp_check", ROOT / "csrc" / "tests" / "prove" / "wp_check.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return prove_script("wp_check")
 
 
 PROVED = """[wp] 3 goals scheduled
