@@ -29,6 +29,7 @@ if format_mismatches(lib):
                       "expects: " + "; ".join(format_mismatches(lib)) + "; rebuild it without -D overrides "
                       "(python build_ffi.py)")
 _SAMPLE_SCALE = 2.0**SAMPLE_FRAC
+_step_c = lib.wake_rtp_step   # bound once: step() runs per sample
 
 _STATUS_TEXT = {
     int(lib.WAKE_RTP_E_NULL): "null pointer",
@@ -275,7 +276,7 @@ class FixedPointRTP(AheadMixin, VoluntaryAheadMixin):
                 self.clipped += 1
                 m = -32768 if m < 0 else 32767
         out = self._out
-        status = lib.wake_rtp_step(self._state, m, out)
+        status = _step_c(self._state, m, out)
         if status:
             _check(status, "wake_rtp_step")
         return out[0] / _SAMPLE_SCALE * self.full_scale
