@@ -1463,6 +1463,8 @@ wake_rtp_status_t wake_rtp_run(wake_rtp_t *s, const wake_q15_t *in, wake_q15_t *
     return WAKE_RTP_OK;
 }
 
+#if WAKE_RTP_VOLUNTARY_AHEAD
+/* the host build's block entry (wake_rtp.h): firmware builds leave it out */
 wake_rtp_status_t wake_rtp_run_outputs(wake_rtp_t *s, const wake_q15_t *in, const uint8_t *missing, size_t n,
                                        wake_q15_t *voluntary, wake_q23_t *tremor_ahead, wake_ratio_t *gate,
                                        wake_q23_t *command, wake_q23_t *voluntary_ahead)
@@ -1509,15 +1511,12 @@ wake_rtp_status_t wake_rtp_run_outputs(wake_rtp_t *s, const wake_q15_t *in, cons
         }
 #endif
         if (voluntary_ahead != NULL) {
-#if WAKE_RTP_VOLUNTARY_AHEAD
             voluntary_ahead[k] = s->vol_output;
-#else
-            voluntary_ahead[k] = s->last_output;
-#endif
         }
     }
     return st;
 }
+#endif
 
 WAKE_RTP_COLD wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q15_t *window,
                                       const wake_q23_t *correction, const wake_cov_t *covariance,

@@ -37,7 +37,7 @@ from pathlib import Path
 CSRC = Path(__file__).resolve().parents[2]
 DOC = CSRC.parent / "docs" / "verification.md"
 RTP_ENTRIES = ["wake_rtp_init", "wake_rtp_set_weights", "wake_rtp_reset", "wake_rtp_step",
-               "wake_rtp_step_missing", "wake_rtp_run", "wake_rtp_run_outputs", "wake_rtp_load_state", "wake_rtp_get_state",
+               "wake_rtp_step_missing", "wake_rtp_run", "wake_rtp_load_state", "wake_rtp_get_state",
                "wake_rtp_reciprocal", "wake_rtp_set_ahead", "wake_rtp_set_ahead_ramp", "wake_rtp_ahead_output",
                "wake_rtp_load_ahead_state", "wake_rtp_get_ahead_state"]
 #: entries of the split step, analysed in every configuration with WAKE_RTP_SPLIT 1 added
@@ -45,7 +45,7 @@ SPLIT_ENTRIES = ["wake_rtp_prepare", "wake_rtp_finish", "wake_rtp_finish_missing
 SPLIT_DEFS = " -DWAKE_RTP_SPLIT=1"
 #: entries of the voluntary motion at n + h, analysed in every configuration with WAKE_RTP_VOLUNTARY_AHEAD 1 added
 #: (wake_rtp_step with it on: --entry wake_rtp_step --voluntary-ahead)
-VOLUNTARY_ENTRIES = ["wake_rtp_set_voluntary_ahead", "wake_rtp_voluntary_ahead_output"]
+VOLUNTARY_ENTRIES = ["wake_rtp_set_voluntary_ahead", "wake_rtp_voluntary_ahead_output", "wake_rtp_run_outputs"]
 VOLUNTARY_DEFS = " -DWAKE_RTP_VOLUNTARY_AHEAD=1"
 #: the entries whose code runs the voluntary motion's restart (its gain k = w_h' w / |w|^2 by long division and its
 #: FIR build), analysed again in the build with WAKE_RTP_VOLUNTARY_AHEAD 1 (unit rtp_voluntary), every configuration

@@ -116,6 +116,7 @@ void eva_wake_rtp_run(void)
     (void)wake_rtp_run(&rtp, block, block, Frama_C_size_t_interval(0u, sizeof block / sizeof block[0]));
 }
 
+#if WAKE_RTP_VOLUNTARY_AHEAD
 /* a block with every output, any sample flagged missing or none (missing NULL), any length up to the array's */
 static uint8_t flags[2 * WAKE_RTP_MAX_TAPS];
 static wake_q15_t voluntary[2 * WAKE_RTP_MAX_TAPS];
@@ -133,6 +134,7 @@ void eva_wake_rtp_run_outputs(void)
                                Frama_C_size_t_interval(0u, sizeof block / sizeof block[0]), voluntary, tremor_ahead,
                                gate, command, voluntary_ahead);
 }
+#endif
 
 void eva_wake_rtp_load_state(void)
 {
