@@ -4,15 +4,14 @@
 :class:`~wake.io.recording.Recording` on a uniform grid with channel names
 and units.
 
-Time column (``time_column="auto"``): the first column is taken as time when
-its header names it so (``t``, ``time``, ``timestamp``, ``time_s``,
-``time [ms]``, ...) or, without such a name, when it is shaped like a clock:
-non-decreasing, advancing, with at least 90 % of its steps within 50 % of the
-median step, and not a plain row counter (integers stepping by exactly 1:
-those are read as an index and dropped, and the rate must be given).  Its
-unit (s, ms, us, ns) comes from its header (``t [ms]``, ``timestamp_ms``) or,
-when the header says none, from its step size
-(:mod:`wake.io.time_column`); ``Recording.timing`` says which and why.
+Time column (``time_column="auto"``): the rule of :mod:`wake.io.time_column`
+(:func:`~wake.io.time_column.find_time_column`): a column named like time
+(``time``, ``Zeit [s]``, ``timestamp_ms``, ``TimeUs``, ... anywhere, text
+columns passed over) or, in a file without names, a first numeric column
+shaped like a clock (a plain row counter 0, 1, 2, ... is read as an index and
+dropped, and the rate must be given).  Its unit (s, ms, us, ns) comes from
+its header (``t [ms]``, ``timestamp_ms``) or, when the header says none, from
+its step size; ``Recording.timing`` says which and why.
 
 Delimited text (:mod:`wake.io.text_table`): only the columns asked for are
 parsed as numbers, so text columns beside the signals (a subject id, a
@@ -39,8 +38,7 @@ import numpy as np
 from wake._validation import check_positive
 from wake.io.recording import Recording, Timing, analyse_time, nominal_rate, resample_uniform
 from wake.io.text_table import check_decimal_mark, read_text_table
-from wake.io.time_column import (TimeUnit, is_row_counter, is_time_name, shaped_like_time, unit_from_name,
-                                 unit_from_steps)
+from wake.io.time_column import TimeUnit, find_time_column, is_row_counter, unit_from_name, unit_from_steps
 
 __all__ = ["FORMATS", "PADS_CHANNELS", "PADS_UNITS", "read_recording", "read_csv", "read_pads", "read_mat"]
 
@@ -212,13 +210,8 @@ def _find_time(column, names, units, time_column, path, has_header, text=()):
     if _no_time(time_column):
         return None, None
     if isinstance(time_column, str) and time_column.lower() == "auto":
-        if width < 2 or 0 in text:
-            return None, None
-        if has_header and is_time_name(names[0], units[0]):
-            return 0, unit_from_name(names[0], units[0])
-        if (not has_header or not names[0]) and shaped_like_time(column(0)):
-            return 0, None  # unnamed: by its shape
-        return None, None  # a named column that is not called time is a signal
+        i, _ = find_time_column(names, lambda j: j in text, column, has_header)  # the rule: wake.io.time_column
+        return (None, None) if i is None else (i, unit_from_name(names[i], units[i]) if has_header else None)
     if isinstance(time_column, bool) or not isinstance(time_column, (str, int, np.integer)):
         raise ValueError(f"time_column must be 'auto', None, a name or an index, got {time_column!r}")
     i = _column_index(time_column, names, path, what="time column")
