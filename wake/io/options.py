@@ -15,10 +15,14 @@ __all__ = ["add_reading_arguments", "checked_fs", "column_list", "read_from_argu
 
 
 def add_reading_arguments(p, *, what: str = "the recording", fs_help: str | None = None) -> None:
-    """Add ``--fs``, ``--time-column``, ``--column``, ``--format``, ``--decimal`` and ``--units`` to parser ``p``."""
+    """Add ``--fs``, ``--resample``, ``--time-column``, ``--column``, ``--format``, ``--decimal`` and ``--units`` to parser ``p``."""
     g = p.add_argument_group(f"reading {what}")
     g.add_argument("--fs", type=float, default=None,
                    help=fs_help or "sampling rate in Hz (default: from the time column; required when there is none)")
+    g.add_argument("--resample", action="store_true",
+                   help="with --fs beside a time column: resample onto --fs even when it contradicts the time "
+                        "column's own rate (by over 5 %%); without --resample such an --fs is refused, naming "
+                        "both rates")
     g.add_argument("--time-column", default="auto", metavar="auto|none|NAME|INDEX",
                    help="the time column: detected by default (a first column named like time, or increasing in "
                         "even steps; its unit from the header, e.g. 'time [ms]' or 'timestamp_ms', else from its "
@@ -67,7 +71,8 @@ def read_from_arguments(path, args, *, option: str = "file"):
         units = cells[0] if len(cells) == 1 else cells
     try:
         return read_recording(path, format=args.format, fs=args.fs, time_column=args.time_column,
-                              columns=column_list(args.column), decimal=args.decimal, units=units)
+                              columns=column_list(args.column), decimal=args.decimal, units=units,
+                              resample=args.resample)
     except ValueError as exc:
         if option == "file":
             raise

@@ -18,8 +18,11 @@ parsed as numbers, so text columns beside the signals (a subject id, a
 label) are no obstacle; a decimal comma is detected or given
 (``decimal=","``).
 
-Rate: ``fs`` when given, else the time column's (:func:`nominal_rate`); a
-file with neither is refused with a message that names both fixes.
+Rate: the time column's (:func:`~wake.io.recording.nominal_rate`), or ``fs``
+when given; an ``fs`` that contradicts the time column's own rate by over
+5 % is refused with a message naming both rates, unless ``resample=True``
+(``--resample``) asks for that grid (:func:`~wake.io.recording.check_rate`).
+A file with neither is refused with a message that names both fixes.
 
 Header cells may carry a unit: ``acc_x [g]`` or ``acc_x (g)`` is channel
 ``acc_x`` in ``g``.  PADS files (7 numeric columns, time then accelerometer
@@ -36,7 +39,7 @@ from pathlib import Path
 import numpy as np
 
 from wake._validation import check_positive
-from wake.io.recording import Recording, Timing, analyse_time, nominal_rate, resample_uniform
+from wake.io.recording import Recording, Timing, analyse_time, check_rate, resample_uniform
 from wake.io.text_table import check_decimal_mark, read_text_table
 from wake.io.time_column import TimeUnit, find_time_column, is_row_counter, unit_from_name, unit_from_steps
 
@@ -110,7 +113,7 @@ def _select(names, columns, path, time_index, text=()):
 
 
 def _finish(path, name, column, names, units, time_index, time_unit, fs, columns, *, text=(), notes=(),
-            rate_source="--fs"):
+            rate_source="--fs", resample=False):
     """Select the channels, take the time column and put the samples on a uniform grid.
 
     ``column(j)`` gives file column ``j`` as floats (only the columns used are asked for); ``time_unit`` is
@@ -134,7 +137,8 @@ def _finish(path, name, column, names, units, time_index, time_unit, fs, columns
     time_unit = unit_from_steps(raw) if time_unit is None else time_unit
     time = raw * time_unit.seconds
     try:
-        rate = nominal_rate(time) if fs is None else check_positive("fs", fs)
+        given = "fs (--fs)" if rate_source == "--fs" else rate_source
+        rate = check_rate(fs, time, resample=resample, given=given, column=f"the time column {names[time_index]!r}")
         timing = analyse_time(time, rate)
         if timing.resampled:
             values, _ = resample_uniform(time, values, rate)
@@ -145,7 +149,8 @@ def _finish(path, name, column, names, units, time_index, time_unit, fs, columns
                      notes=tuple(notes))
 
 
-def read_csv(path, *, fs=None, time_column="auto", columns=None, name=None, decimal="auto") -> Recording:
+def read_csv(path, *, fs=None, time_column="auto", columns=None, name=None, decimal="auto",
+             resample=False) -> Recording:
     """A delimited text file: comma, semicolon, tab or whitespace separated.
 
     Parameters
@@ -153,6 +158,9 @@ def read_csv(path, *, fs=None, time_column="auto", columns=None, name=None, deci
     path : str or Path
     fs : float, optional
         Sampling rate of the output grid, Hz.  Default: the time column's.
+        Beside a time column it must agree with the column's own rate
+        (within 5 %, :func:`wake.io.recording.check_rate`) unless
+        ``resample`` is True.
     time_column : "auto", None, str or int
         ``"auto"``: detect (module docstring); ``None``: there is none; a
         header name or a 0-based index: that column.
@@ -165,6 +173,9 @@ def read_csv(path, *, fs=None, time_column="auto", columns=None, name=None, deci
     decimal : {"auto", ".", ","}
         Decimal mark (:mod:`wake.io.text_table`): ``"auto"`` reads
         ``0,5;1,2`` as two numbers, 0.5 and 1.2.
+    resample : bool
+        Resample the time column onto ``fs`` even where ``fs`` contradicts
+        the column's own rate (``--resample``).
 
     Examples
     --------
@@ -201,7 +212,8 @@ def read_csv(path, *, fs=None, time_column="auto", columns=None, name=None, deci
         start = 1  # a row counter as the first column: an index, not a signal
     notes = ("decimal comma",) if table.decimal_comma else ()
     return _finish(path, name or path.stem, lambda j: column(j + start), names[start:], units[start:],
-                   time_index, time_unit, fs, columns, text=tuple(j - start for j in text), notes=notes)
+                   time_index, time_unit, fs, columns, text=tuple(j - start for j in text), notes=notes,
+                   resample=resample)
 
 
 def _find_time(column, names, units, time_column, path, has_header, text=()):
@@ -243,10 +255,10 @@ def read_pads(path, fs=100.0, columns=None) -> Recording:
         raise ValueError(f"{path}: need at least two samples, got {data.shape[0]}")
     fs = check_positive("fs", fs)
     return _finish(path, path.stem, lambda j: data[:, j], names, ["s", *PADS_UNITS], 0, TimeUnit("s", "unit cell"),
-                   fs, columns)
+                   fs, columns, resample=True)  # fs is the grid asked for: a PADS clock runs near 100 Hz
 
 
-def read_mat(path, *, fs=None, time_column="auto", columns=None, name=None) -> Recording:
+def read_mat(path, *, fs=None, time_column="auto", columns=None, name=None, resample=False) -> Recording:
     """A MATLAB ``.mat`` file (v4 to v7; v7.3 is HDF5 and is refused with a hint).
 
     Numeric variables of the recording's length become channels: a vector is
@@ -316,11 +328,11 @@ def read_mat(path, *, fs=None, time_column="auto", columns=None, name=None) -> R
         time_index = 0
     units = [""] * len(names)
     return _finish(path, name or path.stem, lambda j: data[:, j], names, units, time_index, TimeUnit(), fs, columns,
-                   rate_source=rate_source)
+                   rate_source=rate_source, resample=resample)
 
 
 def read_recording(path, *, format="auto", fs=None, time_column="auto", columns=None, decimal="auto",
-                   units=None) -> Recording:
+                   units=None, resample=False) -> Recording:
     """Read a recording in any known format onto a uniform grid.
 
     Parameters
@@ -329,8 +341,10 @@ def read_recording(path, *, format="auto", fs=None, time_column="auto", columns=
     format : {"auto", "csv", "pads", "mat"}
         ``"auto"``: ``.mat`` files are MATLAB, everything else delimited
         text (PADS files are recognised by their shape).
-    fs, time_column, columns, decimal
+    fs, time_column, columns, decimal, resample
         See :func:`read_csv` (``decimal`` applies to delimited text only).
+        An ``fs`` that contradicts the file's time column is refused, naming
+        both rates, unless ``resample=True``.
     units : str or sequence of str, optional
         The channels' units where the file does not say them (a headerless
         CSV): one unit for every channel, or one per channel.
@@ -351,11 +365,11 @@ def read_recording(path, *, format="auto", fs=None, time_column="auto", columns=
     check_decimal_mark(decimal)  # before the format is chosen: a .mat file is refused a bad one too
     path = Path(path)
     if format == "mat" or (format == "auto" and path.suffix.lower() == ".mat"):
-        rec = read_mat(path, fs=fs, time_column=time_column, columns=columns)
+        rec = read_mat(path, fs=fs, time_column=time_column, columns=columns, resample=resample)
     elif format == "pads":
         rec = read_pads(path, fs=100.0 if fs is None else fs, columns=columns)
     else:
-        rec = read_csv(path, fs=fs, time_column=time_column, columns=columns, decimal=decimal)
+        rec = read_csv(path, fs=fs, time_column=time_column, columns=columns, decimal=decimal, resample=resample)
     return rec if units is None else with_units(rec, units)
 
 
