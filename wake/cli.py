@@ -122,7 +122,7 @@ def _cmd_demo(args) -> int:
 
 
 def _cmd_run(args) -> int:
-    from wake._files import refuse_same_file
+    from wake._files import check_output_path, refuse_same_file
     from wake.io import write_result_csv
     from wake.io.writers import ahead_columns
     from wake.target import voluntary_ahead_refusal
@@ -132,8 +132,9 @@ def _cmd_run(args) -> int:
         from wake.eval.plotting import require_matplotlib
 
         require_matplotlib()  # before the work, not after it
-    for option, out in (("--out", args.out), ("--tremor-out", args.tremor_out)):
+    for option, out in (("--out", args.out), ("--tremor-out", args.tremor_out), ("--plot", args.plot)):
         if out:
+            check_output_path(out, option=option)  # before the work, not after it
             refuse_same_file(out, [args.file], option=option)
     if args.out and args.tremor_out and Path(args.out).resolve() == Path(args.tremor_out).resolve():
         raise ValueError(f"--tremor-out {args.tremor_out} is also --out: the tremor table would overwrite the "
@@ -362,8 +363,30 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+def _one_line_warnings(command: str):
+    """``warnings.formatwarning`` for a command-line user: ``wake run: warning: MESSAGE`` on one line, without
+    the line of our source that raised it (``.../wake/cli.py:73: ... return WakeFilter(...``)."""
+
+    def formatwarning(message, category, filename, lineno, line=None):
+        text = " ".join(str(message).split())
+        return f"{' '.join(('wake', command)).strip()}: warning: {text}\n"
+
+    return formatwarning
+
+
 def main(argv=None) -> int:
+    import warnings
+
     argv = list(sys.argv[1:] if argv is None else argv)
+    saved = warnings.formatwarning
+    warnings.formatwarning = _one_line_warnings(argv[0] if argv and not argv[0].startswith("-") else "")
+    try:
+        return _main(argv)
+    finally:
+        warnings.formatwarning = saved
+
+
+def _main(argv) -> int:
     parser = build_parser()
     if argv and argv[0] in COMMANDS:
         _, command = COMMANDS[argv[0]]
