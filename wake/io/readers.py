@@ -33,17 +33,18 @@ and get their channel names and units.
 from __future__ import annotations
 
 import re
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from wake._validation import check_positive
 from wake.io.recording import Recording, Timing, analyse_time, check_rate, resample_uniform
-from wake.io.text_table import check_decimal_mark, read_text_table
+from wake.io.text_table import TextTable, check_decimal_mark, read_text_table
 from wake.io.time_column import TimeUnit, find_time_column, is_row_counter, unit_from_name, unit_from_steps
 
-__all__ = ["FORMATS", "PADS_CHANNELS", "PADS_UNITS", "read_recording", "read_csv", "read_pads", "read_mat"]
+__all__ = ["FORMATS", "PADS_CHANNELS", "PADS_UNITS", "TableLayout", "read_recording", "read_csv", "read_pads",
+           "read_mat", "table_layout"]
 
 #: Formats :func:`read_recording` knows (``"auto"`` picks by content and suffix).
 FORMATS = ("auto", "csv", "pads", "mat")
@@ -190,7 +191,49 @@ def read_csv(path, *, fs=None, time_column="auto", columns=None, name=None, deci
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"{path}: no such file" + (" (it is a folder)" if path.is_dir() else ""))
-    table = read_text_table(path, decimal)
+    lay = table_layout(read_text_table(path, decimal), time_column, path, columns)
+    return _finish(path, name or path.stem, lay.column, lay.names, lay.units, lay.time_index, lay.time_unit, fs,
+                   columns, text=lay.text, notes=lay.notes, resample=resample)
+
+
+@dataclass(frozen=True)
+class TableLayout:
+    """What the rules make of a delimited text table: names, units, text columns and the time column.
+
+    Indices count the table's columns from ``start`` (1 when a headerless first column is a row counter,
+    read as an index and dropped; else 0).  ``wake run`` (:func:`read_csv`) and ``wake stream``
+    (:mod:`wake.io.stream`, on its first lines) both take their columns from :func:`table_layout`.
+    """
+
+    table: TextTable
+    names: tuple  #: per column from ``start``: the header's names, else ``col{j}`` (the file column's index)
+    units: tuple  #: per column from ``start``: the header's unit cells ("" for none)
+    time_index: int | None  #: the time column (from ``start``), or None
+    time_unit: TimeUnit | None  #: its unit (None: judge it from its steps)
+    text: tuple  #: the text columns (from ``start``)
+    start: int  #: table columns before the first one counted
+    notes: tuple  #: what the reader inferred (a decimal comma)
+
+    def column(self, j: int) -> np.ndarray:
+        """Column ``j`` (from ``start``) as floats."""
+        return self.table.numbers(j + self.start, self.names[j])
+
+
+def table_layout(table: TextTable, time_column="auto", path="input", columns=None) -> TableLayout:
+    """The names, units, text columns and time column of ``table``, by the rules of this module.
+
+    ``columns`` matters only to a headerless row counter: when channels are asked for by file index,
+    it is not dropped, so that the indices stay the file's.
+
+    Examples
+    --------
+    >>> from wake.io.readers import table_layout
+    >>> from wake.io.text_table import table_from_lines
+    >>> rows = ["subject,timestamp_ms,gx [deg/s]"] + [f"P01,{10 * i},{0.5 * i}" for i in range(5)]
+    >>> lay = table_layout(table_from_lines(list(enumerate(rows, 1))))
+    >>> lay.names, lay.units, lay.time_index, lay.time_unit.unit, lay.text
+    (('subject', 'timestamp_ms', 'gx'), ('', '', 'deg/s'), 1, 'ms', (0,))
+    """
     width = table.width
     header = [split_unit(c) for c in table.header] if table.header is not None else None
     names = [h[0] for h in header] if header else [f"col{i}" for i in range(width)]
@@ -211,9 +254,9 @@ def read_csv(path, *, fs=None, time_column="auto", columns=None, name=None, deci
             and time_column == "auto" and is_row_counter(column(0)):
         start = 1  # a row counter as the first column: an index, not a signal
     notes = ("decimal comma",) if table.decimal_comma else ()
-    return _finish(path, name or path.stem, lambda j: column(j + start), names[start:], units[start:],
-                   time_index, time_unit, fs, columns, text=tuple(j - start for j in text), notes=notes,
-                   resample=resample)
+    return TableLayout(table, tuple(names[start:]), tuple(units[start:]),
+                       None if time_index is None else time_index - start, time_unit,
+                       tuple(j - start for j in text if j >= start), start, notes)
 
 
 def _find_time(column, names, units, time_column, path, has_header, text=()):
