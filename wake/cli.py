@@ -223,16 +223,24 @@ def _stream_parser() -> argparse.ArgumentParser:
         prog="wake stream",
         description="Run WAKE on a live stream: voluntary motion and tremor out for every sample in.")
     src = p.add_mutually_exclusive_group(required=True)
-    src.add_argument("--stdin", action="store_true", help="read one line of comma-separated values per sample")
+    src.add_argument("--stdin", action="store_true",
+                     help="read one line per sample, by the rules of wake run (delimiter, decimal mark, header, "
+                          "text columns and time column from the first lines)")
     src.add_argument("--lsl-in", metavar="NAME", help="read the Lab Streaming Layer stream of this name")
     dst = p.add_mutually_exclusive_group(required=True)
-    dst.add_argument("--stdout", action="store_true", help="write one line per sample: voluntary..., tremor...")
+    dst.add_argument("--stdout", action="store_true", help="write one line per sample, the columns of wake run --out: time, then per "
+                                                          "channel measurement, voluntary, tremor")
     dst.add_argument("--lsl-out", metavar="NAME", help="publish an LSL stream of this name")
-    p.add_argument("--fs", type=float, default=None,
-                   help="sampling rate in Hz (required with --stdin; default with LSL: the stream's nominal rate)")
+    from wake.io.options import add_reading_arguments
+
+    add_reading_arguments(p, what="--stdin (the rules of wake run, on its first lines)", stream=True,
+                          fs_help="sampling rate in Hz (default: from the input's time column with --stdin, "
+                                  "the stream's nominal rate with LSL; required when there is none)")
     p.add_argument("--timestamps", action="store_true",
-                   help="--stdin: the first value of each line is its timestamp, copied to the output line")
-    p.add_argument("--header", action="store_true", help="--stdout: write a line of column names first")
+                   help="--stdin: the first value of each line is its timestamp (the same as --time-column 0)")
+    p.add_argument("--header", action="store_true",
+                   help="--stdout: write a line of column names first (wake run --out's: 'time [s]', then per "
+                        "channel the measurement, _voluntary, _tremor)")
     p.add_argument("--bad-lines", choices=("stop", "missing"), default="stop",
                    help="a line that is not numbers or has the wrong count: stop with an error (default), "
                         "or take it as a missing sample (its output line holds the prediction and nan)")
@@ -254,8 +262,6 @@ def _cmd_stream(argv) -> int:
     from wake.target import voluntary_ahead_refusal
 
     args = _stream_parser().parse_args(argv)
-    if args.stdin and args.fs is None:
-        raise ValueError("--stdin needs the sampling rate: give it with --fs HZ")
     if args.fs is not None and not (math.isfinite(args.fs) and args.fs > 0):
         raise ValueError(f"--fs must be > 0 Hz, got {args.fs}")
     if args.max_samples < 0 or args.status < 0:

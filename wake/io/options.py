@@ -14,15 +14,19 @@ from wake.io.text_table import DECIMAL_MARKS
 __all__ = ["add_reading_arguments", "checked_fs", "column_list", "read_from_arguments"]
 
 
-def add_reading_arguments(p, *, what: str = "the recording", fs_help: str | None = None) -> None:
-    """Add ``--fs``, ``--resample``, ``--time-column``, ``--column``, ``--format``, ``--decimal`` and ``--units`` to parser ``p``."""
+def add_reading_arguments(p, *, what: str = "the recording", fs_help: str | None = None,
+                          stream: bool = False) -> None:
+    """Add ``--fs``, ``--resample``, ``--time-column``, ``--column``, ``--format``, ``--decimal`` and ``--units`` to
+    parser ``p``; ``stream=True`` (``wake stream``: text lines, not resampled) leaves out ``--format`` and
+    ``--resample``."""
     g = p.add_argument_group(f"reading {what}")
     g.add_argument("--fs", type=float, default=None,
                    help=fs_help or "sampling rate in Hz (default: from the time column; required when there is none)")
-    g.add_argument("--resample", action="store_true",
-                   help="with --fs beside a time column: resample onto --fs even when it contradicts the time "
-                        "column's own rate (by over 5 %%); without --resample such an --fs is refused, naming "
-                        "both rates")
+    if not stream:
+        g.add_argument("--resample", action="store_true",
+                       help="with --fs beside a time column: resample onto --fs even when it contradicts the "
+                            "time column's own rate (by over 5 %%); without --resample such an --fs is refused, "
+                            "naming both rates")
     g.add_argument("--time-column", default="auto", metavar="auto|none|NAME|INDEX",
                    help="the time column: detected by default (a first column named like time, or increasing in "
                         "even steps; its unit from the header, e.g. 'time [ms]' or 'timestamp_ms', else from its "
@@ -30,8 +34,9 @@ def add_reading_arguments(p, *, what: str = "the recording", fs_help: str | None
     g.add_argument("--column", action="append", metavar="NAME|INDEX",
                    help="channel(s): header names or 0-based file column indices, comma-separated or repeated "
                         "(default: every numeric column but the time column)")
-    g.add_argument("--format", choices=FORMATS, default="auto",
-                   help="file format (default: .mat by suffix, else delimited text; PADS by its shape)")
+    if not stream:
+        g.add_argument("--format", choices=FORMATS, default="auto",
+                       help="file format (default: .mat by suffix, else delimited text; PADS by its shape)")
     g.add_argument("--decimal", choices=DECIMAL_MARKS, default="auto",
                    help="decimal mark of delimited text (default: auto, a comma between digits in a file "
                         "separated by semicolons or tabs, as in '0,5;1,2')")

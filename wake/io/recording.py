@@ -133,13 +133,15 @@ def nominal_rate(time) -> float:
 RATE_TOLERANCE = 0.05
 
 
-def check_rate(fs, time, *, resample: bool = False, given: str = "fs (--fs)", column: str = "the time column"):
+def check_rate(fs, time, *, resample: bool = False, given: str = "fs (--fs)", column: str = "the time column",
+               can_resample: bool = True):
     """The rate of the output grid: the time column's own (:func:`nominal_rate`) when ``fs`` is None, else
     ``fs``, refused when it contradicts the column by over :data:`RATE_TOLERANCE` unless ``resample``.
 
     A rate given beside a time column that runs at another one is most often a slip (the wrong file, a
     unit misread), and resampling a 100 Hz file onto 1 kHz makes ten rows of every one without a word; so
-    it takes ``resample=True`` (``--resample``) to ask for that.
+    it takes ``resample=True`` (``--resample``) to ask for that.  ``can_resample=False`` (a live stream,
+    which is not resampled) leaves that way out of the message.
 
     Examples
     --------
@@ -159,6 +161,9 @@ def check_rate(fs, time, *, resample: bool = False, given: str = "fs (--fs)", co
         raise ValueError(f"{given} must be > 0 Hz, got {fs}")
     fs = float(fs)
     if not resample and abs(fs - own) > RATE_TOLERANCE * own:
+        if not can_resample:
+            raise ValueError(f"{given} {fs:g} Hz contradicts {column}, which runs at {own:g} Hz: leave the rate "
+                             f"out to use {own:g} Hz; to ignore the time column, --time-column none")
         raise ValueError(f"{given} {fs:g} Hz contradicts {column}, which runs at {own:g} Hz: leave the rate out "
                          f"to use {own:g} Hz, or ask for a {fs:g} Hz grid with resample=True (--resample); to "
                          "ignore the time column, time_column=None (--time-column none)")

@@ -5,19 +5,35 @@ this module reads and writes the streams.
 
 Every input sample gets exactly one output sample, in order:
 
-* ``--stdin`` / ``--stdout``: one line of comma-separated values per sample
-  (optionally led by a timestamp with ``--timestamps``, copied to the output);
-  a first line that is not numeric names the channels.
+* ``--stdin`` / ``--stdout``: one line per sample, read by the rules of
+  ``wake run`` (:class:`LineLayout`, :func:`wake.io.readers.table_layout`):
+  the delimiter and decimal mark, a header row, text columns (left out) and
+  the time column (:mod:`wake.io.time_column`) are taken from the first
+  lines, the channels are named as ``wake run`` names them (the header's
+  names, else ``col{j}`` after the file column), ``--column``,
+  ``--time-column``, ``--decimal`` and ``--units`` mean what they mean
+  there, and ``--fs`` may be left out when a time column gives the rate (an
+  ``--fs`` that contradicts it is refused).  Only where a column's shape
+  alone can tell whether it is time (no header row, ``--time-column auto``)
+  does the stream read :data:`DETECT_LINES` lines before it answers the
+  first (then at once); ``--time-column none`` (or a header row) answers
+  from the first line.  A time column is not resampled: its value, in s, is
+  copied to the output line.
 * ``--lsl-in NAME`` / ``--lsl-out NAME``: an LSL inlet resolved by name (any
   channel count, its nominal rate as ``fs``) and an outlet of
   ``2 x channels`` values with the input's timestamps and channel labels.
   Needs the optional ``pylsl`` (``pip install pylsl``, or ``pip install ".[lsl]"`` in a source tree).
 
-Output per input sample ``x(n)``: the voluntary motion ``v(n)`` (predicted from the samples before ``n``:
-``WakeFilter.run``'s ``voluntary[n]``), then the tremor ``x(n) - v(n)``: all voluntary values first, then
-all tremor values (with ``--horizon-ms`` the ahead columns after them, :func:`_kinds`).  With ``--hpa-mode
-inline`` the output equals ``WakeFilter.run`` bit for bit; the default ``thread`` keeps the HPA off the
-sample path, so its weights take effect a few samples later (``docs/design.md``, "Streaming").
+Output per input sample ``x(n)``, over pipes the columns of ``wake run --out``
+(:func:`wake.io.writers.result_columns`): the time in s, then per channel the
+measurement, the voluntary motion ``v(n)`` (predicted from the samples before
+``n``: ``WakeFilter.run``'s ``voluntary[n]``) and the tremor ``x(n) - v(n)``,
+and with ``--horizon-ms`` that channel's ahead columns (:func:`_kinds`); over
+LSL, per channel the voluntary motion, the tremor and the ahead columns.
+Values are written in the shortest form that reads back exactly.  With
+``--hpa-mode inline`` the output equals ``WakeFilter.run`` bit for bit; the
+default ``thread`` keeps the HPA off the sample path, so its weights take
+effect a few samples later (``docs/design.md``, "Streaming").
 
 Since ``v(n)`` is known before ``x(n)`` arrives, a sample's output line is written first and the filter
 takes the sample in afterwards: the filter's work is not on the sample-in -> result-out path.
@@ -155,26 +171,6 @@ class StreamStop:
         return old
 
 
-def _fmt(values) -> str:
-    return ",".join(repr(float(v)) for v in values)
-
-
-def _parse(line: str, expect: int | None):
-    cells = [c.strip() for c in line.split(",")]
-    out = []
-    for c in cells:
-        if c == "" or c.lower() == "nan":
-            out.append(math.nan)
-            continue
-        v = float(c)  # ValueError: the caller names the line
-        if math.isinf(v):
-            raise ValueError("inf (send nan or an empty cell for a missing sample)")
-        out.append(v)
-    if expect is not None and len(out) != expect:
-        raise ValueError(f"{len(out)} values where the stream has {expect}")
-    return out
-
-
 def _ready(filt):
     """Before the first sample: the HPA worker running, and the objects of the set-up out of the GC's way."""
     filt.start_worker()
@@ -182,29 +178,202 @@ def _ready(filt):
     gc.freeze()  # the set-up's objects (numpy, scipy, ...) are never scanned again: short collections
 
 
+#: Lines a text stream reads before it decides its columns when only a column's shape can tell whether it is
+#: time (no header row, ``--time-column auto``): the first of them are answered once that is decided.
+DETECT_LINES = 100
+#: Data lines a stream with a time column and no ``--fs`` reads to know its rate (and with ``--fs``, to
+#: check it against the time column: fewer steps than this are not enough to call a rate contradicted).
+RATE_LINES = 10
+
+
+class LineLayout:
+    """The columns of a text stream: the rules of ``wake run`` (:func:`wake.io.readers.table_layout`) applied
+    to its first lines, then used on every line.
+
+    Parameters
+    ----------
+    lines : list of (int, str)
+        The stream's first lines (line number, text; no comments or blank lines).
+    args : argparse.Namespace
+        ``wake stream``'s options: ``fs``, ``time_column``, ``timestamps``, ``column``, ``decimal``, ``units``.
+
+    Attributes
+    ----------
+    channels, units : tuple of str
+        The channels' names and units, as ``wake run`` names them (the header's, else ``col{j}``).
+    fs : float
+        The rate: ``--fs``, else the time column's.
+    rows : list of (int, list of str)
+        The data rows among ``lines`` (line number, cells), to be answered first.
+    """
+
+    def __init__(self, lines, args):
+        from wake.io.options import column_list
+        from wake.io.readers import _select, table_layout, with_units
+        from wake.io.recording import check_rate
+        from wake.io.text_table import table_from_lines
+        from wake.io.time_column import unit_from_steps
+
+        time_column = 0 if getattr(args, "timestamps", False) else getattr(args, "time_column", "auto")
+        columns = column_list(getattr(args, "column", None))
+        table = table_from_lines(lines, getattr(args, "decimal", "auto"), "input")
+        lay = table_layout(table, time_column, "input", columns)
+        idx = _select(lay.names, columns, "input", lay.time_index, lay.text)
+        self.table, self.start, self.index = table, lay.start, [i + lay.start for i in idx]
+        self.channels = tuple(lay.names[i] for i in idx)
+        self.units = tuple(lay.units[i] for i in idx)
+        self.time_index = None if lay.time_index is None else lay.time_index + lay.start
+        self.time_name = "" if lay.time_index is None else lay.names[lay.time_index]
+        self.text = [lay.names[j] for j in lay.text]
+        fs = args.fs
+        self.time_unit = None
+        if self.time_index is not None:
+            raw = lay.column(lay.time_index)
+            self.time_unit = lay.time_unit or unit_from_steps(raw)
+            time = raw * self.time_unit.seconds
+            if fs is None:
+                if time.size < 2:
+                    raise ValueError("the stream ended before its time column gave a rate: give it with --fs HZ")
+                fs = check_rate(None, time)
+            elif time.size >= RATE_LINES:
+                fs = check_rate(fs, time, given="--fs", column=f"the time column {self.time_name!r}",
+                                can_resample=False)
+        if fs is None:
+            raise ValueError("the input has no time column, so the sampling rate is unknown: give it with --fs HZ "
+                             "(or name its time column with --time-column NAME)")
+        self.fs = float(fs)
+        if getattr(args, "units", None) is not None:
+            cells = [u.strip() for u in args.units.split(",")]
+            from wake.io.recording import Recording
+
+            rec = Recording("input", self.fs, self.channels, np.zeros((0, len(self.channels))),
+                            units=self.units if any(self.units) else ())
+            self.units = with_units(rec, cells[0] if len(cells) == 1 else cells).units
+        self.rows = [(lineno, [table.cells[j][r] for j in range(table.width)])
+                     for r, lineno in enumerate(table.lines)]
+
+    def describe(self) -> str:
+        """One line: the channels, the columns left out and the time column."""
+        what = f"channels {', '.join(self.channels)}"
+        if self.text:
+            what += f"; text column{'s' if len(self.text) > 1 else ''} {', '.join(self.text)} left out"
+        if self.time_index is not None:
+            what += f"; {self.time_unit.describe(self.time_name)}, copied to the output in s (not resampled)"
+        return what + f"; {self.fs:g} Hz"
+
+    def cells(self, line: str) -> list:
+        """The cells of a later line (the first lines' delimiter)."""
+        return self.table.split(line)
+
+    def values(self, cells) -> list:
+        """The channels' values of one line's cells (ValueError, naming the problem, for a bad line)."""
+        if len(cells) != self.table.width:
+            raise ValueError(f"{len(cells)} values where the stream has {self.table.width}")
+        return [self.table.number(cells[i]) for i in self.index]  # float()'s message names a bad cell
+
+    def time(self, cells, n: int) -> float:
+        """The time of a line in s: its time column's, else ``n / fs`` (``n``: the sample's index)."""
+        if self.time_index is None:
+            return n / self.fs
+        try:
+            return self.table.number(cells[self.time_index]) * self.time_unit.seconds
+        except (ValueError, IndexError):
+            return math.nan
+
+
+def _enough(pending, args) -> bool:
+    """Whether the stream's first lines (``pending``) settle its columns (:class:`LineLayout`)."""
+    from wake.io.text_table import table_from_lines
+
+    if len(pending) >= DETECT_LINES:
+        return True
+    try:
+        table = table_from_lines(pending, getattr(args, "decimal", "auto"), "input")
+    except ValueError:
+        return len(pending) >= 2  # let the layout say what is wrong
+    if len(pending) == 1 and table.header is not None:
+        return False  # a header, or text cells: the second line tells which
+    explicit = getattr(args, "timestamps", False) or str(getattr(args, "time_column", "auto")).lower() != "auto"
+    named = table.header is not None and all(c.strip() for c in table.header)
+    if not (explicit or named):
+        return False  # only a column's shape can tell whether it is time: DETECT_LINES
+    return table.rows >= (1 if args.fs is not None else RATE_LINES)
+
+
 def run_pipes(args, make_filter, stop, log) -> int:
     """``--stdin`` / ``--stdout``: one line in, one line out, until the input ends or ``stop`` is requested.
 
     ``args`` holds the options of ``wake stream`` (``wake.cli``), ``make_filter(fs)`` builds the filter,
     ``stop`` is a :class:`StreamStop`, ``log(message)`` writes a status line.  Returns the exit status.
+
+    The input is read by the rules of ``wake run`` (:class:`LineLayout`), and each output line holds the
+    columns of ``wake run --out`` (:func:`wake.io.writers.result_columns`): the time in s, then per channel
+    the measurement, the voluntary motion, the tremor (and with ``--horizon-ms`` the ahead columns).
     """
     fin, fout = sys.stdin, sys.stdout
-    filt = make_filter(args.fs)
+    held = {}
     try:
-        _ready(filt)
-        log(f"wake stream: ready, reading stdin at {args.fs:g} Hz")
-        log(rate_note(args.fs))  # after the ready line, which a producer waits for
-        return _pipe_loop(args, stop, log, filt, fin, fout)
+        if args.fs is not None:
+            held["filt"] = make_filter(args.fs)
+            _ready(held["filt"])
+            log(f"wake stream: ready, reading stdin at {args.fs:g} Hz")
+            log(rate_note(args.fs))  # after the ready line, which a producer waits for
+        else:
+            log("wake stream: ready, reading stdin (the rate from its time column)")
+        return _pipe_loop(args, stop, log, make_filter, held, fin, fout)
     finally:
-        filt.close()  # also on an early error return: the worker never outlives the command
+        if "filt" in held:
+            held["filt"].close()  # also on an early error return: the worker never outlives the command
 
 
-def _pipe_loop(args, stop, log, filt, fin, fout) -> int:
-    names = None
-    proc = None
-    width = None
+def _pipe_loop(args, stop, log, make_filter, held, fin, fout) -> int:
+    pending = []  # the first lines, until they settle the columns
+    state = {"layout": None, "proc": None}
     lineno = 0
     last_status = time.monotonic()
+
+    def start():
+        """Decide the columns on ``pending``, make the filter, write the header; an exit status on error."""
+        try:
+            layout = LineLayout(pending, args)
+        except ValueError as exc:
+            log(f"wake stream: error: {exc}")
+            return 2
+        if "filt" not in held:
+            held["filt"] = make_filter(layout.fs)
+            _ready(held["filt"])
+            log(rate_note(layout.fs))
+        log(f"wake stream: {layout.describe()}")
+        state["layout"], state["proc"] = layout, StreamProcessor(held["filt"], layout.channels)
+        if args.header:
+            from wake.io.writers import result_columns
+
+            ahead = ahead_columns(held["filt"].config) if getattr(args, "horizon_ms", None) is not None else ()
+            fout.write(",".join(result_columns(layout.channels, layout.units, ahead)) + "\n")
+        return None
+
+    def one(lineno, cells, t_in):
+        """Answer one data line; an exit status when the stream must stop."""
+        nonlocal last_status
+        layout, proc = state["layout"], state["proc"]
+        try:
+            values = layout.values(cells)
+        except ValueError as exc:
+            if args.bad_lines == "stop":
+                log(f"wake stream: error: input line {lineno}: {exc}; fix the line or pass --bad-lines "
+                    "missing to treat it as a missing sample")
+                return 2
+            values = [math.nan] * len(layout.channels)
+            proc.bad += 1
+            if proc.bad <= 5:
+                log(f"wake stream: warning: input line {lineno}: {exc}; taken as a missing sample")
+        stamp = layout.time(cells, proc.samples)
+        out = _answer(proc, args, values)
+        fout.write(_line(stamp, values, out) + "\n")
+        fout.flush()
+        done, last_status = _after_sample(proc, args, log, t_in, last_status)
+        return 0 if done else None
+
     try:
         while not stop.requested:
             stop.reading = True
@@ -221,51 +390,52 @@ def _pipe_loop(args, stop, log, filt, fin, fout) -> int:
             text = line.strip()
             if not text or text.startswith("#"):
                 continue
-            if proc is None and names is None and not _numeric_line(text):
-                names = [c.strip() for c in text.split(",")]
-                if args.timestamps:
-                    names = names[1:]
+            if state["layout"] is None:
+                pending.append((lineno, text))
+                if not _enough(pending, args):
+                    continue
+                code = start()
+                if code is not None:
+                    return code
+                t_in = time.perf_counter()  # the wait for the first lines and the filter's set-up are not latency
+                for n, cells in state["layout"].rows:
+                    code = one(n, cells, t_in)
+                    if code is not None:
+                        return _stopped(state["proc"], log, code)
                 continue
-            try:
-                values = _parse(text, width)
-            except ValueError as exc:
-                if args.bad_lines == "stop" or width is None:
-                    log(f"wake stream: error: input line {lineno}: {exc}; fix the line or pass --bad-lines "
-                        "missing to treat it as a missing sample")
-                    return 2
-                values = [math.nan] * width
-                proc.bad += 1
-                if proc.bad <= 5:
-                    log(f"wake stream: warning: input line {lineno}: {exc}; taken as a missing sample")
-            if width is None:
-                width = len(values)
-                n_ch = width - (1 if args.timestamps else 0)
-                if n_ch < 1:
-                    log("wake stream: error: --timestamps needs at least one value after the timestamp")
-                    return 2
-                if names is not None and len(names) != n_ch:
-                    log(f"wake stream: error: the header names {len(names)} channels, line {lineno} has {n_ch}")
-                    return 2
-                names = names or [f"ch{i}" for i in range(n_ch)]
-                proc = StreamProcessor(filt, names)
-                if args.header:
-                    head = (["time"] if args.timestamps else []) + [f"{c}_{kind}" for kind in _kinds(args, filt)
-                                                                    for c in names]
-                    fout.write(",".join(head) + "\n")
-            stamp = values[:1] if args.timestamps else []
-            out = _answer(proc, args, values[1:] if args.timestamps else values)
-            fout.write(_fmt([*stamp, *np.concatenate(out)]) + "\n")
-            fout.flush()
-            done, last_status = _after_sample(proc, args, log, t_in, last_status)
-            if done:
-                break
+            code = one(lineno, state["layout"].cells(line.rstrip("\r\n")), t_in)
+            if code is not None:
+                return _stopped(state["proc"], log, code)
+        if state["layout"] is None and pending:  # the input ended before the first lines settled the columns
+            code = start()
+            if code is not None:
+                return code
+            t_in = time.perf_counter()
+            for n, cells in state["layout"].rows:
+                code = one(n, cells, t_in)
+                if code is not None:
+                    return _stopped(state["proc"], log, code)
     except BrokenPipeError:
         log("wake stream: error: the output pipe was closed by the reader; stopping")
         silence_stdout()
-        _finish(proc, log, "output closed")
+        _finish(state["proc"], log, "output closed")
         return 1
-    _finish(proc, log, "stopped by signal" if stop.requested else "end of input")
+    _finish(state["proc"], log, "stopped by signal" if stop.requested else "end of input")
     return 0
+
+
+def _stopped(proc, log, code):
+    """After ``--max-samples`` (code 0) the summary; after a bad line (code 2) the error was said."""
+    if code == 0:
+        _finish(proc, log, "end of input")
+    return code
+
+
+def _line(stamp, values, out) -> str:
+    """One output line: the time, then per channel the measurement and the answer's columns (``wake run``'s
+    order, :func:`wake.io.writers.result_columns`)."""
+    per_channel = np.column_stack([np.asarray(values, dtype=float), *out])  # (channels, kinds)
+    return ",".join(repr(float(v)) for v in (stamp, *per_channel.reshape(-1)))
 
 
 def _kinds(args, filt) -> tuple:
@@ -291,14 +461,6 @@ def _after_sample(proc, args, log, t_in, last_status):
         last_status = time.monotonic()
         log(f"wake stream: {proc.status()}")
     return bool(args.max_samples) and proc.samples >= args.max_samples, last_status
-
-
-def _numeric_line(text: str) -> bool:
-    try:
-        _parse(text, None)
-        return True
-    except ValueError:
-        return False
 
 
 def _finish(proc, log, why):
@@ -358,8 +520,8 @@ def run_lsl(args, make_filter, stop, log) -> int:
     out_info = pylsl.StreamInfo(args.lsl_out, "WAKE", len(kinds) * n_ch, fs, pylsl.cf_double64,
                                 f"wake-{info.source_id()}")
     chans = out_info.desc().append_child("channels")
-    for kind in kinds:
-        for label, unit in zip(labels, units):
+    for label, unit in zip(labels, units):  # grouped by channel, as wake run groups its columns
+        for kind in kinds:
             c = chans.append_child("channel")
             c.append_child_value("label", f"{label}_{kind}")
             c.append_child_value("unit", "" if kind == "confidence" else unit)
@@ -385,7 +547,7 @@ def run_lsl(args, make_filter, stop, log) -> int:
                 continue
             t_in = time.perf_counter()
             values = [math.nan if (v is None or math.isinf(v)) else float(v) for v in sample]
-            outlet.push_sample(np.concatenate(_answer(proc, args, values)).tolist(), stamp)
+            outlet.push_sample(np.column_stack(_answer(proc, args, values)).reshape(-1).tolist(), stamp)
             done, last_status = _after_sample(proc, args, log, t_in, last_status)
             if done:
                 break
