@@ -140,6 +140,10 @@ def _cmd_run(args) -> int:
         raise ValueError(f"--tremor-out {args.tremor_out} is also --out: the tremor table would overwrite the "
                          "filtered signals; choose another path")
     rec = read_from_arguments(args.file, args)
+    if args.combine:
+        from wake.io.combine import combine_axes
+
+        rec = combine_axes(rec, args.combine)
     plot_channel = _plot_channel(args.plot_channel, rec) if args.plot else 0
     x = rec.samples
     notes = "".join(f"; {note}" for note in rec.notes)
@@ -149,7 +153,8 @@ def _cmd_run(args) -> int:
     if said:
         print(said)
     filt = make_filter(args, rec.fs, **horizon)
-    res = filt.run(x if x.shape[1] > 1 else x[:, 0])
+    with run_progress(filt, x.shape[0], x.shape[1], args.progress):
+        res = filt.run(x if x.shape[1] > 1 else x[:, 0])
     if args.out:
         columns = ahead_columns(filt.config) if horizon else ()
         rows = write_result_csv(args.out, rec, res, ahead=columns)
@@ -186,6 +191,68 @@ def _cmd_run(args) -> int:
         print(f"figure written to {args.plot} (channel {name})")
         print(f"the tremor over time (frequency, amplitude, TSI, time share) written to {second}")
     return 0
+
+
+#: ``wake run`` shows a progress bar by itself on jobs of at least this many samples (all channels), on a terminal.
+PROGRESS_SAMPLES = 2_000_000
+
+
+class run_progress:
+    """A tqdm bar on stderr over the samples ``filt.run`` has taken in, advanced at each HPA window.
+
+    ``mode``: ``"auto"`` (a bar on a terminal for a job of :data:`PROGRESS_SAMPLES` or more), ``"on"`` or
+    ``"off"``.  tqdm is optional (``pip install tqdm``, or the ``cohort`` extra): without it there is no
+    bar and no error (``"on"`` says so in one line).
+    """
+
+    def __init__(self, filt, n, channels, mode="auto"):
+        self.filt, self.total, self.bar = filt, n * channels, None
+        self.mode = mode
+
+    def __enter__(self):
+        wanted = self.mode == "on" or (self.mode == "auto" and self.total >= PROGRESS_SAMPLES
+                                       and sys.stderr.isatty())
+        if not wanted:
+            return self
+        try:
+            from tqdm import tqdm
+        except ImportError:
+            if self.mode == "on":
+                print("wake run: no progress bar (tqdm is not installed: pip install tqdm)", file=sys.stderr)
+            return self
+        self.bar = bar = tqdm(total=self.total, unit="sample", unit_scale=True, desc="wake run", file=sys.stderr,
+                              leave=False)
+        make = self.filt._new_channels
+
+        def new_channels(k, **kw):  # each channel ticks the bar at its HPA windows
+            chans = make(k, **kw)
+            step = self.filt.config.decimation_factor  # above 100 Hz a channel's HPA counts the bank's samples
+            for ch in chans:
+                inner = ch.__dict__.get("inner", ch)  # wake.rate.RateChannel wraps the channel at the bank's rate
+                inner.hpa = _ticking(inner, inner.hpa, bar, step)
+            return chans
+
+        self.filt._new_channels = new_channels
+        return self
+
+    def __exit__(self, *exc):
+        if self.bar is not None:
+            del self.filt._new_channels  # the class's own again
+            self.bar.update(self.total - self.bar.n)
+            self.bar.close()
+        return False
+
+
+def _ticking(ch, hpa, bar, step):
+    done = [0]
+
+    def tick(window):
+        hpa(window)
+        count = ch.schedule.count * step
+        bar.update(count - done[0])
+        done[0] = count
+
+    return tick
 
 
 def _print_tremor_summary(rec, tables, config) -> None:
@@ -358,6 +425,15 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--plot", metavar="PNG", help="draw one channel, and its tremor over time (frequency, "
                                                  "amplitude, TSI, time share) beside it in PNG's name with "
                                                  "'-tremor' (needs matplotlib; checked before the work)")
+    r.add_argument("--combine", choices=("norm", "pca"), default=None,
+                   help="each three channels (x, y, z of one sensor, in file order; choose them with --column) "
+                        "into one: 'norm' the vector magnitude (an accelerometer's less its median, gravity: "
+                        "gravity's magnitude is the same however the wrist turns), 'pca' the projection on their "
+                        "principal axis in the tremor band (keeps the tremor's frequency; the choice for a "
+                        "gyroscope, whose magnitude shows a tremor at twice its frequency); wake.io.combine")
+    r.add_argument("--progress", choices=("auto", "on", "off"), default="auto",
+                   help="a progress bar on stderr (needs tqdm: pip install tqdm); auto: on a terminal, for "
+                        "jobs of 2 million samples or more (all channels)")
     r.add_argument("--plot-channel", metavar="NAME|INDEX", default=None,
                    help="the channel --plot draws (default: the first); every channel is still filtered and "
                         "written to --out")
