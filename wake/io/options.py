@@ -28,9 +28,11 @@ def add_reading_arguments(p, *, what: str = "the recording", fs_help: str | None
                             "time column's own rate (by over 5 %%); without --resample such an --fs is refused, "
                             "naming both rates")
     g.add_argument("--time-column", default="auto", metavar="auto|none|NAME|INDEX",
-                   help="the time column: detected by default (a first column named like time, or increasing in "
-                        "even steps; its unit from the header, e.g. 'time [ms]' or 'timestamp_ms', else from its "
-                        "step size); irregular timestamps are resampled onto --fs")
+                   help="the time column: detected by default (a column named like time, in any of several "
+                        "languages and units, e.g. 'time', 'Zeit [s]', 'timestamp_ms', wherever it stands; or, "
+                        "without a header row, a first numeric column increasing in even steps: "
+                        "wake.io.time_column); its unit from the header, e.g. 'time [ms]' or 'timestamp_ms', "
+                        "else from its step size; irregular timestamps are resampled onto a uniform grid")
     g.add_argument("--column", action="append", metavar="NAME|INDEX",
                    help="channel(s): header names or 0-based file column indices, comma-separated or repeated "
                         "(default: every numeric column but the time column)")
