@@ -38,7 +38,7 @@ def test_a_warning_is_one_line_without_a_source_line(tmp_path, kind, fs):
     assert res.returncode == 0, res.stderr
     lines = res.stderr.splitlines()
     warned = [line for line in lines if "outside the supported 50-1000 Hz" in line]
-    assert len(warned) == 1 and warned[0].startswith("wake run: warning: fs = ")
+    assert len(warned) == 1 and warned[0].startswith("wake run: warning (RateWarning): fs = ")
     assert not any(".py:" in line or "WakeFilter(" in line or "warnings.warn" in line for line in lines), lines
 
 

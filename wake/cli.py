@@ -446,12 +446,12 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _one_line_warnings(command: str):
-    """``warnings.formatwarning`` for a command-line user: ``wake run: warning: MESSAGE`` on one line, without
-    the line of our source that raised it (``.../wake/cli.py:73: ... return WakeFilter(...``)."""
+    """``warnings.formatwarning`` for a command-line user: ``wake run: warning (RateWarning): MESSAGE`` on one
+    line, without the line of our source that raised it (``.../wake/cli.py:73: ... return WakeFilter(...``)."""
 
     def formatwarning(message, category, filename, lineno, line=None):
         text = " ".join(str(message).split())
-        return f"{' '.join(('wake', command)).strip()}: warning: {text}\n"
+        return f"{' '.join(('wake', command)).strip()}: warning ({category.__name__}): {text}\n"
 
     return formatwarning
 
