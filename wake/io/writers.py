@@ -54,7 +54,7 @@ def exact_lines(table) -> str:
     >>> import numpy as np
     >>> from wake.io.writers import exact_lines
     >>> exact_lines(np.array([[0.0, -17.31873], [0.01, 0.98]]))
-    '0.0,-17.31873\n0.01,0.98\n'
+    '0.0,-17.31873\\n0.01,0.98\\n'
     """
     table = np.asarray(table, dtype=float)
     table = table.reshape(1, -1) if table.ndim == 1 else table
