@@ -52,19 +52,6 @@ def add_horizon_argument(p: argparse.ArgumentParser) -> None:
                         "the confidence')")
 
 
-def horizon_setting(args, fs) -> dict:
-    """``{"horizon": samples}`` from ``--horizon-ms`` at ``fs`` (empty without it), and a line saying the
-    rounding (``""`` without it)."""
-    if getattr(args, "horizon_ms", None) is None:
-        return {}, ""
-    from wake.ahead import MAX_HORIZON, horizon_from_ms
-    from wake.sampling import decimation_for
-
-    h = horizon_from_ms(args.horizon_ms, fs, MAX_HORIZON * decimation_for(fs))
-    return {"horizon": h}, (f"horizon: {args.horizon_ms:g} ms at {fs:g} Hz is {h} sample(s) "
-                            f"({1000.0 * h / fs:g} ms; rounded to the nearest sample)")
-
-
 def make_filter(args, fs, **settings):
     """The WakeFilter of the options of :func:`add_filter_arguments` (and ``settings``) at ``fs``."""
     from wake.filter import WakeFilter
@@ -126,7 +113,7 @@ def _cmd_run(args) -> int:
     from wake.io import write_result_csv
     from wake.io.writers import ahead_columns
     from wake.target import voluntary_ahead_refusal
-    from wake.io.options import read_from_arguments
+    from wake.io.options import horizon_setting, plot_channel_index, read_from_arguments
 
     if args.plot:
         from wake.eval.plotting import require_matplotlib
@@ -142,9 +129,8 @@ def _cmd_run(args) -> int:
     rec = read_from_arguments(args.file, args)
     if args.combine:
         from wake.io.combine import combine_axes
-
         rec = combine_axes(rec, args.combine)
-    plot_channel = _plot_channel(args.plot_channel, rec) if args.plot else 0
+    plot_channel = plot_channel_index(args.plot_channel, rec) if args.plot else 0
     x = rec.samples
     notes = "".join(f"; {note}" for note in rec.notes)
     print(f"{rec.name}: {x.shape[0]} samples x {x.shape[1]} channel(s) ({', '.join(rec.channels)}); "
@@ -153,6 +139,7 @@ def _cmd_run(args) -> int:
     if said:
         print(said)
     filt = make_filter(args, rec.fs, **horizon)
+    from wake.io.progress import run_progress
     with run_progress(filt, x.shape[0], x.shape[1], args.progress):
         res = filt.run(x if x.shape[1] > 1 else x[:, 0])
     if args.out:
@@ -193,68 +180,6 @@ def _cmd_run(args) -> int:
     return 0
 
 
-#: ``wake run`` shows a progress bar by itself on jobs of at least this many samples (all channels), on a terminal.
-PROGRESS_SAMPLES = 2_000_000
-
-
-class run_progress:
-    """A tqdm bar on stderr over the samples ``filt.run`` has taken in, advanced at each HPA window.
-
-    ``mode``: ``"auto"`` (a bar on a terminal for a job of :data:`PROGRESS_SAMPLES` or more), ``"on"`` or
-    ``"off"``.  tqdm is optional (``pip install tqdm``, or the ``cohort`` extra): without it there is no
-    bar and no error (``"on"`` says so in one line).
-    """
-
-    def __init__(self, filt, n, channels, mode="auto"):
-        self.filt, self.total, self.bar = filt, n * channels, None
-        self.mode = mode
-
-    def __enter__(self):
-        wanted = self.mode == "on" or (self.mode == "auto" and self.total >= PROGRESS_SAMPLES
-                                       and sys.stderr.isatty())
-        if not wanted:
-            return self
-        try:
-            from tqdm import tqdm
-        except ImportError:
-            if self.mode == "on":
-                print("wake run: no progress bar (tqdm is not installed: pip install tqdm)", file=sys.stderr)
-            return self
-        self.bar = bar = tqdm(total=self.total, unit="sample", unit_scale=True, desc="wake run", file=sys.stderr,
-                              leave=False)
-        make = self.filt._new_channels
-
-        def new_channels(k, **kw):  # each channel ticks the bar at its HPA windows
-            chans = make(k, **kw)
-            step = self.filt.config.decimation_factor  # above 100 Hz a channel's HPA counts the bank's samples
-            for ch in chans:
-                inner = ch.__dict__.get("inner", ch)  # wake.rate.RateChannel wraps the channel at the bank's rate
-                inner.hpa = _ticking(inner, inner.hpa, bar, step)
-            return chans
-
-        self.filt._new_channels = new_channels
-        return self
-
-    def __exit__(self, *exc):
-        if self.bar is not None:
-            del self.filt._new_channels  # the class's own again
-            self.bar.update(self.total - self.bar.n)
-            self.bar.close()
-        return False
-
-
-def _ticking(ch, hpa, bar, step):
-    done = [0]
-
-    def tick(window):
-        hpa(window)
-        count = ch.schedule.count * step
-        bar.update(count - done[0])
-        done[0] = count
-
-    return tick
-
-
 def _print_tremor_summary(rec, tables, config) -> None:
     """One paragraph per channel: the tremor of the full HPA windows (wake.hpa.characterise.summarise)."""
     from wake.hpa.characterise import summarise
@@ -271,18 +196,6 @@ def _print_tremor_summary(rec, tables, config) -> None:
                      f"peak-to-peak {s['peak_to_peak']:.3g}{unit}")
         text += f"; RMS {s['rms']:.3g}{unit}; in tremor {100 * s['time_share']:.0f} % of the time"
         print(text)
-
-
-def _plot_channel(spec, rec) -> int:
-    """The channel ``--plot-channel`` names (a name or a 0-based index among the channels read); default 0."""
-    if spec is None:
-        return 0
-    if spec in rec.channels:
-        return rec.channels.index(spec)
-    if spec.strip().isdigit() and int(spec) < len(rec.channels):
-        return int(spec)
-    raise ValueError(f"--plot-channel {spec!r} is not a channel of {rec.name}; channels: "
-                     f"{', '.join(rec.channels)} (or a 0-based index below {len(rec.channels)})")
 
 
 def _stream_parser() -> argparse.ArgumentParser:
@@ -325,7 +238,9 @@ def _stream_parser() -> argparse.ArgumentParser:
 
 def _cmd_stream(argv) -> int:
     """``wake stream``: WAKE on a live stream (:mod:`wake.io.stream`)."""
-    from wake.io.stream import SWITCH_INTERVAL_S, StreamStop, run_lsl, run_pipes
+    from wake.io.options import horizon_setting
+    from wake.io.pipes import run_pipes
+    from wake.io.stream import SWITCH_INTERVAL_S, StreamStop, run_lsl
     from wake.target import voluntary_ahead_refusal
 
     args = _stream_parser().parse_args(argv)
@@ -426,14 +341,10 @@ def build_parser() -> argparse.ArgumentParser:
                                                  "amplitude, TSI, time share) beside it in PNG's name with "
                                                  "'-tremor' (needs matplotlib; checked before the work)")
     r.add_argument("--combine", choices=("norm", "pca"), default=None,
-                   help="each three channels (x, y, z of one sensor, in file order; choose them with --column) "
-                        "into one: 'norm' the vector magnitude (an accelerometer's less its median, gravity: "
-                        "gravity's magnitude is the same however the wrist turns), 'pca' the projection on their "
-                        "principal axis in the tremor band (keeps the tremor's frequency; the choice for a "
-                        "gyroscope, whose magnitude shows a tremor at twice its frequency); wake.io.combine")
+                   help="each x, y, z triple of channels into one: 'norm' the magnitude (an accelerometer's less "
+                        "gravity), 'pca' the principal axis (for a gyroscope); wake.io.combine says how")
     r.add_argument("--progress", choices=("auto", "on", "off"), default="auto",
-                   help="a progress bar on stderr (needs tqdm: pip install tqdm); auto: on a terminal, for "
-                        "jobs of 2 million samples or more (all channels)")
+                   help="a progress bar (needs tqdm); auto: on a terminal, for 2 million samples or more")
     r.add_argument("--plot-channel", metavar="NAME|INDEX", default=None,
                    help="the channel --plot draws (default: the first); every channel is still filtered and "
                         "written to --out")
@@ -445,23 +356,14 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _one_line_warnings(command: str):
-    """``warnings.formatwarning`` for a command-line user: ``wake run: warning (RateWarning): MESSAGE`` on one
-    line, without the line of our source that raised it (``.../wake/cli.py:73: ... return WakeFilter(...``)."""
-
-    def formatwarning(message, category, filename, lineno, line=None):
-        text = " ".join(str(message).split())
-        return f"{' '.join(('wake', command)).strip()}: warning ({category.__name__}): {text}\n"
-
-    return formatwarning
-
-
 def main(argv=None) -> int:
     import warnings
 
     argv = list(sys.argv[1:] if argv is None else argv)
     saved = warnings.formatwarning
-    warnings.formatwarning = _one_line_warnings(argv[0] if argv and not argv[0].startswith("-") else "")
+    from wake.io.options import one_line_warnings
+
+    warnings.formatwarning = one_line_warnings(argv[0] if argv and not argv[0].startswith("-") else "")
     try:
         return _main(argv)
     finally:

@@ -11,7 +11,8 @@ from __future__ import annotations
 from wake.io.readers import FORMATS, read_recording
 from wake.io.text_table import DECIMAL_MARKS
 
-__all__ = ["add_reading_arguments", "checked_fs", "column_list", "read_from_arguments"]
+__all__ = ["add_reading_arguments", "checked_fs", "column_list", "horizon_setting", "one_line_warnings", "plot_channel_index",
+           "read_from_arguments"]
 
 
 def add_reading_arguments(p, *, what: str = "the recording", fs_help: str | None = None,
@@ -84,3 +85,39 @@ def read_from_arguments(path, args, *, option: str = "file"):
         if option == "file":
             raise
         raise ValueError(f"{option} {exc}") from None
+
+
+def plot_channel_index(spec, rec) -> int:
+    """The channel ``--plot-channel`` names (a name or a 0-based index among the channels read); default 0."""
+    if spec is None:
+        return 0
+    if spec in rec.channels:
+        return rec.channels.index(spec)
+    if spec.strip().isdigit() and int(spec) < len(rec.channels):
+        return int(spec)
+    raise ValueError(f"--plot-channel {spec!r} is not a channel of {rec.name}; channels: "
+                     f"{', '.join(rec.channels)} (or a 0-based index below {len(rec.channels)})")
+
+
+def one_line_warnings(command: str):
+    """``warnings.formatwarning`` for a command-line user: ``wake run: warning (RateWarning): MESSAGE`` on one
+    line, without the line of our source that raised it (``.../wake/cli.py:73: ... return WakeFilter(...``)."""
+
+    def formatwarning(message, category, filename, lineno, line=None):
+        text = " ".join(str(message).split())
+        return f"{' '.join(('wake', command)).strip()}: warning ({category.__name__}): {text}\n"
+
+    return formatwarning
+
+
+def horizon_setting(args, fs) -> dict:
+    """``{"horizon": samples}`` from ``--horizon-ms`` at ``fs`` (empty without it), and a line saying the
+    rounding (``""`` without it)."""
+    if getattr(args, "horizon_ms", None) is None:
+        return {}, ""
+    from wake.ahead import MAX_HORIZON, horizon_from_ms
+    from wake.sampling import decimation_for
+
+    h = horizon_from_ms(args.horizon_ms, fs, MAX_HORIZON * decimation_for(fs))
+    return {"horizon": h}, (f"horizon: {args.horizon_ms:g} ms at {fs:g} Hz is {h} sample(s) "
+                            f"({1000.0 * h / fs:g} ms; rounded to the nearest sample)")

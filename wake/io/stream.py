@@ -5,8 +5,8 @@ this module reads and writes the streams.
 
 Every input sample gets exactly one output sample, in order:
 
-* ``--stdin`` / ``--stdout``: one line per sample, read by the rules of
-  ``wake run`` (:class:`LineLayout`, :func:`wake.io.readers.table_layout`):
+* ``--stdin`` / ``--stdout`` (:mod:`wake.io.pipes`): one line per sample, read by the rules of
+  ``wake run`` (:class:`~wake.io.pipes.LineLayout`, :func:`wake.io.readers.table_layout`):
   the delimiter and decimal mark, a header row, text columns (left out) and
   the time column (:mod:`wake.io.time_column`) are taken from the first
   lines, the channels are named as ``wake run`` names them (the header's
@@ -15,7 +15,7 @@ Every input sample gets exactly one output sample, in order:
   there, and ``--fs`` may be left out when a time column gives the rate (an
   ``--fs`` that contradicts it is refused).  Only where a column's shape
   alone can tell whether it is time (no header row, ``--time-column auto``)
-  does the stream read :data:`DETECT_LINES` lines before it answers the
+  does the stream read :data:`~wake.io.pipes.DETECT_LINES` lines before it answers the
   first (then at once); ``--time-column none`` (or a header row) answers
   from the first line.  A time column is not resampled: its value, in s, is
   copied to the output line.
@@ -47,17 +47,15 @@ from __future__ import annotations
 import gc
 import math
 import signal
-import sys
 import time
 from collections import deque
 
 import numpy as np
 
 from wake.sampling import rate_note
-from wake._files import silence_stdout
 from wake.io.writers import VOLUNTARY_AHEAD_COLUMN, ahead_columns
 
-__all__ = ["StreamProcessor", "StreamStop", "run_pipes", "run_lsl", "SWITCH_INTERVAL_S"]
+__all__ = ["StreamProcessor", "StreamStop", "run_lsl", "SWITCH_INTERVAL_S"]
 
 #: GIL switch interval while an HPA thread runs beside the sample path (default Python: 5 ms).
 SWITCH_INTERVAL_S = 2e-4
@@ -176,266 +174,6 @@ def _ready(filt):
     filt.start_worker()
     gc.collect()
     gc.freeze()  # the set-up's objects (numpy, scipy, ...) are never scanned again: short collections
-
-
-#: Lines a text stream reads before it decides its columns when only a column's shape can tell whether it is
-#: time (no header row, ``--time-column auto``): the first of them are answered once that is decided.
-DETECT_LINES = 100
-#: Data lines a stream with a time column and no ``--fs`` reads to know its rate (and with ``--fs``, to
-#: check it against the time column: fewer steps than this are not enough to call a rate contradicted).
-RATE_LINES = 10
-
-
-class LineLayout:
-    """The columns of a text stream: the rules of ``wake run`` (:func:`wake.io.readers.table_layout`) applied
-    to its first lines, then used on every line.
-
-    Parameters
-    ----------
-    lines : list of (int, str)
-        The stream's first lines (line number, text; no comments or blank lines).
-    args : argparse.Namespace
-        ``wake stream``'s options: ``fs``, ``time_column``, ``timestamps``, ``column``, ``decimal``, ``units``.
-
-    Attributes
-    ----------
-    channels, units : tuple of str
-        The channels' names and units, as ``wake run`` names them (the header's, else ``col{j}``).
-    fs : float
-        The rate: ``--fs``, else the time column's.
-    rows : list of (int, list of str)
-        The data rows among ``lines`` (line number, cells), to be answered first.
-    """
-
-    def __init__(self, lines, args):
-        from wake.io.options import column_list
-        from wake.io.readers import _select, table_layout, with_units
-        from wake.io.recording import check_rate
-        from wake.io.text_table import table_from_lines
-        from wake.io.time_column import unit_from_steps
-
-        time_column = 0 if getattr(args, "timestamps", False) else getattr(args, "time_column", "auto")
-        columns = column_list(getattr(args, "column", None))
-        table = table_from_lines(lines, getattr(args, "decimal", "auto"), "input")
-        lay = table_layout(table, time_column, "input", columns)
-        idx = _select(lay.names, columns, "input", lay.time_index, lay.text)
-        self.table, self.start, self.index = table, lay.start, [i + lay.start for i in idx]
-        self.channels = tuple(lay.names[i] for i in idx)
-        self.units = tuple(lay.units[i] for i in idx)
-        self.time_index = None if lay.time_index is None else lay.time_index + lay.start
-        self.time_name = "" if lay.time_index is None else lay.names[lay.time_index]
-        self.text = [lay.names[j] for j in lay.text]
-        fs = args.fs
-        self.time_unit = None
-        if self.time_index is not None:
-            raw = lay.column(lay.time_index)
-            self.time_unit = lay.time_unit or unit_from_steps(raw)
-            time = raw * self.time_unit.seconds
-            if fs is None:
-                if time.size < 2:
-                    raise ValueError("the stream ended before its time column gave a rate: give it with --fs HZ")
-                fs = check_rate(None, time)
-            elif time.size >= RATE_LINES:
-                fs = check_rate(fs, time, given="--fs", column=f"the time column {self.time_name!r}",
-                                can_resample=False)
-        if fs is None:
-            raise ValueError("the input has no time column, so the sampling rate is unknown: give it with --fs HZ "
-                             "(or name its time column with --time-column NAME)")
-        self.fs = float(fs)
-        if getattr(args, "units", None) is not None:
-            cells = [u.strip() for u in args.units.split(",")]
-            from wake.io.recording import Recording
-
-            rec = Recording("input", self.fs, self.channels, np.zeros((0, len(self.channels))),
-                            units=self.units if any(self.units) else ())
-            self.units = with_units(rec, cells[0] if len(cells) == 1 else cells).units
-        self.rows = [(lineno, [table.cells[j][r] for j in range(table.width)])
-                     for r, lineno in enumerate(table.lines)]
-
-    def describe(self) -> str:
-        """One line: the channels, the columns left out and the time column."""
-        what = f"channels {', '.join(self.channels)}"
-        if self.text:
-            what += f"; text column{'s' if len(self.text) > 1 else ''} {', '.join(self.text)} left out"
-        if self.time_index is not None:
-            what += f"; {self.time_unit.describe(self.time_name)}, copied to the output in s (not resampled)"
-        return what + f"; {self.fs:g} Hz"
-
-    def cells(self, line: str) -> list:
-        """The cells of a later line (the first lines' delimiter)."""
-        return self.table.split(line)
-
-    def values(self, cells) -> list:
-        """The channels' values of one line's cells (ValueError, naming the problem, for a bad line)."""
-        if len(cells) != self.table.width:
-            raise ValueError(f"{len(cells)} values where the stream has {self.table.width}")
-        return [self.table.number(cells[i]) for i in self.index]  # float()'s message names a bad cell
-
-    def time(self, cells, n: int) -> float:
-        """The time of a line in s: its time column's, else ``n / fs`` (``n``: the sample's index)."""
-        if self.time_index is None:
-            return n / self.fs
-        try:
-            return self.table.number(cells[self.time_index]) * self.time_unit.seconds
-        except (ValueError, IndexError):
-            return math.nan
-
-
-def _enough(pending, args) -> bool:
-    """Whether the stream's first lines (``pending``) settle its columns (:class:`LineLayout`)."""
-    from wake.io.text_table import table_from_lines
-
-    if len(pending) >= DETECT_LINES:
-        return True
-    try:
-        table = table_from_lines(pending, getattr(args, "decimal", "auto"), "input")
-    except ValueError:
-        return len(pending) >= 2  # let the layout say what is wrong
-    if len(pending) == 1 and table.header is not None:
-        return False  # a header, or text cells: the second line tells which
-    explicit = getattr(args, "timestamps", False) or str(getattr(args, "time_column", "auto")).lower() != "auto"
-    named = table.header is not None and all(c.strip() for c in table.header)
-    if not (explicit or named):
-        return False  # only a column's shape can tell whether it is time: DETECT_LINES
-    return table.rows >= (1 if args.fs is not None else RATE_LINES)
-
-
-def run_pipes(args, make_filter, stop, log) -> int:
-    """``--stdin`` / ``--stdout``: one line in, one line out, until the input ends or ``stop`` is requested.
-
-    ``args`` holds the options of ``wake stream`` (``wake.cli``), ``make_filter(fs)`` builds the filter,
-    ``stop`` is a :class:`StreamStop`, ``log(message)`` writes a status line.  Returns the exit status.
-
-    The input is read by the rules of ``wake run`` (:class:`LineLayout`), and each output line holds the
-    columns of ``wake run --out`` (:func:`wake.io.writers.result_columns`): the time in s, then per channel
-    the measurement, the voluntary motion, the tremor (and with ``--horizon-ms`` the ahead columns).
-    """
-    fin, fout = sys.stdin, sys.stdout
-    held = {}
-    try:
-        if args.fs is not None:
-            held["filt"] = make_filter(args.fs)
-            _ready(held["filt"])
-            log(f"wake stream: ready, reading stdin at {args.fs:g} Hz")
-            log(rate_note(args.fs))  # after the ready line, which a producer waits for
-        else:
-            log("wake stream: ready, reading stdin (the rate from its time column)")
-        return _pipe_loop(args, stop, log, make_filter, held, fin, fout)
-    finally:
-        if "filt" in held:
-            held["filt"].close()  # also on an early error return: the worker never outlives the command
-
-
-def _pipe_loop(args, stop, log, make_filter, held, fin, fout) -> int:
-    pending = []  # the first lines, until they settle the columns
-    state = {"layout": None, "proc": None}
-    lineno = 0
-    last_status = time.monotonic()
-
-    def start():
-        """Decide the columns on ``pending``, make the filter, write the header; an exit status on error."""
-        try:
-            layout = LineLayout(pending, args)
-        except ValueError as exc:
-            log(f"wake stream: error: {exc}")
-            return 2
-        if "filt" not in held:
-            held["filt"] = make_filter(layout.fs)
-            _ready(held["filt"])
-            log(rate_note(layout.fs))
-        log(f"wake stream: {layout.describe()}")
-        state["layout"], state["proc"] = layout, StreamProcessor(held["filt"], layout.channels)
-        if args.header:
-            from wake.io.writers import result_columns
-
-            ahead = ahead_columns(held["filt"].config) if getattr(args, "horizon_ms", None) is not None else ()
-            fout.write(",".join(result_columns(layout.channels, layout.units, ahead)) + "\n")
-        return None
-
-    def one(lineno, cells, t_in):
-        """Answer one data line; an exit status when the stream must stop."""
-        nonlocal last_status
-        layout, proc = state["layout"], state["proc"]
-        try:
-            values = layout.values(cells)
-        except ValueError as exc:
-            if args.bad_lines == "stop":
-                log(f"wake stream: error: input line {lineno}: {exc}; fix the line or pass --bad-lines "
-                    "missing to treat it as a missing sample")
-                return 2
-            values = [math.nan] * len(layout.channels)
-            proc.bad += 1
-            if proc.bad <= 5:
-                log(f"wake stream: warning: input line {lineno}: {exc}; taken as a missing sample")
-        stamp = layout.time(cells, proc.samples)
-        out = _answer(proc, args, values)
-        fout.write(_line(stamp, values, out) + "\n")
-        fout.flush()
-        done, last_status = _after_sample(proc, args, log, t_in, last_status)
-        return 0 if done else None
-
-    try:
-        while not stop.requested:
-            stop.reading = True
-            try:
-                line = fin.readline()
-            except KeyboardInterrupt:
-                break
-            finally:
-                stop.reading = False
-            if not line:
-                break
-            t_in = time.perf_counter()
-            lineno += 1
-            text = line.strip()
-            if not text or text.startswith("#"):
-                continue
-            if state["layout"] is None:
-                pending.append((lineno, text))
-                if not _enough(pending, args):
-                    continue
-                code = start()
-                if code is not None:
-                    return code
-                t_in = time.perf_counter()  # the wait for the first lines and the filter's set-up are not latency
-                for n, cells in state["layout"].rows:
-                    code = one(n, cells, t_in)
-                    if code is not None:
-                        return _stopped(state["proc"], log, code)
-                continue
-            code = one(lineno, state["layout"].cells(line.rstrip("\r\n")), t_in)
-            if code is not None:
-                return _stopped(state["proc"], log, code)
-        if state["layout"] is None and pending:  # the input ended before the first lines settled the columns
-            code = start()
-            if code is not None:
-                return code
-            t_in = time.perf_counter()
-            for n, cells in state["layout"].rows:
-                code = one(n, cells, t_in)
-                if code is not None:
-                    return _stopped(state["proc"], log, code)
-    except BrokenPipeError:
-        log("wake stream: error: the output pipe was closed by the reader; stopping")
-        silence_stdout()
-        _finish(state["proc"], log, "output closed")
-        return 1
-    _finish(state["proc"], log, "stopped by signal" if stop.requested else "end of input")
-    return 0
-
-
-def _stopped(proc, log, code):
-    """After ``--max-samples`` (code 0) the summary; after a bad line (code 2) the error was said."""
-    if code == 0:
-        _finish(proc, log, "end of input")
-    return code
-
-
-def _line(stamp, values, out) -> str:
-    """One output line: the time, then per channel the measurement and the answer's columns (``wake run``'s
-    order, :func:`wake.io.writers.result_columns`)."""
-    per_channel = np.column_stack([np.asarray(values, dtype=float), *out])  # (channels, kinds)
-    return ",".join(repr(float(v)) for v in (stamp, *per_channel.reshape(-1)))
 
 
 def _kinds(args, filt) -> tuple:
