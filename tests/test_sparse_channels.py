@@ -8,7 +8,8 @@ import pytest
 
 from wake import WakeFilter
 from wake.cli import main
-from wake.filter import SparseChannelWarning, check_finite_channels
+from wake import SparseChannelWarning
+from wake._validation import check_finite_channels
 
 
 def gyro(fs, seconds=12.0):

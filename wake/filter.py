@@ -1,8 +1,7 @@
 """The WAKE filter: the HPA every ``L`` samples, the RTP every sample.
 
-This module schedules; it holds no number format and no backend internals.
-Each channel owns an RTP object (:mod:`wake.rtp`) and the samples the next
-HPA (:mod:`wake.hpa`) needs.
+This module schedules; it holds no number format and no backend internals. Each channel owns an RTP
+object (:mod:`wake.rtp`) and the samples the next HPA (:mod:`wake.hpa`) needs.
 
 Output contract: ``run(x).prediction == update_block(x) == [update(v) for v in x]`` bit for bit (the
 prediction of the next sample; NaN marks a missing one); :attr:`WakeResult.voluntary` is it shifted by one.
@@ -16,7 +15,7 @@ from dataclasses import fields
 
 import numpy as np
 
-from wake._validation import as_sample, as_signal
+from wake._validation import as_sample, as_signal, check_finite_channels
 from wake.channel import Channel, start_weights_for
 from wake.rate import make_channel
 from wake._docs import parameters_doc
@@ -28,64 +27,9 @@ from wake.state import STATE_VERSION, WakeState  # noqa: F401  (STATE_VERSION: t
 from wake.target import TARGET, PredictionTarget, voluntary_ahead_refusal
 from wake.wavelets import filter_bank_taps
 
-__all__ = ["WakeFilter", "WakeResult", "WakeState", "BACKENDS", "RateWarning", "SparseChannelWarning",
-           "TUNED_RATES", "check_finite_channels"]
+__all__ = ["WakeFilter", "WakeResult", "WakeState", "BACKENDS", "RateWarning", "TUNED_RATES"]
 
 _INF = float("inf")
-
-
-class SparseChannelWarning(UserWarning):
-    """A channel of a recording holds fewer finite samples than one HPA window (:func:`check_finite_channels`)."""
-
-
-def check_finite_channels(x, window_samples: int, names=None) -> None:
-    """The rule for a whole recording's channels: each must hold enough finite samples to be scored.
-
-    A channel without a single finite sample (all NaN: missing throughout) is
-    an error: there is nothing to filter, and its outputs would be NaN or
-    zero without a word.  A channel with some finite samples, but fewer than
-    one HPA window, is filtered with a :class:`SparseChannelWarning` naming
-    it: its HPA windows rest on interpolated or missing samples, so neither
-    its voluntary motion nor its tremor can be trusted.
-
-    Parameters
-    ----------
-    x : numpy.ndarray, shape (n, channels)
-        The recording, NaN marking a missing sample.
-    window_samples : int
-        ``L``, the HPA window in samples at the rate of ``x``.
-    names : sequence of str, optional
-        The channels' names for the messages (default ``channel 0``, ...).
-
-    Raises
-    ------
-    ValueError
-        Naming every channel without a finite sample.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from wake.filter import check_finite_channels
-    >>> x = np.column_stack([np.ones(600), np.full(600, np.nan)])
-    >>> check_finite_channels(x, 500, names=["wrist", "elbow"])
-    Traceback (most recent call last):
-    ...
-    ValueError: channel elbow has no finite sample (every value is NaN or missing): there is nothing to filter; leave it out (wake run --column) or fix the recording
-    """
-    finite = np.count_nonzero(np.isfinite(x), axis=0)
-    label = [f"channel {c}" for c in range(x.shape[1])] if names is None else \
-        [f"channel {name}" for name in names]
-    empty = [label[c] for c in np.flatnonzero(finite == 0)]
-    if empty:
-        raise ValueError(f"{' and '.join(empty)} {'has' if len(empty) == 1 else 'have'} no finite sample (every "
-                         "value is NaN or missing): there is nothing to filter; leave it out (wake run --column) "
-                         "or fix the recording")
-    import warnings
-
-    for c in np.flatnonzero(finite < window_samples):
-        warnings.warn(f"{label[c]} has {int(finite[c])} finite samples, fewer than one HPA window "
-                      f"({window_samples}): too few for WAKE to fit its voluntary motion or characterise its tremor "
-                      "reliably (the HPA windows rest on interpolated or missing samples)", SparseChannelWarning, stacklevel=3)
 
 
 def _out_dtype(x) -> type:
@@ -178,22 +122,16 @@ class WakeFilter:
         Parameters
         ----------
         x : array_like, shape (n,) or (n, channels)
-            At least one HPA window (``window_s * fs`` samples) long.  NaN
-            marks a missing sample (as in :meth:`update`); inf is refused.
-            Each channel is filtered independently.  A channel without a
-            finite sample is refused (ValueError); one with fewer finite
-            samples than one HPA window is filtered with a
-            :class:`SparseChannelWarning` (:func:`check_finite_channels`).
+            At least one HPA window (``window_s * fs`` samples) long.  NaN marks a missing sample (as in
+            :meth:`update`); inf is refused.  Each channel is filtered independently; one without a finite
+            sample is refused, one with fewer than a window warned of (``check_finite_channels``).
         names : sequence of str, optional
-            The channels' names, for those two messages (default
-            ``channel 0``, ``channel 1``, ...).
+            The channels' names for those messages (default ``channel 0``, ...).
 
         Returns
         -------
         WakeResult
-            ``prediction`` equals ``reset()`` followed by
-            ``update_block(x)``; the filter's own streaming state is left
-            untouched.
+            ``prediction`` equals ``reset()`` then ``update_block(x)``; the filter's stream is untouched.
         """
         arr, one_d = as_signal(x, allow_nan=True)
         n = arr.shape[0]
@@ -204,8 +142,6 @@ class WakeFilter:
                 f"the recording has {n} samples; WAKE needs at least one HPA window of "
                 f"{self.config.window_samples} samples (window_s * fs = {self.config.window_s:g} s * "
                 f"{self.config.fs:g} Hz){transposed}")
-        if names is not None and len(names) != arr.shape[1]:
-            raise ValueError(f"names holds {len(names)} name(s) for the {arr.shape[1]} channel(s) of x")
         check_finite_channels(arr, self.config.window_samples, names)
         channels = self._new_channels(arr.shape[1], streaming=False)
         out = np.stack([ch.process(arr[:, c]) for c, ch in enumerate(channels)], axis=-1)  # (5, n, channels)

@@ -21,7 +21,7 @@ def psd_label(unit: str) -> str:
     >>> psd_label("deg/s"), psd_label("g"), psd_label("")
     ('PSD ((deg/s)^2/Hz)', 'PSD (g^2/Hz)', 'PSD ((input unit)^2/Hz)')
     """
-    from wake.hpa.characterise import squared_unit
+    from wake.io.writers import squared_unit
 
     return f"PSD ({squared_unit(unit) or '(input unit)^2'}/Hz)"
 

@@ -65,7 +65,7 @@ from wake.hpa.schedule import prepare_window
 from wake.hpa.sharp import end_point_line, sharp_highpass
 
 __all__ = ["ENVELOPE_K", "NARROW_HALF_BAND_HZ", "PEAK_RATIO", "REASONS", "TABLE_FIELDS", "TremorStats",
-           "characterise_window", "squared_unit", "summarise", "tremor_table"]
+           "characterise_window", "summarise", "tremor_table"]
 
 #: A periodogram maximum is a tremor peak when it is this many times the band's median power (13 dB).
 PEAK_RATIO = 20.0
@@ -105,23 +105,6 @@ class TremorStats:
 
 _NAN = float("nan")
 
-
-def squared_unit(unit: str) -> str:
-    """The square of a unit, as text: the unit of ``band_power`` and of a power spectral density's numerator.
-
-    A compound unit is bracketed, so that ``deg/s`` squared does not read as
-    ``deg/s^2``; no unit gives ``""``.
-
-    Examples
-    --------
-    >>> from wake.hpa.characterise import squared_unit
-    >>> squared_unit("deg/s"), squared_unit("g"), squared_unit("m/s^2"), squared_unit("")
-    ('(deg/s)^2', 'g^2', '(m/s^2)^2', '')
-    """
-    unit = (unit or "").strip()
-    if not unit:
-        return ""
-    return f"{unit}^2" if unit.replace("_", "").isalpha() else f"({unit})^2"
 
 
 def _check_band(fs, cutoff, tremor_band):

@@ -104,6 +104,24 @@ TREMOR_COLUMNS = (("index", "index"), ("end_time", "end_time [s]"), ("samples", 
                   ("time_share", "time_share"), ("tsi", "tsi [Hz]"), ("reason", "reason"))
 
 
+def squared_unit(unit: str) -> str:
+    """The square of a unit, as text: the unit of ``band_power`` and of a power spectral density's numerator.
+
+    A compound unit is bracketed, so that ``deg/s`` squared does not read as
+    ``deg/s^2``; no unit gives ``""``.
+
+    Examples
+    --------
+    >>> from wake.io.writers import squared_unit
+    >>> squared_unit("deg/s"), squared_unit("g"), squared_unit("m/s^2"), squared_unit("")
+    ('(deg/s)^2', 'g^2', '(m/s^2)^2', '')
+    """
+    unit = (unit or "").strip()
+    if not unit:
+        return ""
+    return f"{unit}^2" if unit.replace("_", "").isalpha() else f"({unit})^2"
+
+
 def tremor_header(units) -> list:
     """The cells of :data:`TREMOR_COLUMNS` with ``unit`` written out: the channels' unit when they share one
     (``rms [deg/s]``, ``band_power [(deg/s)^2]``), else none (each row's ``unit`` column says it).
@@ -115,8 +133,6 @@ def tremor_header(units) -> list:
     >>> tremor_header(["g", "deg/s"])[5:8]
     ['rms', 'peak_to_peak', 'band_power']
     """
-    from wake.hpa.characterise import squared_unit
-
     shared = set(units)
     unit = shared.pop() if len(shared) == 1 else ""
     if not unit:
