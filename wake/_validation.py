@@ -204,5 +204,6 @@ def check_finite_channels(x, window_samples: int, names=None) -> None:
 
     for c in np.flatnonzero(finite < window_samples):
         warnings.warn(f"{label[c]} has {int(finite[c])} finite samples, fewer than one HPA window "
-                      f"({window_samples}): too few for WAKE to fit its voluntary motion or characterise its tremor "
-                      "reliably (the HPA windows rest on interpolated or missing samples)", SparseChannelWarning, stacklevel=3)
+                      f"({window_samples}): too few for WAKE to fit its voluntary motion or characterise its "
+                      "tremor reliably (the HPA windows rest on interpolated or missing samples)",
+                      SparseChannelWarning, stacklevel=3)

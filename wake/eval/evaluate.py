@@ -209,6 +209,7 @@ def _refuse_unknown_rates(sources):
 
     Checked before the work, not found by each task: a file that reads once a rate is given lacks only the
     rate.  A file that does not read either way is left to its task (the report lists it as a failure).
+    Each INPUT is read once more for this, and only when ``--fs`` is not given.
     """
     from wake.io import read_recording
 
