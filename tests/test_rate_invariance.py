@@ -142,7 +142,8 @@ def test_wake_run_tremor_out_and_plot_span_the_recording_at_every_rate(tmp_path,
 def test_wake_stream_spans_the_recording_at_every_rate(tmp_path, capsys, monkeypatch):
     for fs in RATES:
         t, x = recording(fs)
-        lines = "time,gyro_x,acc_z\n" + "".join(f"{a!r},{b!r},{c!r}\n" for a, b, c in zip(t.tolist(), x[:, 0].tolist(), x[:, 1].tolist()))
+        rows = np.column_stack([t, x]).tolist()
+        lines = "time,gyro_x,acc_z\n" + "".join(f"{a!r},{b!r},{c!r}\n" for a, b, c in rows)
         monkeypatch.setattr(sys, "stdin", io.StringIO(lines))
         assert main(["stream", "--stdin", "--stdout", "--fs", f"{fs:g}", "--timestamps", "--header",
                      "--hpa-mode", "inline", "--status", "0"]) == 0
