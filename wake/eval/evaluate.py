@@ -207,9 +207,10 @@ def _sources(args, notes):
 def _refuse_unknown_rates(sources):
     """ValueError naming the files that have no time column (their rate unknown), saying that ``--fs`` serves.
 
-    Checked before the work, not found by each task: a file that reads once a rate is given lacks only the
-    rate.  A file that does not read either way is left to its task (the report lists it as a failure).
-    Each INPUT is read once more for this, and only when ``--fs`` is not given.
+    Checked before the work, not found by each task: a file that reads into a signal (two samples or more)
+    once a rate is given lacks only the rate.  A file that does not read either way, or holds a single
+    sample, is left to its task (the report lists it as a failure).  Each INPUT is read once more for this,
+    and only when ``--fs`` is not given.
     """
     from wake.io import read_recording
 
@@ -219,7 +220,8 @@ def _refuse_unknown_rates(sources):
             read_recording(source.path)
         except ValueError:
             try:
-                read_recording(source.path, fs=100.0)
+                if read_recording(source.path, fs=100.0).samples.shape[0] < 2:
+                    continue
             except ValueError:
                 continue
             unknown.append(Path(source.path).name)
