@@ -141,7 +141,7 @@ def _cmd_run(args) -> int:
     filt = make_filter(args, rec.fs, **horizon)
     from wake.io.progress import run_progress
     with run_progress(filt, x.shape[0], x.shape[1], args.progress):
-        res = filt.run(x if x.shape[1] > 1 else x[:, 0])
+        res = filt.run(x if x.shape[1] > 1 else x[:, 0], names=rec.channels)
     if args.out:
         columns = ahead_columns(filt.config) if horizon else ()
         rows = write_result_csv(args.out, rec, res, ahead=columns)
@@ -190,6 +190,9 @@ def _print_tremor_summary(rec, tables, config) -> None:
     for c, (name, table) in enumerate(zip(rec.channels, tables)):
         s = summarise(table, config.window_samples)
         unit = f" {rec.unit(c)}" if rec.unit(c) else ""
+        if not s["windows"]:
+            print(f"  {name}: no full HPA window (too few finite samples): not characterised")
+            continue
         text = f"  {name}: a tremor peak in {s['tremor_windows']} of {s['windows']} windows"
         if s["tremor_windows"]:
             text += (f"; median frequency {s['frequency']:.2f} Hz, TSI {s['tsi']:.2f} Hz, "

@@ -226,8 +226,10 @@ def test_plain_csv_needs_and_takes_its_rate(tmp_path, capsys):
     path = tmp_path / "plain.csv"
     path.write_text("left,right\n" + "\n".join(f"{a:.6f},{b:.6f}" for a, b in data) + "\n")
     common = ["--synthetic", "0", "--backend", "reference", "--no-progress"]
-    assert cli([tmp_path / "no-rate", path, *common]) == 1
-    assert "plain.csv: ValueError:" in capsys.readouterr().err and "--fs HZ" in (tmp_path / "no-rate/report.md").read_text()
+    assert cli([tmp_path / "no-rate", path, *common]) == 2      # refused before the work (issue 43, item 5)
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "plain.csv has no time column" in err and "--fs HZ" in err
+    assert not (tmp_path / "no-rate" / "report.md").exists()
     assert cli([tmp_path / "rate", path, "--fs", "100", *common]) == 0
     text = (tmp_path / "rate" / "report.md").read_text()
     assert "| plain | left |" in text and "| plain | right |" in text

@@ -52,7 +52,7 @@ from wake.eval.compute import (ROW_COLUMNS, WAKE_PARAMS, Task, ablation_literal_
                                compute_task, config_label, wake_name)
 from wake.eval.datasets import default_pads_dir
 from wake.eval.figures import tremor_candidate, write_figures
-from wake.eval.report import jsonable, markdown_report
+from wake.eval.report import jsonable, markdown_report, recordings_label
 from wake.eval.runner import TaskList, run_tasks
 from wake.eval.sources import cohort_sources, file_sources, pads_sources, paper_sources
 from wake.eval.store import ResultStore
@@ -189,6 +189,8 @@ def _sources(args, notes):
     recordings, pads_dir = [], None
     if args.inputs:
         recordings += file_sources(args.inputs, fs=args.fs)
+        if args.fs is None:
+            _refuse_unknown_rates(recordings)
     if not args.synthetic_only and (args.pads or not (args.inputs or args.synthetic is not None)):
         pads_dir = default_pads_dir(args.pads)
         if pads_dir is not None:
@@ -200,6 +202,33 @@ def _sources(args, notes):
     if args.quick:
         recordings = recordings[:2]
     return synthetic, recordings, pads_dir
+
+
+def _refuse_unknown_rates(sources):
+    """ValueError naming the files that have no time column (their rate unknown), saying that ``--fs`` serves.
+
+    Checked before the work, not found by each task: a file that reads into a signal (two samples or more)
+    once a rate is given lacks only the rate.  A file that does not read either way, or holds a single
+    sample, is left to its task (the report lists it as a failure).  Each INPUT is read once more for this,
+    and only when ``--fs`` is not given.
+    """
+    from wake.io import read_recording
+
+    unknown = []
+    for source in sources:
+        try:
+            read_recording(source.path)
+        except ValueError:
+            try:
+                if read_recording(source.path, fs=100.0).samples.shape[0] < 2:
+                    continue
+            except ValueError:
+                continue
+            unknown.append(Path(source.path).name)
+    if unknown:
+        names = ", ".join(unknown[:3]) + (f" and {len(unknown) - 3} more" if len(unknown) > 3 else "")
+        raise ValueError(f"{names} {'has' if len(unknown) == 1 else 'have'} no time column, so the sampling rate "
+                         "is unknown: give it with --fs HZ (the rate of every INPUT without a time column)")
 
 
 def _summaries(rows, first):
@@ -259,10 +288,11 @@ def cli(argv: list[str] | None = None) -> int:
         return 130
     store.compact()
     print(f"wake evaluate: {computed} of {len(tasks)} tasks computed, {len(tasks) - computed} from the store")
-    return _write_outputs(args, argv, out_dir, store, tasks, configs, backends, notes, pads_dir, t0)
+    return _write_outputs(args, argv, out_dir, store, tasks, configs, backends, notes, pads_dir, t0,
+                          recordings_label(recordings))
 
 
-def _write_outputs(args, argv, out_dir, store, tasks, configs, backends, notes, pads_dir, t0):
+def _write_outputs(args, argv, out_dir, store, tasks, configs, backends, notes, pads_dir, t0, real_name):
     rows = store.rows([t.key for t in tasks], convert=compact_row)
     labels = [config_label(c) for c in configs]
     parts = _summaries(rows, labels[0])
@@ -273,7 +303,7 @@ def _write_outputs(args, argv, out_dir, store, tasks, configs, backends, notes, 
     pick = tremor_candidate(real_rows)
     sources = {t.source.key: t.source for t in tasks}
     figs, fig_note = write_figures(out_dir, parts, pick and (pick, sources[pick["source"]], configs[0], backends),
-                                   sources)
+                                   sources, real_name)
     if fig_note:
         notes.append(fig_note)
         print(f"wake evaluate: {fig_note}")
@@ -281,7 +311,7 @@ def _write_outputs(args, argv, out_dir, store, tasks, configs, backends, notes, 
     command = " ".join(str(a) for a in (argv if argv is not None else sys.argv[1:]))
     text = markdown_report(command=command, quick=args.quick, settings=configs[0], backends=backends, notes=notes,
                            parts=parts, ablation=abl, pads_dir=pads_dir, figures=figs, rankings=rankings,
-                           failures=failures, run_time=time.perf_counter() - t0, ahead=ahead)
+                           failures=failures, run_time=time.perf_counter() - t0, ahead=ahead, real_name=real_name)
     (out_dir / "report.md").write_text(text)
     (out_dir / "results.json").write_text(json.dumps(jsonable(
         {"backends": backends, "synthetic": parts["synthetic"], "cohort": parts["cohort"], "real": parts["real"],

@@ -106,6 +106,7 @@ class TremorStats:
 _NAN = float("nan")
 
 
+
 def _check_band(fs, cutoff, tremor_band):
     fs = check_positive("fs", fs)
     cutoff = check_positive("cutoff", cutoff, allow_zero=True)
