@@ -37,6 +37,16 @@ weights after sample ``k``, the regressors (or WFLC's phase) at ``k + h``.
 
 What they share (the result, the checks of their parameters, among them the
 LMS step-size bound, and the regressor rows) is in :mod:`wake.eval.baseline_model`.
+
+Speed
+-----
+Each ``run`` is one C call per channel (``csrc/eval/wake_eval.c``, built into
+the compiled core ``wake._rtp``, host-only) when the core is installed; the
+Python loop beside it (``run(..., engine="python")``) is the reference it is
+tested against (``tests/eval/test_baselines_c.py``: within 1e-12 of the
+largest output; the regressor rows and the recursions of E-BMFLC's
+information matrix are the same operations, only the sums and the Cholesky
+solve round differently) and what runs without the core.
 """
 
 from __future__ import annotations
@@ -47,7 +57,41 @@ from wake._validation import as_signal, check_positive
 from wake.eval.baseline_model import (BaselineResult, band_bins, check_band, check_horizons, check_lms_steps,
                                       rows_ahead, shaped)
 
-__all__ = ["BaselineResult", "BMFLC", "EBMFLC", "WFLC", "BASELINES", "baseline_methods"]
+__all__ = ["BaselineResult", "BMFLC", "EBMFLC", "WFLC", "BASELINES", "baseline_methods", "ENGINES"]
+
+#: How ``run`` computes: ``"auto"`` (the C loop when the compiled core is installed, else Python), ``"c"`` (the
+#: C loop, an error without the core) or ``"python"`` (the reference loop).
+ENGINES = ("auto", "c", "python")
+
+
+def _c_loops(engine):
+    """``(ffi, lib)`` of the compiled core's baseline loops for ``engine``, or None for the Python loop."""
+    if engine not in ENGINES:
+        raise ValueError(f"engine must be one of {ENGINES}, got {engine!r}")
+    if engine == "python":
+        return None
+    try:
+        from wake._rtp import ffi, lib
+    except ImportError:
+        lib = None
+    if lib is None or not hasattr(lib, "wake_eval_bmflc"):
+        if engine == "c":
+            from wake._core import missing_core_hint
+
+            raise ValueError(f"engine='c' needs the compiled core wake._rtp: {missing_core_hint()}; "
+                             "or use engine='python'")
+        return None
+    return ffi, lib
+
+
+def _c_doubles(ffi, a):
+    """A C ``double *`` onto the C-contiguous float64 array ``a`` (no copy)."""
+    return ffi.from_buffer("double[]", a)
+
+
+def _c_horizons(ffi, hs):
+    """The horizons as a C ``long`` array (it holds its buffer) and their count."""
+    return ffi.from_buffer("long[]", np.array(hs if hs else [0], dtype=np.dtype("l"))), len(hs)
 
 
 class BMFLC:
@@ -90,11 +134,16 @@ class BMFLC:
         arg = 2 * np.pi * self.freqs[None, :] * k[:, None] / self.fs
         return np.concatenate((np.sin(arg), np.cos(arg)), axis=1)  # (len(k), 2M)
 
-    def run(self, x, horizons=()):
+    def run(self, x, horizons=(), engine="auto"):
+        """The baseline over ``x`` (``(n,)`` or ``(n, channels)``); ``horizons``: also the tremor part that
+        many samples ahead; ``engine``: a name in :data:`ENGINES`."""
         arr, one_d = as_signal(x)
         n, channels = arr.shape
         hs = check_horizons(horizons)
+        c_loops = _c_loops(engine)
         phi = rows_ahead(self._bank, n, max(hs, default=0))
+        if c_loops is not None:
+            return self._run_c(c_loops, arr, one_d, hs, phi)
         ahead = {h: np.empty((n, channels)) for h in hs}
         w = np.zeros((phi.shape[1], channels))
         b = np.zeros(channels)
@@ -113,6 +162,23 @@ class BMFLC:
                 ahead[h][i] = phi[i + h] @ w
         s = shaped(one_d)
         return BaselineResult(s(vol), s(arr - vol), s(bank), self.name, ahead={h: s(a) for h, a in ahead.items()})
+
+    def _run_c(self, c_loops, arr, one_d, hs, phi):
+        ffi, lib = c_loops
+        n, channels = arr.shape
+        phi = np.ascontiguousarray(phi)
+        m = phi.shape[1]
+        vol, bank = np.empty((channels, n)), np.empty((channels, n))
+        ahead = np.empty((channels, max(len(hs), 1), n))
+        c_hs, n_hs = _c_horizons(ffi, hs)
+        for ch in range(channels):
+            xc, w = np.ascontiguousarray(arr[:, ch]), np.zeros(m)
+            lib.wake_eval_bmflc(_c_doubles(ffi, phi), n, m, _c_doubles(ffi, xc), 2 * self.mu, 2 * self.mu_bias,
+                                c_hs, n_hs, _c_doubles(ffi, w), _c_doubles(ffi, vol[ch]), _c_doubles(ffi, bank[ch]),
+                                _c_doubles(ffi, ahead[ch]))
+        s = shaped(one_d)
+        return BaselineResult(s(vol.T.copy()), s(arr - vol.T), s(bank.T.copy()), self.name,
+                              ahead={h: s(ahead[:, k].T.copy()) for k, h in enumerate(hs)})
 
 
 class EBMFLC:
@@ -209,20 +275,25 @@ class EBMFLC:
             cols += [np.sin(arg), np.cos(arg)]
         return np.concatenate(cols, axis=1)
 
-    def run(self, x, horizons=()):
-        from scipy.linalg import cho_factor, cho_solve
-
+    def run(self, x, horizons=(), engine="auto"):
+        """The baseline over ``x`` (``(n,)`` or ``(n, channels)``); ``horizons``: also the tremor part that
+        many samples ahead; ``engine``: a name in :data:`ENGINES`."""
         arr, one_d = as_signal(x)
         n, channels = arr.shape
         hs = check_horizons(horizons)
+        c_loops = _c_loops(engine)
         phi = rows_ahead(self._regressors, n, max(hs, default=0))
-        ahead = {h: np.empty((n, channels)) for h in hs}
         p = phi.shape[1]
         nv = self._split()
         rho = self.rho
         delta = max(self.ridge * 0.5 / (1 - rho), 1e-12)
-        G = delta * np.eye(p)
         leak = (1 - rho) * delta
+        if c_loops is not None:
+            return self._run_c(c_loops, arr, one_d, hs, phi, nv, rho, delta, leak)
+        from scipy.linalg import cho_factor, cho_solve
+
+        ahead = {h: np.empty((n, channels)) for h in hs}
+        G = delta * np.eye(p)
         r = np.zeros((p, channels))
         w = np.zeros((p, channels))
         vol = np.empty((n, channels))
@@ -241,6 +312,24 @@ class EBMFLC:
                 ahead[h][i] = phi[i + h][nv:] @ w[nv:]
         s = shaped(one_d)
         return BaselineResult(s(vol), s(arr - vol), s(pred - vol), self.name, ahead={h: s(a) for h, a in ahead.items()})
+
+    def _run_c(self, c_loops, arr, one_d, hs, phi, nv, rho, delta, leak):
+        ffi, lib = c_loops
+        n, channels = arr.shape
+        phi = np.ascontiguousarray(phi)
+        p = phi.shape[1]
+        vol, pred = np.empty((channels, n)), np.empty((channels, n))
+        ahead = np.empty((channels, max(len(hs), 1), n))
+        g, u, r, w, y = np.empty((p, p)), np.empty((p, p)), np.empty(p), np.empty(p), np.empty(p)
+        c_hs, n_hs = _c_horizons(ffi, hs)
+        for ch in range(channels):
+            xc = np.ascontiguousarray(arr[:, ch])
+            lib.wake_eval_ebmflc(_c_doubles(ffi, phi), n, p, nv, _c_doubles(ffi, xc), rho, delta, leak, c_hs, n_hs,
+                                 *(_c_doubles(ffi, a) for a in (g, u, r, w, y, vol[ch], pred[ch], ahead[ch])))
+        s = shaped(one_d)
+        vol, pred = vol.T.copy(), pred.T
+        return BaselineResult(s(vol), s(arr - vol), s(pred - vol), self.name,
+                              ahead={h: s(ahead[:, k].T.copy()) for k, h in enumerate(hs)})
 
 
 class WFLC:
@@ -305,10 +394,15 @@ class WFLC:
         return (f"WFLC(fs={self.fs:g}, n_harmonics={self.n_harmonics}, mu={self.mu:g}, mu0={self.mu0:g}, "
                 f"mu_bias={self.mu_bias:g}, f0={self.f0:g}, f_range={self.f_range}, beta={self.beta:g})")
 
-    def run(self, x, horizons=()):
+    def run(self, x, horizons=(), engine="auto"):
+        """The baseline over ``x`` (``(n,)`` or ``(n, channels)``); ``horizons``: also the tremor part that
+        many samples ahead; ``engine``: a name in :data:`ENGINES`."""
         arr, one_d = as_signal(x)
         n, channels = arr.shape
         hs = check_horizons(horizons)
+        c_loops = _c_loops(engine)
+        if c_loops is not None:
+            return self._run_c(c_loops, arr, one_d, hs)
         ahead = {h: np.empty((n, channels)) for h in hs}
         M = self.n_harmonics
         r = np.arange(1, M + 1)[:, None]  # (M, 1)
@@ -345,6 +439,25 @@ class WFLC:
         s = shaped(one_d)
         return BaselineResult(s(vol), s(arr - vol), s(bank), self.name, frequency=s(freq),
                               ahead={h: s(a) for h, a in ahead.items()})
+
+    def _run_c(self, c_loops, arr, one_d, hs):
+        ffi, lib = c_loops
+        n, channels = arr.shape
+        M = self.n_harmonics
+        lo, hi = (2 * np.pi * f / self.fs for f in self.f_range)
+        vol, bank, freq = np.empty((channels, n)), np.empty((channels, n)), np.empty((channels, n))
+        ahead = np.empty((channels, max(len(hs), 1), n))
+        scratch = [np.empty(M) for _ in range(4)]
+        c_hs, n_hs = _c_horizons(ffi, hs)
+        for ch in range(channels):
+            xc = np.ascontiguousarray(arr[:, ch])
+            lib.wake_eval_wflc(_c_doubles(ffi, xc), n, M, self.fs, 2 * np.pi * self.f0 / self.fs, lo, hi,
+                               2 * self.mu, 2 * self.mu_bias, 2 * self.mu0, self.beta, c_hs, n_hs,
+                               *(_c_doubles(ffi, a) for a in (*scratch, vol[ch], bank[ch], freq[ch], ahead[ch])))
+        s = shaped(one_d)
+        vol = vol.T.copy()
+        return BaselineResult(s(vol), s(arr - vol), s(bank.T.copy()), self.name, frequency=s(freq.T.copy()),
+                              ahead={h: s(ahead[:, k].T.copy()) for k, h in enumerate(hs)})
 
 
 #: The baselines by display name, in the order of the report.
