@@ -54,44 +54,11 @@ from __future__ import annotations
 import numpy as np
 
 from wake._validation import as_signal, check_positive
+from wake.eval.baseline_c import ENGINES, c_loops_for, run_bmflc, run_ebmflc, run_wflc
 from wake.eval.baseline_model import (BaselineResult, band_bins, check_band, check_horizons, check_lms_steps,
                                       rows_ahead, shaped)
 
 __all__ = ["BaselineResult", "BMFLC", "EBMFLC", "WFLC", "BASELINES", "baseline_methods", "ENGINES"]
-
-#: How ``run`` computes: ``"auto"`` (the C loop when the compiled core is installed, else Python), ``"c"`` (the
-#: C loop, an error without the core) or ``"python"`` (the reference loop).
-ENGINES = ("auto", "c", "python")
-
-
-def _c_loops(engine):
-    """``(ffi, lib)`` of the compiled core's baseline loops for ``engine``, or None for the Python loop."""
-    if engine not in ENGINES:
-        raise ValueError(f"engine must be one of {ENGINES}, got {engine!r}")
-    if engine == "python":
-        return None
-    try:
-        from wake._rtp import ffi, lib
-    except ImportError:
-        lib = None
-    if lib is None or not hasattr(lib, "wake_eval_bmflc"):
-        if engine == "c":
-            from wake._core import missing_core_hint
-
-            raise ValueError(f"engine='c' needs the compiled core wake._rtp: {missing_core_hint()}; "
-                             "or use engine='python'")
-        return None
-    return ffi, lib
-
-
-def _c_doubles(ffi, a):
-    """A C ``double *`` onto the C-contiguous float64 array ``a`` (no copy)."""
-    return ffi.from_buffer("double[]", a)
-
-
-def _c_horizons(ffi, hs):
-    """The horizons as a C ``long`` array (it holds its buffer) and their count."""
-    return ffi.from_buffer("long[]", np.array(hs if hs else [0], dtype=np.dtype("l"))), len(hs)
 
 
 class BMFLC:
@@ -136,14 +103,14 @@ class BMFLC:
 
     def run(self, x, horizons=(), engine="auto"):
         """The baseline over ``x`` (``(n,)`` or ``(n, channels)``); ``horizons``: also the tremor part that
-        many samples ahead; ``engine``: a name in :data:`ENGINES`."""
+        many samples ahead; ``engine``: a name in :data:`~wake.eval.baseline_c.ENGINES`."""
         arr, one_d = as_signal(x)
         n, channels = arr.shape
         hs = check_horizons(horizons)
-        c_loops = _c_loops(engine)
+        c_loops = c_loops_for(engine)
         phi = rows_ahead(self._bank, n, max(hs, default=0))
         if c_loops is not None:
-            return self._run_c(c_loops, arr, one_d, hs, phi)
+            return run_bmflc(self, c_loops, arr, one_d, hs, phi)
         ahead = {h: np.empty((n, channels)) for h in hs}
         w = np.zeros((phi.shape[1], channels))
         b = np.zeros(channels)
@@ -163,22 +130,6 @@ class BMFLC:
         s = shaped(one_d)
         return BaselineResult(s(vol), s(arr - vol), s(bank), self.name, ahead={h: s(a) for h, a in ahead.items()})
 
-    def _run_c(self, c_loops, arr, one_d, hs, phi):
-        ffi, lib = c_loops
-        n, channels = arr.shape
-        phi = np.ascontiguousarray(phi)
-        m = phi.shape[1]
-        vol, bank = np.empty((channels, n)), np.empty((channels, n))
-        ahead = np.empty((channels, max(len(hs), 1), n))
-        c_hs, n_hs = _c_horizons(ffi, hs)
-        for ch in range(channels):
-            xc, w = np.ascontiguousarray(arr[:, ch]), np.zeros(m)
-            lib.wake_eval_bmflc(_c_doubles(ffi, phi), n, m, _c_doubles(ffi, xc), 2 * self.mu, 2 * self.mu_bias,
-                                c_hs, n_hs, _c_doubles(ffi, w), _c_doubles(ffi, vol[ch]), _c_doubles(ffi, bank[ch]),
-                                _c_doubles(ffi, ahead[ch]))
-        s = shaped(one_d)
-        return BaselineResult(s(vol.T.copy()), s(arr - vol.T), s(bank.T.copy()), self.name,
-                              ahead={h: s(ahead[:, k].T.copy()) for k, h in enumerate(hs)})
 
 
 class EBMFLC:
@@ -277,11 +228,11 @@ class EBMFLC:
 
     def run(self, x, horizons=(), engine="auto"):
         """The baseline over ``x`` (``(n,)`` or ``(n, channels)``); ``horizons``: also the tremor part that
-        many samples ahead; ``engine``: a name in :data:`ENGINES`."""
+        many samples ahead; ``engine``: a name in :data:`~wake.eval.baseline_c.ENGINES`."""
         arr, one_d = as_signal(x)
         n, channels = arr.shape
         hs = check_horizons(horizons)
-        c_loops = _c_loops(engine)
+        c_loops = c_loops_for(engine)
         phi = rows_ahead(self._regressors, n, max(hs, default=0))
         p = phi.shape[1]
         nv = self._split()
@@ -289,7 +240,7 @@ class EBMFLC:
         delta = max(self.ridge * 0.5 / (1 - rho), 1e-12)
         leak = (1 - rho) * delta
         if c_loops is not None:
-            return self._run_c(c_loops, arr, one_d, hs, phi, nv, rho, delta, leak)
+            return run_ebmflc(self, c_loops, arr, one_d, hs, phi, nv, rho, delta, leak)
         from scipy.linalg import cho_factor, cho_solve
 
         ahead = {h: np.empty((n, channels)) for h in hs}
@@ -313,23 +264,6 @@ class EBMFLC:
         s = shaped(one_d)
         return BaselineResult(s(vol), s(arr - vol), s(pred - vol), self.name, ahead={h: s(a) for h, a in ahead.items()})
 
-    def _run_c(self, c_loops, arr, one_d, hs, phi, nv, rho, delta, leak):
-        ffi, lib = c_loops
-        n, channels = arr.shape
-        phi = np.ascontiguousarray(phi)
-        p = phi.shape[1]
-        vol, pred = np.empty((channels, n)), np.empty((channels, n))
-        ahead = np.empty((channels, max(len(hs), 1), n))
-        g, u, r, w, y = np.empty((p, p)), np.empty((p, p)), np.empty(p), np.empty(p), np.empty(p)
-        c_hs, n_hs = _c_horizons(ffi, hs)
-        for ch in range(channels):
-            xc = np.ascontiguousarray(arr[:, ch])
-            lib.wake_eval_ebmflc(_c_doubles(ffi, phi), n, p, nv, _c_doubles(ffi, xc), rho, delta, leak, c_hs, n_hs,
-                                 *(_c_doubles(ffi, a) for a in (g, u, r, w, y, vol[ch], pred[ch], ahead[ch])))
-        s = shaped(one_d)
-        vol, pred = vol.T.copy(), pred.T
-        return BaselineResult(s(vol), s(arr - vol), s(pred - vol), self.name,
-                              ahead={h: s(ahead[:, k].T.copy()) for k, h in enumerate(hs)})
 
 
 class WFLC:
@@ -396,13 +330,13 @@ class WFLC:
 
     def run(self, x, horizons=(), engine="auto"):
         """The baseline over ``x`` (``(n,)`` or ``(n, channels)``); ``horizons``: also the tremor part that
-        many samples ahead; ``engine``: a name in :data:`ENGINES`."""
+        many samples ahead; ``engine``: a name in :data:`~wake.eval.baseline_c.ENGINES`."""
         arr, one_d = as_signal(x)
         n, channels = arr.shape
         hs = check_horizons(horizons)
-        c_loops = _c_loops(engine)
+        c_loops = c_loops_for(engine)
         if c_loops is not None:
-            return self._run_c(c_loops, arr, one_d, hs)
+            return run_wflc(self, c_loops, arr, one_d, hs)
         ahead = {h: np.empty((n, channels)) for h in hs}
         M = self.n_harmonics
         r = np.arange(1, M + 1)[:, None]  # (M, 1)
@@ -440,24 +374,6 @@ class WFLC:
         return BaselineResult(s(vol), s(arr - vol), s(bank), self.name, frequency=s(freq),
                               ahead={h: s(a) for h, a in ahead.items()})
 
-    def _run_c(self, c_loops, arr, one_d, hs):
-        ffi, lib = c_loops
-        n, channels = arr.shape
-        M = self.n_harmonics
-        lo, hi = (2 * np.pi * f / self.fs for f in self.f_range)
-        vol, bank, freq = np.empty((channels, n)), np.empty((channels, n)), np.empty((channels, n))
-        ahead = np.empty((channels, max(len(hs), 1), n))
-        scratch = [np.empty(M) for _ in range(4)]
-        c_hs, n_hs = _c_horizons(ffi, hs)
-        for ch in range(channels):
-            xc = np.ascontiguousarray(arr[:, ch])
-            lib.wake_eval_wflc(_c_doubles(ffi, xc), n, M, self.fs, 2 * np.pi * self.f0 / self.fs, lo, hi,
-                               2 * self.mu, 2 * self.mu_bias, 2 * self.mu0, self.beta, c_hs, n_hs,
-                               *(_c_doubles(ffi, a) for a in (*scratch, vol[ch], bank[ch], freq[ch], ahead[ch])))
-        s = shaped(one_d)
-        vol = vol.T.copy()
-        return BaselineResult(s(vol), s(arr - vol), s(bank.T.copy()), self.name, frequency=s(freq.T.copy()),
-                              ahead={h: s(ahead[:, k].T.copy()) for k, h in enumerate(hs)})
 
 
 #: The baselines by display name, in the order of the report.
