@@ -17,6 +17,7 @@ therefore holds only those four kinds of declaration.
 import glob
 import os
 import re
+import sys
 
 from cffi import FFI
 
@@ -90,7 +91,7 @@ ffibuilder.set_source(
     "wake._rtp",
     "\n".join(f'#include "{os.path.basename(h)}"' for h in public_headers()) + '\n#include "eval/wake_eval.h"',
     sources=[s.replace(os.sep, "/") for s in sources()] + [EVAL_SOURCE],
-    libraries=["m"],
+    libraries=[] if sys.platform == "win32" else ["m"],  # libm: the baselines' sin, cos, sqrt, fmod (csrc/eval)
     include_dirs=[CSRC],
     # The HPA's floats must round the same on every machine: no fused multiply-add.
     extra_compile_args=["-ffp-contract=off"],
