@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import sys
 
 import numpy as np
 import pywt
@@ -65,8 +66,11 @@ def as_signal(x, *, name: str = "x", allow_nan: bool = False) -> tuple[np.ndarra
     arrays of more than two dimensions are refused.  A masked array's masked
     entries are missing samples: NaN where ``allow_nan``, else refused.
     """
-    masked = np.ma.getmaskarray(x) if np.ma.isMaskedArray(x) else None
-    arr = np.asarray(np.ma.getdata(x) if masked is not None else x)
+    # a masked array exists only once numpy.ma is imported: reading np.ma here would import it (and format its
+    # docstrings) at filtering time, the first time any signal comes through
+    ma = sys.modules.get("numpy.ma")
+    masked = ma.getmaskarray(x) if ma is not None and ma.isMaskedArray(x) else None
+    arr = np.asarray(ma.getdata(x) if masked is not None else x)
     if arr.dtype == bool or arr.dtype.kind not in "iuf":
         raise ValueError(
             f"{name} must hold real numbers (integer or float), got dtype {arr.dtype}; "

@@ -10,7 +10,6 @@ ground truth that does not depend on WAKE's own cut-off
 from __future__ import annotations
 
 import numpy as np
-import scipy.signal
 
 from wake.hpa.sharp import sharp_highpass
 
@@ -30,9 +29,11 @@ def independent_cutoff(x, fs, band=(1.5, 5.0)):
     tremor above it does not favour WAKE (the paper's offline truth uses
     WAKE's own mean ``f_d``).
     """
+    from scipy.signal import welch  # here: importing scipy.signal takes a second, and only recordings need it
+
     x = np.asarray(x, dtype=float)
     nper = int(min(x.size, 4 * fs))  # 0.25 Hz bins
-    f, p = scipy.signal.welch(x - x.mean(), fs=fs, nperseg=nper)
+    f, p = welch(x - x.mean(), fs=fs, nperseg=nper)
     inside = (f >= band[0]) & (f <= band[1])
     if not inside.any():
         raise ValueError(f"no Welch bin between {band[0]} and {band[1]} Hz at fs = {fs} Hz and {x.size} samples")
