@@ -149,10 +149,12 @@ def test_wake_stream_spans_the_recording_at_every_rate(tmp_path, capsys, monkeyp
                      "--hpa-mode", "inline", "--status", "0"]) == 0
         out = capsys.readouterr().out.splitlines()
         head, values = out[0].split(","), np.array([[float(v) for v in line.split(",")] for line in out[1:]])
-        assert head == ["time", "gyro_x_voluntary", "acc_z_voluntary", "gyro_x_tremor", "acc_z_tremor"]
-        assert values.shape == (t.size, 5) and values[-1, 0] == t[-1], f"{fs:g} Hz: {values.shape} rows"
+        # the columns of wake run: time, then per channel its measurement, voluntary motion and tremor
+        assert head == ["time [s]", "gyro_x", "gyro_x_voluntary", "gyro_x_tremor",
+                        "acc_z", "acc_z_voluntary", "acc_z_tremor"]
+        assert values.shape == (t.size, 7) and values[-1, 0] == t[-1], f"{fs:g} Hz: {values.shape} rows"
         # a line holds the sample's voluntary motion, predicted before it came: what wake run writes
-        voluntary = values[:, 1:3]
+        voluntary = values[:, [2, 5]]
         res = WakeFilter(fs=fs).run(x)
         np.testing.assert_allclose(voluntary, res.voluntary, rtol=0, atol=1e-9 * np.abs(x).max())
         L = int(round(WINDOW_S * fs))
