@@ -12,7 +12,6 @@ from __future__ import annotations
 import numpy as np
 import scipy.signal
 
-from wake.hpa.sharp import sharp_highpass
 
 __all__ = ["SLICES", "independent_cutoff", "independent_ground_truth", "slice_nrmse", "error_curve", "mean_slices",
            "mean_curve", "approximation_predictions", "truth_fitted_prediction"]
@@ -40,10 +39,12 @@ def independent_cutoff(x, fs, band=(1.5, 5.0)):
 
 
 def independent_ground_truth(x, fs, band=(1.5, 5.0)):
-    """(voluntary, tremor, cutoff): sharp FFT high-pass at :func:`independent_cutoff`."""
-    cutoff = independent_cutoff(x, fs, band)
-    tremor = sharp_highpass(np.asarray(x, dtype=float), fs, cutoff)
-    return np.asarray(x, dtype=float) - tremor, tremor, cutoff
+    """(voluntary, tremor, cutoff): the offline truth of a recording, :func:`wake.eval.truth.tremor_truth`
+    at :func:`independent_cutoff` (a high-pass with a smooth transition, safe against start transients,
+    steps and gaps; before issue 46 the sharp FFT high-pass)."""
+    from wake.eval.truth import tremor_truth
+
+    return tremor_truth(x, fs, band=band)
 
 
 def slice_nrmse(truth, estimate, fs, slices=None):
