@@ -46,6 +46,7 @@ import numpy as np
 from wake._validation import as_signal, check_positive
 from wake.eval.baseline_model import (BaselineResult, band_bins, check_band, check_horizons, check_lms_steps,
                                       rows_ahead, shaped)
+from wake.eval.ehwflc import EHWFLCKF
 
 __all__ = ["BaselineResult", "BMFLC", "EBMFLC", "WFLC", "BASELINES", "baseline_methods"]
 
@@ -347,8 +348,8 @@ class WFLC:
                               ahead={h: s(a) for h, a in ahead.items()})
 
 
-#: The baselines by display name, in the order of the report.
-BASELINES = {"BMFLC": BMFLC, "E-BMFLC": EBMFLC, "WFLC": WFLC}
+#: The baselines by display name, in the order of the report (eHWFLC-KF: :mod:`wake.eval.ehwflc`, issue 46).
+BASELINES = {"BMFLC": BMFLC, "E-BMFLC": EBMFLC, "WFLC": WFLC, "eHWFLC-KF": EHWFLCKF}
 
 
 def baseline_methods(fs):

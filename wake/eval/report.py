@@ -12,6 +12,7 @@ import numpy as np
 
 from wake.eval.compute import TRIVIAL, WAKE_PARAMS, ZERO, ZERO_PREDICTION, baseline_methods
 from wake.eval.synthetic import PAPER_BMFLC, PAPER_EBMFLC, PAPER_WAKE
+from wake.eval.suppression import suppression_section
 from wake.eval.warmup import SLICES
 
 __all__ = ["method_order", "markdown_report", "jsonable"]
@@ -35,7 +36,7 @@ def _table(header, rows):
 
 
 def method_order(names):
-    order = ["BMFLC", "E-BMFLC", "WFLC", "WAKE-ref", "WAKE"]
+    order = ["BMFLC", "E-BMFLC", "WFLC", "eHWFLC-KF", "WAKE-ref", "WAKE"]
     return [n for n in order if n in names]
 
 
@@ -307,7 +308,7 @@ def markdown_report(*, command, quick, settings, backends, notes, parts, ablatio
     if any(parts.values()):
         out += [_time_section(parts), ""]
     if ahead:
-        out += [_ahead_section(ahead)]
+        out += [_ahead_section(ahead), suppression_section(ahead)]
     if real and real["flags"]:
         out += [_flag_section(real), ""]
     if rankings:

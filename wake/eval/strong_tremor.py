@@ -51,9 +51,11 @@ import numpy as np
 
 from wake._validation import check_positive
 
-__all__ = ["StrongTremorSignal", "make_strong_tremor", "strong_tremor_dataset", "KINDS"]
+__all__ = ["StrongTremorSignal", "make_strong_tremor", "strong_tremor_dataset", "KINDS", "STRONG_SEED"]
 
 KINDS = ("gyroscope", "accelerometer")
+#: Seed of the set's first signal (signal ``i``: ``STRONG_SEED + i``).
+STRONG_SEED = 4600
 
 
 @dataclass(frozen=True)
@@ -149,7 +151,7 @@ def make_strong_tremor(*, seed=0, fs=100.0, duration=30.0, kind="gyroscope", f0=
                               f"strong-{kind[:4]}-{seed}")
 
 
-def strong_tremor_dataset(count=10, seed=4600, fs=100.0, duration=30.0):
+def strong_tremor_dataset(count=10, seed=STRONG_SEED, fs=100.0, duration=30.0):
     """``count`` signals, half gyroscope and half accelerometer, seeds ``seed + i``.
 
     Examples
