@@ -2,6 +2,7 @@
 
     python bench/strong_ahead.py             # pdkit, the strong synthetic set, PADS (when found), about 3 min
     python bench/strong_ahead.py --quick     # pdkit and 4 strong synthetic signals, 10 and 50 ms
+    python bench/strong_ahead.py --diagnose  # pdkit and the strong set with the refit-often ceilings, 3 min
 
 Per dataset and horizon, the mean over axes of the NRMSE after 5 s (range of the truth after 5 s) of what an
 actuator plays against the truth (pdkit and PADS: :func:`wake.eval.truth.tremor_truth` of the whole
@@ -14,6 +15,12 @@ zero (the actuator off) and to the hindsight 40-tap Wiener limit from WAKE's own
   :data:`wake.ahead.PREDICTORS` on the same run (float);
 * "no harm": per slice of time since start (``wake.eval.warmup.SLICES``), the largest ratio of the mean
   command to zero's; "axes < zero": on how many axes the command is strictly below zero after 5 s.
+
+``--diagnose`` adds what a causal predictor could reach if it were refitted every 0.5 s on the last 5 s
+instead of at each HPA (every 5 s): "refit 0.5 s, true truth, p taps" fits on the recording's own truth (a
+ceiling no device has), "refit 0.5 s, window truth, 40 taps, gated" on the sharp high-pass of the last 5 s
+at the last HPA's cut-off with its newest 0.5 s left out (what a device could compute), gated by the
+held-out gain on the 0.5 s before.
 """
 
 from __future__ import annotations
@@ -28,7 +35,10 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from wake import WakeConfig, WakeFilter  # noqa: E402
-from wake.ahead import PREDICTORS, horizon_from_ms  # noqa: E402
+from wake.ahead import (PREDICTORS, fit_rows, gate_target, horizon_from_ms, lagged, ramp_step,  # noqa: E402
+                        scale_gain)
+from wake.eval.tremor_ahead import aligned  # noqa: E402
+from wake.hpa.sharp import detrended_highpass  # noqa: E402
 from wake.eval.ahead_select import command_with, wiener_limit  # noqa: E402
 from wake.eval.datasets import default_pads_dir, load_pads_folder  # noqa: E402
 from wake.eval.pdkit import default_pdkit_dir, load_pdkit_folder, tremor_axes  # noqa: E402
@@ -55,7 +65,34 @@ def axes_of(args):
     return sets
 
 
-def score_axis(x, fs, truth, ms):
+def refit_often(x, y, truth, res, h, p, fs, window_truth, every_s=0.5, span_s=5.0, drop_s=0.5):
+    """The diagnoses of ``--diagnose`` (module docstring): a p-tap predictor refitted every ``every_s``."""
+    n, step, span = y.size, int(every_s * fs), int(span_s * fs)
+    drop = int(drop_s * fs) if window_truth else 0
+    X = lagged(y, p)
+    P, goal, prev = np.zeros(n), np.zeros(n), None
+    for a in range(int(fs), n, step):
+        done = [u for u in res.hpa[0] if u.index <= a]
+        if not done:
+            continue
+        lo = max(0, a - span)
+        T = np.zeros(n)
+        T[lo:a] = detrended_highpass(x[lo:a], fs, done[-1].cutoff) if window_truth else truth[lo:a]
+        ks = np.arange(max(lo, p - 1), a - h - drop)
+        if ks.size < 2 * p:
+            continue
+        gain = scale_gain(X[ks[-step:]] @ prev, T[ks[-step:] + h]) if prev is not None else 0.0
+        prev = fit_rows(X[ks], T[ks + h])
+        P[a:a + step] = X[a:a + step] @ prev
+        goal[a:a + step] = gate_target(gain, done[-1].cutoff_flag) if window_truth else 1.0
+    g, v, alpha = np.empty(n), 0.0, ramp_step(fs)
+    for k in range(n):
+        v += alpha * (goal[k] - v)
+        g[k] = v
+    return aligned(g * P, h)
+
+
+def score_axis(x, fs, truth, ms, diagnose=False):
     h = horizon_from_ms(ms, fs)
     if truth is None:
         truth = tremor_truth(x, fs)[1]
@@ -65,6 +102,10 @@ def score_axis(x, fs, truth, ms):
     methods = {"zero": np.zeros_like(x), "command (C core)" if BACKEND == "c" else "command": res.command}
     for p in PREDICTORS:
         methods[f"{p}, gated"] = command_with(x, res, cfg, h, p)[2]
+    if diagnose:
+        for p in (8, 40):
+            methods[f"refit 0.5 s, true truth, {p} taps"] = refit_often(x, y, truth, res, h, p, fs, False)
+        methods["refit 0.5 s, window truth, 40 taps, gated"] = refit_often(x, y, truth, res, h, 40, fs, True)
     methods["limit: hindsight 40-tap Wiener"] = wiener_limit(y, truth, h, 40)
     methods["hindsight 8-tap Wiener"] = wiener_limit(y, truth, h, 8)
     return {k: slice_nrmse(truth, v, fs) for k, v in methods.items()}
@@ -73,11 +114,15 @@ def score_axis(x, fs, truth, ms):
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--quick", action="store_true")
+    p.add_argument("--diagnose", action="store_true", help="also the refit-every-0.5-s ceilings (pdkit and the "
+                                                              "strong set only)")
     args = p.parse_args(argv)
     horizons = (10, 50) if args.quick else (10, 20, 50, 100)
     for name, axes in axes_of(args).items():
         print(f"\n### {name} ({len(axes)}), after 5 s: NRMSE, x zero, x the 40-tap limit\n")
-        rows = {ms: [score_axis(x, fs, t, ms) for x, fs, t in axes] for ms in horizons}
+        if args.diagnose and name.startswith("PADS"):
+            continue
+        rows = {ms: [score_axis(x, fs, t, ms, args.diagnose) for x, fs, t in axes] for ms in horizons}
         methods = list(rows[horizons[0]][0])
         print("| method | " + " | ".join(f"{ms} ms" for ms in horizons) + " |")
         print("|---|" + "---:|" * len(horizons))
@@ -89,7 +134,7 @@ def main(argv=None):
                 cells.append(f"{mean[m]:.4f} / {mean[m] / mean['zero']:.3f} / {mean[m] / lim:.3f}")
             print(f"| {m} | " + " | ".join(cells) + " |")
         print()
-        for m in [k for k in methods if "gated" in k or k.startswith("command")]:
+        for m in [k for k in methods if ("gated" in k or k.startswith("command")) and "refit" not in k]:
             worst, below = [], []
             for ms in horizons:
                 ratio = max(float(np.nanmean([r[m][s] for r in rows[ms]])) /

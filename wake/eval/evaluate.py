@@ -144,7 +144,7 @@ def _parser():
     p = argparse.ArgumentParser(
         prog="wake evaluate",
         description="Recompute the paper's evaluation (synthetic table, real recordings, delay, literal-RTP "
-                    "ablation) with WAKE and the BMFLC/E-BMFLC/WFLC baselines, over any number of recordings, "
+                    "ablation) with WAKE and the BMFLC/E-BMFLC/WFLC/eHWFLC-KF baselines, over any number of recordings, "
                     "in parallel; write report.md, a result store and figures.")
     p.add_argument("out_dir", metavar="OUT_DIR", help="folder for report.md, results.json, store/ and the figures")
     p.add_argument("inputs", metavar="INPUT", nargs="*",

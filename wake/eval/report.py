@@ -210,7 +210,9 @@ def _ahead_section(ahead):
 
     names = list(SLICES)
     titles = {"paper": "Synthetic set (truth: the tremor component s_t)", "cohort": "Synthetic cohort (s_t)",
-              "real": "Recordings (truth: the tremor independent of WAKE)"}
+              "real": "Recordings (truth: the tremor independent of WAKE)",
+              "strong": "Strong synthetic set (truth: its tremor component)",
+              "pdkit": "pdkit, every axis (truth: the tremor independent of WAKE)"}
     out = ["## Tremor ahead", "",
            "What an actuator plays at sample m is the tremor predicted at m - h (docs/design.md, \"Tremor "
            f"ahead\"). NRMSE per slice of time since start, mean over axes. \"{GATED}\" is WakeResult.command "

@@ -147,7 +147,8 @@ def suppression(truth, command, fs, cutoff, actuator=DEFAULT_ACTUATOR, start_s=S
 
 # -- in wake evaluate's report --------------------------------------------------------------------------------
 
-_SET_TITLES = {"paper": "Synthetic set", "cohort": "Synthetic cohort", "real": "Recordings"}
+_SET_TITLES = {"paper": "Synthetic set", "cohort": "Synthetic cohort", "real": "Recordings",
+               "strong": "Strong synthetic set", "pdkit": "pdkit (smartphone)"}
 
 
 def suppression_section(ahead, actuator=DEFAULT_ACTUATOR):
