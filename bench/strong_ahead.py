@@ -12,7 +12,7 @@ zero (the actuator off) and to the hindsight 40-tap Wiener limit from WAKE's own
 
 * "command (C core)": ``WakeResult.command`` of the filter on the C core, default settings (predictor "fir8");
 * "<predictor>, gated": :func:`wake.eval.ahead_select.command_with` of each predictor of
-  :data:`wake.ahead.PREDICTORS` on the same run (float);
+  :data:`wake.ahead_models.PREDICTORS` on the same run (float);
 * "no harm": per slice of time since start (``wake.eval.warmup.SLICES``), the largest ratio of the mean
   command to zero's; "axes < zero": on how many axes the command is strictly below zero after 5 s.
 
@@ -35,8 +35,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from wake import WakeConfig, WakeFilter  # noqa: E402
-from wake.ahead import (PREDICTORS, fit_rows, gate_target, horizon_from_ms, lagged, ramp_step,  # noqa: E402
-                        scale_gain)
+from wake.ahead import fit_rows, gate_target, horizon_from_ms, lagged, ramp_step, scale_gain  # noqa: E402
+from wake.ahead_models import PREDICTORS  # noqa: E402
 from wake.eval.tremor_ahead import aligned  # noqa: E402
 from wake.hpa.sharp import detrended_highpass  # noqa: E402
 from wake.eval.ahead_select import command_with, wiener_limit  # noqa: E402

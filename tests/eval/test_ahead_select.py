@@ -1,4 +1,4 @@
-"""The selectable tremor-ahead predictors (wake.ahead.fit_model) run as the filter runs its own
+"""The selectable tremor-ahead predictors (wake.ahead_models.fit_model) run as the filter runs its own
 (wake.eval.ahead_select): "fir8" reproduces the filter's command, the others are scored against the
 hindsight 40-tap limit on the strong synthetic set."""
 
@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from wake import WakeConfig, WakeFilter
-from wake.ahead import ORDERS, PREDICTORS, fit_model, fit_selected, horizon_from_ms
+from wake.ahead import horizon_from_ms
+from wake.ahead_models import ORDERS, PREDICTORS, fit_model, fit_selected
 from wake.eval.ahead_select import command_with, wiener_limit
 from wake.eval.strong_tremor import make_strong_tremor
 from wake.eval.warmup import slice_nrmse

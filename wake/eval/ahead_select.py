@@ -16,7 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from wake.ahead import fit_model, gate_target, held_out_gain, lagged, ramp_step
+from wake.ahead import gate_target, held_out_gain, lagged, ramp_step
+from wake.ahead_models import fit_model
 from wake.eval.tremor_ahead import aligned, hindsight_predictor
 from wake.hpa.sharp import detrended_highpass
 from wake.wavelets import filter_bank_outputs, filter_bank_taps
@@ -45,7 +46,7 @@ def window_pairs(x, result, config, channel=0):
 
 
 def command_with(x, result, config, horizon, predictor="fir8", channel=0):
-    """The gated command of ``predictor`` (:data:`wake.ahead.PREDICTORS`) on one channel of a filter run.
+    """The gated command of ``predictor`` (:data:`wake.ahead_models.PREDICTORS`) on one channel of a filter run.
 
     Parameters
     ----------
