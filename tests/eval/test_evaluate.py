@@ -96,8 +96,10 @@ def test_quick_run_scores_time_since_start_and_the_flags(quick_report):
     res = json.loads((out / "results.json").read_text())
     # the whole-recording figure sits beside the after-warm-up one, for every method
     for part in ("synthetic", "real"):
-        for scores in res[part]["slices"].values():
-            assert 0 < scores["whole (from 0.5 s)"] < 2 and 0 < scores["after 5 s"] < 2
+        for method, scores in res[part]["slices"].items():
+            # predicting 0 scores the whole signal against the tremor's range: 2.06 on these fake recordings
+            top = 3 if method.startswith("zero prediction") else 2
+            assert 0 < scores["whole (from 0.5 s)"] < top and 0 < scores["after 5 s"] < top
         t, err = res[part]["curves"]["WAKE-ref"]
         assert t[0] == 0.25 and len(t) == len(err) >= 20
     flags = res["real"]["flags"]

@@ -87,3 +87,21 @@ def test_one_step_on_pdkit_beats_every_baseline_on_10_axes_and_zero_on_all(real)
     assert "eHWFLC-KF" in baselines
     assert sum(r["WAKE"] < min(r[k] for k in baselines) for r in rows) >= 10
     assert all(r["WAKE"] < r["zero"] for r in rows)
+
+
+def test_wake_evaluate_sources_for_pdkit_and_the_strong_set(tmp_path, rng):
+    from wake.eval.sources import load_source, pdkit_sources, strong_sources
+
+    with pytest.raises(ValueError, match="no pdkit recording"):
+        pdkit_sources(tmp_path)
+    _write(tmp_path / NAME, 100.0, rng)
+    (src,) = pdkit_sources(tmp_path)
+    loaded = load_source(src)
+    assert src.kind == "pdkit" and not src.synthetic and loaded.channels == PDKIT_CHANNELS
+    assert loaded.x.shape[1] == 3 and loaded.tremor is None
+    strong = strong_sources(2, duration_s=6.0)
+    a, b = (load_source(s) for s in strong)
+    assert all(s.synthetic for s in strong) and a.x.shape == (600, 1) and a.tremor.shape == (600,)
+    assert a.name != b.name and abs(np.mean(b.voluntary[300:]) - 9.81) < 1.0        # the second: accelerometer
+    with pytest.raises(ValueError, match="--strong needs a count"):
+        strong_sources(-1)
