@@ -205,8 +205,8 @@ def test_failing_recordings_are_recorded_in_one_line_and_the_others_evaluated(tm
     assert "2 of 3 tasks computed" in capsys.readouterr().out
     store = ResultStore(out / "store", ROW_COLUMNS)
     assert not list((out / "store" / "parts").iterdir())            # merged again, each task once
-    # 6 axes x 6 methods, and the tremor ahead: 4 horizons x 8 methods x 6 axes
-    assert sorted(len(v) for v in store._by_task().values()) == [1, 1, 6 * 6 + 4 * 8 * 6]
+    # 6 axes x 7 methods (WAKE, four baselines, two trivial), and the tremor ahead: 4 horizons x 9 methods x 6 axes
+    assert sorted(len(v) for v in store._by_task().values()) == [1, 1, 6 * 7 + 4 * 9 * 6]
 
 
 def test_inputs_from_folders_files_and_globs(tmp_path):

@@ -57,6 +57,7 @@ from wake._validation import as_signal, check_positive
 from wake.eval.baseline_c import ENGINES, c_loops_for, run_bmflc, run_ebmflc, run_wflc
 from wake.eval.baseline_model import (BaselineResult, band_bins, check_band, check_horizons, check_lms_steps,
                                       rows_ahead, shaped)
+from wake.eval.ehwflc import EHWFLCKF
 
 __all__ = ["BaselineResult", "BMFLC", "EBMFLC", "WFLC", "BASELINES", "baseline_methods", "ENGINES"]
 
@@ -376,8 +377,8 @@ class WFLC:
 
 
 
-#: The baselines by display name, in the order of the report.
-BASELINES = {"BMFLC": BMFLC, "E-BMFLC": EBMFLC, "WFLC": WFLC}
+#: The baselines by display name, in the order of the report (eHWFLC-KF: :mod:`wake.eval.ehwflc`, issue 46).
+BASELINES = {"BMFLC": BMFLC, "E-BMFLC": EBMFLC, "WFLC": WFLC, "eHWFLC-KF": EHWFLCKF}
 
 
 def baseline_methods(fs):

@@ -12,6 +12,7 @@ import numpy as np
 
 from wake.eval.compute import TRIVIAL, WAKE_PARAMS, ZERO, ZERO_PREDICTION, baseline_methods
 from wake.eval.synthetic import PAPER_BMFLC, PAPER_EBMFLC, PAPER_WAKE
+from wake.eval.suppression import suppression_section
 from wake.eval.warmup import SLICES
 
 __all__ = ["method_order", "markdown_report", "jsonable", "recordings_label", "PADS_LABEL"]
@@ -38,7 +39,7 @@ def _table(header, rows):
 
 
 def method_order(names):
-    order = ["BMFLC", "E-BMFLC", "WFLC", "WAKE-ref", "WAKE"]
+    order = ["BMFLC", "E-BMFLC", "WFLC", "eHWFLC-KF", "WAKE-ref", "WAKE"]
     return [n for n in order if n in names]
 
 
@@ -69,8 +70,8 @@ def _synthetic_section(syn):
 
 
 def recordings_label(sources) -> str:
-    """What the real recordings of a report are, for its titles: :data:`PADS_LABEL`, the names of the files
-    given, or both.
+    """What the real recordings of a report are, for its titles: :data:`PADS_LABEL`, pdkit, the names of the
+    files given, or each of those that is there.
 
     Examples
     --------
@@ -78,6 +79,8 @@ def recordings_label(sources) -> str:
     >>> from wake.eval.report import recordings_label
     >>> recordings_label([Source("pads", "a", path="/p/001.txt")])
     'PADS'
+    >>> recordings_label([Source("pads", "a", path="/p/001.txt"), Source("pdkit", "b", path="/k/t.csv")])
+    'PADS and pdkit'
     >>> recordings_label([Source("file", f"{i}", path=f"/x/chfig{i}.txt") for i in range(3)])
     'chfig0.txt, chfig1.txt, chfig2.txt'
     >>> recordings_label([Source("file", f"{i}", path=f"/x/r{i}.csv") for i in range(5)])
@@ -85,11 +88,12 @@ def recordings_label(sources) -> str:
     """
     from pathlib import Path
 
+    kinds = {s.kind for s in sources}
     files = [Path(s.path).name for s in sources if s.kind == "file"]
-    if not files:
-        return PADS_LABEL
-    named = ", ".join(files) if len(files) <= 3 else f"{len(files)} recordings ({files[0]} ... {files[-1]})"
-    return f"{PADS_LABEL} and {named}" if any(s.kind == "pads" for s in sources) else named
+    parts = [name for kind, name in (("pads", PADS_LABEL), ("pdkit", "pdkit")) if kind in kinds]
+    if files:
+        parts.append(", ".join(files) if len(files) <= 3 else f"{len(files)} recordings ({files[0]} ... {files[-1]})")
+    return " and ".join(parts) or PADS_LABEL
 
 
 def _real_section(real, pads_dir, real_name=PADS_LABEL):
@@ -240,7 +244,9 @@ def _ahead_section(ahead):
 
     names = list(SLICES)
     titles = {"paper": "Synthetic set (truth: the tremor component s_t)", "cohort": "Synthetic cohort (s_t)",
-              "real": "Recordings (truth: the tremor independent of WAKE)"}
+              "real": "Recordings (truth: the tremor independent of WAKE)",
+              "strong": "Strong synthetic set (truth: its tremor component)",
+              "pdkit": "pdkit, every axis (truth: the tremor independent of WAKE)"}
     out = ["## Tremor ahead", "",
            "What an actuator plays at sample m is the tremor predicted at m - h (docs/design.md, \"Tremor "
            f"ahead\"). NRMSE per slice of time since start, mean over axes. \"{GATED}\" is WakeResult.command "
@@ -339,7 +345,7 @@ def markdown_report(*, command, quick, settings, backends, notes, parts, ablatio
     if any(parts.values()):
         out += [_time_section(parts, real_name), ""]
     if ahead:
-        out += [_ahead_section(ahead)]
+        out += [_ahead_section(ahead), suppression_section(ahead)]
     if real and real["flags"]:
         out += [_flag_section(real, real_name), ""]
     if rankings:
