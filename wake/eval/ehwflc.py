@@ -104,8 +104,14 @@ class EHWFLCKF:
                 f"q_bias={self.q_bias:g}, mu0={self.mu0:g}, f0={self.f0:g}, f_range={self.f_range}, "
                 f"beta={self.beta:g}, p0={self.p0:g})")
 
-    def run(self, x, horizons=()):
-        """``x`` of shape (n,) or (n, channels) -> :class:`~wake.eval.baselines.BaselineResult`."""
+    #: The engines :meth:`run` takes: one numpy loop over samples (vectorised over channels); no C loop yet.
+    engines = ("auto", "python")
+
+    def run(self, x, horizons=(), engine="auto"):
+        """``x`` of shape (n,) or (n, channels) -> :class:`~wake.eval.baselines.BaselineResult`; ``engine`` one of
+        :attr:`engines` (the other baselines also have ``"c"``)."""
+        if engine not in self.engines:
+            raise ValueError(f"eHWFLC-KF has no C loop: engine must be one of {self.engines}, got {engine!r}")
         arr, one_d = as_signal(x)
         n, channels = arr.shape
         hs = check_horizons(horizons)

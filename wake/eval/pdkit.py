@@ -22,7 +22,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import scipy.signal
 
 from wake.io import Recording, read_csv
 
@@ -134,6 +133,8 @@ def band_ratio(x, fs, tremor=(3.0, 12.0), slow=(0.2, 2.5)):
     >>> band_ratio(np.sin(2 * np.pi * 6 * t) + 0.1 * np.sin(2 * np.pi * 1 * t), 100.0) > 10
     True
     """
+    import scipy.signal  # here, not at import: it parses docstrings for about a second (issue 44)
+
     x = np.asarray(x, dtype=float)
     f, p = scipy.signal.welch(x - x.mean(), fs=fs, nperseg=min(512, x.size))
     hi = p[(f >= tremor[0]) & (f <= tremor[1])].sum()

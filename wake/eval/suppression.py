@@ -34,7 +34,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.signal
 
 from wake._validation import check_positive
 from wake.eval.truth import smooth_highpass
@@ -94,6 +93,8 @@ def actuate(command, fs, actuator=DEFAULT_ACTUATOR):
     >>> round(float(actuate(np.ones(400), 100.0, Actuator(order=2))[-1]), 3)
     1.0
     """
+    import scipy.signal  # here, not at import: it parses docstrings for about a second (issue 44)
+
     fs = check_positive("fs", fs)
     u = np.asarray(command, dtype=float)
     if actuator.order == 1:                   # both lags by the bilinear transform: the same at any rate
