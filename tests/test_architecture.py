@@ -99,7 +99,7 @@ def test_the_walker_sees_an_upward_import(tmp_path, monkeypatch):
 
 
 def test_the_layers_in_the_docs_are_these():
-    text = (PACKAGE.parent / "docs" / "architecture.md").read_text()
+    text = (PACKAGE.parent / "docs" / "reference" / "architecture.md").read_text()
     for names in LAYERS:
         for name in names:
             assert f"`{name}`" in text, f"docs/architecture.md does not place {name} in a layer"

@@ -21,7 +21,7 @@ import sys
 from pathlib import Path
 
 CSRC = Path(__file__).resolve().parents[1]
-TABLE = CSRC.parent / "docs" / "verification.md"
+TABLE = CSRC.parent / "docs" / "studies" / "verification.md"
 SOURCES = ["wake_rtp.c", "wake_hpa.c", "wake_rate.c"]  # wake_rate: no deviation listed, so none allowed
 UNITS = ["wake_rtp", "wake_hpa"]
 FINDING = re.compile(r"^(?P<file>[^:]+):(?P<line>\d+):\w+:misra-c2012-(?P<rule>\d+\.\d+):")

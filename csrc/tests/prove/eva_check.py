@@ -35,7 +35,7 @@ import time
 from pathlib import Path
 
 CSRC = Path(__file__).resolve().parents[2]
-DOC = CSRC.parent / "docs" / "verification.md"
+DOC = CSRC.parent / "docs" / "studies" / "verification.md"
 RTP_ENTRIES = ["wake_rtp_init", "wake_rtp_set_weights", "wake_rtp_reset", "wake_rtp_step",
                "wake_rtp_step_missing", "wake_rtp_run", "wake_rtp_load_state", "wake_rtp_get_state",
                "wake_rtp_reciprocal", "wake_rtp_set_ahead", "wake_rtp_set_ahead_ramp", "wake_rtp_ahead_output",
