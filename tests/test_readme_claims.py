@@ -425,7 +425,7 @@ def check_hpa_c_record():
     text = tagged("hpa-c-record")
     assert "`make -C csrc standalone-check`" in text
     assert "standalone-check:" in (ROOT / "csrc" / "Makefile").read_text()
-    assert (ROOT / "bench" / "hpa_c_agreement.py").is_file() and "docs/hpa_c.md" in text
+    assert (ROOT / "bench" / "hpa_c_agreement.py").is_file() and "docs/studies/hpa_c.md" in text
 
 
 @claim("faults-record")
@@ -440,7 +440,7 @@ def check_faults_record():
 def check_packaging():
     text = tagged("packaging")
     for path in ("csrc/CMakeLists.txt", "csrc/cmake/arm-cortex-m4.cmake", "csrc/cmake/arm-cortex-m0plus.cmake",
-                 "library.json", "zephyr/module.yml", "docs/packaging.md", "docs/verification.md"):
+                 "library.json", "zephyr/module.yml", "docs/reference/packaging.md", "docs/studies/verification.md"):
         assert (ROOT / path).is_file(), path
     from wake.firmware.layouts import LAYOUTS
 

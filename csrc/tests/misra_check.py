@@ -4,7 +4,7 @@
 
 Runs ``cppcheck --addon=misra`` over wake_rtp.c, wake_hpa.c and wake_rate.c (their headers come in through the
 includes), counts the findings per rule and per unit (wake_rtp = wake_rtp.c + wake_rtp.h, wake_hpa =
-wake_hpa.c + wake_hpa.h), and compares them with the deviation table in docs/verification.md
+wake_hpa.c + wake_hpa.h), and compares them with the deviation table in docs/studies/verification.md
 ("MISRA C:2012 deviations"), the one place the deviations are listed with their reasons. A rule
 that is not in the table, or a unit with more findings of a rule than the table allows, is an
 unlisted deviation: exit status 1. Fewer findings than listed are reported, so that the table can be

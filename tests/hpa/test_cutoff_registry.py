@@ -1,4 +1,4 @@
-"""Adding a cut-off rule is one Python function, one C function and one registry line (docs/architecture.md)."""
+"""Adding a cut-off rule is one Python function, one C function and one registry line (docs/reference/architecture.md)."""
 
 import numpy as np
 import pytest

@@ -3,7 +3,7 @@
 :func:`characterise_window` turns one window (the samples the HPA read, its
 cut-off ``f_d`` and flag, the configuration's tremor band) into a
 :class:`TremorStats`; :func:`tremor_table` does it for every HPA run of a
-channel.  The definitions (docs/characterisation.md has the measurements
+channel.  The definitions (docs/studies/characterisation.md has the measurements
 behind each choice):
 
 tremor

@@ -17,7 +17,7 @@ Output per input sample ``x(n)``: the voluntary motion ``v(n)`` (predicted from 
 ``WakeFilter.run``'s ``voluntary[n]``), then the tremor ``x(n) - v(n)``: all voluntary values first, then
 all tremor values (with ``--horizon-ms`` the ahead columns after them, :func:`_kinds`).  With ``--hpa-mode
 inline`` the output equals ``WakeFilter.run`` bit for bit; the default ``thread`` keeps the HPA off the
-sample path, so its weights take effect a few samples later (``docs/design.md``, "Streaming").
+sample path, so its weights take effect a few samples later (``docs/studies/design.md``, "Streaming").
 
 Since ``v(n)`` is known before ``x(n)`` arrives, a sample's output line is written first and the filter
 takes the sample in afterwards: the filter's work is not on the sample-in -> result-out path.
