@@ -29,13 +29,15 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from wake import __version__
+
 __all__ = ["LAYOUTS", "layout_files", "library_json", "library_properties", "zephyr_files"]
 
 #: The layouts ``wake export-c --layout`` writes.
 LAYOUTS = ("plain", "cmake", "platformio", "arduino", "zephyr")
 
 NAME = "wake"
-VERSION = "0.2.0"
+VERSION = __version__  # the package metadata's, so a firmware folder says which release wrote it
 SUMMARY = ("WAKE real-time tremor extraction: fixed-point wavelet predictor with adaptive Kalman "
            "filtering and a single-precision hyper-parameter adjustment, C99, no allocation")
 #: The project's address in the manifests: the package's PyPI page (pyproject.toml names it wake-tremor).
