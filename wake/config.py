@@ -106,7 +106,7 @@ class WakeConfig:
     wavelet : str
         Mother wavelet (a discrete PyWavelets name; the paper: ``"sym3"``).
     level : int
-        Decomposition level ``J``, 1..:data:`MAX_LEVEL`; the RTP window is ``2**J`` samples.
+        Decomposition level ``J``, 1 to :data:`MAX_LEVEL`; the RTP window is ``2**J`` samples.
     window_s : float
         HPA window ``L`` in seconds; the HPA runs every ``L`` samples.
         ``L`` must hold at least ``2 * 2**J`` samples and more than ``2 * ar_order``.
