@@ -138,6 +138,25 @@ def pydoc_text(obj) -> str:
     return pydoc.render_doc(obj, renderer=pydoc.plaintext)
 
 
+def _python_examples():
+    """``(page, block)`` for every Python block of the documentation's own pages."""
+    pages = sorted(DOCS.glob("*.md")) + sorted(DOCS.glob("*/*.md"))
+    return [(path.relative_to(DOCS).as_posix(), block) for path in pages
+            for block in re.findall(r"```python\n(.*?)```", path.read_text(encoding="utf-8"), re.S)]
+
+
+def test_the_guides_have_python_examples():
+    assert {page for page, _ in _python_examples()} >= {"index.md", "getting-started.md", "guide/filter.md",
+                                                         "guide/stream.md", "guide/evaluate.md", "guide/report.md"}
+
+
+@pytest.mark.parametrize("page, block", _python_examples(), ids=lambda v: v if v.endswith(".md") else "")
+def test_python_examples_of_the_pages_parse(page, block):
+    import ast
+
+    ast.parse(block, filename=page)
+
+
 # --- the reference and the studies ------------------------------------------------------------------
 
 #: A figure: a number with a decimal point, a thousands separator or three digits and more, or a
