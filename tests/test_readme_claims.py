@@ -580,6 +580,19 @@ def check_verification_commands():
         assert f"make -C csrc {target}" in ci, f".ci/run does not run make -C csrc {target}"
 
 
+@claim("q-formats")
+def check_q_formats():
+    from wake.rtp import qformat
+
+    rows = [line for line in tagged("q-formats", fold=False).splitlines() if line.startswith("| ") and "`" in line]
+    said = [(int(m[1]), m[2]) for row in rows for m in re.finditer(r"Q(\d+)[^(|]*\(`(\w+)`", row)]
+    assert len(said) == 8, said
+    for bits, name in said:
+        assert getattr(qformat, name) == bits, f"wake.rtp.qformat.{name} is {getattr(qformat, name)}, not {bits}"
+    text = tagged("q-formats")
+    assert f"within ±{qformat.WEIGHT_MAX:g}" in text and f"{qformat.AHEAD_TAPS} taps" in text
+
+
 @pytest.mark.parametrize("name", sorted(CHECKS))
 def test_claim(name, tmp_path):
     fn = CHECKS[name]
