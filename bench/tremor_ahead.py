@@ -114,7 +114,7 @@ def orders(case):
 
 def oracles(case, p=P_MAIN):
     rows = {f"oracle: hindsight {p}-tap LS on the true tremor, fed the true past": {},
-            f"oracle coefficients fed WAKE's estimate": {},
+            "oracle coefficients fed WAKE's estimate": {},
             f"hindsight {p}-tap Wiener, WAKE estimate -> truth": {}}
     names = list(rows)
     for h in HORIZONS:

@@ -1,6 +1,5 @@
 """The single-precision C HPA (csrc/wake_hpa.c) against the Python HPA, the reference."""
 
-import shutil
 import subprocess
 from pathlib import Path
 
