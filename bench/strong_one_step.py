@@ -7,7 +7,7 @@ Per axis, the NRMSE after 5 s (range of the truth after 5 s) of each method's on
 ``x - voluntary`` (``voluntary[k]`` predicted from ``x[:k]``) against the offline truth of the recording
 (:func:`wake.eval.truth.tremor_truth`); "zero" estimates no tremor.  WAKE runs with the default settings on
 the C core (the float reference when it is not built), the baselines with the parameters tuned once
-(docs/baselines.md).  The columns "WAKE, gravity out" and "WAKE from 3 s" are diagnoses, not methods: the same
+(docs/studies/baselines.md).  The columns "WAKE, gravity out" and "WAKE from 3 s" are diagnoses, not methods: the same
 filter fed the axis minus its median over the whole recording (gravity out, in hindsight), and fed the
 recording from 3 s on (the start transient out), both scored on the same samples.  The last lines count the axes on which WAKE is below every
 baseline and below zero.

@@ -7,7 +7,7 @@
  * correction d of the literal recursion (wake/rtp/reference.py, which
  * restarts P as (w'Pw / |w|^2) I at a weight change) are formed from the
  * restart and a few scalars only in set_weights and get_state.
- * docs/fixed_point.md derives the form and bounds its error.
+ * docs/studies/fixed_point.md derives the form and bounds its error.
  *
  * Conventions: no signed overflow, no left shift of a negative value, no
  * float, no division instruction.  Right shifts of negative values go
@@ -63,7 +63,7 @@
 
 /* Helpers that an -Os build keeps out of line.  gcc's size heuristics inline
  * them at every call site, where each copy of their 64-bit arithmetic costs
- * more than the call (docs/profiling.md, "Code at -Os").  Other levels inline
+ * more than the call (docs/studies/profiling.md, "Code at -Os").  Other levels inline
  * them as before: the -O2 code that the cost targets bound is unchanged. */
 #if defined(__GNUC__) && defined(__OPTIMIZE_SIZE__)
 #define WAKE_RTP_OUTLINE_AT_OS __attribute__((noinline))
@@ -424,7 +424,7 @@ static WAKE_RTP_OUTLINE_AT_OS wake_cov_t grown_variance(const wake_rtp_t *s, uin
 }
 
 /**
- * P and d of the literal recursion (docs/fixed_point.md): since the last restart
+ * P and d of the literal recursion (docs/studies/fixed_point.md): since the last restart
  * (P = lambda I, d = d_s) every u = P w was parallel to w, so
  *
  *   d = d_s + ((z - z_s) / |w|^2) w
@@ -524,7 +524,7 @@ static inline void fir_from_weights(const wake_rtp_t *s, const wake_q24_t *w, wa
 }
 
 /**
- * The restart of the voluntary motion ahead, for w_h and the current w, d_s (docs/design.md,
+ * The restart of the voluntary motion ahead, for w_h and the current w, d_s (docs/studies/design.md,
  * "Voluntary motion at n + h"):  d = d_s + ((z - z_s) / |w|^2) w  since the last restart, so
  *
  *   w_h' d = w_h' d_s + k (z - z_s),    k = w_h' w / |w|^2

@@ -16,10 +16,10 @@
  * @endcode
  *
  * A weight change restarts the covariance isotropic at its variance along
- * the old w, P = (w'Pw / |w|^2) I (docs/design.md, "Covariance at a weight
+ * the old w, P = (w'Pw / |w|^2) I (docs/studies/design.md, "Covariance at a weight
  * change").  From such a restart u = P w stays parallel to w, and this core
  * evaluates the same recursion in an algebraically equivalent, constant-time
- * form (docs/fixed_point.md proves the equivalence and bounds the error):
+ * form (docs/studies/fixed_point.md proves the equivalence and bounds the error):
  *
  * @code
  *   h    = B' w                     2^J FIR taps, rebuilt by set_weights
@@ -388,7 +388,7 @@ wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const wake_q15_t *taps
  *         (on error nothing changes).
  *
  * @par Scaling and overflow
- * d = d_s + ((z - z_s) / |w|^2) w and lambda = s / |w|^2 (docs/fixed_point.md):
+ * d = d_s + ((z - z_s) / |w|^2) w and lambda = s / |w|^2 (docs/studies/fixed_point.md):
  * each division by |w|^2 (Q24, < 2^40) is an exact restoring long division
  * (63 + frac turns, no division instruction) rounded once and clamped to
  * +-2^50, then narrowed to int32 with saturation; s = lambda |w|^2 and

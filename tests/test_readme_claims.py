@@ -1,6 +1,8 @@
 """Every README block that states a number, a count or a direction, checked against the command it cites.
 
-The README tags each such block on the line above it:
+The same rules hold for the reference pages of the documentation (``docs/reference/*.md``: what is true
+now, each figure stated once; the dated measurements are the study pages, ``docs/studies/``, which are
+not read here).  The README and the reference pages tag each such block on the line above it:
 
 - ``<!-- claim: NAME -->``: a check below (registered with :func:`claim`) recomputes what the block says with
   the command or function the block cites, and compares every number it can;
@@ -31,6 +33,8 @@ from support import NO_PADS, pads_dir
 
 ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
+#: The files whose blocks are claims: the README and the documentation's reference pages.
+SOURCES = (README, *sorted((ROOT / "docs" / "reference").glob("*.md")))
 TAG = re.compile(r"^<!-- (claim: ([\w-]+)|not a claim: (.+?)) -->$")
 DIRECTION = re.compile(r"\b(higher|lower) is better\b|\b(better|worse|best|lower|higher|faster|slower|below|above)\b",
                        re.I)
@@ -47,8 +51,8 @@ def claim(name):
 
 
 def blocks():
-    """``(tag, text)`` per README block (blank-line separated, code fences and headings left out)."""
-    text = re.sub(r"```.*?```", "", README.read_text(encoding="utf-8"), flags=re.S)
+    """``(tag, text)`` per block of :data:`SOURCES` (blank-line separated, code fences and headings left out)."""
+    text = "\n\n".join(re.sub(r"```.*?```", "", path.read_text(encoding="utf-8"), flags=re.S) for path in SOURCES)
     out = []
     for raw in re.split(r"\n\s*\n", text):
         lines = raw.strip().splitlines()
@@ -67,7 +71,7 @@ def blocks():
 def tagged(name, fold=True):
     """The text of the blocks tagged ``claim: name``, joined (white space folded unless ``fold`` is false)."""
     found = [text for tag, text in blocks() if tag == name]
-    assert found, f"no README block is tagged claim: {name}"
+    assert found, f"no block of the README or docs/reference/ is tagged claim: {name}"
     return " ".join(" ".join(found).split()) if fold else "\n".join(found)
 
 
@@ -78,7 +82,7 @@ def _states_something(text):
 
 def test_every_block_with_a_number_or_direction_is_tagged():
     untagged = [text[:100] for tag, text in blocks() if tag is None and _states_something(text)]
-    assert not untagged, "README blocks state a number or a direction without a claim tag:\n" + "\n".join(untagged)
+    assert not untagged, "README or docs/reference/ blocks state a number or a direction without a claim tag:\n" + "\n".join(untagged)
 
 
 def test_every_tag_has_its_check():
@@ -436,7 +440,7 @@ def check_hpa_c_record():
     text = tagged("hpa-c-record")
     assert "`make -C csrc standalone-check`" in text
     assert "standalone-check:" in (ROOT / "csrc" / "Makefile").read_text()
-    assert (ROOT / "bench" / "hpa_c_agreement.py").is_file() and "docs/hpa_c.md" in text
+    assert (ROOT / "bench" / "hpa_c_agreement.py").is_file() and "docs/studies/hpa_c.md" in text
 
 
 @claim("faults-record")
@@ -451,7 +455,7 @@ def check_faults_record():
 def check_packaging():
     text = tagged("packaging")
     for path in ("csrc/CMakeLists.txt", "csrc/cmake/arm-cortex-m4.cmake", "csrc/cmake/arm-cortex-m0plus.cmake",
-                 "library.json", "zephyr/module.yml", "docs/packaging.md", "docs/verification.md"):
+                 "library.json", "zephyr/module.yml", "docs/reference/packaging.md", "docs/studies/verification.md"):
         assert (ROOT / path).is_file(), path
     from wake.firmware.layouts import LAYOUTS
 
@@ -478,6 +482,128 @@ def check_warmup_bound():
     assert "truth_fitted_prediction" in source
 
 
+# --- the reference pages of the documentation (docs/reference/) ----------------------------------------
+
+
+@claim("architecture-layers")
+def check_architecture_layers():
+    from test_architecture import LAYERS
+
+    rows = {}
+    for line in tagged("architecture-layers", fold=False).splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if cells[0].isdigit():
+            rows[int(cells[0])] = tuple(re.findall(r"`([\w.]+)`", cells[1]))
+    assert rows == dict(enumerate(LAYERS)), "docs/reference/architecture.md's layers differ from tests/test_architecture.py"
+
+
+@claim("architecture-size")
+def check_architecture_size():
+    from test_architecture import MAX_FUNCTION_BODY_LINES, MAX_MODULE_LINES
+
+    text = tagged("architecture-size")
+    assert f"no module in `wake/` over {MAX_MODULE_LINES} lines" in text
+    assert f"no function body over {MAX_FUNCTION_BODY_LINES} lines" in text
+
+
+@claim("design-defaults")
+def check_design_defaults():
+    import ast
+    import dataclasses
+
+    from wake import WakeConfig
+    from wake.cli import _stream_parser
+
+    text = tagged("design-defaults")
+    defaults = {f.name: f.default for f in dataclasses.fields(WakeConfig)}
+    said = []
+    for line in tagged("design-defaults", fold=False).splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if line.lstrip().startswith("|") and len(cells) == 4:  # choice | the code's default | alternatives | study
+            said += re.findall(r"`(\w+)=([^`,]+)`", cells[1])
+    assert len(said) >= 6, said
+    for name, value in said:
+        assert ast.literal_eval(value) == defaults[name], f"the default of {name} is {defaults[name]!r}, not {value}"
+    # the paper's structure, stated as the defaults kept
+    said = re.search(r"the paper's `(\w+)`, `J = (\d+)`, `L = (\d+) s`, `p = (\d+)`", text)
+    assert said and (said[1], int(said[2]), float(said[3]), int(said[4])) == (
+        defaults["wavelet"], defaults["level"], defaults["window_s"], defaults["ar_order"])
+    mode = _stream_parser().parse_args(["--stdin", "--stdout", "--fs", "100"]).hpa_mode
+    assert f"`--hpa-mode {mode}` for `wake stream`" in text
+
+
+@claim("cutoff-rules")
+def check_cutoff_rules():
+    from wake.registry import get_cutoff_rule
+
+    text = tagged("cutoff-rules", fold=False)
+    said = re.findall(r"^\* `(\w+)`: (.+) \(`\w+`, `\w+`\)$", text, re.M)
+    assert said, "no rule listed"
+    import wake  # noqa: F401  (registers the built-in rules)
+    from wake.registry import cutoff_rules
+
+    built_in = [rule.name for rule in cutoff_rules() if rule.function.__module__ == "wake.hpa.cutoff"]
+    assert [name for name, _ in said] == built_in
+    for name, description in said:
+        assert description == get_cutoff_rule(name).description, name
+
+
+@claim("cutoff-flags")
+def check_cutoff_flags():
+    from wake.hpa import CUTOFF_FLAGS
+
+    said = re.findall(r"^\| `(\w+)` \|", tagged("cutoff-flags", fold=False), re.M)
+    assert sorted(said) == sorted(CUTOFF_FLAGS)
+
+
+@claim("cmake-options")
+def check_cmake_options():
+    cmake = (ROOT / "csrc" / "CMakeLists.txt").read_text(encoding="utf-8")
+    said = re.findall(r"`(WAKE_\w+)` \((\w+)", tagged("cmake-options"))
+    assert len(said) == 6
+    for name, value in said:
+        found = re.search(rf'^(?:set\({name} "(\w+)" CACHE|option\({name} "[^"]*" (\S+)\))', cmake, re.M)
+        assert found, f"csrc/CMakeLists.txt has no cache option {name}"
+        default = found[1] or found[2]
+        assert default == value or default.startswith("${"), (name, value, default)
+
+
+@claim("export-layouts")
+def check_export_layouts():
+    from wake.firmware.layouts import LAYOUTS
+
+    said = re.findall(r"^\| `(\w+)`", tagged("export-layouts", fold=False), re.M)
+    assert said == list(LAYOUTS)
+
+
+@claim("verification-commands")
+def check_verification_commands():
+    text = tagged("verification-commands")
+    makefile = (ROOT / "csrc" / "Makefile").read_text(encoding="utf-8")
+    targets = re.findall(r"`make -C csrc ([\w-]+)`", text)
+    assert len(targets) >= 7
+    for target in targets:
+        assert re.search(rf"^{target}:", makefile, re.M), f"csrc/Makefile has no target {target}"
+    for script in re.findall(r"`python (bench/\w+\.py)", text):
+        assert (ROOT / script).is_file(), script
+    ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
+    for target in targets:
+        assert f"make -C csrc {target}" in ci, f".ci/run does not run make -C csrc {target}"
+
+
+@claim("q-formats")
+def check_q_formats():
+    from wake.rtp import qformat
+
+    rows = [line for line in tagged("q-formats", fold=False).splitlines() if line.startswith("| ") and "`" in line]
+    said = [(int(m[1]), m[2]) for row in rows for m in re.finditer(r"Q(\d+)[^(|]*\(`(\w+)`", row)]
+    assert len(said) == 8, said
+    for bits, name in said:
+        assert getattr(qformat, name) == bits, f"wake.rtp.qformat.{name} is {getattr(qformat, name)}, not {bits}"
+    text = tagged("q-formats")
+    assert f"within ±{qformat.WEIGHT_MAX:g}" in text and f"{qformat.AHEAD_TAPS} taps" in text
+
+
 @pytest.mark.parametrize("name", sorted(CHECKS))
 def test_claim(name, tmp_path):
     fn = CHECKS[name]
@@ -487,3 +613,4 @@ def test_claim(name, tmp_path):
             fn(tmp_path)
         else:
             fn()
+

@@ -1,6 +1,6 @@
 """Whether the compiled core ``wake._rtp`` is installed, and how to get it.
 
-The lowest layer of the package (docs/architecture.md): the configuration
+The lowest layer of the package (docs/reference/architecture.md): the configuration
 asks it for the default backend, :mod:`wake.rtp` for its messages, and
 neither has to import the other.
 """

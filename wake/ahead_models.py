@@ -5,7 +5,7 @@ The filter, the float reference and the C core run one predictor, ``"fir8"`` (:f
 where tremor is strong and does no harm where it is weak; the candidates are here, under one name each
 (:data:`PREDICTORS`, :func:`fit_model`), so that an evaluation can run any of them as the filter runs its
 own (:func:`wake.eval.ahead_select.command_with`) and a later change can port the chosen one.  The study that
-chose among them: docs/design.md, "Tremor ahead where tremor is strong" (``python bench/strong_ahead.py``).
+chose among them: docs/studies/design.md, "Tremor ahead where tremor is strong" (``python bench/strong_ahead.py``).
 
 Examples
 --------

@@ -1,7 +1,7 @@
 """Command line: ``wake demo``, ``wake run``, ``wake stream``, ``wake evaluate``, ``wake profile``,
 ``wake export-header``, ``wake export-c``.
 
-The top layer of the package (docs/architecture.md).  :data:`COMMANDS` is
+The top layer of the package (docs/reference/architecture.md).  :data:`COMMANDS` is
 the table of commands: each entry names the function that runs it, and each
 function imports its module explicitly (lazily, so that ``wake --help`` loads
 nothing heavy).  ``demo``, ``run`` and ``stream`` are written here; the
@@ -40,7 +40,7 @@ def add_filter_arguments(p: argparse.ArgumentParser) -> None:
     rules = "; ".join(f"'{r.name}' {r.description}" for r in cutoff_rules()).replace("%", "%%")
     g.add_argument("--cutoff-rule", choices=cutoff_rule_names(), default=WakeConfig.cutoff_rule,
                    help=f"how the HPA finds f_d (default: {WakeConfig.cutoff_rule}): {rules} "
-                        "(docs/design.md, 'Cut-off on real wear')")
+                        "(docs/studies/design.md, 'Cut-off on real wear')")
 
 
 def add_horizon_argument(p: argparse.ArgumentParser) -> None:
@@ -48,7 +48,7 @@ def add_horizon_argument(p: argparse.ArgumentParser) -> None:
     p.add_argument("--horizon-ms", type=float, default=None, metavar="MS",
                    help="also write the tremor predicted MS ms ahead, its confidence (0..1) and the gated "
                         "command (confidence x tremor ahead) per channel; rounded to whole samples at the "
-                        "sampling rate, 1..32 samples (docs/design.md, 'How a firmware uses the command and "
+                        "sampling rate, 1..32 samples (docs/studies/design.md, 'How a firmware uses the command and "
                         "the confidence')")
 
 
@@ -321,7 +321,7 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--tremor-out", metavar="CSV",
                    help="write the tremor characterisation of every HPA window, one row per window and channel: "
                         "channel, unit, index, end_time, samples, cutoff, frequency, rms, peak_to_peak, "
-                        "band_power, time_share, tsi, reason (a NaN field's reason); docs/characterisation.md")
+                        "band_power, time_share, tsi, reason (a NaN field's reason); docs/studies/characterisation.md")
     r.add_argument("--plot", metavar="PNG", help="draw one channel, and its tremor over time (frequency, "
                                                  "amplitude, TSI, time share) beside it in PNG's name with "
                                                  "'-tremor' (needs matplotlib; checked before the work)")

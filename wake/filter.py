@@ -184,7 +184,7 @@ class WakeFilter:
         ----------
         sample : float or array_like, shape (channels,)
             NaN marks a missing sample: the RTP predicts through it without
-            a measurement update (docs/design.md, "Missing samples").
+            a measurement update (docs/studies/design.md, "Missing samples").
 
         Returns
         -------
@@ -269,7 +269,7 @@ class WakeFilter:
 
         ``tremor_ahead`` is the tremor predicted there, ``confidence`` the gate in [0, 1] (0 until the
         second HPA, after a gap or a window without a tremor peak), ``command = confidence * tremor_ahead``
-        what an actuator plays then (docs/design.md, "How a firmware uses the command and the confidence").
+        what an actuator plays then (docs/studies/design.md, "How a firmware uses the command and the confidence").
         """
         with self._lock:
             rows = np.array([ch.rtp.last_ahead for ch in (self._channels or [])]).reshape(-1, 3)

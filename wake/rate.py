@@ -4,7 +4,7 @@ The filter bank and the HPA were designed at 100 Hz (a level-5 bank spans
 320 ms).  At a higher input rate ``fs`` a channel runs them at the bank rate
 ``fs / D``, ``D = WakeConfig.decimation_factor`` (``round(fs / 100)``, so the
 bank rate lies within 67-133 Hz), and this module does the rest
-(docs/design.md, "Sampling rates other than 100 Hz", has the measurement
+(docs/studies/design.md, "Sampling rates other than 100 Hz", has the measurement
 behind the choice):
 
 - **front end** (:class:`FrontEnd`): a causal boxcar of ``D`` input samples

@@ -1,8 +1,8 @@
 """Sampling rates: the rate the filter bank runs at, and the input rates WAKE supports.
 
-The lowest layer (docs/architecture.md): :class:`wake.config.WakeConfig` derives its
+The lowest layer (docs/reference/architecture.md): :class:`wake.config.WakeConfig` derives its
 ``decimation_factor`` from :func:`decimation_for` and :mod:`wake.rate` runs the front
-end it implies; docs/design.md, "Sampling rates other than 100 Hz", has the measurement.
+end it implies; docs/studies/design.md, "Sampling rates other than 100 Hz", has the measurement.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ def decimation_for(fs: float) -> int:
     """``D``, input samples per filter-bank sample at ``fs`` Hz: ``fs / 100`` rounded, halves up, at least 1.
 
     The bank then runs at ``fs / D``, within 67-150 Hz for every ``fs`` >= 67 Hz
-    (docs/design.md, "Sampling rates other than 100 Hz": 250 Hz takes ``D = 3``,
+    (docs/studies/design.md, "Sampling rates other than 100 Hz": 250 Hz takes ``D = 3``,
     83 Hz, which measured better than ``D = 2``).
 
     Examples
@@ -33,7 +33,7 @@ def decimation_for(fs: float) -> int:
 
 
 #: Input rates (Hz) WAKE supports: the decimating front end keeps the bank within 67-150 Hz
-#: (docs/design.md, "Sampling rates other than 100 Hz").
+#: (docs/studies/design.md, "Sampling rates other than 100 Hz").
 TUNED_RATES = (50.0, 1000.0)
 
 

@@ -34,7 +34,7 @@ __all__ = [
 
 #: Signal extension mode at the window boundaries.  The paper leaves it open;
 #: ``"constant"`` (edge replication) measured best for the causal end-of-window
-#: output on the synthetic set (docs/design.md, "Boundary mode").
+#: output on the synthetic set (docs/studies/design.md, "Boundary mode").
 DEFAULT_MODE = "constant"
 
 

@@ -23,7 +23,7 @@ def test_it_tracks_a_strong_tremor_and_extrapolates_it(fs, kind):
     # Below zero's 1.0 at both rates.  Locked on the tremor's frequency, the model is good and extrapolates;
     # this seed also shows the two ways it is not: at 100 Hz the fundamental is still on its way from 6 Hz
     # after 15 s, at 1000 Hz (accelerometer) it locks on 3.5 Hz, a 7.1-Hz tremor taken as its second
-    # harmonic (docs/baselines.md, "eHWFLC-KF").
+    # harmonic (docs/studies/baselines.md, "eHWFLC-KF").
     assert err < 0.7
     locked = abs(np.median(res.frequency[lo:]) - s.f0) < 0.3
     assert (err < 0.2) == locked

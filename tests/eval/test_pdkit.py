@@ -74,7 +74,7 @@ def test_the_real_folder_holds_13_recordings_and_13_tremor_axes(real):
 @pytest.mark.skipif(not has_c_backend(), reason="the compiled C core wake._rtp is not built")
 def test_one_step_on_pdkit_beats_every_baseline_on_10_axes_and_zero_on_all(real):
     """pdkit's tremor axes (bench/strong_one_step.py prints the table): issue 46 asks for 11 of 13; 10 hold with
-    eHWFLC-KF among the baselines, the losses being gravity's offset in the HPA's fit (docs/evaluation.md,
+    eHWFLC-KF among the baselines, the losses being gravity's offset in the HPA's fit (docs/studies/evaluation.md,
     "One-step extraction on strong real tremor")."""
     import sys
     from pathlib import Path

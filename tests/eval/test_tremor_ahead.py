@@ -1,5 +1,5 @@
 """The tremor ahead scored: do no harm in every slice of time since start, the issue's targets, the baselines'
-own extrapolation (docs/design.md, "Tremor ahead")."""
+own extrapolation (docs/studies/design.md, "Tremor ahead")."""
 
 import numpy as np
 import pytest

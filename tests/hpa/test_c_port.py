@@ -1,6 +1,5 @@
 """The single-precision C HPA (csrc/wake_hpa.c) against the Python HPA, the reference."""
 
-import shutil
 import subprocess
 from pathlib import Path
 
@@ -87,7 +86,7 @@ def test_c_hpa_runs_every_cutoff_rule_like_the_python_hpa():
 
 
 def test_c_hpa_finds_no_valley_where_rest_tremor_rises_from_the_lowest_bin_like_the_python_hpa():
-    """Rest tremor on slow drift (docs/design.md, "Rest tremor with little voluntary motion"): the shallow
+    """Rest tremor on slow drift (docs/studies/design.md, "Rest tremor with little voluntary motion"): the shallow
     minimum on the search's lowest bin is no dip, in both HPAs, window by window."""
     from wake.eval.synthetic import make_rest_tremor
 
@@ -238,7 +237,7 @@ def _device_results(q, config, taps):
 
 
 def test_the_device_hpa_follows_the_schedule_around_long_gaps():
-    """docs/design.md, "Missing samples": a long gap skips the HPA points inside it and restarts the schedule
+    """docs/studies/design.md, "Missing samples": a long gap skips the HPA points inside it and restarts the schedule
     at its end, on the device (wake_hpa_push_missing) as on the host; windows without a short gap agree."""
     s = make_signal(10.0, seed=5, duration=45.0)
     x = s.measurement.copy()

@@ -1,7 +1,7 @@
 """Baseline tremor extractors the paper compares WAKE with: BMFLC, E-BMFLC, WFLC.
 
 The defaults are the parameters tuned once on synthetic signal 1 and used
-for every signal (grid and result: docs/baselines.md).
+for every signal (grid and result: docs/studies/baselines.md).
 
 Every class has the :class:`wake.WakeFilter` contract: ``run(x)`` takes
 ``x`` of shape ``(n,)`` or ``(n, channels)`` (channels are independent) and
@@ -382,5 +382,5 @@ BASELINES = {"BMFLC": BMFLC, "E-BMFLC": EBMFLC, "WFLC": WFLC, "eHWFLC-KF": EHWFL
 
 
 def baseline_methods(fs):
-    """The baselines with the parameters tuned once on synthetic signal 1 (docs/baselines.md)."""
+    """The baselines with the parameters tuned once on synthetic signal 1 (docs/studies/baselines.md)."""
     return {name: cls(fs=fs) for name, cls in BASELINES.items()}

@@ -26,7 +26,7 @@ estimate are the same for a signal in any unit; ``p`` is WFLC's running mean squ
 
 What here is ours, not the papers' (whose full parameter tables were not available to this implementation):
 the scale-free noise parametrisation, the defaults below (tuned once on synthetic signal 1 as the other
-baselines were; docs/baselines.md, "eHWFLC-KF"), and the frequency range.  The per-sample loop is vectorised
+baselines were; docs/studies/baselines.md, "eHWFLC-KF"), and the frequency range.  The per-sample loop is vectorised
 over channels (no library call per sample).
 
 Examples

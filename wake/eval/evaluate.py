@@ -1,6 +1,6 @@
 """``wake evaluate``: the paper's evaluation recomputed with our implementations, at any scale.
 
-What :func:`cli` writes into ``OUT_DIR`` (docs/evaluation.md explains the
+What :func:`cli` writes into ``OUT_DIR`` (docs/studies/evaluation.md explains the
 protocol and the options):
 
 * ``report.md``: Markdown tables.

@@ -248,7 +248,7 @@ def _ahead_section(ahead):
               "strong": "Strong synthetic set (truth: its tremor component)",
               "pdkit": "pdkit, every axis (truth: the tremor independent of WAKE)"}
     out = ["## Tremor ahead", "",
-           "What an actuator plays at sample m is the tremor predicted at m - h (docs/design.md, \"Tremor "
+           "What an actuator plays at sample m is the tremor predicted at m - h (docs/studies/design.md, \"Tremor "
            f"ahead\"). NRMSE per slice of time since start, mean over axes. \"{GATED}\" is WakeResult.command "
            "(the prediction times the gate); \"zero\" sends nothing; the baselines extrapolate their own "
            "sinusoid models; the two hindsight rows are limits, not methods. \"/ zero\" is the command's "
@@ -270,7 +270,7 @@ def _flag_section(real, real_name=PADS_LABEL):
     total = sum(real["flags"].values())
     rows = [[f, str(k), f"{100 * k / total:.0f} %"] for f, k in sorted(real["flags"].items(), key=lambda kv: -kv[1])]
     return "\n".join([f"## The cut-off on {real_name}", "",
-                      f"Flags of WAKE's {total} HPA windows on {real_name} (warm-up windows included; docs/design.md, "
+                      f"Flags of WAKE's {total} HPA windows on {real_name} (warm-up windows included; docs/studies/design.md, "
                       "\"Cut-off\"). `fig_spectra_by_flag.png` draws the AR spectrum of three windows of each flag "
                       "with the `f_d` the HPA took.", "", _table(["flag", "windows", "share"], rows)])
 
@@ -327,7 +327,7 @@ def markdown_report(*, command, quick, settings, backends, notes, parts, ablatio
            + ("  (**--quick: a smoke run, not the paper's numbers**)" if quick else ""), "",
            f"WAKE: `WakeFilter({', '.join(f'{k}={v!r}' for k, v in settings.items())})`, backends: "
            f"{', '.join(backends)} (WAKE = C backend, WAKE-ref = float reference). Baselines (tuned once on "
-           f"synthetic signal 1, docs/baselines.md): `{params}`.", ""]
+           f"synthetic signal 1, docs/studies/baselines.md): `{params}`.", ""]
     out += [f"> {n}" for n in notes] + ([""] if notes else [])
     syn, coh, real = (parts.get(k) for k in ("synthetic", "cohort", "real"))
     if any(parts.values()):

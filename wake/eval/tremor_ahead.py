@@ -2,7 +2,7 @@
 
 What an actuator plays at sample ``m`` is the prediction made at ``m - h``; it is scored against the true
 tremor at ``m`` with the paper's NRMSE per slice of time since start (:func:`wake.eval.warmup.slice_nrmse`).
-The methods (docs/design.md, "Tremor ahead"):
+The methods (docs/studies/design.md, "Tremor ahead"):
 
 * WAKE's gated command (``WakeResult.command`` at ``horizon = h``) and its ungated prediction
   (``tremor_ahead``);

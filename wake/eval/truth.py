@@ -15,7 +15,7 @@ taken decides whether the truth survives a real recording:
 * a **gap** (NaN samples) splits the recording: each finite run gets its own truth (a run shorter than
   ``MIN_RUN_S`` gets none: NaN), and the gap stays NaN (no score is taken there).
 
-The choice was made by measurement (docs/evaluation.md, "The tremor ground truth of a recording";
+The choice was made by measurement (docs/studies/evaluation.md, "The tremor ground truth of a recording";
 ``python bench/truth_choice.py``); its failure cases are written there.
 
 Examples

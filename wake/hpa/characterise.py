@@ -3,7 +3,7 @@
 :func:`characterise_window` turns one window (the samples the HPA read, its
 cut-off ``f_d`` and flag, the configuration's tremor band) into a
 :class:`TremorStats`; :func:`tremor_table` does it for every HPA run of a
-channel.  The definitions (docs/characterisation.md has the measurements
+channel.  The definitions (docs/studies/characterisation.md has the measurements
 behind each choice):
 
 tremor
@@ -376,7 +376,7 @@ def summary_lines(channels, units, tables, config) -> list:
     """
     top = config.tremor_band[1]
     lines = [f"tremor per channel, over the full HPA windows ({config.window_s:g} s; the tremor lies between f_d "
-             f"and {top:g} Hz; docs/characterisation.md):"]
+             f"and {top:g} Hz; docs/studies/characterisation.md):"]
     for name, unit, table in zip(channels, units, tables):
         s = summarise(table, config.window_samples)
         unit = f" {unit}" if unit else ""

@@ -15,7 +15,7 @@ _TINY = float(np.finfo(float).tiny)
 def window_order(n, order):
     """The AR order a window of ``n`` samples is fitted with: ``min(order, (n - 1) // 2)``.
 
-    A warm-up window (docs/design.md, "Warm-up") may be shorter than ``L``;
+    A warm-up window (docs/studies/design.md, "Warm-up") may be shorter than ``L``;
     the cap keeps the Yule-Walker system over-determined (``n > 2 p``, as
     WakeConfig asks of ``L``).
 

@@ -33,7 +33,7 @@ LSL, per channel the voluntary motion, the tremor and the ahead columns.
 Values are written in the shortest form that reads back exactly.  With
 ``--hpa-mode inline`` the output equals ``WakeFilter.run`` bit for bit; the
 default ``thread`` keeps the HPA off the sample path, so its weights take
-effect a few samples later (``docs/design.md``, "Streaming").
+effect a few samples later (``docs/studies/design.md``, "Streaming").
 
 Since ``v(n)`` is known before ``x(n)`` arrives, a sample's output line is written first and the filter
 takes the sample in afterwards: the filter's work is not on the sample-in -> result-out path.

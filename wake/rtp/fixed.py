@@ -6,7 +6,7 @@ the C library, the one firmware runs (with the voluntary motion ahead, ``w_h``,
 :mod:`wake.rtp.fixed_voluntary`).  Values cross the boundary in physical units and
 are quantised with ``full_scale`` (FS) into the formats of :mod:`wake.rtp.qformat`
 (which needs no compiled core); importing this module checks that the compiled core
-has those formats.  See ``docs/fixed_point.md`` for the error analysis.
+has those formats.  See ``docs/studies/fixed_point.md`` for the error analysis.
 """
 
 from __future__ import annotations
@@ -172,7 +172,7 @@ class FixedPointRTP(AheadMixin, VoluntaryAheadMixin):
         Values are quantised like everything else; out-of-range values raise
         ValueError.  The C core keeps of the covariance what the recursion
         uses, its variance along ``w``: ``P`` restarts as ``(w'Pw / w'w) I``
-        (docs/design.md, "Covariance at a weight change"); ``d`` is kept whole.
+        (docs/studies/design.md, "Covariance at a weight change"); ``d`` is kept whole.
         """
         scale = self.full_scale
         win = np.asarray(window_oldest_first, dtype=float).reshape(-1)

@@ -7,7 +7,7 @@ samples ahead ``P(n) = c . line`` (coefficients Q27; ``P`` and the command in Q2
 (Q30) and makes the command ``g P``.  :class:`AheadMixin` is the interface
 :class:`wake.rtp.reference.ReferenceRTP` shares (``set_ahead``, ``last_ahead``, ``run_ahead``); it
 needs the struct ``_state`` and ``full_scale`` of :class:`~wake.rtp.fixed.FixedPointRTP`.
-docs/fixed_point.md, "The tremor ahead", bounds its error.
+docs/studies/fixed_point.md, "The tremor ahead", bounds its error.
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ With ``horizon = h > 1`` the HPA fits a second weight vector ``w_h`` (``HPAUpdat
 RTP outputs ``v_h(n) = w_h' (a + d)``, the voluntary motion predicted for ``n + h`` from the state of the
 one-step prediction (:class:`wake.rtp.reference.ReferenceRTP` is the float twin).  The C core runs it as a
 second FIR ``B' w_h`` over the window plus one product, ``w_h' d = w_h' d_s + k (z - z_s)`` with
-``k = w_h' w / |w|^2`` (docs/design.md, "Voluntary motion at n + h"); the output is Q23 of the full scale.
+``k = w_h' w / |w|^2`` (docs/studies/design.md, "Voluntary motion at n + h"); the output is Q23 of the full scale.
 Until a ``w_h`` is installed it is the one-step prediction held, as in the float reference.
 """
 

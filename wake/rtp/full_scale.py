@@ -25,7 +25,7 @@ seen:
   a row whose target is at most FS / ``lower_ratio``.
 
 The numbers behind these choices (the red-team streams of
-``tests/test_faults.py``) are in docs/design.md, "Full scale of the
+``tests/test_faults.py``) are in docs/studies/design.md, "Full scale of the
 fixed-point path".
 """
 

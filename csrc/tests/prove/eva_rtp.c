@@ -1,12 +1,12 @@
 /**
  * @file eva_rtp.c
  * @brief Frama-C Eva analysis entries for the fixed-point RTP (csrc/wake_rtp.c): one per public
- *        function, every input ranged as the API allows (make -C csrc prove; docs/verification.md).
+ *        function, every input ranged as the API allows (make -C csrc prove; docs/studies/verification.md).
  *
  * An instance given to a function other than init has any content at all (the corruption checks
  * must refuse what they cannot use), with two exceptions the header documents: the caller-owned
  * taps pointer points to a taps table (of any content), and the Kalman accumulators s, z and
- * q |w|^2 lie in the ranges the recursion keeps them in (docs/verification.md, "Corrupted state").
+ * q |w|^2 lie in the ranges the recursion keeps them in (docs/studies/verification.md, "Corrupted state").
  */
 #include <stdint.h>
 #include <string.h>
