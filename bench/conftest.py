@@ -15,6 +15,15 @@ noisy for timing assertions).
 import numpy as np
 import pytest
 
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_cmdline_main(config):
+    """One process for the benchmarks: pyproject.toml's ``-n auto`` (pytest-xdist, for tests/) would spread them
+    over workers, and pytest-benchmark then disables itself; a timing is of one process anyway."""
+    if getattr(config.option, "numprocesses", None):
+        config.option.numprocesses = 0
+        config.option.dist = "no"
+
 #: benchmark name -> (target, predicate on its summary row); reported, never asserted
 TARGETS = {
     "test_c_block_run": ("C block run >= 5 M samples/s", lambda s: s["per_second"] >= 5e6),
