@@ -17,11 +17,13 @@ Which tier runs is decided from a SHA-256 over exactly the full analysis's input
 * every source and header its analyses read: the analysis drivers (tests/prove/eva_*.c), eva_builtins.h (included
   first), and every file they reach through ``#include "..."`` (wake_rtp.c, wake_rtp.h, wake_hpa.c, wake_hpa.h),
   found by following the includes, so a new one is hashed without a change here;
-* the check scripts, eva_check.py and wp_check.py, whole (their entries, configurations, options and timeouts, and
+* the check scripts, eva_check.py and wp_check.py, whole (their entries, configurations and options, and
   the way they read a log);
 * the justified alarms they accept (docs/verification.md's "Eva alarms" rows, as eva_check.py reads them: an edit
   elsewhere in that file does not count);
-* the full run's parameters (``--timeout``, make's ``EVA_TIMEOUT``);
+* not the time limit per analysis (``--timeout``, make's ``EVA_TIMEOUT``): an analysis that ends has the same
+  result whatever the limit, and one that does not end fails the run, so a limit can fail a run but never pass one
+  (a record made with a longer limit on a busy machine holds for a shorter one);
 * the Frama-C version string (``frama-c -version``) and Why3's (``why3 --version``; WP's provers are found by it).
 
 tests/prove/full_prove_record.json holds the hash of the last passing full analysis beside its result (the tables
@@ -35,6 +37,7 @@ frama-c missing), 2 on a usage error.
 import argparse
 import datetime
 import hashlib
+import importlib.util
 import json
 import re
 import shutil
@@ -87,22 +90,20 @@ def tool_version(cmd: list) -> str:
 
 def listed_alarms() -> list:
     """docs/verification.md's justified alarms, as eva_check.py reads them."""
-    sys.path.insert(0, str(PROVE))
-    try:
-        import eva_check
-    finally:
-        sys.path.pop(0)
+    # loaded from this folder's file (not an `import`, which could return another checkout's cached module)
+    spec = importlib.util.spec_from_file_location("prove_tier_eva_check", PROVE / "eva_check.py")
+    eva_check = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(eva_check)
     return sorted(eva_check.listed_alarms())
 
 
-def inputs(timeout: int) -> dict:
+def inputs() -> dict:
     """Every input of the full analysis: file -> SHA-256 of its bytes, and the other inputs by name."""
     items = {}
     for rel in analysed_sources() + [f"tests/prove/{s}" for s in SCRIPTS]:
         items[rel] = hashlib.sha256((CSRC / rel).read_bytes()).hexdigest()
     items["docs/verification.md: Eva alarms"] = hashlib.sha256(
         json.dumps(listed_alarms(), ensure_ascii=False).encode()).hexdigest()
-    items["parameter: --timeout"] = str(timeout)
     items["frama-c -version"] = tool_version(["frama-c", "-version"])
     items["why3 --version"] = tool_version(["why3", "--version"])
     return items
@@ -119,9 +120,9 @@ def read_record() -> dict:
         return {}
 
 
-def choose(timeout: int) -> tuple:
+def choose() -> tuple:
     """('quick' or 'full', the reason, the inputs, their hash)."""
-    items = inputs(timeout)
+    items = inputs()
     h = digest(items)
     record = read_record()
     if not record.get("inputs_sha256"):
@@ -162,7 +163,7 @@ def full(timeout: int, items: dict, h: str) -> int:
                    f"EVA_TIMEOUT={timeout}"])
     if rc != 0:
         return rc
-    if digest(inputs(timeout)) != h:
+    if digest(inputs()) != h:
         print("prove_tier: an input changed while the analysis ran: the record is left as it was", file=sys.stderr)
         return 1
     write_record(items, h, round(time.monotonic() - start), out)
@@ -186,10 +187,10 @@ def main(argv=None) -> int:
                         help="choose: say which tier and why; run: that tier; quick: the quick tier; record: the full "
                              "analysis and, if it passes, the record; hash: the inputs and their hash")
     parser.add_argument("--timeout", type=int, default=120, help="seconds per Eva analysis (make's EVA_TIMEOUT, "
-                        "default 120); an input of the hash")
+                        "default 120); not an input of the hash")
     args = parser.parse_args(argv)
     if args.action == "hash":
-        items = inputs(args.timeout)
+        items = inputs()
         for k, v in items.items():
             print(f"{k}: {v}")
         print(f"inputs_sha256: {digest(items)}")
@@ -199,7 +200,7 @@ def main(argv=None) -> int:
         return 3
     if args.action == "quick":
         return quick(args.timeout)
-    tier, reason, items, h = choose(args.timeout)
+    tier, reason, items, h = choose()
     if args.action == "record":
         tier, reason = "full", "make prove-record"
     print(f"prove_tier: {tier} tier: {reason}", flush=True)
