@@ -492,7 +492,12 @@ def check_warmup_bound():
     assert "truth_fitted_prediction" in source
 
 
-@pytest.mark.parametrize("name", sorted(CHECKS))
+#: the claims whose check recomputes a whole evaluation or emulates firmware (a minute or more of CPU): marked slow
+SLOW_CLAIMS = {"baselines", "warmup-slices", "profile"}
+
+
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in SLOW_CLAIMS else n
+                                  for n in sorted(CHECKS)])
 def test_claim(name, tmp_path):
     fn = CHECKS[name]
     with warnings.catch_warnings():
