@@ -42,6 +42,22 @@ def missing_tools(*names):
     return f"{' and '.join(missing)} {'is' if len(missing) == 1 else 'are'} not installed (on PATH)"
 
 
+#: the environment variable in which .ci/run lists the steps that have passed before pytest ("make-test",
+#: "standalone-check"): a test that would only run one of them again skips, or checks that step's outputs
+CI_PASSED = "WAKE_CI_PASSED"
+
+
+def ci_passed(step):
+    """Whether CI already ran ``step`` and it passed (.ci/run lists it in $WAKE_CI_PASSED); never outside CI."""
+    return step in os.environ.get(CI_PASSED, "").split()
+
+
+def ci_skip_reason(target):
+    """The skip reason of a test that would only run ``make -C csrc target`` again after CI's own step did."""
+    return (f"CI already ran `make -C csrc {target}` and it passed (.ci/run lists it in ${CI_PASSED}); "
+            "a plain pytest runs it")
+
+
 def prove_script(name):
     """The module of one of csrc/tests/prove's scripts (eva_check, wp_check, assigns_check), loaded from its file."""
     import importlib.util

@@ -66,6 +66,7 @@ def test_resample_takes_100_hz_to_the_rate_and_leaves_100_hz_alone():
     assert bench.resample(x, 50).shape == (500,) and bench.resample(x, 60).shape == (600,)
 
 
+@pytest.mark.slow
 @pytest.mark.realdata
 @pytest.mark.skipif(pads_dir() is None, reason=NO_PADS)
 def test_on_pads_50_hz_misses_5_percent_because_of_the_horizon_and_the_scoring():

@@ -85,6 +85,7 @@ def test_warmup_beats_the_first_release_in_every_slice_on_the_synthetic_set(pape
     assert now["after 5 s"] <= 1.02 * before["after 5 s"]
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(pads_dir() is None, reason=NO_PADS)
 def test_warmup_lowers_the_whole_recording_error_on_pads():
     now, before = _pads_slices(), _pads_slices(**FIRST_RELEASE)
@@ -216,6 +217,7 @@ def test_floor_rule_lowers_the_pads_error_and_leaves_few_windows_on_the_default(
         assert mean(floor, k) < 0.95 * mean(paper, k), k
 
 
+@pytest.mark.slow
 def test_detrended_truth_lowers_the_synthetic_error_under_the_paper_rule(paper_signals, monkeypatch):
     """docs/studies/design.md, "Tremor ground truth of a window": with the paper's cut-off rule the end-point line
     taken out before the sharp high-pass lowers the synthetic error after 2 s and over the whole recording
@@ -236,6 +238,7 @@ def test_detrended_truth_lowers_the_synthetic_error_under_the_paper_rule(paper_s
         assert floor_detrended[k] < floor_plain[k], (k, floor_detrended[k], floor_plain[k])
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(pads_dir() is None, reason=NO_PADS)
 def test_detrended_truth_lowers_the_pads_error_under_the_default_rule(monkeypatch):
     import wake.hpa.run as hpa_run
@@ -280,6 +283,7 @@ def test_the_one_second_hpa_lowers_the_synthetic_1_to_2_s_error(paper_signals):
         assert now[k] <= before[k] * 1.001, k
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(pads_dir() is None, reason=NO_PADS)
 def test_the_one_second_hpa_does_not_cost_pads():
     now, before = _pads_slices(), _pads_slices(warmup_hpa_s=(2.0, 3.0, 4.0))
@@ -320,6 +324,7 @@ def test_truth_fitted_prediction_fits_every_sample_before_each_refit(signal10):
         truth_fitted_prediction(x, v[:-1], fs)
 
 
+@pytest.mark.slow
 def test_no_hpa_schedule_reaches_the_early_targets_on_the_synthetic_set(paper_signals):
     """Fitted to the true voluntary motion before every sample, WAKE's weights still miss the issue's
     1-2 s target (1.5x the after-5-s error) and BMFLC's 0.5-1 s error; the default HPA is close to

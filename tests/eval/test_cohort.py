@@ -74,6 +74,7 @@ def test_missing_optional_package_names_the_extra(monkeypatch):
         require("distributed", "--scheduler")
 
 
+@pytest.mark.slow
 def test_parallel_runs_store_and_report_what_a_serial_run_does(tmp_path):
     pytest.importorskip("joblib", reason="--jobs needs joblib: pip install \".[cohort]\"")
     serial, parallel = tmp_path / "serial", tmp_path / "parallel"
@@ -84,6 +85,7 @@ def test_parallel_runs_store_and_report_what_a_serial_run_does(tmp_path):
     assert "## Synthetic cohort" in (serial / "report.md").read_text()
 
 
+@pytest.mark.slow
 def test_dask_local_cluster_matches_serial(tmp_path):
     pytest.importorskip("distributed", reason="--scheduler needs Dask: pip install \".[dask]\"")
     serial, dask = tmp_path / "serial", tmp_path / "dask"
@@ -127,6 +129,7 @@ def _interrupted_run(out, count, sig):
     return proc.returncode, err.decode()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGKILL], ids=["SIGINT", "SIGKILL"])
 def test_killed_run_resumes_to_the_same_table_recomputing_only_what_was_missing(tmp_path, capsys, sig):
     count = 12
@@ -184,6 +187,7 @@ def _pads_file(path, seconds, rng):
     path.write_text("\n".join(",".join(f"{v:.8f}" for v in r) for r in np.column_stack([t, vals])) + "\n")
 
 
+@pytest.mark.slow
 def test_failing_recordings_are_recorded_in_one_line_and_the_others_evaluated(tmp_path, capsys):
     rng = np.random.default_rng(3)
     folder = tmp_path / "recs"
@@ -220,6 +224,7 @@ def test_inputs_from_folders_files_and_globs(tmp_path):
         file_sources([tmp_path / "missing*.txt"])
 
 
+@pytest.mark.slow
 def test_plain_csv_needs_and_takes_its_rate(tmp_path, capsys):
     t = np.arange(1000) / 100.0
     data = np.column_stack([np.sin(2 * np.pi * 0.3 * t) + 0.1 * np.sin(2 * np.pi * 7 * t), np.cos(2 * np.pi * 0.5 * t)])

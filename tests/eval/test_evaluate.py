@@ -44,6 +44,7 @@ def quick_report(tmp_path_factory):
     return status, out
 
 
+@pytest.mark.slow
 def test_quick_run_writes_the_report(quick_report):
     status, out = quick_report
     assert status == 0
@@ -108,6 +109,7 @@ def test_quick_run_scores_time_since_start_and_the_flags(quick_report):
     assert all("x" not in w for ws in res["real"]["flag_windows"].values() for w in ws)
 
 
+@pytest.mark.slow
 def test_synthetic_only(tmp_path):
     status = cli([tmp_path, "--quick", "--synthetic-only", "--backend", "reference"])
     assert status == 0

@@ -203,6 +203,7 @@ def test_a_stream_is_characterised_from_its_history_and_the_samples_kept():
     assert np.all(np.abs(streamed["frequency"][streamed["samples"] == 500] - 7.0) < 0.1)
 
 
+@pytest.mark.slow
 @pytest.mark.realdata
 @pytest.mark.skipif(pads_dir() is None, reason=NO_PADS)
 def test_pads_tremor_where_the_data_shows_one_and_none_in_the_controls():
