@@ -37,6 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from wake._validation import check_positive
+from wake.io import formats
 from wake.io.recording import Recording, Timing, analyse_time, nominal_rate, resample_uniform
 from wake.io.text_table import check_decimal_mark, read_text_table
 from wake.io.time_column import (TimeUnit, is_row_counter, is_time_name, shaped_like_time, unit_from_name,
@@ -44,8 +45,9 @@ from wake.io.time_column import (TimeUnit, is_row_counter, is_time_name, shaped_
 
 __all__ = ["FORMATS", "PADS_CHANNELS", "PADS_UNITS", "read_recording", "read_csv", "read_pads", "read_mat"]
 
-#: Formats :func:`read_recording` knows (``"auto"`` picks by content and suffix).
-FORMATS = ("auto", "csv", "pads", "mat")
+#: Formats :func:`read_recording` knows (``"auto"`` picks by content and suffix); the wearable and research
+#: formats after ``mat`` are read by :mod:`wake.io.formats`.
+FORMATS = ("auto", "csv", "pads", "mat", *formats.FORMATS)
 #: Channel names of a PADS recording, in file order after the time column.
 PADS_CHANNELS = ("acc_x", "acc_y", "acc_z", "gyro_x", "gyro_y", "gyro_z")
 #: Units of :data:`PADS_CHANNELS`.
@@ -333,9 +335,12 @@ def read_recording(path, *, format="auto", fs=None, time_column="auto", columns=
     Parameters
     ----------
     path : str or Path
-    format : {"auto", "csv", "pads", "mat"}
-        ``"auto"``: ``.mat`` files are MATLAB, everything else delimited
-        text (PADS files are recognised by their shape).
+    format : {"auto", "csv", "pads", "mat", "cwa", "gt3x", "geneactiv", "edf", "tsdf", "parquet", "bids"}
+        ``"auto"``: the formats of :mod:`wake.io.formats` by suffix and
+        content (``.cwa``, ``.gt3x``, ``.bin``, ``.edf``/``.bdf``, a TSDF
+        ``*_meta.json``, ``.parquet``, a BIDS ``sub-*_motion.tsv``, or a folder
+        holding one of them), ``.mat`` files are MATLAB, everything else
+        delimited text (PADS files are recognised by their shape).
     fs, time_column, columns, decimal
         See :func:`read_csv` (``decimal`` applies to delimited text only).
     units : str or sequence of str, optional
@@ -357,13 +362,37 @@ def read_recording(path, *, format="auto", fs=None, time_column="auto", columns=
         raise ValueError(f"format must be one of {', '.join(FORMATS)}, got {format!r}")
     check_decimal_mark(decimal)  # before the format is chosen: a .mat file is refused a bad one too
     path = Path(path)
-    if format == "mat" or (format == "auto" and path.suffix.lower() == ".mat"):
+    found = formats.resolve(path, format)
+    if found is not None:
+        rec = _read_format(*found, fs=fs, time_column=time_column, columns=columns)
+    elif format == "mat" or (format == "auto" and path.suffix.lower() == ".mat"):
         rec = read_mat(path, fs=fs, time_column=time_column, columns=columns)
     elif format == "pads":
         rec = read_pads(path, fs=100.0 if fs is None else fs, columns=columns)
     else:
         rec = read_csv(path, fs=fs, time_column=time_column, columns=columns, decimal=decimal)
     return rec if units is None else with_units(rec, units)
+
+
+def _read_format(path, fmt, *, fs, time_column, columns) -> Recording:
+    """A file of :mod:`wake.io.formats`, under the rules of delimited text: its library reads the table, the
+    channels, time column and grid are chosen here by :func:`_finish` as for every other format."""
+    table = formats.read_table(path, fmt, columns)
+    if table.meta.get("columns"):
+        columns = None  # the reader took exactly the channels asked for (EDF: one rate)
+    if table.time is None:  # named columns (Parquet): the time column is found as in a CSV file's header
+        time_index, time_unit = _find_time(table.column, table.names, table.units, time_column, path, True,
+                                           table.text)
+        return _finish(path, table.name, table.column, table.names, table.units, time_index, time_unit, fs,
+                       columns, text=table.text, notes=table.notes)
+    if not (isinstance(time_column, str) and time_column.lower() == "auto"):
+        raise ValueError(f"{path}: a {fmt} recording's time comes from the file itself; --time-column "
+                         "(time_column=) applies to delimited text and Parquet: leave it at auto")
+    # the clock after the channels, so that a 0-based index names the same channel with or without it
+    width = len(table.names)
+    names, units = [*table.names, "time"], [*table.units, "s"]
+    return _finish(path, table.name, lambda j: table.time if j == width else table.column(j), names, units, width,
+                   TimeUnit("s", "unit cell"), fs, columns, notes=table.notes)
 
 
 def with_units(rec: Recording, units) -> Recording:
