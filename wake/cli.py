@@ -127,6 +127,8 @@ def _cmd_run(args) -> int:
     from wake.io.writers import ahead_columns
     from wake.target import voluntary_ahead_refusal
     from wake.io.options import read_from_arguments
+    from wake.io.formats.bids import derivative_writer
+    from wake import __version__
 
     if args.plot:
         from wake.eval.plotting import require_matplotlib
@@ -139,10 +141,7 @@ def _cmd_run(args) -> int:
         raise ValueError(f"--tremor-out {args.tremor_out} is also --out: the tremor table would overwrite the "
                          "filtered signals; choose another path")
     rec = read_from_arguments(args.file, args)
-    if args.bids_out:
-        from wake.io.formats.bids import check_derivative_source
-
-        check_derivative_source(rec.source)  # before the work
+    write_bids = derivative_writer(args.bids_out, rec, __version__) if args.bids_out else None  # checked now
     plot_channel = _plot_channel(args.plot_channel, rec) if args.plot else 0
     x = rec.samples
     notes = "".join(f"; {note}" for note in rec.notes)
@@ -161,14 +160,8 @@ def _cmd_run(args) -> int:
         why = voluntary_ahead_refusal(filt.horizon, filt.backend, filt.hpa_backend) if horizon else None
         if why:
             print(f"no voluntary_ahead column: {why}")
-    if args.bids_out:
-        from wake import __version__
-        from wake.io.formats.bids import write_derivative
-
-        settings = {"wavelet": filt.wavelet, "level": filt.level, "window_s": filt.window_s,
-                    "ar_order": filt.ar_order, "cutoff_rule": args.cutoff_rule, "backend": filt.backend}
-        paths = write_derivative(args.bids_out, rec, res, settings, __version__)
-        print(f"wrote a BIDS derivative to {args.bids_out}: {', '.join(p.name for p in paths[1:])}")
+    if write_bids:
+        print(write_bids(res, filt))
     cut = ", ".join(f"{c:.2f}" for c in res.mean_cutoff)
     print(f"{len(res.hpa[0])} HPA runs per channel, mean cut-off f_d = {cut} Hz, backend {res.backend}")
     print(rate_note(rec.fs))
@@ -236,9 +229,7 @@ def _stream_parser() -> argparse.ArgumentParser:
     src = p.add_mutually_exclusive_group(required=True)
     src.add_argument("--stdin", action="store_true", help="read one line of comma-separated values per sample")
     src.add_argument("--lsl-in", metavar="NAME", help="read the Lab Streaming Layer stream of this name")
-    src.add_argument("--file", metavar="PATH",
-                     help="replay a recording (any file `wake run` reads: its time, channels and missing samples) "
-                          "sample by sample, as --stdin would; --fs resamples it")
+    src.add_argument("--file", metavar="PATH", help="replay a recording `wake run` reads, sample by sample")
     dst = p.add_mutually_exclusive_group(required=True)
     dst.add_argument("--stdout", action="store_true", help="write one line per sample: voluntary..., tremor...")
     dst.add_argument("--lsl-out", metavar="NAME", help="publish an LSL stream of this name")
@@ -264,7 +255,8 @@ def _stream_parser() -> argparse.ArgumentParser:
 
 def _cmd_stream(argv) -> int:
     """``wake stream``: WAKE on a live stream (:mod:`wake.io.stream`)."""
-    from wake.io.stream import SWITCH_INTERVAL_S, StreamStop, run_file, run_lsl, run_pipes
+    from wake.io.replay import run_file
+    from wake.io.stream import SWITCH_INTERVAL_S, StreamStop, run_lsl, run_pipes
     from wake.target import voluntary_ahead_refusal
 
     args = _stream_parser().parse_args(argv)
@@ -301,9 +293,7 @@ def _cmd_stream(argv) -> int:
     main_thread = threading.current_thread() is threading.main_thread()
     old = stop.install() if main_thread else []  # signal handlers can only be set from the main thread
     try:
-        if args.file:
-            return run_file(args, make, stop, log)
-        return run_pipes(args, make, stop, log) if args.stdin else run_lsl(args, make, stop, log)
+        return (run_file if args.file else run_pipes if args.stdin else run_lsl)(args, make, stop, log)
     finally:
         for sig, handler in zip((signal.SIGINT, getattr(signal, "SIGTERM", None)), old):
             signal.signal(sig, handler)
@@ -354,9 +344,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_filter_arguments(d)
     d.add_argument("--plot", metavar="PNG", help="draw signal 1 (needs matplotlib)")
     r = sub.add_parser("run", help="process a recording (CSV, PADS, MATLAB, wearable formats, Motion-BIDS)")
-    r.add_argument("file", help="recording: delimited text (a header row of names is read), a PADS .txt, a .mat, "
-                                "a CWA/GT3X/GENEActiv BIN/EDF/BDF/TSDF/Parquet file or a Motion-BIDS *_motion.tsv "
-                                "(or a folder holding one; docs/formats.md)")
+    r.add_argument("file", help="recording: delimited text, a PADS .txt, a .mat or a file/folder of docs/formats.md")
     from wake.io.options import add_reading_arguments
 
     add_reading_arguments(r)
@@ -367,10 +355,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="write the tremor characterisation of every HPA window, one row per window and channel: "
                         "channel, unit, index, end_time, samples, cutoff, frequency, rms, peak_to_peak, "
                         "band_power, time_share, tsi, reason (a NaN field's reason); docs/characterisation.md")
-    r.add_argument("--bids-out", metavar="DIR",
-                   help="a Motion-BIDS recording: also write the voluntary motion and tremor as a BIDS derivative "
-                        "dataset in DIR (e.g. DATASET/derivatives/wake), with its own channels.tsv and motion.json "
-                        "(docs/formats.md)")
+    r.add_argument("--bids-out", metavar="DIR", help="write a BIDS derivative of a Motion-BIDS input (docs/formats.md)")
     r.add_argument("--plot", metavar="PNG", help="draw one channel, and its tremor over time (frequency, "
                                                  "amplitude, TSI, time share) beside it in PNG's name with "
                                                  "'-tremor' (needs matplotlib; checked before the work)")

@@ -45,8 +45,7 @@ from wake.io.time_column import (TimeUnit, is_row_counter, is_time_name, shaped_
 
 __all__ = ["FORMATS", "PADS_CHANNELS", "PADS_UNITS", "read_recording", "read_csv", "read_pads", "read_mat"]
 
-#: Formats :func:`read_recording` knows (``"auto"`` picks by content and suffix); the wearable and research
-#: formats after ``mat`` are read by :mod:`wake.io.formats`.
+#: Formats :func:`read_recording` knows (``"auto"`` picks by content and suffix; after mat: :mod:`wake.io.formats`).
 FORMATS = ("auto", "csv", "pads", "mat", *formats.FORMATS)
 #: Channel names of a PADS recording, in file order after the time column.
 PADS_CHANNELS = ("acc_x", "acc_y", "acc_z", "gyro_x", "gyro_y", "gyro_z")
@@ -336,10 +335,8 @@ def read_recording(path, *, format="auto", fs=None, time_column="auto", columns=
     ----------
     path : str or Path
     format : {"auto", "csv", "pads", "mat", "cwa", "gt3x", "geneactiv", "edf", "tsdf", "parquet", "bids"}
-        ``"auto"``: the formats of :mod:`wake.io.formats` by suffix and
-        content (``.cwa``, ``.gt3x``, ``.bin``, ``.edf``/``.bdf``, a TSDF
-        ``*_meta.json``, ``.parquet``, a BIDS ``sub-*_motion.tsv``, or a folder
-        holding one of them), ``.mat`` files are MATLAB, everything else
+        ``"auto"``: those of :mod:`wake.io.formats` by suffix and content (a
+        folder holding one too), ``.mat`` files are MATLAB, everything else
         delimited text (PADS files are recognised by their shape).
     fs, time_column, columns, decimal
         See :func:`read_csv` (``decimal`` applies to delimited text only).
@@ -375,8 +372,7 @@ def read_recording(path, *, format="auto", fs=None, time_column="auto", columns=
 
 
 def _read_format(path, fmt, *, fs, time_column, columns) -> Recording:
-    """A file of :mod:`wake.io.formats`, under the rules of delimited text: its library reads the table, the
-    channels, time column and grid are chosen here by :func:`_finish` as for every other format."""
+    """A file of :mod:`wake.io.formats`: its library reads the table, :func:`_finish` applies the rules."""
     table = formats.read_table(path, fmt, columns)
     if table.meta.get("columns"):
         columns = None  # the reader took exactly the channels asked for (EDF: one rate)
@@ -388,8 +384,7 @@ def _read_format(path, fmt, *, fs, time_column, columns) -> Recording:
     if not (isinstance(time_column, str) and time_column.lower() == "auto"):
         raise ValueError(f"{path}: a {fmt} recording's time comes from the file itself; --time-column "
                          "(time_column=) applies to delimited text and Parquet: leave it at auto")
-    # the clock after the channels, so that a 0-based index names the same channel with or without it
-    width = len(table.names)
+    width = len(table.names)  # the clock after the channels: a 0-based index names a channel
     names, units = [*table.names, "time"], [*table.units, "s"]
     return _finish(path, table.name, lambda j: table.time if j == width else table.column(j), names, units, width,
                    TimeUnit("s", "unit cell"), fs, columns, notes=table.notes)

@@ -8,9 +8,6 @@ Every input sample gets exactly one output sample, in order:
 * ``--stdin`` / ``--stdout``: one line of comma-separated values per sample
   (optionally led by a timestamp with ``--timestamps``, copied to the output);
   a first line that is not numeric names the channels.
-* ``--file PATH`` / ``--stdout``: a recording read by :func:`wake.io.read_recording` (any format it
-  reads), replayed as ``--stdin`` would take it: its channel names as the header, its time as the
-  timestamp of each line.
 * ``--lsl-in NAME`` / ``--lsl-out NAME``: an LSL inlet resolved by name (any
   channel count, its nominal rate as ``fs``) and an outlet of
   ``2 x channels`` values with the input's timestamps and channel labels.
@@ -44,7 +41,7 @@ from wake.sampling import rate_note
 from wake._files import silence_stdout
 from wake.io.writers import VOLUNTARY_AHEAD_COLUMN, ahead_columns
 
-__all__ = ["StreamProcessor", "StreamStop", "run_file", "run_pipes", "run_lsl", "SWITCH_INTERVAL_S"]
+__all__ = ["StreamProcessor", "StreamStop", "run_pipes", "run_lsl", "SWITCH_INTERVAL_S"]
 
 #: GIL switch interval while an HPA thread runs beside the sample path (default Python: 5 ms).
 SWITCH_INTERVAL_S = 2e-4
@@ -200,32 +197,6 @@ def run_pipes(args, make_filter, stop, log) -> int:
         return _pipe_loop(args, stop, log, filt, fin, fout)
     finally:
         filt.close()  # also on an early error return: the worker never outlives the command
-
-
-def run_file(args, make_filter, stop, log) -> int:
-    """``--file PATH`` / ``--stdout``: the recording's samples through the loop of :func:`run_pipes`.
-
-    The file is read with :func:`wake.io.read_recording` (``--fs`` resamples it), then each sample is
-    one input line: its time first (so ``--timestamps`` is implied) and its channels named in a header.
-    """
-    import io
-    from argparse import Namespace
-
-    from wake.io import read_recording
-
-    rec = read_recording(args.file, fs=args.fs)
-    lines = [",".join(["time", *rec.channels])]
-    lines += [_fmt(row) for row in np.column_stack([rec.time, rec.samples])]
-    replay = Namespace(**{**vars(args), "fs": rec.fs, "timestamps": True})
-    filt = make_filter(rec.fs)
-    try:
-        _ready(filt)
-        log(f"wake stream: replaying {rec.name}: {rec.samples.shape[0]} samples x {len(rec.channels)} channel(s) "
-            f"({', '.join(rec.channels)}); {rec.timing.describe(rec.fs)}")
-        log(rate_note(rec.fs))
-        return _pipe_loop(replay, stop, log, filt, io.StringIO("\n".join(lines) + "\n"), sys.stdout)
-    finally:
-        filt.close()
 
 
 def _pipe_loop(args, stop, log, filt, fin, fout) -> int:

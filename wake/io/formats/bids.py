@@ -41,7 +41,8 @@ import numpy as np
 
 from wake.io.formats._base import Table, normalise_unit
 
-__all__ = ["MOTION_SUFFIX", "is_motion_file", "entities", "motion_files", "read_bids", "write_derivative"]
+__all__ = ["MOTION_SUFFIX", "derivative_writer", "is_motion_file", "entities", "motion_files", "read_bids",
+           "write_derivative"]
 
 MOTION_SUFFIX = "_motion.tsv"
 #: The BIDS version of the derivatives written (Motion-BIDS is part of BIDS from 1.9.0).
@@ -145,7 +146,8 @@ def _samples(path: Path) -> np.ndarray:
             if not line.strip():
                 continue
             try:
-                rows.append([math.nan if c.strip() in ("n/a", "") else float(c) for c in line.rstrip("\r\n").split("\t")])
+                cells = line.rstrip("\r\n").split("\t")
+                rows.append([math.nan if c.strip() in ("n/a", "") else float(c) for c in cells])
             except ValueError:
                 raise ValueError(f"{path}, line {lineno}: not tab-separated numbers ('n/a' for a missing value); "
                                  "a Motion-BIDS data file has no header row") from None
@@ -204,6 +206,20 @@ def check_derivative_source(path) -> Path:
         raise ValueError(f"--bids-out writes a BIDS derivative of a Motion-BIDS recording (a sub-*_motion.tsv, "
                          f"or a dataset folder holding one); {path.name} is not one: write --out CSV instead")
     return path
+
+
+def derivative_writer(out_dir, rec, version: str):
+    """For ``wake run --bids-out DIR``: check now, before the work, that ``rec`` was read from a Motion-BIDS file,
+    and return ``write(result, filt)``, which writes the derivative (:func:`write_derivative`) and says so."""
+    check_derivative_source(rec.source)
+
+    def write(result, filt) -> str:
+        settings = {"wavelet": filt.wavelet, "level": filt.level, "window_s": filt.window_s,
+                    "ar_order": filt.ar_order, "cutoff_rule": filt.config.cutoff_rule, "backend": filt.backend}
+        paths = write_derivative(out_dir, rec, result, settings, version)
+        return f"wrote a BIDS derivative to {out_dir}: {', '.join(p.name for p in paths[1:])}"
+
+    return write
 
 
 def write_derivative(out_dir, rec, result, settings: dict, version: str) -> list:

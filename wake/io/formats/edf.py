@@ -67,8 +67,9 @@ def read_edf(path: Path, columns=None) -> Table:
     notes = (f"{'BDF' if bdf else 'EDF'} signals at {fs:g} Hz",)
     if left and columns is None:
         notes += (f"signals at other rates left out: {', '.join(left)} (ask for them with --column)",)
-    return Table(path.stem, [labels[i] for i in chosen], [normalise_unit(signals[i].physical_dimension) for i in chosen],
-                 values, time=np.arange(n) / fs, notes=notes, meta={"columns": True, "fs": fs})
+    units = [normalise_unit(signals[i].physical_dimension) for i in chosen]
+    return Table(path.stem, [labels[i] for i in chosen], units, values, time=np.arange(n) / fs, notes=notes,
+                 meta={"columns": True, "fs": fs})
 
 
 def _signal_index(spec, labels, path) -> int:
