@@ -373,6 +373,9 @@ def read_recording(path, *, format="auto", fs=None, time_column="auto", columns=
 
 def _read_format(path, fmt, *, fs, time_column, columns) -> Recording:
     """A file of :mod:`wake.io.formats`: its library reads the table, :func:`_finish` applies the rules."""
+    if fmt not in formats.NAMED_COLUMNS and not (isinstance(time_column, str) and time_column.lower() == "auto"):
+        raise ValueError(f"{path}: a {fmt} recording's time comes from the file itself; --time-column "
+                         "(time_column=) applies to delimited text and Parquet: leave it at auto")
     table = formats.read_table(path, fmt, columns)
     if table.meta.get("columns"):
         columns = None  # the reader took exactly the channels asked for (EDF: one rate)
@@ -381,9 +384,6 @@ def _read_format(path, fmt, *, fs, time_column, columns) -> Recording:
                                            table.text)
         return _finish(path, table.name, table.column, table.names, table.units, time_index, time_unit, fs,
                        columns, text=table.text, notes=table.notes)
-    if not (isinstance(time_column, str) and time_column.lower() == "auto"):
-        raise ValueError(f"{path}: a {fmt} recording's time comes from the file itself; --time-column "
-                         "(time_column=) applies to delimited text and Parquet: leave it at auto")
     width = len(table.names)  # the clock after the channels: a 0-based index names a channel
     names, units = [*table.names, "time"], [*table.units, "s"]
     return _finish(path, table.name, lambda j: table.time if j == width else table.column(j), names, units, width,

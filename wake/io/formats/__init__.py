@@ -39,7 +39,7 @@ from pathlib import Path
 from wake.io.formats import bids
 from wake.io.formats._base import MissingExtraError, Table, require
 
-__all__ = ["FORMATS", "EXTRAS", "MissingExtraError", "Table", "format_of", "read_table", "recordings_in",
+__all__ = ["FORMATS", "EXTRAS", "NAMED_COLUMNS", "MissingExtraError", "Table", "format_of", "read_table", "recordings_in",
            "require", "resolve"]
 
 #: Each format of this package -> the pyproject extra that installs its library.
@@ -47,6 +47,8 @@ EXTRAS = {"cwa": "wearables", "gt3x": "wearables", "geneactiv": "wearables", "ed
           "parquet": "parquet", "bids": "bids"}
 #: The formats of this package, as ``read_recording(format=...)`` and ``--format`` name them.
 FORMATS = tuple(EXTRAS)
+#: Formats of named columns without a clock of their own: the time column is found as in delimited text.
+NAMED_COLUMNS = ("parquet",)
 _SUFFIXES = {".cwa": "cwa", ".gt3x": "gt3x", ".edf": "edf", ".bdf": "edf", ".rec": "edf", ".parquet": "parquet",
              ".pq": "parquet"}
 
