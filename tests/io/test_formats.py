@@ -323,3 +323,36 @@ def test_evaluate_takes_the_written_formats(tmp_path):
     rows = json.loads((out / "results.json").read_text())["real"]["rows"]
     assert {(r["recording"], r["axis"]) for r in rows} >= {("a", "gyro_x"), ("b", "acc_z"), ("c", "gyro_z")}
     assert all(np.isfinite(r["methods"]["WAKE-ref"]) for r in rows)
+
+
+def _fitted_weights(header_text):
+    import re
+
+    from wake.rtp.fixed import WEIGHT_FRAC
+
+    block = re.search(r"wake_config_weights\[\d+\] = \{(.*?)\};", header_text, re.S).group(1)
+    return np.array([int(v) for v in block.replace("\n", " ").split(",") if v.strip()]) / 2.0**WEIGHT_FRAC
+
+
+def _check_fit(path, channel, tmp_path, capsys):
+    """``wake export-header --fit`` fits ``channel`` of ``path`` as read by read_recording (the last HPA window)."""
+    from wake.rtp.fixed import WEIGHT_FRAC
+
+    out = tmp_path / "cfg.h"
+    assert main(["export-header", str(out), "--fit", str(path), "--column", channel]) == 0
+    rec = read_recording(path, columns=channel)
+    expected = WakeFilter(fs=rec.fs, backend="reference").run(rec.samples[:, 0]).hpa[0][-1].weights
+    np.testing.assert_allclose(_fitted_weights(out.read_text()), expected, atol=2.0**-WEIGHT_FRAC)
+    assert f"channel '{channel}'" in capsys.readouterr().out
+
+
+@pytest.mark.skipif(not _c(), reason="the compiled C core wake._rtp is not built")
+def test_export_fit_reads_an_edf_file_as_run_does(tmp_path, capsys):
+    x, _ = motion(1000.0, "acc", seconds=8)
+    write_edf(tmp_path / "rec.edf", 1000.0, "acc", x)
+    _check_fit(tmp_path / "rec.edf", "acc_z", tmp_path, capsys)
+
+
+@pytest.mark.skipif(not _c(), reason="the compiled C core wake._rtp is not built")
+def test_export_fit_reads_the_cwa_as_run_does(cwa, tmp_path, capsys):
+    _check_fit(cwa, "gyro_y", tmp_path, capsys)
