@@ -27,7 +27,8 @@ def add_reading_arguments(p, *, what: str = "the recording", fs_help: str | None
                    help="channel(s): header names or 0-based file column indices, comma-separated or repeated "
                         "(default: every numeric column but the time column)")
     g.add_argument("--format", choices=FORMATS, default="auto",
-                   help="file format (default: .mat by suffix, else delimited text; PADS by its shape)")
+                   help="file format (default: by suffix and content, docs/formats.md; .mat by suffix, else "
+                        "delimited text; PADS by its shape)")
     g.add_argument("--decimal", choices=DECIMAL_MARKS, default="auto",
                    help="decimal mark of delimited text (default: auto, a comma between digits in a file "
                         "separated by semicolons or tabs, as in '0,5;1,2')")
