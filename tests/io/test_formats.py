@@ -356,3 +356,19 @@ def test_export_fit_reads_an_edf_file_as_run_does(tmp_path, capsys):
 @pytest.mark.skipif(not _c(), reason="the compiled C core wake._rtp is not built")
 def test_export_fit_reads_the_cwa_as_run_does(cwa, tmp_path, capsys):
     _check_fit(cwa, "gyro_y", tmp_path, capsys)
+
+
+def test_a_truncated_edf_file_is_read_as_far_as_it_goes_and_says_so(tmp_path):
+    pytest.importorskip("edfio", reason="edfio is not installed (pip install \"wake-tremor[edf]\")")
+    x, _ = motion(100.0, "gyro", seconds=10)
+    path = tmp_path / "rec.edf"
+    write_edf(path, 100.0, "gyro", x)
+    data = path.read_bytes()
+    header = 256 * 4                                              # 3 signals: 256 + 3 * 256 bytes
+    (tmp_path / "cut.edf").write_bytes(data[:header + 3 * 2 * 100 * 4 + 50])   # 4 whole records, and a part
+    rec = read_recording(tmp_path / "cut.edf")
+    assert rec.samples.shape == (400, 3) and any("Incomplete data record" in n for n in rec.notes)
+    np.testing.assert_allclose(rec.samples, x[:400], atol=40 / 65535)
+    (tmp_path / "empty.edf").write_bytes(data[:header])
+    with pytest.raises(ValueError, match="need at least two samples, the file holds 0"):
+        read_recording(tmp_path / "empty.edf")

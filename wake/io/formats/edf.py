@@ -23,6 +23,7 @@ Examples
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -42,10 +43,12 @@ def read_edf(path: Path, columns=None) -> Table:
     """The signals of an EDF / BDF file at one rate (module docstring); ``meta["columns"]`` says they were chosen."""
     edfio = require("edfio", "edf", "an EDF or BDF file")
     bdf = is_bdf(path)
-    try:
-        edf = edfio.read_bdf(path) if bdf else edfio.read_edf(path)
-    except (ValueError, OSError, UnicodeDecodeError, IndexError) as exc:
-        raise ValueError(f"{path}: not a readable {'BDF' if bdf else 'EDF'} file (edfio: {exc})") from None
+    with warnings.catch_warnings(record=True) as said:   # a repaired header: said in the notes, not as a warning
+        warnings.simplefilter("always")
+        try:
+            edf = edfio.read_bdf(path) if bdf else edfio.read_edf(path)
+        except (ValueError, OSError, UnicodeDecodeError, IndexError) as exc:
+            raise ValueError(f"{path}: not a readable {'BDF' if bdf else 'EDF'} file (edfio: {exc})") from None
     signals = list(edf.signals)
     if not signals:
         raise ValueError(f"{path}: the file holds no signal (only annotations)")
@@ -62,9 +65,11 @@ def read_edf(path: Path, columns=None) -> Table:
                              "ask for channels of one rate")
     fs = float(signals[chosen[0]].sampling_frequency)
     n = min(len(signals[i].data) for i in chosen)
+    if n < 2:
+        raise ValueError(f"{path}: need at least two samples, the file holds {n} (a truncated file?)")
     values = np.column_stack([np.asarray(signals[i].data[:n], dtype=float) for i in chosen])
     left = [f"{labels[i]} ({signals[i].sampling_frequency:g} Hz)" for i in range(len(signals)) if i not in chosen]
-    notes = (f"{'BDF' if bdf else 'EDF'} signals at {fs:g} Hz",)
+    notes = (f"{'BDF' if bdf else 'EDF'} signals at {fs:g} Hz",) + tuple(f"edfio: {w.message}" for w in said)
     if left and columns is None:
         notes += (f"signals at other rates left out: {', '.join(left)} (ask for them with --column)",)
     units = [normalise_unit(signals[i].physical_dimension) for i in chosen]
