@@ -114,7 +114,7 @@ def _channels(path: Path, width: int) -> list:
     found = sidecar(path, "channels.tsv")
     if found is None:
         raise ValueError(f"{path}: no *_channels.tsv for this recording (beside it or above it); Motion-BIDS "
-                         "names and units every column there")
+                         "names and units every column there (to read the file as plain text: --format csv)")
     with open(found, newline="", encoding="utf-8") as f:
         rows = list(csv.DictReader(f, delimiter="\t"))
     missing = [c for c in ("name", "type", "units") if rows and c not in rows[0]]
