@@ -9,7 +9,7 @@ import sys
 import numpy as np
 import pytest
 
-from support import NO_PARADIGMA, TREMOR_HZ, UNITS, motion, paradigma_dir, tremor_captured
+from support import NO_PARADIGMA, UNITS, motion, paradigma_dir, tremor_captured
 
 from wake import WakeFilter
 from wake.cli import main
