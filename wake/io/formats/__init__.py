@@ -39,8 +39,8 @@ from pathlib import Path
 from wake.io.formats import bids
 from wake.io.formats._base import MissingExtraError, Table, require
 
-__all__ = ["FORMATS", "EXTRAS", "NAMED_COLUMNS", "MissingExtraError", "Table", "format_of", "read_table", "recordings_in",
-           "require", "resolve"]
+__all__ = ["FORMATS", "EXTRAS", "NAMED_COLUMNS", "MissingExtraError", "Table", "format_of", "read_table",
+           "recordings_in", "require", "resolve"]
 
 #: Each format of this package -> the pyproject extra that installs its library.
 EXTRAS = {"cwa": "wearables", "gt3x": "wearables", "geneactiv": "wearables", "edf": "edf", "tsdf": "tsdf",
