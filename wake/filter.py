@@ -30,7 +30,7 @@ from wake.wavelets import filter_bank_taps
 
 __all__ = ["WakeFilter", "WakeResult", "WakeState", "BACKENDS", "RateWarning", "TUNED_RATES"]
 
-_INF = float("inf")
+_INFS = (float("inf"), float("-inf"))   # the values update() refuses (NaN marks a missing sample)
 
 
 def _out_dtype(x) -> type:
@@ -195,7 +195,7 @@ class WakeFilter:
         """
         with self._lock:
             if type(sample) is float and self._n_channels == 1:  # the hot path: one channel, a float
-                if sample in (_INF, -_INF):
+                if sample in _INFS:
                     raise ValueError(f"sample holds inf ({sample!r}); pass NaN for a missing sample")
                 return float(self._channels[0].update(sample, self._executor))
             values = as_sample(sample)  # the same input policy as run() and update_block()

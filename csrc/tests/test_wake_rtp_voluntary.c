@@ -203,6 +203,106 @@ static void test_load_state_and_reset(void)
     CHECK(wake_rtp_reset(&s) == WAKE_RTP_OK && s.vol_output == 0 && s.vol_set == 1u, "reset: output 0, w_h kept");
 }
 
+/* One state's outputs after a step, as a batch caller reads them per sample. */
+typedef struct {
+    wake_q15_t y;
+    wake_q23_t predicted, command, vh;
+    wake_ratio_t gate;
+} outputs_t;
+
+/*
+ * wake_rtp_run_outputs against a loop of wake_rtp_step / wake_rtp_step_missing and the output reads, bit for
+ * bit, state included: blocks of uneven lengths over a stream with gaps (one before the first sample), a
+ * tremor-ahead predictor and w_h installed between two blocks (before it, v_h is y held), outputs left NULL.
+ */
+static void test_run_outputs(void)
+{
+    static int16_t taps[J * N];
+    enum { LEN = 1500 };
+    static int16_t in[LEN];
+    static uint8_t missing[LEN];
+    static outputs_t want[LEN];
+    static wake_q15_t y[LEN];
+    static wake_q23_t predicted[LEN], command[LEN], vh[LEN];
+    static wake_ratio_t gate[LEN];
+    const int32_t w[J] = {-3355443, 5033165, 6710886, 8388608};
+    const int32_t wh[J] = {-1677722, 3355443, 8388608, 6710886};
+    const int32_t c[WAKE_RTP_AHEAD_TAPS] = {201326592, -67108864, 33554432, 0, -16777216, 8388608, 0, 4194304};
+    const wake_cov_t r = 24159191, q = WAKE_RTP_KALMAN ? 241592 : 0, p0 = WAKE_RTP_KALMAN ? 24159191 : 0;
+    const int blocks[] = {1, 7, 64, 333, 2, 1000};
+    wake_rtp_t a, b;
+    int k, start, i, same = 1, gaps = 0;
+    make_averaging_taps(taps, J, N);
+    for (k = 0; k < LEN; ++k) {
+        missing[k] = (uint8_t)(k == 0 || (k > 200 && k % 89 < 3));
+        gaps += missing[k];
+        in[k] = missing[k] ? (int16_t)12345 : sample_at(k);   /* not read where missing */
+    }
+    CHECK(wake_rtp_init(&a, J, taps, w, r, q, p0) == WAKE_RTP_OK, "init");
+    memcpy(&b, &a, sizeof(a));
+    CHECK(wake_rtp_run_outputs(&b, NULL, NULL, 0, NULL, NULL, NULL, NULL, NULL) == WAKE_RTP_OK, "n = 0");
+    CHECK(wake_rtp_run_outputs(&b, NULL, missing, 3, y, NULL, NULL, NULL, NULL) == WAKE_RTP_E_NULL, "null input");
+    CHECK(wake_rtp_run_outputs(NULL, in, missing, 3, y, NULL, NULL, NULL, NULL) == WAKE_RTP_E_NULL, "null instance");
+    b.level = 0;
+    CHECK(wake_rtp_run_outputs(&b, in, missing, 3, y, NULL, NULL, NULL, NULL) == WAKE_RTP_E_CORRUPT, "corrupt");
+    b.level = a.level;
+    CHECK(memcmp(&a, &b, sizeof(a)) == 0 && y[0] == 0, "a refused block writes nothing and changes nothing");
+    memcpy(&b, &a, sizeof(a));
+    for (k = 0, start = 0, i = 0; k < LEN; ++k) {
+        outputs_t *o = &want[k];
+        if (k == 500) {        /* between two blocks of the other instance (500 = 1 + 7 + 64 + 333 + 2 + 93) */
+            CHECK(wake_rtp_set_ahead(&a, c, WAKE_RTP_GATE_ONE) == WAKE_RTP_OK, "set_ahead");
+            CHECK(wake_rtp_set_voluntary_ahead(&a, wh) == WAKE_RTP_OK, "set w_h");
+        }
+        if (missing[k]) {
+            (void)wake_rtp_step_missing(&a, &o->y);
+        } else {
+            (void)wake_rtp_step(&a, in[k], &o->y);
+        }
+        (void)wake_rtp_ahead_output(&a, &o->predicted, &o->gate, &o->command);
+        (void)wake_rtp_voluntary_ahead_output(&a, &o->vh);
+    }
+    while (start < LEN) {
+        int len = blocks[i++ % 6];
+        if (start < 500 && start + len > 500) {
+            len = 500 - start;
+        }
+        if (start + len > LEN) {
+            len = LEN - start;
+        }
+        if (start == 500) {
+            (void)wake_rtp_set_ahead(&b, c, WAKE_RTP_GATE_ONE);
+            (void)wake_rtp_set_voluntary_ahead(&b, wh);
+        }
+        if (i % 3 == 0) {      /* a block that wants only the prediction */
+            CHECK(wake_rtp_run_outputs(&b, in + start, missing + start, (size_t)len, y + start, NULL, NULL, NULL,
+                                       NULL) == WAKE_RTP_OK, "block of %d", len);
+            for (k = start; k < start + len; ++k) {
+                predicted[k] = want[k].predicted, gate[k] = want[k].gate;
+                command[k] = want[k].command, vh[k] = want[k].vh;
+            }
+        } else {
+            CHECK(wake_rtp_run_outputs(&b, in + start, missing + start, (size_t)len, y + start, predicted + start,
+                                       gate + start, command + start, vh + start) == WAKE_RTP_OK, "block of %d", len);
+        }
+        start += len;
+    }
+    for (k = 0; k < LEN; ++k) {
+        same &= (y[k] == want[k].y) && (predicted[k] == want[k].predicted) && (gate[k] == want[k].gate)
+                && (command[k] == want[k].command) && (vh[k] == want[k].vh);
+    }
+    CHECK(same, "every output of the blocks is the steps' bit for bit");
+    CHECK(memcmp(&a, &b, sizeof(a)) == 0, "and so is the state");
+    CHECK(gaps > 10, "the stream had gaps (%d)", gaps);
+    for (k = 1, same = 1; k < 500; ++k) {
+        same &= abs(want[k].vh - want[k].y * 256) <= 128 && want[k].gate == 0;   /* y(n) held, rounded to Q15 */
+    }
+    CHECK(same, "before w_h and a predictor: v_h is y held and the gate shut");
+    CHECK(abs(want[1400].vh - want[1400].y * 256) > 4096 && want[1400].gate > 0 && want[1400].predicted != 0,
+          "w_h and the tremor ahead live at the end: v_h %d, y %d, gate %d", (int)want[1400].vh,
+          (int)want[1400].y * 256, (int)want[1400].gate);
+}
+
 int main(void)
 {
     printf("sizeof(wake_rtp_t) = %u bytes with the voluntary motion ahead (J <= %d)\n", (unsigned)sizeof(wake_rtp_t),
@@ -211,6 +311,7 @@ int main(void)
     test_against_double(0);
     test_against_double(1);
     test_load_state_and_reset();
+    test_run_outputs();
     printf("%d passed, %d failed\n", n_passed, n_failed);
     return n_failed ? 1 : 0;
 }

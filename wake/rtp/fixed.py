@@ -17,7 +17,7 @@ from wake._rtp import ffi, lib
 from wake.rtp.fixed_ahead import AheadMixin
 from wake.rtp.fixed_voluntary import VoluntaryAheadMixin
 from wake.rtp.qformat import (  # noqa: F401  (re-exported: the formats of this core)
-    _INT32_MAX, _INT32_MIN, FIR_FRAC, MAX_LEVEL, P_FRAC, SAMPLE_FRAC, STATE_FRAC, TAP_FRAC, TAP_ROW_ABS_MAX,
+    _INT32_MAX, _INT32_MIN, FIR_FRAC, GATE_FRAC, MAX_LEVEL, P_FRAC, SAMPLE_FRAC, STATE_FRAC, TAP_FRAC, TAP_ROW_ABS_MAX,
     WEIGHT_FRAC, WEIGHT_MAX, format_mismatches, quantize_taps, quantize_variance, quantize_weights,
     representable_noise)
 
@@ -29,6 +29,7 @@ if format_mismatches(lib):
                       "expects: " + "; ".join(format_mismatches(lib)) + "; rebuild it without -D overrides "
                       "(python build_ffi.py)")
 _SAMPLE_SCALE = 2.0**SAMPLE_FRAC
+_step_c = lib.wake_rtp_step   # bound once: step() runs per sample
 
 _STATUS_TEXT = {
     int(lib.WAKE_RTP_E_NULL): "null pointer",
@@ -275,7 +276,7 @@ class FixedPointRTP(AheadMixin, VoluntaryAheadMixin):
                 self.clipped += 1
                 m = -32768 if m < 0 else 32767
         out = self._out
-        status = lib.wake_rtp_step(self._state, m, out)
+        status = _step_c(self._state, m, out)
         if status:
             _check(status, "wake_rtp_step")
         return out[0] / _SAMPLE_SCALE * self.full_scale
@@ -287,31 +288,44 @@ class FixedPointRTP(AheadMixin, VoluntaryAheadMixin):
         return float(self._to_physical(out[0]))
 
     def run(self, samples):
-        """Step through a block; NaN marks a missing sample.
+        """Step through a block; NaN marks a missing sample (a :meth:`step_missing`).
 
-        Runs of finite samples go through the C block API on zero-copy int16
-        buffers; each NaN is one :meth:`step_missing`.
+        One call of the C core (``wake_rtp_run_outputs``) on zero-copy buffers, whatever the block holds.
         """
+        return self._run_block(samples, all_outputs=False)
+
+    def _run_block(self, samples, all_outputs):
+        """The block through ``wake_rtp_run_outputs``: the predictions, or with ``all_outputs`` the five rows
+        of :meth:`run_outputs` (the C core writes them as integers; each is scaled by one multiply, as
+        :meth:`step`, :attr:`last_ahead` and :attr:`last_voluntary_ahead` scale them: bit for bit)."""
         x = np.asarray(samples, dtype=float).reshape(-1)
         n = x.shape[0]
-        out_q = np.empty(n, dtype=np.int16)              # every entry is written below
-        if n == 0:
-            return out_q.astype(float)
-        x_q, nan_idx = self._quantize_samples(x, nan_positions=True)   # NaN -> 0: each is a step_missing
-        in_c = ffi.from_buffer("int16_t[]", x_q)
-        out_c = ffi.from_buffer("int16_t[]", out_q)
-        one = ffi.new("int16_t *")
-        # boundaries of runs: NaN at k starts/ends a run
-        k = 0
-        for stop in list(nan_idx) + [n]:
-            stop = int(stop)
-            if stop > k:
-                _check(lib.wake_rtp_run(self._state, in_c + k, out_c + k, stop - k), "wake_rtp_run")
-            if stop < n:
-                _check(lib.wake_rtp_step_missing(self._state, one), "wake_rtp_step_missing")
-                out_q[stop] = one[0]
-            k = stop + 1
-        return self._to_physical(out_q)
+        x_q, nan_idx = self._quantize_samples(x, nan_positions=True)   # NaN -> 0, flagged missing
+        missing = ffi.NULL
+        if nan_idx.size:
+            flags = np.zeros(n, dtype=np.uint8)
+            flags[nan_idx] = 1
+            missing = ffi.from_buffer("uint8_t[]", flags)
+        vol_q = np.empty(n, dtype=np.int16)                # every entry is written by the C core
+        if not all_outputs:
+            _check(lib.wake_rtp_run_outputs(self._state, ffi.from_buffer("int16_t[]", x_q), missing, n,
+                                            ffi.from_buffer("int16_t[]", vol_q), ffi.NULL, ffi.NULL, ffi.NULL,
+                                            ffi.NULL), "wake_rtp_run_outputs")
+            return self._to_physical(vol_q)
+        rows = np.empty((4, n), dtype=np.int32)           # predicted, gate, command, voluntary ahead
+        with_ahead = bool(self._state.vol_set)            # constant within a block (installed between blocks)
+        buf = lambda a: ffi.from_buffer("int32_t[]", a)   # noqa: E731
+        _check(lib.wake_rtp_run_outputs(self._state, ffi.from_buffer("int16_t[]", x_q), missing, n,
+                                        ffi.from_buffer("int16_t[]", vol_q), buf(rows[0]), buf(rows[1]),
+                                        buf(rows[2]), buf(rows[3]) if with_ahead else ffi.NULL),
+               "wake_rtp_run_outputs")
+        voluntary = self._to_physical(vol_q)
+        lsb = self.full_scale / 2.0**STATE_FRAC            # P, the command and v_h: Q23 of the full scale
+        predicted = np.multiply(rows[0], lsb, dtype=float)
+        confidence = np.divide(rows[1], 2.0**GATE_FRAC, dtype=float)
+        command = np.multiply(rows[2], lsb, dtype=float)
+        ahead = np.multiply(rows[3], lsb, dtype=float) if with_ahead else voluntary.copy()
+        return voluntary, predicted, confidence, command, ahead
 
     # -- hand-over and representability ---------------------------------------
     @classmethod

@@ -111,13 +111,9 @@ class AheadMixin:
         return st.ahead_predicted * lsb, st.ahead_gate / 2.0**GATE_FRAC, st.ahead_command * lsb
 
     def run_ahead(self, samples):
-        """A loop of :meth:`step` (NaN = missing sample): ``(voluntary, predicted, confidence, command)`` arrays."""
-        x = np.asarray(samples, dtype=float).reshape(-1)
-        out = np.empty((4, x.size))
-        for k, v in enumerate(x):
-            out[0, k] = self.step(v)
-            out[1:, k] = self.last_ahead
-        return out[0], out[1], out[2], out[3]
+        """:meth:`run_outputs` without its last row: ``(voluntary, predicted, confidence, command)`` arrays,
+        bit for bit a loop of :meth:`step` (NaN = missing sample) reading :attr:`last_ahead` after each."""
+        return self.run_outputs(samples)[:4]
 
     def load_ahead(self, coefficients, goal, history, gate, alpha):
         """Set the whole tremor-ahead state in physical units (hand-over, another full scale).

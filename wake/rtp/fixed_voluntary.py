@@ -85,16 +85,12 @@ class VoluntaryAheadMixin:
         return self._state.vol_output * (self.full_scale / 2.0**STATE_FRAC)
 
     def run_outputs(self, samples):
-        """A loop of :meth:`step` (NaN = missing sample): ``(voluntary, predicted, confidence, command,
-        voluntary_ahead)`` arrays, as :meth:`ReferenceRTP.run_outputs`; while no ``w_h`` is installed the
-        last row is the returned one-step prediction (Q15), as before the C core had ``w_h``."""
-        x = np.asarray(samples, dtype=float).reshape(-1)
-        out = np.empty((5, x.size))
-        for k, v in enumerate(x):
-            out[0, k] = self.step(v)
-            out[1:4, k] = self.last_ahead
-            out[4, k] = self.last_voluntary_ahead if self._state.vol_set else out[0, k]
-        return out[0], out[1], out[2], out[3], out[4]
+        """Step through a block (NaN = missing sample) in one call of the C core
+        (``wake_rtp_run_outputs``): ``(voluntary, predicted, confidence, command, voluntary_ahead)`` arrays,
+        as :meth:`ReferenceRTP.run_outputs` and bit for bit a loop of :meth:`step` reading :attr:`last_ahead`
+        and :attr:`last_voluntary_ahead` after each sample; while no ``w_h`` is installed the last row is the
+        returned one-step prediction (Q15), as before the C core had ``w_h``."""
+        return self._run_block(samples, all_outputs=True)
 
     def _carry_from(self, other) -> None:
         """Take ``other``'s tremor ahead and fs (``AheadMixin._carry_ahead_from``) and its ``w_h`` when it has

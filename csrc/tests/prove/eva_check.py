@@ -45,7 +45,7 @@ SPLIT_ENTRIES = ["wake_rtp_prepare", "wake_rtp_finish", "wake_rtp_finish_missing
 SPLIT_DEFS = " -DWAKE_RTP_SPLIT=1"
 #: entries of the voluntary motion at n + h, analysed in every configuration with WAKE_RTP_VOLUNTARY_AHEAD 1 added
 #: (wake_rtp_step with it on: --entry wake_rtp_step --voluntary-ahead)
-VOLUNTARY_ENTRIES = ["wake_rtp_set_voluntary_ahead", "wake_rtp_voluntary_ahead_output"]
+VOLUNTARY_ENTRIES = ["wake_rtp_set_voluntary_ahead", "wake_rtp_voluntary_ahead_output", "wake_rtp_run_outputs"]
 VOLUNTARY_DEFS = " -DWAKE_RTP_VOLUNTARY_AHEAD=1"
 #: the entries whose code runs the voluntary motion's restart (its gain k = w_h' w / |w|^2 by long division and its
 #: FIR build), analysed again in the build with WAKE_RTP_VOLUNTARY_AHEAD 1 (unit rtp_voluntary), every configuration

@@ -116,6 +116,26 @@ void eva_wake_rtp_run(void)
     (void)wake_rtp_run(&rtp, block, block, Frama_C_size_t_interval(0u, sizeof block / sizeof block[0]));
 }
 
+#if WAKE_RTP_VOLUNTARY_AHEAD
+/* a block with every output, any sample flagged missing or none (missing NULL), any length up to the array's */
+static uint8_t flags[2 * WAKE_RTP_MAX_TAPS];
+static wake_q15_t voluntary[2 * WAKE_RTP_MAX_TAPS];
+static wake_q23_t tremor_ahead[2 * WAKE_RTP_MAX_TAPS];
+static wake_ratio_t gate[2 * WAKE_RTP_MAX_TAPS];
+static wake_q23_t command[2 * WAKE_RTP_MAX_TAPS];
+static wake_q23_t voluntary_ahead[2 * WAKE_RTP_MAX_TAPS];
+
+void eva_wake_rtp_run_outputs(void)
+{
+    any_instance();
+    unknown(block, sizeof block);
+    unknown(flags, sizeof flags);
+    (void)wake_rtp_run_outputs(&rtp, block, (Frama_C_interval(0, 1) != 0) ? flags : NULL,
+                               Frama_C_size_t_interval(0u, sizeof block / sizeof block[0]), voluntary, tremor_ahead,
+                               gate, command, voluntary_ahead);
+}
+#endif
+
 void eva_wake_rtp_load_state(void)
 {
     any_instance();
