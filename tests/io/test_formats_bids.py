@@ -152,7 +152,8 @@ def test_stream_and_evaluate_take_a_bids_dataset(tmp_path, capsys):
                                 ("02", "tremor", "imu", fs, "acc", x2, None)])
     assert main(["stream", "--file", str(p2), "--stdout", "--header", "--status", "0", "--backend", "reference"]) == 0
     lines = capsys.readouterr().out.splitlines()
-    assert lines[0].split(",")[:2] == ["time", "acc_x_voluntary"] and len(lines) == 1 + x2.shape[0]
+    assert lines[0].split(",")[:3] == ["time [s]", "acc_x [m/s^2]", "acc_x_voluntary [m/s^2]"]
+    assert len(lines) == 1 + x2.shape[0]
     out = tmp_path / "out"
     assert main(["evaluate", str(out), str(ds), "--synthetic", "0", "--backend", "reference", "--no-progress"]) == 0
     rows = json.loads((out / "results.json").read_text())["real"]["rows"]

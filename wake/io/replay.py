@@ -1,12 +1,10 @@
 """``wake stream --file PATH --stdout``: a recording replayed through the stream, sample by sample.
 
-The file is read by :func:`wake.io.read_recording` (any format it reads:
-delimited text, PADS, MATLAB and those of :mod:`wake.io.formats`; ``--fs``
-resamples it), then each sample is one input line of the ``--stdin`` loop of
-:mod:`wake.io.stream`: the recording's channel names as its header, its time
-as the line's timestamp (``--timestamps`` is implied and the output's first
-column), a missing sample (NaN) as ``nan``.  The output is what ``--stdin``
-would write for the same lines.
+The file is read as ``wake run`` reads it (:func:`wake.io.options.read_from_arguments`: any format of
+:func:`wake.io.read_recording`, with ``--column``, ``--time-column``, ``--fs``, ``--units``), then each
+sample is one input line of the ``--stdin`` loop (:mod:`wake.io.pipes`): a header of ``time [s]`` and the
+channels with their units, then per sample its time and values (a missing sample as ``nan``).  The output
+is what ``--stdin`` writes for those lines: ``wake run --out``'s columns.
 """
 
 from __future__ import annotations
@@ -17,8 +15,8 @@ from argparse import Namespace
 
 import numpy as np
 
-from wake.io.readers import read_recording
-from wake.io.stream import _fmt, _pipe_loop, _ready
+from wake.io.options import read_from_arguments
+from wake.io.pipes import _Pipe
 from wake.sampling import rate_note
 
 __all__ = ["run_file"]
@@ -26,16 +24,20 @@ __all__ = ["run_file"]
 
 def run_file(args, make_filter, stop, log) -> int:
     """Replay ``args.file`` (options of ``wake stream``) to stdout; the exit status, as :func:`run_pipes`."""
-    rec = read_recording(args.file, fs=args.fs)
-    lines = [",".join(["time", *rec.channels])]
-    lines += [_fmt(row) for row in np.column_stack([rec.time, rec.samples])]
-    replay = Namespace(**{**vars(args), "fs": rec.fs, "timestamps": True})
-    filt = make_filter(rec.fs)
+    rec = read_from_arguments(args.file, Namespace(**{**vars(args), "format": "auto", "resample": False}),
+                              option="--file")
+    head = ["time [s]", *(f"{c} [{rec.unit(j)}]" if rec.unit(j) else c for j, c in enumerate(rec.channels))]
+    rows = np.column_stack([rec.time, rec.samples])
+    text = "\n".join([",".join(head), *(",".join(repr(float(v)) for v in row) for row in rows)]) + "\n"
+    replay = Namespace(**{**vars(args), "fs": rec.fs, "time_column": "auto", "column": None, "decimal": ".",
+                          "units": None, "timestamps": False})
+    pipe = _Pipe(replay, stop, log, make_filter, io.StringIO(text), sys.stdout)
     try:
-        _ready(filt)
+        pipe.make(rec.fs)
         log(f"wake stream: replaying {rec.name}: {rec.samples.shape[0]} samples x {len(rec.channels)} channel(s) "
             f"({', '.join(rec.channels)}); {rec.timing.describe(rec.fs)}")
         log(rate_note(rec.fs))
-        return _pipe_loop(replay, stop, log, filt, io.StringIO("\n".join(lines) + "\n"), sys.stdout)
+        return pipe.run()
     finally:
-        filt.close()
+        if pipe.filt is not None:
+            pipe.filt.close()  # also on an early error return: the worker never outlives the command

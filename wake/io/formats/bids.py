@@ -210,10 +210,11 @@ def check_derivative_source(path) -> Path:
 
 def derivative_writer(out_dir, rec, version: str):
     """For ``wake run --bids-out DIR``: check now, before the work, that ``rec`` was read from a Motion-BIDS file,
-    and return ``write(result, filt)``, which writes the derivative (:func:`write_derivative`) and says so."""
+    and return ``write(rec, result, filt)``, which writes the derivative of ``rec`` (as filtered: after
+    ``--combine``, its channels) (:func:`write_derivative`) and says so."""
     check_derivative_source(rec.source)
 
-    def write(result, filt) -> str:
+    def write(rec, result, filt) -> str:
         settings = {"wavelet": filt.wavelet, "level": filt.level, "window_s": filt.window_s,
                     "ar_order": filt.ar_order, "cutoff_rule": filt.config.cutoff_rule, "backend": filt.backend}
         paths = write_derivative(out_dir, rec, result, settings, version)
