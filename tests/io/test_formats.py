@@ -372,3 +372,14 @@ def test_a_truncated_edf_file_is_read_as_far_as_it_goes_and_says_so(tmp_path):
     (tmp_path / "empty.edf").write_bytes(data[:header])
     with pytest.raises(ValueError, match="need at least two samples, the file holds 0"):
         read_recording(tmp_path / "empty.edf")
+
+
+def test_an_fs_against_the_files_clock_is_refused_unless_resampling_is_asked_for(tmp_path):
+    """The rule of every reader (wake.io.recording.check_rate) holds for a format with its own clock."""
+    x, _ = motion(100.0, "acc", seconds=6)
+    write_edf(tmp_path / "rec.edf", 100.0, "acc", x)
+    with pytest.raises(ValueError, match="250"):
+        read_recording(tmp_path / "rec.edf", fs=250.0)
+    rec = read_recording(tmp_path / "rec.edf", fs=250.0, resample=True)
+    assert rec.fs == 250.0 and rec.timing.resampled and abs(rec.samples.shape[0] - 1500) <= 3
+    assert read_recording(tmp_path / "rec.edf", fs=100.0).samples.shape == x.shape   # the clock's own rate: as is
