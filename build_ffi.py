@@ -17,6 +17,7 @@ therefore holds only those four kinds of declaration.
 import glob
 import os
 import re
+import sys
 
 from cffi import FFI
 
@@ -78,15 +79,19 @@ def sources():
     return sorted(os.path.relpath(p, HERE) for p in glob.glob(os.path.join(HERE, CSRC, "wake_*.c")))
 
 
+#: Host-only C beside the core: the evaluation's baseline loops (no firmware build links csrc/eval).
+EVAL_HEADER, EVAL_SOURCE = f"{CSRC}/eval/wake_eval.h", f"{CSRC}/eval/wake_eval.c"
+
 ffibuilder = FFI()
-for header in public_headers():
+for header in public_headers() + [os.path.join(HERE, EVAL_HEADER)]:
     with open(header, encoding="utf-8") as fh:
         ffibuilder.cdef(cdef_from_header(fh.read()), override=True)
 
 ffibuilder.set_source(
     "wake._rtp",
-    "\n".join(f'#include "{os.path.basename(h)}"' for h in public_headers()),
-    sources=[s.replace(os.sep, "/") for s in sources()],
+    "\n".join(f'#include "{os.path.basename(h)}"' for h in public_headers()) + '\n#include "eval/wake_eval.h"',
+    sources=[s.replace(os.sep, "/") for s in sources()] + [EVAL_SOURCE],
+    libraries=[] if sys.platform == "win32" else ["m"],  # libm: the baselines' sin, cos, sqrt, fmod (csrc/eval)
     include_dirs=[CSRC],
     # The HPA's floats must round the same on every machine: no fused multiply-add.
     extra_compile_args=["-ffp-contract=off"],

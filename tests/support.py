@@ -18,6 +18,13 @@ def pads_dir():
     return path if path.is_dir() and any(path.glob("*.txt")) else None
 
 
+def pdkit_dir():
+    """pdkit's smartphone tremor-task recordings next to the checkout (or $WAKE_PDKIT_DIR), if present."""
+    env = os.environ.get("WAKE_PDKIT_DIR")
+    path = Path(env) if env else Path(__file__).resolve().parents[1].parent / "shared" / "data" / "pdkit"
+    return path if path.is_dir() and any(path.glob("T_-_*.csv")) else None
+
+
 def has_c_backend():
     from wake.rtp import c_backend_available
 
@@ -26,6 +33,7 @@ def has_c_backend():
 
 NO_PADS = "PADS recordings not found next to the checkout (../shared/data/pads) or in $WAKE_PADS_DIR"
 NO_CORE = "the compiled C core wake._rtp is not built"
+NO_PDKIT = "pdkit recordings not found next to the checkout (../shared/data/pdkit) or in $WAKE_PDKIT_DIR"
 
 
 def missing_tools(*names):

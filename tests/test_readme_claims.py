@@ -135,6 +135,17 @@ def check_parameters_documented():
         assert re.search(rf"^    (\w+, )*{f.name}\b", WakeFilter.__doc__, re.M), f"help(WakeFilter) lacks {f.name}"
 
 
+@claim("lowest-versions")
+def check_lowest_versions():
+    pins = dict(line.split("==") for line in (ROOT / ".ci" / "constraints-lowest.txt").read_text().splitlines()
+                if line and not line.startswith("#"))
+    said = re.findall(r"(numpy|scipy|PyWavelets) ([\d.]+)", tagged("lowest-versions"))
+    assert len(said) == 3
+    for name, version in said:
+        assert pins[name].startswith(version), f"README says {name} {version}, the constraints pin {pins[name]}"
+    assert "Python 3.9" in tagged("lowest-versions") and ">=3.9" in (ROOT / "pyproject.toml").read_text()
+
+
 @claim("glossary")
 def check_glossary():
     from wake.eval.metrics import nrmse, prf, snr_out

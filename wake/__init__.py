@@ -17,6 +17,7 @@ applies them through a fixed filter bank and a Kalman update.
 True
 """
 
+from wake._validation import SparseChannelWarning
 from wake.rtp.adaptive import ClippingWarning
 from wake.config import CoreMissingWarning, WakeConfig
 from wake.filter import BACKENDS, WakeFilter, WakeResult, WakeState
@@ -24,4 +25,4 @@ from wake.filter import BACKENDS, WakeFilter, WakeResult, WakeState
 __version__ = "0.2.0"
 
 __all__ = ["WakeFilter", "WakeResult", "WakeState", "WakeConfig", "BACKENDS", "ClippingWarning",
-           "CoreMissingWarning", "__version__"]
+           "CoreMissingWarning", "SparseChannelWarning", "__version__"]

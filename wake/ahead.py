@@ -310,16 +310,22 @@ def bank_horizon(horizon: int, decimation: int) -> int:
     return max(1, (2 * int(horizon) + int(decimation)) // (2 * int(decimation)))
 
 
-def horizon_from_ms(horizon_ms: float, fs: float, max_samples: int = MAX_HORIZON) -> int:
+def horizon_from_ms(horizon_ms: float, fs: float, max_samples: int | None = None) -> int:
     """The horizon in samples of ``horizon_ms`` milliseconds at ``fs`` Hz, rounded to the nearest sample
-    (halves up); ``ValueError`` outside 1..``max_samples`` samples (:data:`MAX_HORIZON` at the bank rate;
-    ``MAX_HORIZON * D`` at an input rate ``D`` times it), naming the range in ms.
+    (halves up); ``ValueError`` outside 1..``max_samples`` samples (by default :data:`MAX_HORIZON` samples
+    of the bank rate: ``MAX_HORIZON * D`` at an input rate ``D`` times it), naming the range in ms.
 
     Examples
     --------
     >>> horizon_from_ms(50, 100.0), horizon_from_ms(25, 100.0), horizon_from_ms(20, 128.0)
     (5, 3, 3)
+    >>> horizon_from_ms(50, 1000.0)   # 5 samples of the bank's 100 Hz
+    50
     """
+    if max_samples is None:
+        from wake.sampling import decimation_for
+
+        max_samples = MAX_HORIZON * decimation_for(fs)
     ms = float(horizon_ms)
     samples = int(np.floor(ms * fs / 1000.0 + 0.5)) if np.isfinite(ms) else 0
     if not 1 <= samples <= max_samples:

@@ -144,7 +144,7 @@ def _cmd_run(args) -> int:
     filt = make_filter(args, rec.fs, **horizon)
     from wake.io.progress import run_progress
     with run_progress(filt, x.shape[0], x.shape[1], args.progress):
-        res = filt.run(x if x.shape[1] > 1 else x[:, 0])
+        res = filt.run(x if x.shape[1] > 1 else x[:, 0], names=rec.channels)
     if args.out:
         columns = ahead_columns(filt.config) if horizon else ()
         rows = write_result_csv(args.out, rec, res, ahead=columns)
@@ -164,7 +164,10 @@ def _cmd_run(args) -> int:
     if res.clipped is not None and np.any(res.clipped):
         print(f"warning: {int(np.sum(res.clipped))} input samples were clipped at full scale", file=sys.stderr)
     tables = res.tremor_stats(rec.fs, filt.config.tremor_band, x=x)
-    _print_tremor_summary(rec, tables, filt.config)
+    from wake.hpa.characterise import summary_lines
+
+    print("\n".join(summary_lines(rec.channels, [rec.unit(c) for c in range(len(rec.channels))], tables,
+                                  filt.config)))
     if args.tremor_out:
         from wake.io import write_tremor_csv
 
@@ -183,24 +186,6 @@ def _cmd_run(args) -> int:
         print(f"figure written to {args.plot} (channel {name})")
         print(f"the tremor over time (frequency, amplitude, TSI, time share) written to {second}")
     return 0
-
-
-def _print_tremor_summary(rec, tables, config) -> None:
-    """One paragraph per channel: the tremor of the full HPA windows (wake.hpa.characterise.summarise)."""
-    from wake.hpa.characterise import summarise
-
-    low, top = config.tremor_band
-    print(f"tremor per channel, over the full HPA windows ({config.window_s:g} s; the tremor lies between f_d "
-          f"and {top:g} Hz; docs/characterisation.md):")
-    for c, (name, table) in enumerate(zip(rec.channels, tables)):
-        s = summarise(table, config.window_samples)
-        unit = f" {rec.unit(c)}" if rec.unit(c) else ""
-        text = f"  {name}: a tremor peak in {s['tremor_windows']} of {s['windows']} windows"
-        if s["tremor_windows"]:
-            text += (f"; median frequency {s['frequency']:.2f} Hz, TSI {s['tsi']:.2f} Hz, "
-                     f"peak-to-peak {s['peak_to_peak']:.3g}{unit}")
-        text += f"; RMS {s['rms']:.3g}{unit}; in tremor {100 * s['time_share']:.0f} % of the time"
-        print(text)
 
 
 def _stream_parser() -> argparse.ArgumentParser:

@@ -279,6 +279,12 @@ class WakeConfig:
             put(name, _number(name, getattr(self, name)))
         nyquist = self.fs / 2
         lo, hi = check_pair("tremor_band", self.tremor_band)
+        if 0 < lo < hi and hi > nyquist:
+            low, high = TUNED_RATES
+            raise ValueError(
+                f"fs = {self.fs:g} Hz is too low for the tremor band {lo:g}-{hi:g} Hz: its top lies above fs/2 = "
+                f"{nyquist:g} Hz, so it needs at least {2 * hi:g} Hz. WAKE supports {low:g}-{high:g} Hz: record or "
+                f"resample into that range (from Python, a tremor_band ending at or below {nyquist:g} Hz also serves)")
         if not 0 < lo < hi <= nyquist:
             raise ValueError(f"tremor_band must satisfy 0 < low < high <= fs/2 = {nyquist:g}, got {self.tremor_band!r}")
         clo, chi = check_pair("cutoff_range", self.cutoff_range)

@@ -58,6 +58,12 @@ def warn_if_far_from_tuned_rate(config) -> None:
         RateWarning, stacklevel=3)
 
 
+def _ordinal(n: int) -> str:
+    """``2`` -> ``"2nd"``, ``3`` -> ``"3rd"``, ``11`` -> ``"11th"``, ``21`` -> ``"21st"``."""
+    suffix = "th" if 10 <= n % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(n % 10, "th")
+    return f"{n}{suffix}"
+
+
 def rate_note(fs: float) -> str:
     """One line on what ``fs`` costs per input sample and per second (``wake run``, ``wake stream``).
 
@@ -75,7 +81,7 @@ def rate_note(fs: float) -> str:
         work = f"per input sample one RTP step; per second {fs:g} RTP steps"
         how = "no front end"
     else:
-        work = (f"per input sample one front-end add, every {D}th also one RTP step; "
+        work = (f"per input sample one front-end add, every {_ordinal(D)} also one RTP step; "
                 f"per second {fs:g} adds and {bank:g} RTP steps")
         how = f"decimation {D}"
     return f"rate {fs:g} Hz: filter bank, HPA and RTP at {bank:g} Hz ({how}): {work} (Cortex-M instructions: wake profile --fs {fs:g})"

@@ -205,8 +205,8 @@ def test_failing_recordings_are_recorded_in_one_line_and_the_others_evaluated(tm
     assert "2 of 3 tasks computed" in capsys.readouterr().out
     store = ResultStore(out / "store", ROW_COLUMNS)
     assert not list((out / "store" / "parts").iterdir())            # merged again, each task once
-    # 6 axes x 6 methods, and the tremor ahead: 4 horizons x 8 methods x 6 axes
-    assert sorted(len(v) for v in store._by_task().values()) == [1, 1, 6 * 6 + 4 * 8 * 6]
+    # 6 axes x 7 methods (WAKE, four baselines, two trivial), and the tremor ahead: 4 horizons x 9 methods x 6 axes
+    assert sorted(len(v) for v in store._by_task().values()) == [1, 1, 6 * 7 + 4 * 9 * 6]
 
 
 def test_inputs_from_folders_files_and_globs(tmp_path):
@@ -226,8 +226,10 @@ def test_plain_csv_needs_and_takes_its_rate(tmp_path, capsys):
     path = tmp_path / "plain.csv"
     path.write_text("left,right\n" + "\n".join(f"{a:.6f},{b:.6f}" for a, b in data) + "\n")
     common = ["--synthetic", "0", "--backend", "reference", "--no-progress"]
-    assert cli([tmp_path / "no-rate", path, *common]) == 1
-    assert "plain.csv: ValueError:" in capsys.readouterr().err and "--fs HZ" in (tmp_path / "no-rate/report.md").read_text()
+    assert cli([tmp_path / "no-rate", path, *common]) == 2      # refused before the work (issue 43, item 5)
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "plain.csv has no time column" in err and "--fs HZ" in err
+    assert not (tmp_path / "no-rate" / "report.md").exists()
     assert cli([tmp_path / "rate", path, "--fs", "100", *common]) == 0
     text = (tmp_path / "rate" / "report.md").read_text()
     assert "| plain | left |" in text and "| plain | right |" in text

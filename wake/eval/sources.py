@@ -22,7 +22,7 @@ from wake.io.formats import recordings_in
 from wake.io.formats.bids import is_motion_file
 
 __all__ = ["Source", "Loaded", "READABLE_SUFFIXES", "paper_sources", "cohort_sources", "file_sources",
-           "pads_sources", "load_source"]
+           "pads_sources", "pdkit_sources", "strong_sources", "load_source"]
 
 #: File suffixes a folder given as input is searched for (what :func:`wake.io.read_recording` reads).
 READABLE_SUFFIXES = (".txt", ".csv", ".tsv", ".dat", ".mat")
@@ -59,7 +59,7 @@ class Source:
 
     @property
     def synthetic(self) -> bool:
-        return self.kind in ("paper", "cohort")
+        return self.kind in ("paper", "cohort", "strong")
 
 
 @dataclass
@@ -150,8 +150,37 @@ def pads_sources(folder):
     return file_sources(files, kind="pads")
 
 
+def pdkit_sources(folder):
+    """Every pdkit recording of ``folder`` (:func:`wake.eval.pdkit.load_pdkit_folder`'s files), sorted by name."""
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise ValueError(f"{folder}: not a folder")
+    files = sorted(p for p in folder.glob("T_-_*.csv") if p.is_file())
+    if not files:
+        raise ValueError(f"{folder}: no pdkit recording (T_-_*.csv) in it")
+    return file_sources(files, kind="pdkit")
+
+
+def strong_sources(count, duration_s=30.0):
+    """``count`` signals of the synthetic strong-tremor set (:func:`wake.eval.strong_tremor.strong_tremor_dataset`)."""
+    if int(count) < 0:
+        raise ValueError(f"--strong needs a count >= 0, got {count}")
+    return [Source("strong", f"strong/{i}", index=i, duration_s=float(duration_s)) for i in range(int(count))]
+
+
 def load_source(source: Source) -> Loaded:
     """Read or generate ``source``'s samples (in the worker that evaluates it)."""
+    if source.kind == "strong":
+        from wake.eval.strong_tremor import KINDS, STRONG_SEED, make_strong_tremor
+
+        s = make_strong_tremor(seed=STRONG_SEED + source.index, duration=source.duration_s,
+                               kind=KINDS[source.index % 2])
+        return Loaded(s.name, s.fs, s.measurement[:, None], ("x",), s.voluntary, float("nan"), s.tremor)
+    if source.kind == "pdkit":
+        from wake.eval.pdkit import load_pdkit
+
+        rec = load_pdkit(source.path).recording
+        return Loaded(rec.name, rec.fs, rec.samples, tuple(rec.channels))
     if source.synthetic:
         s = make_signal(source.snr_db, seed=source.seed, duration=source.duration_s)
         name = f"signal {source.index + 1}" if source.kind == "paper" else f"cohort signal {source.index}"

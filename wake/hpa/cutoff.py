@@ -246,8 +246,9 @@ def _valley_or_dip(s: Spectrum, *, shallow: bool, floor: float):
     if db[valley] < floor + s.floor_margin_db:
         # a valley at the noise floor: where the minimum falls inside the gap is noise; the gap's low
         # edge is where the voluntary content ends
-        edge = valley
-        while edge > 0 and freqs[edge - 1] >= lo and db[edge - 1] <= db[valley] + s.edge_db:
-            edge -= 1
+        # walking down from the valley while the bin below is at or above lo and within edge_db of it: the
+        # edge is one above the highest bin below the valley where that fails (bin 0 when none does)
+        stop = np.flatnonzero(~((freqs[:valley] >= lo) & (db[:valley] <= db[valley] + s.edge_db)))
+        edge = int(stop[-1]) + 1 if stop.size else 0
         return float(freqs[edge]), "floor_valley"
     return float(freqs[valley]), "valley"

@@ -38,7 +38,8 @@ def read_mat(path, *, fs=None, time_column="auto", columns=None, name=None, resa
     except NotImplementedError:
         raise ValueError(f"{path}: a MATLAB v7.3 (HDF5) file; save it with save(..., '-v7') or export a CSV") \
             from None
-    except (ValueError, TypeError, OSError, scipy.io.matlab.MatReadError) as exc:
+    # IndexError: scipy 1.8-1.12's loadmat on a short non-MATLAB file (later releases raise MatReadError)
+    except (ValueError, TypeError, OSError, IndexError, scipy.io.matlab.MatReadError) as exc:
         raise ValueError(f"{path}: not a readable MATLAB file ({exc})") from None
     arrays = {k: np.asarray(v) for k, v in mat.items() if not k.startswith("__")}
     numeric = {k: v for k, v in arrays.items() if v.dtype.kind in "iuf" and v.size > 0}

@@ -134,6 +134,43 @@ TREMOR_COLUMNS = (("index", "index"), ("end_time", "end_time [s]"), ("samples", 
                   ("time_share", "time_share"), ("tsi", "tsi [Hz]"), ("reason", "reason"))
 
 
+def squared_unit(unit: str) -> str:
+    """The square of a unit, as text: the unit of ``band_power`` and of a power spectral density's numerator.
+
+    A compound unit is bracketed, so that ``deg/s`` squared does not read as
+    ``deg/s^2``; no unit gives ``""``.
+
+    Examples
+    --------
+    >>> from wake.io.writers import squared_unit
+    >>> squared_unit("deg/s"), squared_unit("g"), squared_unit("m/s^2"), squared_unit("")
+    ('(deg/s)^2', 'g^2', '(m/s^2)^2', '')
+    """
+    unit = (unit or "").strip()
+    if not unit:
+        return ""
+    return f"{unit}^2" if unit.replace("_", "").isalpha() else f"({unit})^2"
+
+
+def tremor_header(units) -> list:
+    """The cells of :data:`TREMOR_COLUMNS` with ``unit`` written out: the channels' unit when they share one
+    (``rms [deg/s]``, ``band_power [(deg/s)^2]``), else none (each row's ``unit`` column says it).
+
+    Examples
+    --------
+    >>> tremor_header(["deg/s", "deg/s"])[5:8]
+    ['rms [deg/s]', 'peak_to_peak [deg/s]', 'band_power [(deg/s)^2]']
+    >>> tremor_header(["g", "deg/s"])[5:8]
+    ['rms', 'peak_to_peak', 'band_power']
+    """
+    shared = set(units)
+    unit = shared.pop() if len(shared) == 1 else ""
+    if not unit:
+        return [cell.replace(" [unit^2]", "").replace(" [unit]", "") for _, cell in TREMOR_COLUMNS]
+    return [cell.replace("[unit^2]", f"[{squared_unit(unit)}]").replace("[unit]", f"[{unit}]")
+            for _, cell in TREMOR_COLUMNS]
+
+
 def write_tremor_csv(path, channels, units, tables) -> int:
     """Write the tremor characterisation of every HPA window, one row per window and channel; returns the rows.
 
@@ -144,7 +181,8 @@ def write_tremor_csv(path, channels, units, tables) -> int:
     """
     if len(tables) != len(channels):
         raise ValueError(f"{len(tables)} tables for {len(channels)} channels")
-    lines = [",".join(["channel", "unit"] + [cell for _, cell in TREMOR_COLUMNS])]
+    lines = [",".join(["channel", "unit"] + tremor_header([units[c] if c < len(units) else ""
+                                                          for c in range(len(channels))]))]
     for c, (name, table) in enumerate(zip(channels, tables)):
         unit = units[c] if c < len(units) else ""
         for row in table:

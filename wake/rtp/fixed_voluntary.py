@@ -14,18 +14,13 @@ from __future__ import annotations
 import numpy as np
 
 from wake._rtp import ffi, lib
+from wake.rtp.status import check_status as _check
 from wake.rtp.qformat import STATE_FRAC, quantize_weights
 
 __all__ = ["VoluntaryAheadMixin"]
 
-_WEIGHTS_ERROR = int(lib.WAKE_RTP_E_WEIGHTS)
 
 
-def _check(status, what):
-    status = int(status)
-    if status != int(lib.WAKE_RTP_OK):
-        extra = " (w_h outside ±64)" if status == _WEIGHTS_ERROR else ""
-        raise RuntimeError(f"{what} failed with status {status}{extra}")
 
 
 class VoluntaryAheadMixin:

@@ -1,5 +1,6 @@
 """Cross-compilation of the core into a bare-metal image, and a minimal ELF reader."""
 
+from __future__ import annotations
 
 import shutil
 import struct

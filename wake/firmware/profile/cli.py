@@ -1,5 +1,6 @@
 """Command line of ``wake profile``."""
 
+from __future__ import annotations
 
 import argparse
 import json
