@@ -114,6 +114,8 @@ def _cmd_run(args) -> int:
     from wake.io.writers import ahead_columns
     from wake.target import voluntary_ahead_refusal
     from wake.io.options import horizon_setting, plot_channel_index, read_from_arguments
+    from wake.io.formats.bids import derivative_writer
+    from wake import __version__
 
     if args.plot:
         from wake.eval.plotting import require_matplotlib
@@ -127,6 +129,7 @@ def _cmd_run(args) -> int:
         raise ValueError(f"--tremor-out {args.tremor_out} is also --out: the tremor table would overwrite the "
                          "filtered signals; choose another path")
     rec = read_from_arguments(args.file, args)
+    write_bids = derivative_writer(args.bids_out, rec, __version__) if args.bids_out else None  # checked now
     if args.combine:
         from wake.io.combine import combine_axes
         rec = combine_axes(rec, args.combine)
@@ -150,6 +153,8 @@ def _cmd_run(args) -> int:
         why = voluntary_ahead_refusal(filt.horizon, filt.backend, filt.hpa_backend) if horizon else None
         if why:
             print(f"no voluntary_ahead column: {why}")
+    if write_bids:
+        print(write_bids(rec, res, filt))
     cut = ", ".join(f"{c:.2f}" for c in res.mean_cutoff)
     print(f"{len(res.hpa[0])} HPA runs per channel, mean cut-off f_d = {cut} Hz, backend {res.backend}")
     print(rate_note(rec.fs))
@@ -187,20 +192,9 @@ def _stream_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="wake stream",
         description="Run WAKE on a live stream: voluntary motion and tremor out for every sample in.")
-    src = p.add_mutually_exclusive_group(required=True)
-    src.add_argument("--stdin", action="store_true",
-                     help="read one line per sample, by the rules of wake run (delimiter, decimal mark, header, "
-                          "text columns and time column from the first lines)")
-    src.add_argument("--lsl-in", metavar="NAME", help="read the Lab Streaming Layer stream of this name")
-    dst = p.add_mutually_exclusive_group(required=True)
-    dst.add_argument("--stdout", action="store_true", help="write one line per sample, the columns of wake run --out: time, then per "
-                                                          "channel measurement, voluntary, tremor")
-    dst.add_argument("--lsl-out", metavar="NAME", help="publish an LSL stream of this name")
-    from wake.io.options import add_reading_arguments
+    from wake.io.options import add_stream_io_arguments
 
-    add_reading_arguments(p, what="--stdin (the rules of wake run, on its first lines)", stream=True,
-                          fs_help="sampling rate in Hz (default: from the input's time column with --stdin, "
-                                  "the stream's nominal rate with LSL; required when there is none)")
+    add_stream_io_arguments(p)
     p.add_argument("--timestamps", action="store_true",
                    help="--stdin: the first value of each line is its timestamp (the same as --time-column 0)")
     p.add_argument("--header", action="store_true",
@@ -225,6 +219,7 @@ def _cmd_stream(argv) -> int:
     """``wake stream``: WAKE on a live stream (:mod:`wake.io.stream`)."""
     from wake.io.options import horizon_setting
     from wake.io.pipes import run_pipes
+    from wake.io.replay import run_file
     from wake.io.stream import SWITCH_INTERVAL_S, StreamStop, run_lsl
     from wake.target import voluntary_ahead_refusal
 
@@ -233,8 +228,8 @@ def _cmd_stream(argv) -> int:
         raise ValueError(f"--fs must be > 0 Hz, got {args.fs}")
     if args.max_samples < 0 or args.status < 0:
         raise ValueError("--max-samples and --status must be >= 0")
-    if args.stdin != args.stdout:
-        raise ValueError("use --stdin with --stdout, or --lsl-in with --lsl-out")
+    if bool(args.stdin or args.file) != args.stdout:
+        raise ValueError("use --stdin or --file with --stdout, or --lsl-in with --lsl-out")
 
     def log(msg):
         print(msg, file=sys.stderr, flush=True)
@@ -260,7 +255,7 @@ def _cmd_stream(argv) -> int:
     main_thread = threading.current_thread() is threading.main_thread()
     old = stop.install() if main_thread else []  # signal handlers can only be set from the main thread
     try:
-        return run_pipes(args, make, stop, log) if args.stdin else run_lsl(args, make, stop, log)
+        return (run_file if args.file else run_pipes if args.stdin else run_lsl)(args, make, stop, log)
     finally:
         for sig, handler in zip((signal.SIGINT, getattr(signal, "SIGTERM", None)), old):
             signal.signal(sig, handler)
@@ -310,8 +305,8 @@ def build_parser() -> argparse.ArgumentParser:
     d = sub.add_parser("demo", help="run the paper's synthetic dataset and compare with the paper")
     add_filter_arguments(d)
     d.add_argument("--plot", metavar="PNG", help="draw signal 1 (needs matplotlib)")
-    r = sub.add_parser("run", help="process a recording (CSV, PADS or MATLAB .mat)")
-    r.add_argument("file", help="recording: delimited text (a header row of names is read), a PADS .txt, or a .mat")
+    r = sub.add_parser("run", help="process a recording (CSV, PADS, MATLAB, wearable formats, Motion-BIDS)")
+    r.add_argument("file", help="recording: delimited text, a PADS .txt, a .mat or a file/folder of docs/reference/formats.md")
     from wake.io.options import add_reading_arguments
 
     add_reading_arguments(r)
@@ -322,6 +317,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="write the tremor characterisation of every HPA window, one row per window and channel: "
                         "channel, unit, index, end_time, samples, cutoff, frequency, rms, peak_to_peak, "
                         "band_power, time_share, tsi, reason (a NaN field's reason); docs/studies/characterisation.md")
+    r.add_argument("--bids-out", metavar="DIR", help="write a BIDS derivative of a Motion-BIDS input (docs/reference/formats.md)")
     r.add_argument("--plot", metavar="PNG", help="draw one channel, and its tremor over time (frequency, "
                                                  "amplitude, TSI, time share) beside it in PNG's name with "
                                                  "'-tremor' (needs matplotlib; checked before the work)")

@@ -18,6 +18,8 @@ import numpy as np
 
 from wake.eval.synthetic import PAPER_SNR_DB, make_signal
 from wake.io import read_pads, read_recording
+from wake.io.formats import recordings_in
+from wake.io.formats.bids import is_motion_file
 
 __all__ = ["Source", "Loaded", "READABLE_SUFFIXES", "paper_sources", "cohort_sources", "file_sources",
            "pads_sources", "pdkit_sources", "strong_sources", "load_source"]
@@ -100,10 +102,13 @@ def cohort_sources(count, seed=0, duration_s=50.0):
 def _files_in(pattern):
     path = Path(pattern)
     if path.is_dir():
-        files = sorted(p for p in path.iterdir() if p.is_file() and p.suffix.lower() in READABLE_SUFFIXES
-                       and not p.name.lower().startswith("readme"))
+        files = recordings_in(path)  # wake.io.formats: a BIDS dataset's *_motion.tsv, TSDF, CWA, EDF, Parquet ...
+        if not any(is_motion_file(f) for f in files):  # a BIDS dataset's other .tsv are sidecars, not recordings
+            files = sorted({*files, *(p for p in path.iterdir() if p.is_file() and p.suffix.lower() in
+                                      READABLE_SUFFIXES and not p.name.lower().startswith("readme"))})
         if not files:
-            raise ValueError(f"{path}: no recording in this folder (looked for {', '.join(READABLE_SUFFIXES)})")
+            raise ValueError(f"{path}: no recording in this folder (looked for {', '.join(READABLE_SUFFIXES)}, "
+                             "a BIDS *_motion.tsv, a TSDF *_meta.json and the wearable formats of docs/reference/formats.md)")
         return files
     if path.is_file():
         return [path]

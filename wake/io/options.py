@@ -11,8 +11,8 @@ from __future__ import annotations
 from wake.io.readers import FORMATS, read_recording
 from wake.io.text_table import DECIMAL_MARKS
 
-__all__ = ["add_reading_arguments", "checked_fs", "column_list", "horizon_setting", "one_line_warnings", "plot_channel_index",
-           "read_from_arguments"]
+__all__ = ["add_reading_arguments", "add_stream_io_arguments", "checked_fs", "column_list", "horizon_setting",
+           "one_line_warnings", "plot_channel_index", "read_from_arguments"]
 
 
 def add_reading_arguments(p, *, what: str = "the recording", fs_help: str | None = None,
@@ -39,13 +39,32 @@ def add_reading_arguments(p, *, what: str = "the recording", fs_help: str | None
                         "(default: every numeric column but the time column)")
     if not stream:
         g.add_argument("--format", choices=FORMATS, default="auto",
-                       help="file format (default: .mat by suffix, else delimited text; PADS by its shape)")
+                       help="file format (default: by suffix and content, docs/reference/formats.md; .mat by suffix, else "
+                            "delimited text; PADS by its shape)")
     g.add_argument("--decimal", choices=DECIMAL_MARKS, default="auto",
                    help="decimal mark of delimited text (default: auto, a comma between digits in a file "
                         "separated by semicolons or tabs, as in '0,5;1,2')")
     g.add_argument("--units", default=None, metavar="UNIT[,UNIT...]",
                    help="units of the channels where the file names none (one for all, or one per channel): "
                         "they label the output columns and the figure's axes")
+
+
+def add_stream_io_arguments(p) -> None:
+    """``wake stream``'s sources (``--stdin``, ``--lsl-in``, ``--file``), sinks (``--stdout``, ``--lsl-out``) and
+    the reading options of ``--stdin`` (:func:`add_reading_arguments` with ``stream=True``)."""
+    src = p.add_mutually_exclusive_group(required=True)
+    src.add_argument("--stdin", action="store_true",
+                     help="read one line per sample, by the rules of wake run (delimiter, decimal mark, header, "
+                          "text columns and time column from the first lines)")
+    src.add_argument("--lsl-in", metavar="NAME", help="read the Lab Streaming Layer stream of this name")
+    src.add_argument("--file", metavar="PATH", help="replay a recording `wake run` reads, sample by sample")
+    dst = p.add_mutually_exclusive_group(required=True)
+    dst.add_argument("--stdout", action="store_true", help="write one line per sample, the columns of wake run --out: time, then per "
+                                                          "channel measurement, voluntary, tremor")
+    dst.add_argument("--lsl-out", metavar="NAME", help="publish an LSL stream of this name")
+    add_reading_arguments(p, what="--stdin (the rules of wake run, on its first lines)", stream=True,
+                          fs_help="sampling rate in Hz (default: from the input's time column with --stdin, "
+                                  "the stream's nominal rate with LSL; required when there is none)")
 
 
 def column_list(values):

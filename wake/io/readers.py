@@ -39,6 +39,7 @@ from pathlib import Path
 import numpy as np
 
 from wake._validation import check_positive
+from wake.io import formats
 from wake.io.recording import Recording, Timing, analyse_time, check_rate, resample_uniform
 from wake.io.text_table import TextTable, check_decimal_mark, read_text_table
 from wake.io.time_column import TimeUnit, find_time_column, is_row_counter, unit_from_name, unit_from_steps
@@ -46,8 +47,8 @@ from wake.io.time_column import TimeUnit, find_time_column, is_row_counter, unit
 __all__ = ["FORMATS", "PADS_CHANNELS", "PADS_UNITS", "TableLayout", "read_recording", "read_csv", "read_pads",
            "table_layout"]
 
-#: Formats :func:`read_recording` knows (``"auto"`` picks by content and suffix).
-FORMATS = ("auto", "csv", "pads", "mat")
+#: Formats :func:`read_recording` knows (``"auto"`` picks by content and suffix; after mat: :mod:`wake.io.formats`).
+FORMATS = ("auto", "csv", "pads", "mat", *formats.FORMATS)
 #: Channel names of a PADS recording, in file order after the time column.
 PADS_CHANNELS = ("acc_x", "acc_y", "acc_z", "gyro_x", "gyro_y", "gyro_z")
 #: Units of :data:`PADS_CHANNELS`.
@@ -306,9 +307,10 @@ def read_recording(path, *, format="auto", fs=None, time_column="auto", columns=
     Parameters
     ----------
     path : str or Path
-    format : {"auto", "csv", "pads", "mat"}
-        ``"auto"``: ``.mat`` files are MATLAB, everything else delimited
-        text (PADS files are recognised by their shape).
+    format : {"auto", "csv", "pads", "mat", "cwa", "gt3x", "geneactiv", "edf", "tsdf", "parquet", "bids"}
+        ``"auto"``: those of :mod:`wake.io.formats` by suffix and content (a
+        folder holding one too), ``.mat`` files are MATLAB, everything else
+        delimited text (PADS files are recognised by their shape).
     fs, time_column, columns, decimal, resample
         See :func:`read_csv` (``decimal`` applies to delimited text only).
         An ``fs`` that contradicts the file's time column is refused, naming
@@ -332,7 +334,10 @@ def read_recording(path, *, format="auto", fs=None, time_column="auto", columns=
         raise ValueError(f"format must be one of {', '.join(FORMATS)}, got {format!r}")
     check_decimal_mark(decimal)  # before the format is chosen: a .mat file is refused a bad one too
     path = Path(path)
-    if format == "mat" or (format == "auto" and path.suffix.lower() == ".mat"):
+    found = formats.resolve(path, format)
+    if found is not None:
+        rec = _read_format(*found, fs=fs, time_column=time_column, columns=columns, resample=resample)
+    elif format == "mat" or (format == "auto" and path.suffix.lower() == ".mat"):
         from wake.io.matlab import read_mat  # it takes the rules of this module (_finish)
 
         rec = read_mat(path, fs=fs, time_column=time_column, columns=columns, resample=resample)
@@ -341,6 +346,25 @@ def read_recording(path, *, format="auto", fs=None, time_column="auto", columns=
     else:
         rec = read_csv(path, fs=fs, time_column=time_column, columns=columns, decimal=decimal, resample=resample)
     return rec if units is None else with_units(rec, units)
+
+
+def _read_format(path, fmt, *, fs, time_column, columns, resample) -> Recording:
+    """A file of :mod:`wake.io.formats`: its library reads the table, :func:`_finish` applies the rules."""
+    if fmt not in formats.NAMED_COLUMNS and not (isinstance(time_column, str) and time_column.lower() == "auto"):
+        raise ValueError(f"{path}: a {fmt} recording's time comes from the file itself; --time-column "
+                         "(time_column=) applies to delimited text and Parquet: leave it at auto")
+    table = formats.read_table(path, fmt, columns)
+    if table.meta.get("columns"):
+        columns = None  # the reader took exactly the channels asked for (EDF: one rate)
+    if table.time is None:  # named columns (Parquet): the time column is found as in a CSV file's header
+        time_index, time_unit = _find_time(table.column, table.names, table.units, time_column, path, True,
+                                           table.text)
+        return _finish(path, table.name, table.column, table.names, table.units, time_index, time_unit, fs,
+                       columns, text=table.text, notes=table.notes, resample=resample)
+    width = len(table.names)  # the clock after the channels: a 0-based index names a channel
+    names, units = [*table.names, "time"], [*table.units, "s"]
+    return _finish(path, table.name, lambda j: table.time if j == width else table.column(j), names, units, width,
+                   TimeUnit("s", "unit cell"), fs, columns, notes=table.notes, resample=resample)
 
 
 def with_units(rec: Recording, units) -> Recording:
