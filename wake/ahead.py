@@ -83,6 +83,18 @@ def lagged(s, taps: int = TAPS):
     return np.lib.stride_tricks.sliding_window_view(pad, taps)[:, ::-1]
 
 
+def fit_pair(estimate, truth, horizon: int):
+    """``estimate`` and ``truth`` as float arrays, checked for a fit ``horizon`` samples ahead: both 1-D and of
+    one length, ``horizon`` at least 1 (the rule of every predictor's fit)."""
+    y = np.asarray(estimate, dtype=float)
+    t = np.asarray(truth, dtype=float)
+    if y.shape != t.shape or y.ndim != 1:
+        raise ValueError(f"estimate and truth must be 1-D and of one length, got shapes {y.shape} and {t.shape}")
+    if horizon < 1:
+        raise ValueError(f"horizon must be at least 1 sample, got {horizon}")
+    return y, t
+
+
 def fit_predictor(estimate, truth, horizon: int, taps: int = TAPS, ridge: float = RIDGE):
     """The direct ``horizon``-step predictor from WAKE's tremor estimate to the tremor truth.
 
@@ -103,12 +115,7 @@ def fit_predictor(estimate, truth, horizon: int, taps: int = TAPS, ridge: float 
         +-:data:`COEFFICIENT_LIMIT`.  Zeros when the window has fewer than two
         such rows, or no power.
     """
-    y = np.asarray(estimate, dtype=float)
-    t = np.asarray(truth, dtype=float)
-    if y.shape != t.shape or y.ndim != 1:
-        raise ValueError(f"estimate and truth must be 1-D and of one length, got shapes {y.shape} and {t.shape}")
-    if horizon < 1:
-        raise ValueError(f"horizon must be at least 1 sample, got {horizon}")
+    y, t = fit_pair(estimate, truth, horizon)
     return fit_rows(lagged(y, taps)[taps - 1:y.size - horizon], t[taps - 1 + horizon:], ridge)
 
 

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from wake.ahead import RIDGE, fit_predictor, fit_rows, lagged
+from wake.ahead import RIDGE, fit_pair, fit_predictor, fit_rows, lagged
 
 __all__ = ["ORDERS", "SELECT_HELD_OUT", "PREDICTORS", "fit_selected", "fit_model"]
 
@@ -74,12 +74,7 @@ def fit_selected(estimate, truth, horizon: int, orders=ORDERS, ridge: float = RI
     >>> c.shape, bool(np.abs(c).max() > 0)
     ((40,), True)
     """
-    y = np.asarray(estimate, dtype=float)
-    t = np.asarray(truth, dtype=float)
-    if y.shape != t.shape or y.ndim != 1:
-        raise ValueError(f"estimate and truth must be 1-D and of one length, got shapes {y.shape} and {t.shape}")
-    if horizon < 1:
-        raise ValueError(f"horizon must be at least 1 sample, got {horizon}")
+    y, t = fit_pair(estimate, truth, horizon)
     orders = sorted({int(p) for p in orders})
     if not orders or orders[0] < 1:
         raise ValueError(f"orders must be positive integers, got {orders!r}")

@@ -17,12 +17,12 @@ current directory (:func:`default_pdkit_dir`).
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from wake.eval.datasets import dataset_files, default_data_dir
 from wake.io import Recording, read_csv
 
 __all__ = ["PDKIT_CHANNELS", "PDKIT_UNITS", "TREMOR_TASKS", "PdkitRecording", "load_pdkit", "load_pdkit_folder",
@@ -96,17 +96,16 @@ def load_pdkit(path, fs=100.0) -> PdkitRecording:
     return PdkitRecording(rec, task, limb, subject)
 
 
+#: pdkit's recordings in its folder (README.md and LICENSE beside them are not)
+PDKIT_PATTERN = "T_-_*.csv"
+
+
 def load_pdkit_folder(folder, fs=100.0, tremor_only=False) -> list:
     """Every pdkit recording in ``folder`` (sorted by file name); ``tremor_only``: the :data:`TREMOR_TASKS`.
 
     Other files (README.md, LICENSE) are ignored.
     """
-    folder = Path(folder)
-    if not folder.is_dir():
-        raise ValueError(f"{folder}: not a folder")
-    files = sorted(p for p in folder.glob("T_-_*.csv") if p.is_file())
-    if not files:
-        raise ValueError(f"{folder}: no pdkit recording (T_-_*.csv) in it")
+    files = dataset_files(folder, PDKIT_PATTERN, "pdkit recording")
     out = [load_pdkit(p, fs) for p in files]
     return [r for r in out if r.tremor_task] if tremor_only else out
 
@@ -114,13 +113,7 @@ def load_pdkit_folder(folder, fs=100.0, tremor_only=False) -> list:
 def default_pdkit_dir(explicit=None, cwd=None):
     """Where the pdkit folder is: ``explicit``, else ``$WAKE_PDKIT_DIR``, else ``../shared/data/pdkit``
     relative to ``cwd`` (the current directory) if it exists; ``None`` when none applies."""
-    if explicit:
-        return Path(explicit)
-    env = os.environ.get("WAKE_PDKIT_DIR")
-    if env:
-        return Path(env)
-    guess = Path(cwd or os.getcwd()).resolve().parent / "shared" / "data" / "pdkit"
-    return guess if guess.is_dir() else None
+    return default_data_dir("pdkit", "WAKE_PDKIT_DIR", explicit, cwd)
 
 
 def band_ratio(x, fs, tremor=(3.0, 12.0), slow=(0.2, 2.5)):

@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from wake.eval.datasets import dataset_files
 from wake.eval.synthetic import PAPER_SNR_DB, make_signal
 from wake.io import read_pads, read_recording
 from wake.io.formats import recordings_in
@@ -141,24 +142,14 @@ def file_sources(patterns, kind="file", fs=None):
 
 def pads_sources(folder):
     """Every PADS recording (``*.txt``) of ``folder``, sorted by name (as ``load_pads_folder``)."""
-    folder = Path(folder)
-    if not folder.is_dir():
-        raise ValueError(f"{folder}: not a folder")
-    files = sorted(p for p in folder.glob("*.txt") if p.is_file())
-    if not files:
-        raise ValueError(f"{folder}: no recording matches '*.txt'")
-    return file_sources(files, kind="pads")
+    return file_sources(dataset_files(folder, "*.txt"), kind="pads")
 
 
 def pdkit_sources(folder):
     """Every pdkit recording of ``folder`` (:func:`wake.eval.pdkit.load_pdkit_folder`'s files), sorted by name."""
-    folder = Path(folder)
-    if not folder.is_dir():
-        raise ValueError(f"{folder}: not a folder")
-    files = sorted(p for p in folder.glob("T_-_*.csv") if p.is_file())
-    if not files:
-        raise ValueError(f"{folder}: no pdkit recording (T_-_*.csv) in it")
-    return file_sources(files, kind="pdkit")
+    from wake.eval.pdkit import PDKIT_PATTERN
+
+    return file_sources(dataset_files(folder, PDKIT_PATTERN, "pdkit recording"), kind="pdkit")
 
 
 def strong_sources(count, duration_s=30.0):
