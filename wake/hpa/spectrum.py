@@ -71,17 +71,21 @@ def levinson_durbin(r, order):
         raise ValueError(f"need {order + 1} autocorrelation lags for order {order}, got {r.shape[0]}")
     a = np.zeros(order + 1)
     a[0] = 1.0
-    refl = np.zeros(order)
-    err = r[0]
+    refl = [0.0] * order
+    err = float(r[0])
+    r_m = r.tolist()
+    back = np.ascontiguousarray(r[order - 1 :: -1][:order])   # r[order-1], ..., r[0]: r[m-1:0:-1] is a tail
+    dot = np.dot
     for m in range(1, order + 1):
         if err <= 0:
             break  # a perfectly predictable (or silent) window: higher orders add nothing
-        acc = r[m] + np.dot(a[1:m], r[m - 1 : 0 : -1])
+        # np.dot as before (BLAS's summation order), on a contiguous copy of the same values
+        acc = r_m[m] + float(dot(a[1:m], back[order - m : order - 1]))
         k = -acc / err
-        a[1 : m + 1] = a[1 : m + 1] + k * a[m - 1 :: -1][: m]
+        a[1 : m + 1] += k * a[m - 1 :: -1][:m]
         refl[m - 1] = k
         err *= 1.0 - k * k
-    return a, float(max(err, 0.0)), refl
+    return a, float(max(err, 0.0)), np.array(refl)
 
 
 def yule_walker(x, order):
