@@ -32,13 +32,19 @@ MAX_WARMUP = 8
 _Q15 = 32768.0
 
 
+_LOADED = None   # (ffi, lib) once the compiled core has loaded
+
+
 def _core():
-    from wake.rtp import load_fixed_point
+    global _LOADED
+    if _LOADED is None:
+        from wake.rtp import load_fixed_point
 
-    load_fixed_point()  # CoreUnavailable with how to build it
-    from wake._rtp import ffi, lib
+        load_fixed_point()  # CoreUnavailable with how to build it
+        from wake._rtp import ffi, lib
 
-    return ffi, lib
+        _LOADED = ffi, lib
+    return _LOADED
 
 
 def c_flag_name(flag: str) -> str:
