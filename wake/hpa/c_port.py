@@ -210,8 +210,7 @@ def _previous_ahead(h, previous_ahead, index: int, new_samples: int):
         raise ValueError(f"previous_ahead must be {len(h.ahead_prev)} finite coefficients, got {previous_ahead!r}")
     if isinstance(new_samples, bool) or not 0 <= int(new_samples) <= int(index):
         raise ValueError(f"new_samples must be an integer in 0..index = {index}, got {new_samples!r}")
-    for i, v in enumerate(c):
-        h.ahead_prev[i] = float(v)
+    h.ahead_prev[0 : c.size] = c.tolist()   # one slice assignment (float32 values: exact in the C floats)
     h.ahead_prev_index = (int(index) - int(new_samples)) & 0xFFFFFFFF
     h.ahead_has_prev = 1
 
