@@ -179,6 +179,8 @@ class AdaptiveRTP:
     def _core_run(self, x) -> np.ndarray:
         """``(5, n)``: the core's voluntary outputs, tremor ahead and voluntary motion ahead over ``x`` (no
         full-scale move)."""
+        if self.on_c:
+            return self.core._run_block(x, all_outputs=True)   # the C core's rows, already one (5, n) array
         return np.array(self.core.run_outputs(x))
 
     def _run(self, x) -> np.ndarray:
