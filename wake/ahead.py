@@ -42,6 +42,7 @@ import numpy as np
 
 from __future__ import annotations
 
+import functools
 import numbers
 
 import numpy as np
@@ -76,11 +77,22 @@ MIN_HELD_OUT = 10
 COEFFICIENT_LIMIT = 8.0
 
 
+@functools.lru_cache(maxsize=None)
+def identity(n: int) -> np.ndarray:
+    """``np.eye(n)``, read-only and made once per size (a fit adds it per window)."""
+    eye = np.eye(n)
+    eye.flags.writeable = False
+    return eye
+
+
 def lagged(s, taps: int = TAPS):
     """Rows ``[s[k], s[k-1], ..., s[k-taps+1]]`` for every ``k`` (zeros before the start), newest first."""
     s = np.asarray(s, dtype=float)
     pad = np.concatenate((np.zeros(taps - 1), s))
-    return np.lib.stride_tricks.sliding_window_view(pad, taps)[:, ::-1]
+    # sliding_window_view(pad, taps), read-only, built directly (the helper's checks cost 7x the view)
+    rows = np.ndarray((s.size, taps), pad.dtype, pad, 0, (pad.itemsize, pad.itemsize))
+    rows.flags.writeable = False
+    return rows[:, ::-1]
 
 
 def fit_pair(estimate, truth, horizon: int):
@@ -155,7 +167,7 @@ def fit_rows(rows, target, ridge: float = RIDGE):
     scale = np.trace(G) / taps
     if not scale > 0:
         return np.zeros(taps)
-    c = np.linalg.solve(G + ridge * scale * np.eye(taps), X.T @ target)
+    c = np.linalg.solve(G + ridge * scale * identity(taps), X.T @ target)
     return np.clip(c, -COEFFICIENT_LIMIT, COEFFICIENT_LIMIT)
 
 

@@ -32,13 +32,19 @@ MAX_WARMUP = 8
 _Q15 = 32768.0
 
 
+_LOADED = None   # (ffi, lib) once the compiled core has loaded
+
+
 def _core():
-    from wake.rtp import load_fixed_point
+    global _LOADED
+    if _LOADED is None:
+        from wake.rtp import load_fixed_point
 
-    load_fixed_point()  # CoreUnavailable with how to build it
-    from wake._rtp import ffi, lib
+        load_fixed_point()  # CoreUnavailable with how to build it
+        from wake._rtp import ffi, lib
 
-    return ffi, lib
+        _LOADED = ffi, lib
+    return _LOADED
 
 
 def c_flag_name(flag: str) -> str:
@@ -144,22 +150,50 @@ def quantize_window(x, full_scale: float) -> np.ndarray:
     return np.clip(np.rint(np.asarray(x, dtype=float) * (_Q15 / full_scale)), -32768, 32767).astype(np.int16)
 
 
+#: (config, horizon, taps) -> (wake_hpa_config_t, int16 taps) of configurations that passed
+#: check_c_hpa_config: an HPA of a stream checks, fills and quantises them once, not once per window
+_PREPARED: dict = {}
+_PREPARED_MAX = 32
+
+
+def _prepared(config: WakeConfig, taps, horizon: int):
+    """``check_c_hpa_config(config)``, then the ``wake_hpa_config_t`` at ``horizon`` and the int16 taps,
+    remembered per (config, horizon, taps): wake_hpa_init copies the struct, so one serves every instance."""
+    ffi, _ = _core()
+    from wake.rtp.qformat import quantize_taps
+
+    t = np.asarray(taps)
+    try:
+        key = (config, int(horizon), t.shape, t.dtype.str, t.tobytes())
+        hit = _PREPARED.get(key)
+    except TypeError:   # a configuration holding something unhashable: prepared every time
+        key, hit = None, None
+    if hit is not None:
+        return hit
+    check_c_hpa_config(config)
+    cfg = hpa_config(config)
+    cfg.horizon = horizon
+    taps_q = np.ascontiguousarray(quantize_taps(taps), dtype=np.int16)
+    taps_q.flags.writeable = False   # shared by every instance that reads it
+    if key is not None:
+        if len(_PREPARED) >= _PREPARED_MAX:
+            _PREPARED.clear()
+        _PREPARED[key] = (cfg, taps_q)
+    return cfg, taps_q
+
+
 def _instance(config: WakeConfig, taps, weights, name: str, *, horizon: int = 1):
     """A C HPA instance of ``config`` over ``taps`` with ``weights`` in use (the start-up weights,
     :func:`~wake.wavelets.default_weights`, when None; clipped to the C HPA's weight limit), and the
     quantised taps it points into: keep them alive as long as the instance."""
     ffi, lib = _core()
-    from wake.rtp.qformat import quantize_taps
-
     J = config.level
     w0 = np.clip(np.asarray(default_weights(J) if weights is None else weights, dtype=np.float32),
                  -lib.WAKE_HPA_WEIGHT_LIMIT, lib.WAKE_HPA_WEIGHT_LIMIT)
     if w0.shape != (J,) or not np.isfinite(w0).all():
         raise ValueError(f"{name} must be {J} finite numbers, got {weights!r}")
-    cfg = hpa_config(config)
-    cfg.horizon = horizon
+    cfg, taps_q = _prepared(config, taps, horizon)
     h = ffi.new("wake_hpa_t *")
-    taps_q = np.ascontiguousarray(quantize_taps(taps), dtype=np.int16)
     status = lib.wake_hpa_init(h, cfg, ffi.from_buffer("int16_t[]", taps_q), ffi.from_buffer("float[]", w0))
     if status != lib.WAKE_HPA_OK:
         raise ValueError(f"wake_hpa_init refused the configuration (status {status})")
@@ -176,8 +210,7 @@ def _previous_ahead(h, previous_ahead, index: int, new_samples: int):
         raise ValueError(f"previous_ahead must be {len(h.ahead_prev)} finite coefficients, got {previous_ahead!r}")
     if isinstance(new_samples, bool) or not 0 <= int(new_samples) <= int(index):
         raise ValueError(f"new_samples must be an integer in 0..index = {index}, got {new_samples!r}")
-    for i, v in enumerate(c):
-        h.ahead_prev[i] = float(v)
+    h.ahead_prev[0 : c.size] = c.tolist()   # one slice assignment (float32 values: exact in the C floats)
     h.ahead_prev_index = (int(index) - int(new_samples)) & 0xFFFFFFFF
     h.ahead_has_prev = 1
 
@@ -229,7 +262,7 @@ def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index:
     'valley'
     """
     ffi, lib = _core()
-    check_c_hpa_config(config)
+    _prepared(config, taps, config.horizon)   # check_c_hpa_config, once per configuration
     x = np.asarray(window, dtype=float)
     J, N = config.level, 2**config.level
     if x.ndim != 1 or not N * 2 <= x.size <= config.window_samples:

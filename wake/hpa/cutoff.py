@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
+from types import MappingProxyType
 
 import numpy as np
 
@@ -127,13 +129,25 @@ def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
     >>> flag, bool(2.0 < fd < 6.0)
     ('valley', True)
     """
+    args = (tremor_band, cutoff_range, default_cutoff, min_depth_db, shallow_max, floor_margin_db, edge_db)
+    try:
+        settings = _settings(*args)
+    except TypeError:   # something unhashable (a list): checked, and refused by name, without the cache
+        settings = _settings.__wrapped__(*args)
+    decide = get_cutoff_rule(rule).function
+    return decide(_analyse(np.asarray(freqs, dtype=float), np.asarray(psd, dtype=float), settings))
+
+
+@functools.lru_cache(maxsize=64, typed=True)   # typed: True is not 1 (check_positive refuses a bool)
+def _settings(tremor_band, cutoff_range, default_cutoff, min_depth_db, shallow_max, floor_margin_db, edge_db):
+    """:func:`find_cutoff`'s settings checked, as the keywords of :class:`Spectrum` (the same for every window
+    of a stream: checked once), read-only."""
     lo, hi = cutoff_range
     if not 0 < lo <= default_cutoff <= hi:
         raise ValueError(
             f"need 0 < cutoff_range[0] <= default_cutoff <= cutoff_range[1], got "
             f"cutoff_range={cutoff_range!r}, default_cutoff={default_cutoff!r}"
         )
-    decide = get_cutoff_rule(rule).function
     if isinstance(shallow_max, bool) or not isinstance(shallow_max, (int, float, np.floating, np.integer)) \
             or not lo <= shallow_max < np.inf:
         raise ValueError(f"shallow_max must be a finite frequency at or above cutoff_range[0] = {lo:g} Hz, "
@@ -142,10 +156,9 @@ def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
     edge_db = check_positive("edge_db", edge_db)
     if not 0 < tremor_band[0] < tremor_band[1]:
         raise ValueError(f"tremor_band must be (low, high) with 0 < low < high, got {tremor_band!r}")
-    settings = dict(cutoff_range=(lo, hi), tremor_band=tremor_band, default_cutoff=default_cutoff,
-                    min_depth_db=min_depth_db, shallow_max=shallow_max, floor_margin_db=floor_margin_db,
-                    edge_db=edge_db)
-    return decide(_analyse(np.asarray(freqs, dtype=float), np.asarray(psd, dtype=float), settings))
+    return MappingProxyType(dict(cutoff_range=(lo, hi), tremor_band=tremor_band, default_cutoff=default_cutoff,
+                                 min_depth_db=min_depth_db, shallow_max=shallow_max,
+                                 floor_margin_db=floor_margin_db, edge_db=edge_db))
 
 
 def _analyse(freqs, psd, settings) -> "Spectrum":

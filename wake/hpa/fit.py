@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from wake.ahead import identity
 from wake.config import WEIGHT_LIMIT
 from wake.wavelets import default_weights  # noqa: F401  (re-exported: the weights before any fit)
 
@@ -53,7 +54,7 @@ def fit_weights(approximations, target, ridge=1e-6, weight_limit=WEIGHT_LIMIT, *
     scale = np.trace(G) / J
     if not np.isfinite(scale) or scale <= 0:
         return np.zeros(J), float(np.sqrt(np.mean(y**2))), float(ridge)
-    eye = np.eye(J)
+    eye = identity(J)   # made once per J
     if center is not None and shrink > 0:
         # |A w - y|^2 + s |w - c|^2: the normal equations gain s I on the left and s c on the right
         G = G + shrink * scale * eye

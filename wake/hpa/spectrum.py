@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from wake._validation import check_positive
@@ -71,17 +73,21 @@ def levinson_durbin(r, order):
         raise ValueError(f"need {order + 1} autocorrelation lags for order {order}, got {r.shape[0]}")
     a = np.zeros(order + 1)
     a[0] = 1.0
-    refl = np.zeros(order)
-    err = r[0]
+    refl = [0.0] * order
+    err = float(r[0])
+    r_m = r.tolist()
+    back = np.ascontiguousarray(r[order - 1 :: -1][:order])   # r[order-1], ..., r[0]: r[m-1:0:-1] is a tail
+    dot = np.dot
     for m in range(1, order + 1):
         if err <= 0:
             break  # a perfectly predictable (or silent) window: higher orders add nothing
-        acc = r[m] + np.dot(a[1:m], r[m - 1 : 0 : -1])
+        # np.dot as before (BLAS's summation order), on a contiguous copy of the same values
+        acc = r_m[m] + float(dot(a[1:m], back[order - m : order - 1]))
         k = -acc / err
-        a[1 : m + 1] = a[1 : m + 1] + k * a[m - 1 :: -1][: m]
+        a[1 : m + 1] += k * a[m - 1 :: -1][:m]
         refl[m - 1] = k
         err *= 1.0 - k * k
-    return a, float(max(err, 0.0)), refl
+    return a, float(max(err, 0.0)), np.array(refl)
 
 
 def yule_walker(x, order):
@@ -122,12 +128,26 @@ def ar_psd(x, fs, order=17, n_freqs=512):
     >>> bool(abs(f[np.argmax(p)] - 8.0) < 0.3)
     True
     """
-    fs = check_positive("fs", fs)
-    order = check_positive("order", order, integer=True)
+    try:
+        order, nfft, freqs, pick = _grid(fs, order, n_freqs)
+    except TypeError:   # something unhashable: checked (and refused by name) without the cache
+        order, nfft, freqs, pick = _grid.__wrapped__(fs, order, n_freqs)
     x = np.asarray(x, dtype=float)
     if x.shape[0] <= order:
         raise ValueError(f"the window has {x.shape[0]} samples; an AR({order}) fit needs more than {order}")
     a, sigma2 = yule_walker(x, order)
+    denom = np.abs(np.fft.rfft(a, nfft)) ** 2
+    if pick is not None:
+        denom = denom[pick]
+    return freqs.copy(), sigma2 / np.maximum(denom, _TINY)
+
+
+@functools.lru_cache(maxsize=64, typed=True)   # typed: True is not 1 (check_positive refuses a bool)
+def _grid(fs, order, n_freqs):
+    """:func:`ar_psd`'s arguments checked, its FFT length, frequencies and (below the AR order) the bins it
+    picks: the same for every window of a stream, made once."""
+    fs = check_positive("fs", fs)
+    order = check_positive("order", order, integer=True)
     n_freqs = check_positive("n_freqs", n_freqs, integer=True)
     if n_freqs < 2:
         raise ValueError(f"n_freqs must be >= 2, got {n_freqs}")
@@ -135,9 +155,10 @@ def ar_psd(x, fs, order=17, n_freqs=512):
     # zero-padded coefficients (nfft = 2 (n_freqs - 1) puts the last bin at fs/2).
     nfft = max(2 * (n_freqs - 1), order + 1)
     nfft += nfft % 2
-    denom = np.abs(np.fft.rfft(a, nfft)) ** 2
     freqs = np.fft.rfftfreq(nfft, 1.0 / fs)
+    pick = None
     if freqs.size != n_freqs:  # n_freqs below the AR order: sample the fine grid
         pick = np.linspace(0, freqs.size - 1, n_freqs).round().astype(int)
-        freqs, denom = freqs[pick], denom[pick]
-    return freqs, sigma2 / np.maximum(denom, _TINY)
+        freqs = freqs[pick]
+    freqs.flags.writeable = False
+    return order, nfft, freqs, pick

@@ -165,34 +165,35 @@ class AdaptiveRTP:
 
     def run(self, x) -> np.ndarray:
         """:meth:`step` over a block, bit for bit (the overflow rule found per block, not per sample)."""
-        return self._run(x)[:, 0]
+        return self._run(x)[0]
 
     def run_ahead(self, x) -> tuple:
         """:meth:`run` with the tremor ahead: ``(voluntary, predicted, confidence, command)``, as a loop of
         :meth:`step` and :attr:`last_ahead`."""
-        out = self._run(x)
-        return tuple(out[:, i].copy() for i in range(4))
+        return tuple(self._run(x)[:4])
 
     def run_outputs(self, x) -> np.ndarray:
         """``(5, n)``: :meth:`run_ahead`'s four rows and :attr:`last_voluntary_ahead` after each sample."""
-        return self._run(x).T.copy()
+        return self._run(x)
 
     def _core_run(self, x) -> np.ndarray:
-        """``(n, 5)``: the core's voluntary outputs, tremor ahead and voluntary motion ahead over ``x`` (no
+        """``(5, n)``: the core's voluntary outputs, tremor ahead and voluntary motion ahead over ``x`` (no
         full-scale move)."""
-        return np.column_stack(self.core.run_outputs(x))
+        if self.on_c:
+            return self.core._run_block(x, all_outputs=True)   # the C core's rows, already one (5, n) array
+        return np.array(self.core.run_outputs(x))
 
     def _run(self, x) -> np.ndarray:
         y = self._run_block(x)
-        if y.shape[0]:
-            self.last_prediction = float(y[-1, 0])
+        if y.shape[1]:
+            self.last_prediction = float(y[0, -1])
         return y
 
     def _run_block(self, x) -> np.ndarray:
         if not (self.on_c and self.fixed_full_scale is None):
             return self._core_run(x)
         n = x.shape[0]
-        y = np.empty((n, 5))
+        y = np.empty((5, n))
         start = 0
         while start < n:
             k, run = first_persistent_overflow(x[start:], self.full_scale, self.over_run)
@@ -205,12 +206,12 @@ class AdaptiveRTP:
                     peak = max(peak, self.over_peak)
             if start + k < n:
                 stop = start + k
-                y[start:stop] = self._core_run(x[start:stop])
+                y[:, start:stop] = self._core_run(x[start:stop])
                 self._raise(peak)
-                y[stop] = self._core_run(x[stop : stop + 1])[0]
+                y[:, stop] = self._core_run(x[stop : stop + 1])[:, 0]
                 start = stop + 1
             else:
-                y[start:] = self._core_run(x[start:])
+                y[:, start:] = self._core_run(x[start:])
                 self.over_run, self.over_peak = run, peak
                 start = n
         return y

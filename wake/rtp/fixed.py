@@ -235,9 +235,9 @@ class FixedPointRTP(AheadMixin, VoluntaryAheadMixin):
         q_int = q.astype(np.int16)
         return (q_int, nan_idx) if nan_positions else q_int
 
-    def _to_physical(self, y_q):
+    def _to_physical(self, y_q, out=None):
         # one multiply: y / 2^15 * FS == y * (FS / 2^15) exactly (power-of-two scaling)
-        return np.multiply(y_q, self.full_scale / _SAMPLE_SCALE, dtype=float)
+        return np.multiply(y_q, self.full_scale / _SAMPLE_SCALE, out=out, dtype=float)
 
     def step(self, sample):
         """Take sample ``m(n)``; return the predicted voluntary motion at ``n + 1``."""
@@ -277,7 +277,7 @@ class FixedPointRTP(AheadMixin, VoluntaryAheadMixin):
 
     def _run_block(self, samples, all_outputs):
         """The block through ``wake_rtp_run_outputs``: the predictions, or with ``all_outputs`` the five rows
-        of :meth:`run_outputs` (the C core writes them as integers; each is scaled by one multiply, as
+        of :meth:`run_outputs` as one ``(5, n)`` array (the C core writes them as integers; each is scaled by one multiply, as
         :meth:`step`, :attr:`last_ahead` and :attr:`last_voluntary_ahead` scale them: bit for bit)."""
         x = np.asarray(samples, dtype=float).reshape(-1)
         n = x.shape[0]
@@ -300,13 +300,17 @@ class FixedPointRTP(AheadMixin, VoluntaryAheadMixin):
                                         ffi.from_buffer("int16_t[]", vol_q), buf(rows[0]), buf(rows[1]),
                                         buf(rows[2]), buf(rows[3]) if with_ahead else ffi.NULL),
                "wake_rtp_run_outputs")
-        voluntary = self._to_physical(vol_q)
+        out = np.empty((5, n))                             # the rows of run_outputs, each written in place
+        self._to_physical(vol_q, out=out[0])
         lsb = self.full_scale / 2.0**STATE_FRAC            # P, the command and v_h: Q23 of the full scale
-        predicted = np.multiply(rows[0], lsb, dtype=float)
-        confidence = np.divide(rows[1], 2.0**GATE_FRAC, dtype=float)
-        command = np.multiply(rows[2], lsb, dtype=float)
-        ahead = np.multiply(rows[3], lsb, dtype=float) if with_ahead else voluntary.copy()
-        return voluntary, predicted, confidence, command, ahead
+        np.multiply(rows[0], lsb, out=out[1])
+        np.divide(rows[1], 2.0**GATE_FRAC, out=out[2])
+        np.multiply(rows[2], lsb, out=out[3])
+        if with_ahead:
+            np.multiply(rows[3], lsb, out=out[4])
+        else:
+            out[4] = out[0]                                # no w_h yet: the one-step prediction, held
+        return out
 
     # -- hand-over and representability ---------------------------------------
     @classmethod

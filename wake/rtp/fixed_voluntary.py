@@ -85,7 +85,7 @@ class VoluntaryAheadMixin:
         as :meth:`ReferenceRTP.run_outputs` and bit for bit a loop of :meth:`step` reading :attr:`last_ahead`
         and :attr:`last_voluntary_ahead` after each sample; while no ``w_h`` is installed the last row is the
         returned one-step prediction (Q15), as before the C core had ``w_h``."""
-        return self._run_block(samples, all_outputs=True)
+        return tuple(self._run_block(samples, all_outputs=True))
 
     def _carry_from(self, other) -> None:
         """Take ``other``'s tremor ahead and fs (``AheadMixin._carry_ahead_from``) and its ``w_h`` when it has

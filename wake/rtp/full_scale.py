@@ -149,10 +149,11 @@ def first_persistent_overflow(x, full_scale, carried=0, raise_after=RAISE_AFTER)
     """
     x = np.asarray(x, dtype=float)
     n = x.shape[0]
-    with np.errstate(invalid="ignore"):
-        over = np.abs(x) > full_scale          # NaN: not beyond (it breaks a run)
-    if not over.any():
+    size = np.abs(x)
+    if not n or not np.fmax.reduce(size) > full_scale:   # the usual block: nothing beyond (NaN is never beyond)
         return n, 0
+    with np.errstate(invalid="ignore"):
+        over = size > full_scale          # NaN: not beyond (it breaks a run)
     idx = np.arange(n)
     last_in_range = np.maximum.accumulate(np.where(over, -1 - carried, idx))
     run = idx - last_in_range

@@ -358,8 +358,29 @@ class ReferenceRTP:
         # e(n) = m(n) - y(n-1), the same subtraction as step(); the delay line and the gate go sample by
         # sample, through the one step of wake.ahead
         estimates = x - np.concatenate(([before], out[:-1]))
-        step = self.ahead.step
-        for k, e in enumerate(estimates.tolist()):
-            ahead[k] = step(e)
+        _ahead_block(self.ahead, estimates, ahead)
         self._last_ahead = tuple(ahead[-1].tolist())
         return out, ahead, vol_ahead
+
+
+def _ahead_block(step: AheadStep, estimates, out) -> None:
+    """``out[k] = step.step(estimates[k])`` for a block, bit for bit, with less Python per sample: the delay
+    line's states as the rows of one strided view (newest first, as :meth:`AheadStep.step` holds them, each
+    contiguous: the same dot product), the gate's recursion on Python floats (the same operations in the same
+    order), and the delay line and the gate left as the last step leaves them."""
+    c = step.coefficients
+    taps, n = c.size, estimates.shape[0]
+    newest_first = np.concatenate((estimates[::-1], step.history))   # e[n-1], ..., e[0], then the line
+    rows = np.ndarray((n, taps), newest_first.dtype, newest_first, 0,
+                      (newest_first.itemsize, newest_first.itemsize))   # rows[j]: the line after e[n-1-j]
+    dot = np.dot
+    out[::-1, 0] = [dot(c, row) for row in rows]
+    g, alpha, goal = step.gate, step.alpha, step.goal
+    gates = [0.0] * n
+    for k in range(n):
+        g += alpha * (goal - g)
+        gates[k] = g
+    out[:, 1] = gates
+    np.multiply(out[:, 1], out[:, 0], out=out[:, 2])
+    step.history[:] = rows[0]
+    step.gate = g
