@@ -178,3 +178,67 @@ void wake_eval_wflc(const double *x, size_t n, size_t m, double fs, double omega
         }
     }
 }
+
+/* The Python loop's order throughout: the estimate from the weights before the update, the frequency step from
+ * them too, the Kalman update (P + Q, P phi, phi' P phi + 1, the gain, w, P), then the phase. */
+void wake_eval_ehwflc(const double *x, size_t n, size_t m, double fs, double omega0, double lo, double hi,
+                      double two_mu0, double beta, double p0, double q_bias, double q_tremor, const long *horizons,
+                      size_t n_horizons, double *w, double *p, double *phi, double *pphi, double *vol, double *bank,
+                      double *freq, double *ahead)
+{
+    size_t dim = 1 + 2 * m;
+    double omega = omega0, theta = 0.0, power = 0.0;
+    size_t i, j, k;
+    memset(p, 0, dim * dim * sizeof(double));
+    for (j = 0; j < dim; ++j) {
+        w[j] = 0.0;
+        p[j * dim + j] = p0;
+    }
+    phi[0] = 1.0;
+    for (i = 0; i < n; ++i) {
+        double b = w[0], t = 0.0, z = 0.0, e, dev, s;
+        for (j = 0; j < m; ++j) {
+            double arg = (double)(j + 1) * theta;
+            phi[1 + 2 * j] = sin(arg);
+            phi[2 + 2 * j] = cos(arg);
+            t += w[1 + 2 * j] * phi[1 + 2 * j] + w[2 + 2 * j] * phi[2 + 2 * j];
+        }
+        vol[i] = b;
+        bank[i] = t;
+        freq[i] = omega * fs / TWO_PI;
+        e = x[i] - t - b;
+        dev = x[i] - b;
+        power = (i == 0) ? dev * dev : power + beta * (dev * dev - power);
+        for (j = 0; j < m; ++j) {
+            z += (double)(j + 1) * (w[1 + 2 * j] * phi[2 + 2 * j] - w[2 + 2 * j] * phi[1 + 2 * j]);
+        }
+        p[0] += q_bias;
+        for (j = 1; j < dim; ++j) {
+            p[j * dim + j] += q_tremor;
+        }
+        for (j = 0; j < dim; ++j) {
+            pphi[j] = dot(p + j * dim, phi, dim);
+        }
+        s = dot(phi, pphi, dim) + 1.0;
+        for (j = 0; j < dim; ++j) {  /* the gain K_j = (P phi)_j / s; row j of P loses K_j (P phi)' */
+            double kj = pphi[j] / s;
+            double *pj = p + j * dim;
+            w[j] += kj * e;
+            for (k = 0; k < dim; ++k) {
+                pj[k] -= kj * pphi[k];
+            }
+        }
+        omega = omega + two_mu0 * e * z / (power + 1e-300);
+        omega = omega < lo ? lo : (omega > hi ? hi : omega);
+        theta = fmod(theta + omega, TWO_PI);
+        for (k = 0; k < n_horizons; ++k) {  /* the phase advanced by the frequency now in use */
+            double ph = theta + (double)(horizons[k] - 1) * omega;
+            double a = 0.0;
+            for (j = 0; j < m; ++j) {
+                double arg = (double)(j + 1) * ph;
+                a += w[1 + 2 * j] * sin(arg) + w[2 + 2 * j] * cos(arg);
+            }
+            ahead[k * n + i] = a;
+        }
+    }
+}

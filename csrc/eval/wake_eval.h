@@ -1,10 +1,10 @@
 /**
  * @file wake_eval.h
- * @brief The per-sample loops of the evaluation's baselines (BMFLC, E-BMFLC, WFLC), for the host only.
+ * @brief The per-sample loops of the evaluation's baselines (BMFLC, E-BMFLC, WFLC, eHWFLC-KF), for the host only.
  *
  * wake.eval.baselines runs these loops in one C call per channel instead of
  * numpy (or scipy) calls per sample; each mirrors the Python loop kept beside
- * it in wake/eval/baselines.py (the fallback when the C core is not built),
+ * it in wake/eval/baselines.py and wake/eval/ehwflc.py (the fallback when the C core is not built),
  * operation by operation, so its outputs agree with the loop's within
  * rounding (tests/eval/test_baselines_c.py pins 1e-12 of the largest output).
  *
@@ -41,5 +41,15 @@ void wake_eval_wflc(const double *x, size_t n, size_t m, double fs, double omega
                     double two_mu, double two_mu_bias, double two_mu0, double beta, const long *horizons,
                     size_t n_horizons, double *a, double *c, double *sn, double *cs, double *vol, double *bank,
                     double *freq, double *ahead);
+
+/** eHWFLC-KF (Zhou et al.): @p m harmonics of an adapted frequency whose weights and bias, the state
+ *  w = [b, a_1, c_1, ..., a_m, c_m] (dim = 1 + 2m), a Kalman filter tracks (random-walk variances @p q_bias,
+ *  @p q_tremor, initial variance @p p0, all relative to a unit measurement variance). @p w, @p phi, @p pphi:
+ *  dim values each, @p p: dim*dim (scratch, set here). Writes vol[i] = b(i-1), bank[i] (the harmonics' sum)
+ *  and freq[i] (the frequency used at i, Hz). */
+void wake_eval_ehwflc(const double *x, size_t n, size_t m, double fs, double omega0, double lo, double hi,
+                      double two_mu0, double beta, double p0, double q_bias, double q_tremor, const long *horizons,
+                      size_t n_horizons, double *w, double *p, double *phi, double *pphi, double *vol, double *bank,
+                      double *freq, double *ahead);
 
 #endif /* WAKE_EVAL_H */

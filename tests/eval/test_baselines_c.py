@@ -35,8 +35,8 @@ def _outputs(res, horizons):
 C_LOOPED = [name for name, cls in BASELINES.items() if "c" in getattr(cls, "engines", ENGINES)]
 
 
-def test_the_c_looped_baselines_are_the_three_of_the_paper():
-    assert C_LOOPED == ["BMFLC", "E-BMFLC", "WFLC"]
+def test_every_baseline_has_a_c_loop():
+    assert C_LOOPED == ["BMFLC", "E-BMFLC", "WFLC", "eHWFLC-KF"] == list(BASELINES)
 
 
 @pytest.mark.parametrize("fs", [100.0, 1000.0])
@@ -76,10 +76,14 @@ def test_engine_must_be_a_known_name(bad):
     assert "python" in ENGINES and "c" in ENGINES
 
 
-def test_a_baseline_without_a_c_loop_refuses_engine_c():
+def test_ehwflc_c_loop_sees_every_channel_apart_and_refuses_bad_engines():
     from wake.eval.ehwflc import EHWFLCKF
 
-    x = _signals(100.0)["gyroscope"][:500]
-    assert np.array_equal(EHWFLCKF().run(x, engine="python").voluntary, EHWFLCKF().run(x).voluntary)
-    with pytest.raises(ValueError, match="no C loop"):
-        EHWFLCKF().run(x, engine="c")
+    x = _signals(100.0)["accelerometer"][:2000]
+    both = EHWFLCKF().run(x, (3,), engine="c")
+    second = EHWFLCKF().run(x[:, 1], (3,), engine="c")
+    assert np.array_equal(both.voluntary[:, 1], second.voluntary)
+    assert np.array_equal(both.ahead[3][:, 1], second.ahead[3])
+    assert not np.array_equal(both.voluntary[:, 0], both.voluntary[:, 1])
+    with pytest.raises(ValueError, match="engine must be one of"):
+        EHWFLCKF().run(x, engine="fortran")

@@ -1,6 +1,6 @@
 """The baselines' C loops (``csrc/eval/wake_eval.c``, in the compiled core ``wake._rtp``): how ``run`` calls them.
 
-Each function takes the model (:mod:`wake.eval.baselines`), the ``(ffi, lib)`` of :func:`c_loops_for`, the
+Each function takes the model (:mod:`wake.eval.baselines`, :mod:`wake.eval.ehwflc`), the ``(ffi, lib)`` of :func:`c_loops_for`, the
 signal as ``(n, channels)`` and what its ``run`` prepared, and returns the same :class:`BaselineResult` as the
 model's Python loop, within 1e-12 of it (tests/eval/test_baselines_c.py): one C call per channel, every buffer
 a numpy array passed without a copy.
@@ -12,11 +12,14 @@ import numpy as np
 
 from wake.eval.baseline_model import BaselineResult, shaped
 
-__all__ = ["ENGINES", "c_loops_for", "run_bmflc", "run_ebmflc", "run_wflc"]
+__all__ = ["ENGINES", "c_loops_for", "run_bmflc", "run_ebmflc", "run_ehwflc", "run_wflc"]
 
 #: How ``run`` computes: ``"auto"`` (the C loop when the compiled core is installed, else Python), ``"c"`` (the
 #: C loop, an error without the core) or ``"python"`` (the reference loop).
 ENGINES = ("auto", "c", "python")
+
+#: The loops the compiled core must hold (``wake_eval_<name>``): a core built before one of them is not used.
+_LOOPS = ("bmflc", "ebmflc", "wflc", "ehwflc")
 
 
 def c_loops_for(engine):
@@ -29,7 +32,7 @@ def c_loops_for(engine):
         from wake._rtp import ffi, lib
     except ImportError:
         lib = None
-    if lib is None or not hasattr(lib, "wake_eval_bmflc"):
+    if lib is None or not all(hasattr(lib, f"wake_eval_{loop}") for loop in _LOOPS):
         if engine == "c":
             from wake._core import missing_core_hint
 
@@ -104,6 +107,28 @@ def run_wflc(model, c_loops, arr, one_d, hs):
         lib.wake_eval_wflc(_c_doubles(ffi, xc), n, M, model.fs, 2 * np.pi * model.f0 / model.fs, lo, hi,
                            2 * model.mu, 2 * model.mu_bias, 2 * model.mu0, model.beta, c_hs, n_hs,
                            *(_c_doubles(ffi, a) for a in (*scratch, vol[ch], bank[ch], freq[ch], ahead[ch])))
+    s = shaped(one_d)
+    vol = vol.T.copy()
+    return BaselineResult(s(vol), s(arr - vol), s(bank.T.copy()), model.name, frequency=s(freq.T.copy()),
+                          ahead={h: s(ahead[:, k].T.copy()) for k, h in enumerate(hs)})
+
+
+def run_ehwflc(model, c_loops, arr, one_d, hs):
+    """:meth:`wake.eval.ehwflc.EHWFLCKF.run` in C (its phase and its Kalman state adapt as it runs)."""
+    ffi, lib = c_loops
+    n, channels = arr.shape
+    M = model.n_harmonics
+    dim = 1 + 2 * M
+    lo, hi = (2 * np.pi * f / model.fs for f in model.f_range)
+    vol, bank, freq = np.empty((channels, n)), np.empty((channels, n)), np.empty((channels, n))
+    ahead = np.empty((channels, max(len(hs), 1), n))
+    scratch = [np.empty(dim), np.empty((dim, dim)), np.empty(dim), np.empty(dim)]  # w, P, phi, P phi
+    c_hs, n_hs = _c_horizons(ffi, hs)
+    for ch in range(channels):
+        xc = np.ascontiguousarray(arr[:, ch])
+        lib.wake_eval_ehwflc(_c_doubles(ffi, xc), n, M, model.fs, 2 * np.pi * model.f0 / model.fs, lo, hi,
+                             2 * model.mu0, model.beta, model.p0, model.q_bias, model.q_tremor, c_hs, n_hs,
+                             *(_c_doubles(ffi, a) for a in (*scratch, vol[ch], bank[ch], freq[ch], ahead[ch])))
     s = shaped(one_d)
     vol = vol.T.copy()
     return BaselineResult(s(vol), s(arr - vol), s(bank.T.copy()), model.name, frequency=s(freq.T.copy()),
