@@ -5,8 +5,7 @@ fits the predictor and scores the previous one (:func:`fit_predictor`,
 :func:`held_out_gain`, :func:`gate_target`), the float reference and the C
 core run it per sample (:class:`AheadStep`, the twin of the C code), and the
 evaluation scores it.  The design and the numbers behind every constant are
-in docs/studies/design.md, "Tremor ahead (issue 32)"
-(``python bench/tremor_ahead.py``).
+in docs/studies/design.md, "Tremor ahead (issue 32)" (``python bench/tremor_ahead.py``).
 
 Per HPA window (``y``: WAKE's own tremor estimate ``x - voluntary`` over the
 window; ``T``: the window's sharp high-pass tremor truth, the same samples)::
