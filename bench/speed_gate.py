@@ -21,9 +21,12 @@ The measures (:data:`CEILINGS`, the one table of ceilings):
 * ``cohort task``: one task of ``wake evaluate --synthetic 1 --synthetic-only --jobs 1`` (a 50 s cohort signal:
   WAKE on both backends, BMFLC, E-BMFLC, WFLC; :func:`wake.eval.compute.compute_task`) over ``lfilter x5``.
 
-The ceilings start at issue 44's targets: 12, 5 and 4, and for the cohort task 8 times below its ratio before that
-issue's speedups (1,400 to 1,600 in three runs at a load average of 12 to 15; 1,400 / 8 = 175). They will be re-set
-from the figures those speedups reach, plus a margin.
+The ceilings are regression guards set from what issue 44's changes reached, plus a margin of about a third over
+the highest of three runs at a load average of 5 to 6 on 2 cores (run 33-39, with the C HPA 14-16, update 11,
+between HPA windows 3.3-3.4, cohort task 450-490). Before those changes the same script measured run 81.5, with the
+C HPA 57.0, update 11.1 and a cohort task 1,478 (the per-sample Python loop of the C backend's block path): the
+run ceilings fail on that loop. Issue 44's targets (12, 5, 4 and 175) are met only between HPA windows (4);
+docs/studies/profiling.md, "Host speed", says where the rest of the time goes.
 
 Exit status: 0 every ratio within its ceiling, 1 one above it, 2 a usage error, 3 the C core not built.
 """
@@ -50,11 +53,11 @@ DURATION_S = 50.0
 FIR_TAPS = 32
 #: measure -> (unit, ceiling of the ratio, what it times); the one place the ceilings live
 CEILINGS = {
-    "run": ("lfilter x5", 12.0, 'WakeFilter(backend="c").run, 50 s at 100 Hz, HPA included'),
-    'run, hpa_backend="c"': ("lfilter x5", 5.0, 'the same with hpa_backend="c"'),
-    "update": ("step", 4.0, "WakeFilter(backend=\"c\").update per sample, HPA included"),
-    "update, between HPA windows": ("step", 4.0, "the same, the median 100-sample chunk (no HPA in it)"),
-    "cohort task": ("lfilter x5", 175.0, "one task of wake evaluate --synthetic 1 --synthetic-only --jobs 1"),
+    "run": ("lfilter x5", 55.0, 'WakeFilter(backend="c").run, 50 s at 100 Hz, HPA included'),
+    'run, hpa_backend="c"': ("lfilter x5", 25.0, 'the same with hpa_backend="c"'),
+    "update": ("step", 16.0, "WakeFilter(backend=\"c\").update per sample, HPA included"),
+    "update, between HPA windows": ("step", 4.5, "the same, the median 100-sample chunk (no HPA in it)"),
+    "cohort task": ("lfilter x5", 700.0, "one task of wake evaluate --synthetic 1 --synthetic-only --jobs 1"),
 }
 
 
@@ -223,14 +226,14 @@ def table(results: dict, markdown: bool) -> str:
         unit, ceiling, what = CEILINGS[name]
         per = " per sample" if name == "update" else ""
         verdict = "within" if r["ratio"] <= ceiling else "ABOVE"
-        rows.append((name, what, unit, f"{r['ratio']:,.1f}", f"{ceiling:,.0f}", verdict,
+        rows.append((name, what, unit, f"{r['ratio']:,.1f}", f"{ceiling:,g}", verdict,
                      f"{_t(r['path_s'])}{per} / {_t(r['unit_s'])}"))
     head = ("measure", "what", "unit", "ratio (median)", "ceiling", "verdict", "times (this run)")
     if markdown:
         lines = ["| " + " | ".join(head) + " |", "|---|---|---|---:|---:|---|---|"]
         lines += ["| " + " | ".join(f"`{c}`" if i == 0 else c for i, c in enumerate(row)) + " |" for row in rows]
     else:
-        lines = [f"{name:<22} {ratio:>9} (ceiling {ceiling:>5}) {verdict:<6} {unit:<11} {times}"
+        lines = [f"{name:<22} {ratio:>9} (ceiling {ceiling:>5g}) {verdict:<6} {unit:<11} {times}"
                  for name, _, unit, ratio, ceiling, verdict, times in rows]
     return "\n".join(lines)
 
