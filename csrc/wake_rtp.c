@@ -975,55 +975,18 @@ static void voluntary_ahead_step(wake_rtp_t *s)
 }
 #endif
 
+/* Functions inlined even at -Os: the parts of the per-sample control flow below, each of which one caller
+ * instantiates for a constant case (a copy per case is what a hand-written copy of the flow would hold). */
+#if defined(__GNUC__)
+#define WAKE_RTP_ALWAYS_INLINE __attribute__((always_inline)) inline
+#else
+#define WAKE_RTP_ALWAYS_INLINE inline
+#endif
+
 /** One more sample since the restart (sticks at UINT32_MAX): P gains q I per sample. */
 static inline void count_step(wake_rtp_t *s)
 {
     s->steps += (uint32_t)(s->steps != UINT32_MAX);
-}
-
-/**
- * One sample of a checked instance, with @p ev events counted before it.
- * @p measured 0: a missing sample of a primed stream, @p sample the stand-in
- * step_checked computed.
- */
-static wake_q15_t step_validated(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev)
-{
-    wake_q15_t y;
-#if WAKE_RTP_AHEAD
-    wake_q23_t tremor = 0;                 /* e(n): 0 for the first sample and a missing one */
-#endif
-    if (!s->primed || !measured) {
-        /* No measurement update, only the time update P = P + q I: a missing sample has no
-         * innovation, and neither has the first sample of a stream (no prediction preceded it;
-         * e would be 0 by construction: the window is primed with it).  It also keeps the
-         * priming off the Kalman update's path: the step's static bound is the longer of the
-         * two, not their sum. */
-        push(s, sample);
-        time_update_only(s, &ev);
-    } else {
-        const wake_q23_t e = innovation(s, sample, &ev); /* its saturation is counted even when inert */
-#if WAKE_RTP_AHEAD
-        tremor = e;                                       /* the tremor estimate m(n) - y(n-1) */
-#endif
-        push(s, sample);
-#if WAKE_RTP_KALMAN
-        if (!s->inert) {
-            ev += kalman_update(s, e);
-        }
-#else
-        (void)e;
-#endif
-    }
-    count_step(s);
-    y = predict(s, &ev);
-    count_events(&s->saturations, ev);
-#if WAKE_RTP_VOLUNTARY_AHEAD
-    voluntary_ahead_step(s);
-#endif
-#if WAKE_RTP_AHEAD
-    ahead_step(s, tremor);
-#endif
-    return y;
 }
 
 /** The last prediction y(n-1) rounded to Q15 (not yet saturated): it stands in for a missing sample. */
@@ -1032,51 +995,10 @@ static inline int32_t stand_in(const wake_rtp_t *s)
     return (int32_t)shift_right_round(s->last_output, SIGNAL_GUARD_BITS);
 }
 
-/** wake_rtp_step (@p measured 1) and wake_rtp_step_missing (0): the checks, then the step. */
-static WAKE_RTP_OUTLINE_AT_OS wake_rtp_status_t step_checked(wake_rtp_t *s, wake_q15_t sample, int measured, wake_q15_t *prediction)
-{
-    uint32_t ev = 0u;
-    wake_rtp_status_t st = check_structure(s);
-    if (st != WAKE_RTP_OK) {
-        return st;
-    }
-    if (prediction == NULL) {
-        return WAKE_RTP_E_NULL;
-    }
-#if WAKE_RTP_SPLIT
-    s->split_ready = 0u;                           /* the step changes what a prepare read */
-#endif
-    if (!measured) {
-#if WAKE_RTP_AHEAD
-        s->ahead_goal = 0;                         /* the held-out gain needs a window's worth of samples again */
-#endif
-        if (!s->primed) {
-            *prediction = 0;                       /* a missing sample before the first: nothing to predict from */
-#if WAKE_RTP_AHEAD
-            ahead_step(s, 0);                      /* the tremor ahead still takes its estimate 0 */
-#endif
-            return WAKE_RTP_OK;
-        }
-        sample = narrow_saturate16(stand_in(s), &ev);
-    }
-    *prediction = step_validated(s, sample, measured, ev);
-    return WAKE_RTP_OK;
-}
-
-wake_rtp_status_t wake_rtp_step(wake_rtp_t *s, wake_q15_t sample, wake_q15_t *prediction)
-{
-    return step_checked(s, sample, 1, prediction);
-}
-
-wake_rtp_status_t wake_rtp_step_missing(wake_rtp_t *s, wake_q15_t *prediction)
-{
-    return step_checked(s, 0, 0, prediction);
-}
-
 #if WAKE_RTP_SPLIT
 /* ---------------------------------------------------------------------- */
-/* The split step (WAKE_RTP_SPLIT): prepare without the sample, finish     */
-/* with it; the result of step_checked bit for bit                         */
+/* The split step (WAKE_RTP_SPLIT): the parts of a step that prepare      */
+/* computes without the sample, and what finish adds to them              */
 /* ---------------------------------------------------------------------- */
 
 /** v clamped to +-2^bits (1 <= bits <= 62), not counted: it only guards a corrupted prepared sum. */
@@ -1139,9 +1061,260 @@ static inline int64_t times_sample(int64_t a, int32_t x)
     return ((int64_t)p_hi * 16777216) + ((int64_t)p_mid * 4096) + (int64_t)p_lo;
 }
 
+#if WAKE_RTP_AHEAD
+/** ahead_step with the older seven products and the gate @p gate prepared. */
+static void ahead_finish(wake_rtp_t *s, wake_q23_t tremor, wake_ratio_t gate)
+{
+    uint32_t ev = 0u;
+    const unsigned head = ahead_next_head(s);
+    const wake_q15_t e = ahead_estimate(tremor, &ev);
+    /* P = prepared + c_0 e(n): Q42, the prepared sum clamped to its range so that a corrupted one cannot
+     * overflow; the gate read through the 31-bit mask of ahead_gate_next */
+    const int64_t dot = clamp_quiet(s->split_ahead, 49u) + multiply_wide(s->ahead_coef[0], e);
+    ahead_line_store(s, head, e);
+    ahead_output(s, ahead_predicted(dot), (int32_t)((uint32_t)gate & UINT32_C(0x7FFFFFFF)));
+    count_events(&s->ahead_saturations, ev);
+}
+#endif
+
+/** The sample into a prepared window: h' window from the prepared sum (the first sample fills the window). */
+static WAKE_RTP_ALWAYS_INLINE int64_t take_prepared(wake_rtp_t *s, wake_q15_t sample)
+{
+    if (s->primed != 0u) {
+        ring_store(s, sample);
+        /* h' window = prepared + h_{N-1} m(n), exact (the prepared sum clamped to its range, |.| < 2^52) */
+        return clamp_quiet(s->split_fir, 52u) + fir_product(s->fir[s->n_taps - 1u], sample);
+    }
+    /* the first sample fills the window with itself: h' window = (sum of h) m(n), exact (the prepared sum
+     * clamped to its range, |.| <= 2^39) */
+    prime_window(s, sample);
+    ring_store(s, sample);
+    return times_sample(clamp_quiet(s->split_fir, 39u), sample);
+}
+
+#if WAKE_RTP_KALMAN
+/** The measurement update with the prepared gain and covariance; returns its saturations. */
+static WAKE_RTP_ALWAYS_INLINE uint32_t kalman_finish(wake_rtp_t *s, wake_q23_t e)
+{
+    uint32_t ev = 0u;
+    s->z = kalman_corrected(s, s->split_rho, e, &ev);
+    s->s = clamp_cov_wide(s->split_s, &ev);   /* within +-2^50 already, unless corrupted */
+    return ev + s->split_events;
+}
+#endif
+#endif
+
+/* The per-sample control flow is written once (sample_flow, sample_checked): @p prepared 0 makes the whole
+ * step (wake_rtp_step), 1 finishes what wake_rtp_prepare computed (WAKE_RTP_SPLIT builds).  Every caller
+ * passes a constant and the functions below are always inlined (WAKE_RTP_ALWAYS_INLINE), so each caller
+ * compiles to its own path only: the helpers that follow pick the one of the two versions of each part. */
+
+/** The sample into the window: a step's push (its FIR is predict's), or a prepared step's FIR sum. */
+static WAKE_RTP_ALWAYS_INLINE int64_t take_sample(wake_rtp_t *s, wake_q15_t sample, int prepared)
+{
+#if WAKE_RTP_SPLIT
+    if (prepared != 0) {
+        return take_prepared(s, sample);
+    }
+#else
+    (void)prepared;
+#endif
+    push(s, sample);
+    return 0;
+}
+
+#if WAKE_RTP_KALMAN
+/** The Kalman measurement update of a live instance for the innovation e; returns its saturations. */
+static WAKE_RTP_ALWAYS_INLINE uint32_t kalman_measured(wake_rtp_t *s, wake_q23_t e, int prepared)
+{
+#if WAKE_RTP_SPLIT
+    if (prepared != 0) {
+        return kalman_finish(s, e);
+    }
+#else
+    (void)prepared;
+#endif
+    return kalman_update(s, e);
+}
+#endif
+
+/** The time update of a sample without a measurement update; a prepared step's inline (s has not changed
+ * since the prepare). */
+static WAKE_RTP_ALWAYS_INLINE void time_update_of_sample(wake_rtp_t *s, uint32_t *events, int prepared)
+{
+#if WAKE_RTP_SPLIT && WAKE_RTP_KALMAN
+    if (prepared != 0) {
+        if (!s->inert) {
+            s->s = time_updated(s, events);
+        }
+        return;
+    }
+#else
+    (void)prepared;
+#endif
+    time_update_only(s, events);
+}
+
+/** y(n): the FIR over the window (a step) or the prepared sum @p acc (a prepared step), plus z. */
+static WAKE_RTP_ALWAYS_INLINE wake_q15_t sample_output(wake_rtp_t *s, int64_t acc, int prepared, uint32_t *events)
+{
+    return (prepared != 0) ? step_output(s, acc, events) : predict(s, events);
+}
+
+#if WAKE_RTP_AHEAD
+/** The tremor ahead of the sample, e(n) = @p tremor: a step's, or a prepared step's with the prepared gate
+ * (a missing sample's goal is 0: its gate is computed here). */
+static WAKE_RTP_ALWAYS_INLINE void ahead_of_sample(wake_rtp_t *s, wake_q23_t tremor, int measured, int prepared)
+{
+#if WAKE_RTP_SPLIT
+    if (prepared != 0) {
+        ahead_finish(s, tremor, (measured != 0) ? s->split_gate : ahead_gate_next(s, 0));
+        return;
+    }
+#else
+    (void)prepared;
+#endif
+    (void)measured;
+    ahead_step(s, tremor);
+}
+#endif
+
 /**
- * wake_rtp_prepare on a checked instance.  Everything below is what step_validated computes before
- * it needs the sample, stored for finish_validated:
+ * One sample of a checked instance, with @p ev events counted before it.
+ * @p measured 0: a missing sample of a primed stream, @p sample the stand-in
+ * sample_checked computed.  @p prepared: see above.
+ */
+static WAKE_RTP_ALWAYS_INLINE wake_q15_t sample_flow(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev,
+                                                     int prepared)
+{
+    wake_q15_t y;
+    int64_t acc;
+#if WAKE_RTP_AHEAD
+    wake_q23_t tremor = 0;                 /* e(n): 0 for the first sample and a missing one */
+#endif
+    if (!s->primed || !measured) {
+        /* No measurement update, only the time update P = P + q I: a missing sample has no
+         * innovation, and neither has the first sample of a stream (no prediction preceded it;
+         * e would be 0 by construction: the window is primed with it).  It also keeps the
+         * priming off the Kalman update's path: the step's static bound is the longer of the
+         * two, not their sum.  (A prepared step takes its sample after the update, as below.) */
+        acc = (prepared != 0) ? 0 : take_sample(s, sample, prepared);
+        time_update_of_sample(s, &ev, prepared);
+    } else {
+        const wake_q23_t e = innovation(s, sample, &ev); /* its saturation is counted even when inert */
+#if WAKE_RTP_AHEAD
+        tremor = e;                                       /* the tremor estimate m(n) - y(n-1) */
+#endif
+        acc = (prepared != 0) ? 0 : take_sample(s, sample, prepared);
+#if WAKE_RTP_KALMAN
+        if (!s->inert) {
+            ev += kalman_measured(s, e, prepared);
+        }
+#else
+        (void)e;
+#endif
+    }
+    if (prepared != 0) {
+        acc = take_sample(s, sample, prepared);           /* the update reads nothing the sample changes */
+    }
+    count_step(s);
+    y = sample_output(s, acc, prepared, &ev);
+    count_events(&s->saturations, ev);
+#if WAKE_RTP_VOLUNTARY_AHEAD
+    voluntary_ahead_step(s);               /* not with WAKE_RTP_SPLIT (wake_rtp.h) */
+#endif
+#if WAKE_RTP_AHEAD
+    ahead_of_sample(s, tremor, measured, prepared);
+#endif
+    return y;
+}
+
+/** sample_flow of a whole step. */
+static wake_q15_t step_validated(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev)
+{
+    return sample_flow(s, sample, measured, ev, 0);
+}
+
+#if WAKE_RTP_SPLIT
+/** sample_flow of a prepared step. */
+static wake_q15_t finish_validated(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev)
+{
+    return sample_flow(s, sample, measured, ev, 1);
+}
+#endif
+
+/** The validated step: sample_flow of a whole step or of a prepared one. */
+static WAKE_RTP_ALWAYS_INLINE wake_q15_t validated(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev,
+                                                   int prepared)
+{
+#if WAKE_RTP_SPLIT
+    if (prepared != 0) {
+        return finish_validated(s, sample, measured, ev);
+    }
+#else
+    (void)prepared;
+#endif
+    return step_validated(s, sample, measured, ev);
+}
+
+/**
+ * wake_rtp_step (@p measured 1) and wake_rtp_step_missing (0), or with @p prepared wake_rtp_finish and
+ * wake_rtp_finish_missing: the checks, then the step.
+ */
+static WAKE_RTP_ALWAYS_INLINE wake_rtp_status_t sample_checked(wake_rtp_t *s, wake_q15_t sample, int measured,
+                                                               wake_q15_t *prediction, int prepared)
+{
+    uint32_t ev = 0u;
+    wake_rtp_status_t st = check_structure(s);
+    if (st != WAKE_RTP_OK) {
+        return st;
+    }
+    if (prediction == NULL) {
+        return WAKE_RTP_E_NULL;
+    }
+#if WAKE_RTP_SPLIT
+    if ((prepared != 0) && (s->split_ready != 1u)) {
+        return WAKE_RTP_E_UNPREPARED;              /* nothing changes */
+    }
+    s->split_ready = 0u;                           /* the step changes what a prepare read */
+#endif
+    if (!measured) {
+#if WAKE_RTP_AHEAD
+        s->ahead_goal = 0;                         /* the held-out gain needs a window's worth of samples again */
+#endif
+        if (!s->primed) {
+            *prediction = 0;                       /* a missing sample before the first: nothing to predict from */
+#if WAKE_RTP_AHEAD
+            ahead_of_sample(s, 0, measured, prepared);   /* the tremor ahead still takes its estimate 0 */
+#endif
+            return WAKE_RTP_OK;
+        }
+        sample = narrow_saturate16(stand_in(s), &ev);
+    }
+    *prediction = validated(s, sample, measured, ev, prepared);
+    return WAKE_RTP_OK;
+}
+
+/** wake_rtp_step (@p measured 1) and wake_rtp_step_missing (0). */
+static WAKE_RTP_OUTLINE_AT_OS wake_rtp_status_t step_checked(wake_rtp_t *s, wake_q15_t sample, int measured, wake_q15_t *prediction)
+{
+    return sample_checked(s, sample, measured, prediction, 0);
+}
+
+wake_rtp_status_t wake_rtp_step(wake_rtp_t *s, wake_q15_t sample, wake_q15_t *prediction)
+{
+    return step_checked(s, sample, 1, prediction);
+}
+
+wake_rtp_status_t wake_rtp_step_missing(wake_rtp_t *s, wake_q15_t *prediction)
+{
+    return step_checked(s, 0, 0, prediction);
+}
+
+#if WAKE_RTP_SPLIT
+/**
+ * wake_rtp_prepare on a checked instance.  Everything below is what sample_flow computes before it
+ * needs the sample, stored for its prepared case:
  *
  *   fir    = h' window(n) - h_{N-1} m(n)       the window after the next push, less its newest product
  *            (before the first sample: the sum of h, the first sample fills the window with itself)
@@ -1192,100 +1365,10 @@ static void split_refresh(wake_rtp_t *s)
     }
 }
 
-#if WAKE_RTP_AHEAD
-/** ahead_step with the older seven products and the gate @p gate prepared. */
-static void ahead_finish(wake_rtp_t *s, wake_q23_t tremor, wake_ratio_t gate)
-{
-    uint32_t ev = 0u;
-    const unsigned head = ahead_next_head(s);
-    const wake_q15_t e = ahead_estimate(tremor, &ev);
-    /* P = prepared + c_0 e(n): Q42, the prepared sum clamped to its range so that a corrupted one cannot
-     * overflow; the gate read through the 31-bit mask of ahead_gate_next */
-    const int64_t dot = clamp_quiet(s->split_ahead, 49u) + multiply_wide(s->ahead_coef[0], e);
-    ahead_line_store(s, head, e);
-    ahead_output(s, ahead_predicted(dot), (int32_t)((uint32_t)gate & UINT32_C(0x7FFFFFFF)));
-    count_events(&s->ahead_saturations, ev);
-}
-#endif
-
-/** step_validated on a prepared instance (the same cases, the same order of the state's changes). */
-static wake_q15_t finish_validated(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev_before)
-{
-    uint32_t ev = ev_before;
-    wake_q15_t y;
-    int64_t acc;
-    wake_q23_t tremor = 0;                 /* e(n): 0 for the first sample and a missing one */
-    if ((s->primed != 0u) && (measured != 0)) {
-        const wake_q23_t e = innovation(s, sample, &ev);
-        tremor = e;
-#if WAKE_RTP_KALMAN
-        if (!s->inert) {
-            s->z = kalman_corrected(s, s->split_rho, e, &ev);
-            s->s = clamp_cov_wide(s->split_s, &ev);   /* within +-2^50 already, unless corrupted */
-            ev += s->split_events;
-        }
-#endif
-    } else {
-#if WAKE_RTP_KALMAN
-        if (!s->inert) {                   /* the time update only (s has not changed since the prepare) */
-            s->s = time_updated(s, &ev);
-        }
-#endif
-    }
-    if (s->primed != 0u) {
-        ring_store(s, sample);
-        /* h' window = prepared + h_{N-1} m(n), exact (the prepared sum clamped to its range, |.| < 2^52) */
-        acc = clamp_quiet(s->split_fir, 52u) + fir_product(s->fir[s->n_taps - 1u], sample);
-    } else {
-        /* the first sample fills the window with itself: h' window = (sum of h) m(n), exact (the
-         * prepared sum clamped to its range, |.| <= 2^39) */
-        prime_window(s, sample);
-        ring_store(s, sample);
-        acc = times_sample(clamp_quiet(s->split_fir, 39u), sample);
-    }
-    count_step(s);
-    y = step_output(s, acc, &ev);
-    count_events(&s->saturations, ev);
-#if WAKE_RTP_AHEAD
-    ahead_finish(s, tremor, (measured != 0) ? s->split_gate : ahead_gate_next(s, 0));
-#else
-    (void)tremor;
-#endif
-    return y;
-}
-
-/** wake_rtp_finish (@p measured 1) and wake_rtp_finish_missing (0): step_checked on a prepared instance. */
+/** wake_rtp_finish (@p measured 1) and wake_rtp_finish_missing (0). */
 static wake_rtp_status_t finish_checked(wake_rtp_t *s, wake_q15_t sample, int measured, wake_q15_t *prediction)
 {
-    uint32_t ev = 0u;
-    wake_rtp_status_t st = check_structure(s);
-    if ((st == WAKE_RTP_OK) && (prediction == NULL)) {
-        st = WAKE_RTP_E_NULL;
-    }
-    if ((st == WAKE_RTP_OK) && (s->split_ready != 1u)) {
-        st = WAKE_RTP_E_UNPREPARED;
-    }
-    if (st == WAKE_RTP_OK) {
-        wake_q15_t m = sample;
-        s->split_ready = 0u;
-        if (measured == 0) {
-#if WAKE_RTP_AHEAD
-            s->ahead_goal = 0;             /* the held-out gain needs a window's worth of samples again */
-#endif
-            if (s->primed != 0u) {
-                m = narrow_saturate16(stand_in(s), &ev);      /* the last prediction stands in for the missing sample */
-            }
-        }
-        if ((measured == 0) && (s->primed == 0u)) {
-            *prediction = 0;               /* a missing sample before the first: nothing to predict from */
-#if WAKE_RTP_AHEAD
-            ahead_finish(s, 0, ahead_gate_next(s, 0));
-#endif
-        } else {
-            *prediction = finish_validated(s, m, measured, ev);
-        }
-    }
-    return st;
+    return sample_checked(s, sample, measured, prediction, 1);
 }
 
 wake_rtp_status_t wake_rtp_prepare(wake_rtp_t *s)
