@@ -5,15 +5,17 @@ directly (``python build_ffi.py``) to compile the extension in place.
 
 The extension is compiled from every C source of the core (``csrc/wake_*.c``,
 the same files a firmware links) with :data:`CONFIGURATION`, the one place its
-build settings are written (docs/packaging.md, "The Python extension's
-configuration").  cffi reads its declarations from ``csrc/wake_cffi.h``, a file
-written for cffi (no preprocessor conditionals, no comments to strip): cffi's
-API mode compiles each of them against the public headers, so a declaration
-that no longer matches its header fails this build.
+build settings are written (docs/reference/packaging.md, "The Python extension's
+configuration"), plus the host-only evaluation loops (``csrc/eval``).  cffi
+reads its declarations from ``csrc/wake_cffi.h``, a file written for cffi (no
+preprocessor conditionals, no comments to strip): cffi's API mode compiles each
+of them against the headers, so a declaration that no longer matches its
+header fails this build or the extension's import.
 """
 
 import glob
 import os
+import sys
 
 from cffi import FFI
 
@@ -22,13 +24,15 @@ CSRC = "csrc"
 
 #: The public headers the extension includes, wake_rtp.h first (the others use its types).
 HEADERS = ("wake_rtp.h", "wake_hpa.h", "wake_rate.h")
-#: The cffi declarations of those headers in this configuration.
+#: The cffi declarations of those headers in this configuration, and of the evaluation loops.
 CDEF = "wake_cffi.h"
 #: The extension's configuration: the tremor ahead of the HPA (WAKE_HPA_AHEAD) and the voluntary motion ahead
 #: of the RTP (WAKE_RTP_VOLUNTARY_AHEAD, w_h); the HPA's host limits: any window up to 1024 samples, AR order up
 #: to 128, every PSD bin.  Everything else keeps the headers' defaults (the firmware's).
 CONFIGURATION = (("WAKE_HPA_AHEAD", "1"), ("WAKE_RTP_VOLUNTARY_AHEAD", "1"), ("WAKE_HPA_MAX_WINDOW", "1024"),
                  ("WAKE_HPA_MAX_ORDER", "128"), ("WAKE_HPA_MAX_PSD_BINS", "512"))
+#: Host-only C beside the core: the evaluation's baseline loops (no firmware build links csrc/eval).
+EVAL_HEADER, EVAL_SOURCE = "eval/wake_eval.h", f"{CSRC}/eval/wake_eval.c"
 
 
 def sources():
@@ -46,8 +50,9 @@ ffibuilder.cdef(cdef_text())
 
 ffibuilder.set_source(
     "wake._rtp",
-    "\n".join(f'#include "{h}"' for h in HEADERS),
-    sources=[s.replace(os.sep, "/") for s in sources()],
+    "\n".join(f'#include "{h}"' for h in (*HEADERS, EVAL_HEADER)),
+    sources=[s.replace(os.sep, "/") for s in sources()] + [EVAL_SOURCE],
+    libraries=[] if sys.platform == "win32" else ["m"],  # libm: the baselines' sin, cos, sqrt, fmod (csrc/eval)
     include_dirs=[CSRC],
     # The HPA's floats must round the same on every machine: no fused multiply-add.
     extra_compile_args=["-ffp-contract=off"],

@@ -1,4 +1,4 @@
-"""The figure of docs/design.md, "Tremor ahead": the true tremor, the 50-ms-ahead prediction and the gated command,
+"""The figure of docs/studies/design.md, "Tremor ahead": the true tremor, the 50-ms-ahead prediction and the gated command,
 with the confidence beneath, for one PADS axis and one synthetic signal.
 
     python bench/ahead_figure.py [OUT.png]      # default docs/figures/tremor_ahead.png

@@ -13,7 +13,7 @@ signals:
 * versus truth: relative difference of the two commands' NRMSE against the true tremor h samples ahead
   (the twin fed the float samples), the reading tests/rtp/test_fixed_point.py uses for the voluntary output.
 
-docs/fixed_point.md, "The tremor ahead", quotes the table.
+docs/studies/fixed_point.md, "The tremor ahead", quotes the table.
 """
 
 from __future__ import annotations

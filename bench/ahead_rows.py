@@ -4,7 +4,7 @@
     python bench/ahead_rows.py --quick    # 3 PADS recordings, 3 synthetic signals, two variants
 
 The C HPA's tremor-ahead fit costs 158 k Cortex-M4F instructions a window, and its arithmetic alone is
-66 k on the largest window (docs/hpa_c.md, "The tremor ahead", measured with ``python -m
+66 k on the largest window (docs/studies/hpa_c.md, "The tremor ahead", measured with ``python -m
 wake.firmware.hpa_cost --ahead --functions``): the issue's 60 k cannot be met by computing the same fit more
 cleverly.  What is left is to fit on less, and this script measures what that does to the gated command.
 Each HPA fits the 8-tap predictor (``wake.ahead.fit_predictor``) and scores the previous one
@@ -18,7 +18,7 @@ Each HPA fits the 8-tap predictor (``wake.ahead.fit_predictor``) and scores the 
 Both substitute the two functions where :mod:`wake.hpa.run` calls them, on the C core with the Python HPA,
 default settings.  Scored as ``wake evaluate`` scores the tremor ahead (:func:`wake.eval.tremor_ahead.ahead_scores`):
 the gated command's NRMSE after 5 s and its ratio to zero, and the largest ratio to zero over the slices
-of time since start (above 1: the command harms in that slice).  Tables: docs/design.md, "Tremor ahead",
+of time since start (above 1: the command harms in that slice).  Tables: docs/studies/design.md, "Tremor ahead",
 "A fit on fewer rows".
 """
 

@@ -1,4 +1,4 @@
-"""The tremor characterisation of every PADS recording and axis (docs/characterisation.md, "On PADS").
+"""The tremor characterisation of every PADS recording and axis (docs/studies/characterisation.md, "On PADS").
 
     python bench/characterise_pads.py [--pads DIR] [--markdown]
 

@@ -13,7 +13,7 @@ configuration alike, and the summary gives the median of each and the
 ratios of the medians.  The table gives wall time from start to report,
 throughput (signals per second) and the peak RSS of the parent process
 (``ru_maxrss`` of that process alone: workers are not counted), with the
-load average before each run.  Targets (docs/evaluation.md, "At cohort
+load average before each run.  Targets (docs/studies/evaluation.md, "At cohort
 scale"): ``--jobs 2`` at >= 1.7x the throughput of ``--jobs 1``; a Dask
 LocalCluster of 2 workers within 15 % of joblib's throughput; peak RSS for
 ``--rss-count`` signals within 1.5x of that for ``--small``.

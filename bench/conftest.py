@@ -15,10 +15,19 @@ noisy for timing assertions).
 import numpy as np
 import pytest
 
-#: benchmark name -> (target, predicate on its summary row); reported, never asserted
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_cmdline_main(config):
+    """One process for the benchmarks: pyproject.toml's ``-n auto`` (pytest-xdist, for tests/) would spread them
+    over workers, and pytest-benchmark then disables itself; a timing is of one process anyway."""
+    if getattr(config.option, "numprocesses", None):
+        config.option.numprocesses = 0
+        config.option.dist = "no"
+
+#: benchmark name -> (target, predicate on its summary row); reported, never asserted. The end-to-end run's target is
+#: a ratio, held by bench/speed_gate.py (CI's gate), not a time here
 TARGETS = {
     "test_c_block_run": ("C block run >= 5 M samples/s", lambda s: s["per_second"] >= 5e6),
-    "test_end_to_end_c": ("50 s at 100 Hz end to end < 50 ms", lambda s: s["median"] < 0.050),
     "test_hpa_long_window": ("one HPA at L = 2e5 (1 kHz, 200 s window) < 0.5 s", lambda s: s["median"] < 0.5),
 }
 

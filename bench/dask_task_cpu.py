@@ -8,7 +8,7 @@
 
 The task is one signal of the generated cohort (50 s at 100 Hz; WAKE on the C core and the three
 baselines); each worker times it five times after a warm-up and reports the median process time
-(docs/evaluation.md, "At cohort scale", run E).  A Dask worker runs the task in its executor thread;
+(docs/studies/evaluation.md, "At cohort scale", run E).  A Dask worker runs the task in its executor thread;
 ``client.run`` runs it outside that thread, for comparison.
 """
 import argparse

@@ -1,4 +1,4 @@
-"""Measure the choices where the paper is vague (the numbers in docs/design.md).
+"""Measure the choices where the paper is vague (the numbers in docs/studies/design.md).
 
     python bench/design_choices.py [--pads DIR]
 

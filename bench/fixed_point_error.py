@@ -1,4 +1,4 @@
-"""Worst arithmetic error of the C core against the float reference (docs/fixed_point.md, "Measured").
+"""Worst arithmetic error of the C core against the float reference (docs/studies/fixed_point.md, "Measured").
 
     python bench/fixed_point_error.py
 

@@ -9,7 +9,7 @@ The paper's ten synthetic signals, each streamed sample by sample
 the HPA window is a long gap; "off" interpolates every gap, the behaviour
 before the policy): the mean voluntary NRMSE over the 5 s after the gap and
 from the gap to the end, and whether ``run`` gives the stream's predictions
-bit for bit (docs/design.md, "Missing samples").
+bit for bit (docs/studies/design.md, "Missing samples").
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Tremor ahead at other input rates: the gated command's NRMSE after 5 s and whole (from 0.5 s) on the paper's
 synthetic set resampled from 100 Hz with scipy.signal.resample_poly (the truth s_t likewise), C core;
-docs/design.md, "Tremor ahead", "At other input rates".
+docs/studies/design.md, "Tremor ahead", "At other input rates".
 
     python bench/rate_ahead.py 100 250 500 1000     # about 4 minutes
 """

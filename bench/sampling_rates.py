@@ -1,6 +1,6 @@
 """WAKE at sampling rates from 50 Hz to 1 kHz: which structure keeps the 100 Hz accuracy (issue 33).
 
-    python bench/sampling_rates.py            # the structure comparison (docs/design.md, "Sampling rates")
+    python bench/sampling_rates.py            # the structure comparison (docs/studies/design.md, "Sampling rates")
     python bench/sampling_rates.py --library  # WakeFilter(fs=...) as shipped, both RTP backends
 
 Signals.  The paper's ten synthetic signals (:func:`wake.eval.synthetic.paper_dataset`, 50 s at

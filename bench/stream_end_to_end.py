@@ -100,7 +100,8 @@ def run_pipe(x: np.ndarray, extras, echo=False) -> list:
     the bench's own threads would wait for each other's interpreter lock (5 ms switch interval), and
     its latency figures would carry that wait.
     """
-    cmds = [[sys.executable, "-m", "wake", "stream", "--stdin", "--stdout", "--fs", str(FS), "--status", "0", *extra]
+    cmds = [[sys.executable, "-m", "wake", "stream", "--stdin", "--stdout", "--fs", str(FS), "--status", "0",
+             "--time-column", "none", *extra]  # no lines read ahead to judge a column's shape
             for extra in extras]
     if echo:
         cmds.append([sys.executable, "-c", ECHO])

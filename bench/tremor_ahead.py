@@ -4,7 +4,7 @@
     python bench/tremor_ahead.py --quick    # 3 PADS recordings and 3 synthetic signals
     python bench/tremor_ahead.py --no-baselines   # without the baselines' extrapolation (the slow part)
 
-The tables and the design they chose are in docs/design.md, "Tremor ahead (issue 32)", "The design study": an 8-tap
+The tables and the design they chose are in docs/studies/design.md, "Tremor ahead (issue 32)", "The design study": an 8-tap
 direct least-squares predictor from WAKE's estimate to each HPA window's truth, behind a gate that is the
 previous model's held-out gain on the samples the new window adds, clipped to [0, 1], and 0 while the window
 has no tremor peak, with a 0.3 s first-order ramp.
@@ -114,7 +114,7 @@ def orders(case):
 
 def oracles(case, p=P_MAIN):
     rows = {f"oracle: hindsight {p}-tap LS on the true tremor, fed the true past": {},
-            f"oracle coefficients fed WAKE's estimate": {},
+            "oracle coefficients fed WAKE's estimate": {},
             f"hindsight {p}-tap Wiener, WAKE estimate -> truth": {}}
     names = list(rows)
     for h in HORIZONS:

@@ -13,7 +13,7 @@ high-pass (the line is voluntary by definition); the paper's truth is the
 plain high-pass (:func:`wake.hpa.sharp.sharp_highpass`).  Scores: mean NRMSE
 per slice of time since start, as in ``bench/warmup_slices.py`` (PADS:
 tremor against the independent truth; synthetic: voluntary), with the
-Python HPA and the default RTP backend (docs/design.md, "Tremor ground
+Python HPA and the default RTP backend (docs/studies/design.md, "Tremor ground
 truth of a window").
 """
 

@@ -17,7 +17,7 @@ each scored against the voluntary truth at ``k`` with the paper's NRMSE per slic
 Beside them, the one-step ``voluntary`` scored at its own sample (what every horizon's one-step output is).
 Truth: PADS, the independent sharp high-pass of the whole recording at its Welch valley between 1.5 and 5 Hz
 (``wake.eval.warmup.independent_ground_truth``), its complement; synthetic, ``s_v``.  The PADS folder is
-../shared/data/pads next to the checkout or $WAKE_PADS_DIR.  Tables: docs/design.md, "Voluntary motion at
+../shared/data/pads next to the checkout or $WAKE_PADS_DIR.  Tables: docs/studies/design.md, "Voluntary motion at
 n + h".
 """
 

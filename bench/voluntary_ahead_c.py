@@ -10,7 +10,7 @@
    synthetic signals: the NRMSE of ``voluntary_ahead`` against ``s_v`` after 5 s and over the whole
    recording (from 0.5 s), both backends.
 
-Tables: docs/design.md, "Voluntary motion at n + h".
+Tables: docs/studies/design.md, "Voluntary motion at n + h".
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """Error by time since start (issue: the HPA on real wear), for WAKE and every baseline.
 
     python bench/warmup_slices.py                  # PADS (if found) and the synthetic set
-    python bench/warmup_slices.py --variants       # also WAKE's warm-up variants (docs/design.md)
+    python bench/warmup_slices.py --variants       # also WAKE's warm-up variants (docs/studies/design.md)
     python bench/warmup_slices.py --cutoff-rule paper     # WAKE with another cut-off rule
 
 PADS: tremor NRMSE of each method against a ground truth independent of
@@ -34,7 +34,7 @@ from wake.eval.warmup import SLICES, independent_ground_truth, mean_slices, slic
 from wake.registry import cutoff_rule_names  # noqa: E402
 from wake.rtp import c_backend_available  # noqa: E402
 
-#: WAKE variants compared in docs/design.md ("Warm-up"): settings passed to WakeFilter.
+#: WAKE variants compared in docs/studies/design.md ("Warm-up"): settings passed to WakeFilter.
 VARIANTS = {
     "WAKE (first release: no progressive HPA, deepest approximation)": dict(warmup_hpa_s=(), initial_weights="deepest"),
     "WAKE, prior only": dict(warmup_hpa_s=()),

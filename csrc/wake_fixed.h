@@ -33,7 +33,7 @@
 
 /* Helpers that an -Os build keeps out of line.  gcc's size heuristics inline
  * them at every call site, where each copy of their 64-bit arithmetic costs
- * more than the call (docs/profiling.md, "Code at -Os").  Other levels inline
+ * more than the call (docs/studies/profiling.md, "Code at -Os").  Other levels inline
  * them as before: the -O2 code that the cost targets bound is unchanged.
  * (Marked unused at -Os, so that a unit that does not call one is not warned
  * about it.) */

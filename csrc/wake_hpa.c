@@ -151,7 +151,7 @@ static inline unsigned chunk_count(unsigned t, unsigned step, unsigned limit)
  * Cost model of the slicing, in Cortex-M4F instructions at -O2, calibrated
  * with `python -m wake.firmware.hpa_cost --calibrate` (a build with a slice
  * budget of 1 runs one loop item or one indivisible step per slice, and the
- * profiler counts each; docs/hpa_c.md).  A slice spends at most
+ * profiler counts each; docs/studies/hpa_c.md).  A slice spends at most
  * WAKE_HPA_SLICE_BUDGET on pieces of work (each charged COST_PIECE for its
  * set-up plus its items) and starts an indivisible step only if it fits in
  * what is left, or is the slice's first piece.  What a slice costs beyond
@@ -166,7 +166,7 @@ static inline unsigned chunk_count(unsigned t, unsigned step, unsigned limit)
 #endif
 #define COST_LAG 5
 /* a DFT sample with one bin, two bins: the recursion (11, 16) and its share of a block's clamps and loop
-   (reinsch_run1/2; docs/verification.md, "The DFT pass") */
+   (reinsch_run1/2; docs/studies/verification.md, "The DFT pass") */
 #define COST_DFT1 14
 #define COST_DFT2 20
 /* a row of a bin's slide and its share of a block's clamps (step_bin_end; 60 before the clamps) */
@@ -1037,7 +1037,7 @@ static int32_t step_diag(wake_hpa_t *h, int32_t budget)
 /**
  * The smallest prediction error Levinson-Durbin divides by: r is n^2 times the window's centred
  * autocorrelation in LSB^2, so err < 1 is a window predicted to far below one LSB (the recursion stops
- * there, as at err <= 0).  It bounds |k| before the clamp by |acc| < 2^88 (docs/verification.md).
+ * there, as at err <= 0).  It bounds |k| before the clamp by |acc| < 2^88 (docs/studies/verification.md).
  */
 #define LEVINSON_MIN_ERR 1.0f
 
@@ -1065,7 +1065,7 @@ static void step_levinson(wake_hpa_t *h)
         }
         /* |k| < 1 in exact arithmetic (r positive definite); err >= 1 keeps the quotient finite, and a
            rounding past +-1 is clamped: k = +-1 makes err exactly 0, which ends the recursion as a
-           negative err did, so |a[i]| stays below 2^m (docs/verification.md, "A whole HPA run") */
+           negative err did, so |a[i]| stays below 2^m (docs/studies/verification.md, "A whole HPA run") */
         k = -acc / err;
         k = (k > 1.0f) ? 1.0f : ((k < -1.0f) ? -1.0f : k);
         /* a[i] += k a[m - i] for i = 1..m, all from the old a: pairs (i, m - i) swap together */
@@ -1285,7 +1285,7 @@ static void start_pass(wake_hpa_t *h)
  * d(t) = sum_{u <= t} x_c(u) cos(w (t - u + 1/2)) / cos(w / 2), |x_c| <= 2^16.  Over
  * every n <= 512 and every bin 1 <= m < n / 2 the exact states stay below 2^31.7
  * (s) and 2^32.7 (d), and the recursion's roundings add less than 2^29.2 and
- * 2^30.2 (docs/verification.md, "The DFT pass"; tests/hpa/test_reinsch_bound.py):
+ * 2^30.2 (docs/studies/verification.md, "The DFT pass"; tests/hpa/test_reinsch_bound.py):
  * below REINSCH_S_MAX and REINSCH_D_MAX, which is what STEP_BIN_START assumes
  * (the default configuration's bins, m < 0.125 n, stay below 2^30.8 and 2^24.6).  Every REINSCH_BLOCK
  * samples and at the end of each run the states are clamped to those bounds.
@@ -1689,7 +1689,7 @@ static int32_t step_ramp(wake_hpa_t *h, int32_t budget)
 
 #if WAKE_HPA_AHEAD
 /*
- * The tremor ahead (wake.ahead; docs/hpa_c.md, "The tremor ahead").  Over the window, WAKE's own tremor
+ * The tremor ahead (wake.ahead; docs/studies/hpa_c.md, "The tremor ahead").  Over the window, WAKE's own tremor
  * estimate with the weights in use, and the window's tremor truth:
  *   y(t) = x(t) - w . a(t-1) = x(t) - sum_i (w'B)_i x(t - N + i),                       t = N .. n-1
  *   T(t) = x_c(t) - slope r(t) - sum_m v_m(t),  v_m(t) = (2/n) Re X'_m e^{j w_m t}  (x minus the voluntary truth)
@@ -1817,7 +1817,7 @@ static inline float ahead_estimate(const int32_t *fir, const wake_q15_t *x, unsi
  * |e| <= 2 sin(w/2) (2/n) |X'_m|.  For a window of int16 samples (|x_c| <= 2^16) |X_m| <= n 2^16, and the
  * end-point line's part is |slope R_m| <= (2^16 / (n - 1)) (n/2) / sin(pi m / n) <= 2^16 n^2 / (4 (n - 1)), so
  * (2/n) |X'_m| < 2^17 + 2^16: |v| < 2^18, |e| < 2^19.  The computed states differ from these by the roundings
- * of the DFT pass and the bins' start (below 2^31.3 in X'_m for n <= 512, docs/verification.md, "The DFT
+ * of the DFT pass and the bins' start (below 2^31.3 in X'_m for n <= 512, docs/studies/verification.md, "The DFT
  * pass": below 2^27 in (2/n) X'_m for n >= 2 2^J = 64) and of the recursion, whose matrix [[1, lambda],
  * [1, 1 + lambda]] has determinant 1 and eigenvalues e^{+-j w}: an error d in a state moves the later states
  * by at most about d / sin(w/2) <= d n / 2, so the roundings of up to 1,024 samples, each below 3 u of the
@@ -1828,7 +1828,7 @@ static inline float ahead_estimate(const int32_t *fir, const wake_q15_t *x, unsi
  * analysis, whose intervals grow by up to 3 + 2 sqrt 2 per sample (lambda = -4) while the exact recursion
  * rotates, sees a bound: from the clamp bounds a block of AHEAD_BLOCK samples reaches |v| < 2^53.1 (2^58 over
  * 30 bins) before the next clamp, far below FLT_MAX (Frama-C Eva's step_ahead_pass_chunk entry,
- * docs/verification.md, "The tremor-ahead build").
+ * docs/studies/verification.md, "The tremor-ahead build").
  */
 #define AHEAD_V_MAX 34359738368.0f      /* 2^35 */
 #define AHEAD_E_MAX 68719476736.0f      /* 2^36 */
@@ -2359,7 +2359,7 @@ static float fit_mse(const wake_hpa_t *h, const float *w)
 
 /**
  * The bounds of one ridge attempt (factor, scale = trace(G) / J), each a guard of solve_ridge that a positive
- * semi-definite G never reaches (docs/verification.md, "The solve"): with M = G + lambda I, lambda = factor
+ * semi-definite G never reaches (docs/studies/verification.md, "The solve"): with M = G + lambda I, lambda = factor
  * scale, and the pivots d_j >= PIVOT_FLOOR lambda,
  *   |G_ij| <= sqrt(G_ii G_jj) <= trace(G)                           -> gmax = 2 J scale
  *   L_ij^2 d_j <= M_ii <= (2 J + factor) scale                      -> |L_ij| <= lmax, the smallest power of two
@@ -2519,7 +2519,7 @@ static void step_solve(wake_hpa_t *h)
 
 /**
  * Cost of the next indivisible step, or of one item of a loop step (without COST_PIECE).  The contract is what
- * run_pieces' termination proof assumes (docs/verification.md, "Termination"): Eva shows it in the default
+ * run_pieces' termination proof assumes (docs/studies/verification.md, "Termination"): Eva shows it in the default
  * configuration on every phase, from any 16-bit counter t (the dispatch entries); by reading, in any
  * configuration wake_hpa.h and config_ok admit: at least COST_LAG, at most Levinson's 80 + 12 (t + 1) +
  * 2 WAKE_HPA_MAX_ORDER < 10^6 for any t (t < p <= 255 in a run: 3,662), the cut-off's 400 + 26 cut_hi <= 13,660 (cut_hi <=
@@ -2646,7 +2646,7 @@ static void run_pieces(wake_hpa_t *h, int32_t budget)
 {
     int32_t left = budget;
     int first = 1;
-    /* termination (WP; docs/verification.md, "Termination"): a piece after the first runs only if need <= left,
+    /* termination (WP; docs/studies/verification.md, "Termination"): a piece after the first runs only if need <= left,
        need >= 1 + COST_PIECE, and every piece lowers left by what run_step spent (> 0) plus COST_PIECE */
     /*@ loop invariant first == 0 || first == 1;
         loop invariant first == 1 ==> left == budget;
@@ -2682,7 +2682,7 @@ wake_hpa_status_t wake_hpa_slice(wake_hpa_t *h)
 wake_hpa_status_t wake_hpa_run(wake_hpa_t *h)
 {
     /* no time limit: every loop step runs to its end in one piece (the same arithmetic as slices).  One call of
-       run_pieces: its budget is far above what a whole run spends (docs/verification.md, "Termination"), and its
+       run_pieces: its budget is far above what a whole run spends (docs/studies/verification.md, "Termination"), and its
        loop ends (WP), so this call ends too */
     wake_hpa_status_t st = check_instance(h);
     if (st != WAKE_HPA_OK) {

@@ -20,7 +20,7 @@
  *       G = A'A = B Rxx B' + mean terms,  b = A'v(+1) = B Cxy + mean terms
  *       R = var(x - v), floored at 1e-6 var(x)
  * @endcode
- * docs/hpa_c.md derives each rearrangement and records its agreement with the
+ * docs/studies/hpa_c.md derives each rearrangement and records its agreement with the
  * Python HPA.
  *
  * Single precision only (`float`, no double: builds with -Wdouble-promotion),
@@ -119,7 +119,7 @@ extern "C" {
 /**
  * 1: the HPA also fits the tremor-ahead predictor and its gate's goal (issue 32; needs WAKE_RTP_AHEAD) and
  * wake_hpa_apply() installs them; 0 (default): it does not (the result's ahead fields are zero) and its
- * code, RAM and cost are those without it.  Off by default because of its cost: docs/hpa_c.md, "The tremor
+ * code, RAM and cost are those without it.  Off by default because of its cost: docs/studies/hpa_c.md, "The tremor
  * ahead".
  */
 #ifndef WAKE_HPA_AHEAD
@@ -401,7 +401,7 @@ wake_hpa_status_t wake_hpa_push(wake_hpa_t *h, wake_q15_t sample);
  * A run of at least ::wake_hpa_t::gap_len missing samples (20 % of L) is a
  * long gap: HPA points inside it are skipped (::wake_hpa_t::gap_skipped), and
  * at its end the schedule starts again, warm-up points first, in a fresh
- * buffer, as after init (docs/design.md, "Missing samples"; the host
+ * buffer, as after init (docs/studies/design.md, "Missing samples"; the host
  * interpolates a short gap linearly where this holds the last sample).
  * @return as wake_hpa_push().
  */
@@ -429,7 +429,7 @@ wake_hpa_status_t wake_hpa_slice(wake_hpa_t *h);
  * @brief Run the current HPA to the end.
  *
  * One call spends at most INT32_MAX / 2 units of the slices' cost model (about 1.07e9), far above what a whole
- * run spends in any configuration this header admits (2.2e7 measured at its limits; docs/verification.md,
+ * run spends in any configuration this header admits (2.2e7 measured at its limits; docs/studies/verification.md,
  * "Termination"): a bound that makes the call's end a proven property, never reached by a run.  Should it be
  * (WAKE_HPA_RUNNING), the run stays where it stopped and a further call or slice goes on from there.
  * @return WAKE_HPA_DONE, WAKE_HPA_OK (nothing was running), WAKE_HPA_RUNNING (the run is not done after

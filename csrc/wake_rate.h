@@ -9,7 +9,7 @@
  * fs / D.  The prediction the RTP makes after group m is that of group
  * m + 1, whose centre lies within (D - 1) / 2 input samples of each of its
  * samples: the firmware holds it as the prediction of every input sample
- * until the next group ends (docs/design.md, "Sampling rates other than
+ * until the next group ends (docs/studies/design.md, "Sampling rates other than
  * 100 Hz"; the Python twin is wake.rate.FrontEnd):
  *
  * @code
@@ -118,7 +118,7 @@ wake_rate_status_t wake_rate_push(wake_rate_t *s, wake_q15_t sample, int present
  * wake_rate_push with wake_rtp_step / wake_rtp_step_missing, bit for bit
  * (csrc/tests/test_wake_rtp_split.c), and no input sample runs a whole step:
  * the static bound of this function is the worst input sample
- * (docs/design.md, "In firmware").  Between two calls the firmware may
+ * (docs/studies/design.md, "In firmware").  Between two calls the firmware may
  * install weights, noise or a tremor-ahead model in the RTP (the setters keep a
  * prepared step prepared); it must not step the RTP itself.
  * @param[in,out] s           initialised front end, factor D >= 2

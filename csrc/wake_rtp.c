@@ -7,7 +7,7 @@
  * correction d of the literal recursion (wake/rtp/reference.py, which
  * restarts P as (w'Pw / |w|^2) I at a weight change) are formed from the
  * restart and a few scalars only in set_weights and get_state.
- * docs/fixed_point.md derives the form and bounds its error.
+ * docs/studies/fixed_point.md derives the form and bounds its error.
  *
  * Conventions: no signed overflow, no left shift of a negative value, no
  * float, no division instruction.  Right shifts of negative values go
@@ -285,7 +285,7 @@ static WAKE_RTP_OUTLINE_AT_OS wake_cov_t grown_variance(const wake_rtp_t *s, uin
 }
 
 /**
- * P and d of the literal recursion (docs/fixed_point.md): since the last restart
+ * P and d of the literal recursion (docs/studies/fixed_point.md): since the last restart
  * (P = lambda I, d = d_s) every u = P w was parallel to w, so
  *
  *   d = d_s + ((z - z_s) / |w|^2) w
@@ -385,7 +385,7 @@ static inline void fir_from_weights(const wake_rtp_t *s, const wake_q24_t *w, wa
 }
 
 /**
- * The restart of the voluntary motion ahead, for w_h and the current w, d_s (docs/design.md,
+ * The restart of the voluntary motion ahead, for w_h and the current w, d_s (docs/studies/design.md,
  * "Voluntary motion at n + h"):  d = d_s + ((z - z_s) / |w|^2) w  since the last restart, so
  *
  *   w_h' d = w_h' d_s + k (z - z_s),    k = w_h' w / |w|^2
@@ -1407,6 +1407,8 @@ wake_rtp_status_t wake_rtp_run(wake_rtp_t *s, const wake_q15_t *in, wake_q15_t *
     return WAKE_RTP_OK;
 }
 
+#if WAKE_RTP_VOLUNTARY_AHEAD
+/* the host build's block entry (wake_rtp.h): firmware builds leave it out */
 wake_rtp_status_t wake_rtp_run_outputs(wake_rtp_t *s, const wake_q15_t *in, const uint8_t *missing, size_t n,
                                        wake_q15_t *voluntary, wake_q23_t *tremor_ahead, wake_ratio_t *gate,
                                        wake_q23_t *command, wake_q23_t *voluntary_ahead)
@@ -1453,15 +1455,12 @@ wake_rtp_status_t wake_rtp_run_outputs(wake_rtp_t *s, const wake_q15_t *in, cons
         }
 #endif
         if (voluntary_ahead != NULL) {
-#if WAKE_RTP_VOLUNTARY_AHEAD
             voluntary_ahead[k] = s->vol_output;
-#else
-            voluntary_ahead[k] = s->last_output;
-#endif
         }
     }
     return st;
 }
+#endif
 
 WAKE_RTP_COLD wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q15_t *window,
                                       const wake_q23_t *correction, const wake_cov_t *covariance,

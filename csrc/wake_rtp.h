@@ -16,10 +16,10 @@
  * @endcode
  *
  * A weight change restarts the covariance isotropic at its variance along
- * the old w, P = (w'Pw / |w|^2) I (docs/design.md, "Covariance at a weight
+ * the old w, P = (w'Pw / |w|^2) I (docs/studies/design.md, "Covariance at a weight
  * change").  From such a restart u = P w stays parallel to w, and this core
  * evaluates the same recursion in an algebraically equivalent, constant-time
- * form (docs/fixed_point.md proves the equivalence and bounds the error):
+ * form (docs/studies/fixed_point.md proves the equivalence and bounds the error):
  *
  * @code
  *   h    = B' w                     2^J FIR taps, rebuilt by set_weights
@@ -388,7 +388,7 @@ wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const wake_q15_t *taps
  *         (on error nothing changes).
  *
  * @par Scaling and overflow
- * d = d_s + ((z - z_s) / |w|^2) w and lambda = s / |w|^2 (docs/fixed_point.md):
+ * d = d_s + ((z - z_s) / |w|^2) w and lambda = s / |w|^2 (docs/studies/fixed_point.md):
  * each division by |w|^2 (Q24, < 2^40) is an exact restoring long division
  * (63 + frac turns, no division instruction) rounded once and clamped to
  * +-2^50, then narrowed to int32 with saturation; s = lambda |w|^2 and
@@ -461,37 +461,6 @@ wake_rtp_status_t wake_rtp_step_missing(wake_rtp_t *s, wake_q15_t *prediction);
  */
 wake_rtp_status_t wake_rtp_run(wake_rtp_t *s, const wake_q15_t *in, wake_q15_t *out, size_t n);
 
-/**
- * @brief Run a block and collect every per-sample output: after in[k], k = 0..n-1,
- * voluntary[k] = y(n) (wake_rtp_step's prediction), tremor_ahead[k], gate[k]
- * and command[k] = P(n), g(n) and g(n) P(n) (wake_rtp_ahead_output), and
- * voluntary_ahead[k] = v_h(n) (wake_rtp_voluntary_ahead_output).
- * Same result, state and cost per sample as n calls of wake_rtp_step, or of
- * wake_rtp_step_missing where missing[k] is non-zero, each followed by the
- * reads of its outputs: one call per block of a batch caller.
- * @param[in,out] s                initialised instance
- * @param[in]     in               n samples m, Q15 of FS (in[k] is not read where missing[k] != 0)
- * @param[in]     missing          n flags, non-zero: no measurement at k; NULL: every sample measured
- * @param[in]     n                samples; 0 is allowed (pointers may then be NULL)
- * @param[out]    voluntary        n values y, Q15 of FS (may be NULL)
- * @param[out]    tremor_ahead     n values P, Q23 of FS (may be NULL)
- * @param[out]    gate             n values g, Q30 in [0, 2^30] (may be NULL)
- * @param[out]    command          n values g P, Q23 of FS (may be NULL)
- * @param[out]    voluntary_ahead  n values v_h, Q23 of FS (may be NULL)
- * In a build without WAKE_RTP_AHEAD the three tremor-ahead outputs are 0
- * (nothing predicted, the gate shut); without WAKE_RTP_VOLUNTARY_AHEAD the
- * voluntary motion ahead is y(n) in Q23 (the one-step prediction held, as
- * while no w_h is installed).  The arrays must not overlap.
- * @return WAKE_RTP_OK, WAKE_RTP_E_NULL (@p in NULL with n > 0), _UNINIT or
- *         _CORRUPT (checked before the first sample; then nothing is written
- *         and the state is untouched).
- * @par Scaling and overflow
- * As wake_rtp_step and wake_rtp_step_missing; the outputs are copies of the
- * values each step stores.
- */
-wake_rtp_status_t wake_rtp_run_outputs(wake_rtp_t *s, const wake_q15_t *in, const uint8_t *missing, size_t n,
-                                       wake_q15_t *voluntary, wake_q23_t *tremor_ahead, wake_ratio_t *gate,
-                                       wake_q23_t *command, wake_q23_t *voluntary_ahead);
 
 /**
  * @brief Set the full state (hand-over from a float warm-up).
@@ -698,6 +667,39 @@ wake_rtp_status_t wake_rtp_set_voluntary_ahead(wake_rtp_t *s, const wake_q24_t *
  * vol_saturations).
  */
 wake_rtp_status_t wake_rtp_voluntary_ahead_output(const wake_rtp_t *s, wake_q23_t *output);
+
+/**
+ * @brief Run a block and collect every per-sample output: after in[k], k = 0..n-1,
+ * voluntary[k] = y(n) (wake_rtp_step's prediction), tremor_ahead[k], gate[k]
+ * and command[k] = P(n), g(n) and g(n) P(n) (wake_rtp_ahead_output), and
+ * voluntary_ahead[k] = v_h(n) (wake_rtp_voluntary_ahead_output).
+ * Same result, state and cost per sample as n calls of wake_rtp_step, or of
+ * wake_rtp_step_missing where missing[k] is non-zero, each followed by the
+ * reads of its outputs: one call per block of a batch caller.
+ * @param[in,out] s                initialised instance
+ * @param[in]     in               n samples m, Q15 of FS (in[k] is not read where missing[k] != 0)
+ * @param[in]     missing          n flags, non-zero: no measurement at k; NULL: every sample measured
+ * @param[in]     n                samples; 0 is allowed (pointers may then be NULL)
+ * @param[out]    voluntary        n values y, Q15 of FS (may be NULL)
+ * @param[out]    tremor_ahead     n values P, Q23 of FS (may be NULL)
+ * @param[out]    gate             n values g, Q30 in [0, 2^30] (may be NULL)
+ * @param[out]    command          n values g P, Q23 of FS (may be NULL)
+ * @param[out]    voluntary_ahead  n values v_h, Q23 of FS (may be NULL)
+ * In a build without WAKE_RTP_AHEAD the three tremor-ahead outputs are 0
+ * (nothing predicted, the gate shut).  The arrays must not overlap.
+ * Compiled with WAKE_RTP_VOLUNTARY_AHEAD 1, the host build, where every
+ * output exists: a firmware build (0) leaves it out, so its code and static
+ * bounds do not move (a firmware's block of predictions is wake_rtp_run).
+ * @return WAKE_RTP_OK, WAKE_RTP_E_NULL (@p in NULL with n > 0), _UNINIT or
+ *         _CORRUPT (checked before the first sample; then nothing is written
+ *         and the state is untouched).
+ * @par Scaling and overflow
+ * As wake_rtp_step and wake_rtp_step_missing; the outputs are copies of the
+ * values each step stores.
+ */
+wake_rtp_status_t wake_rtp_run_outputs(wake_rtp_t *s, const wake_q15_t *in, const uint8_t *missing, size_t n,
+                                       wake_q15_t *voluntary, wake_q23_t *tremor_ahead, wake_ratio_t *gate,
+                                       wake_q23_t *command, wake_q23_t *voluntary_ahead);
 #endif
 
 /**

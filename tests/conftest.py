@@ -1,3 +1,5 @@
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -28,3 +30,12 @@ def recording(tmp_path):
     path = tmp_path / "rec.csv"
     np.savetxt(path, np.column_stack([s.measurement, -s.measurement]), delimiter=",", header="a,b", comments="")
     return path, s
+
+
+def pytest_xdist_auto_num_workers(config):
+    """``-n auto`` (pyproject.toml's addopts): one worker per core, except for a run of a single test file (or tests
+    of one file), which runs in this process: starting workers would cost more than they save."""
+    files = {Path(str(arg).split("::")[0]).resolve() for arg in config.args}
+    if len(files) == 1 and next(iter(files)).is_file():
+        return 0
+    return None

@@ -1,4 +1,4 @@
-"""The C core's error bound against the float reference (docs/fixed_point.md, eqs. (B1), (B2)), shared by the
+"""The C core's error bound against the float reference (docs/studies/fixed_point.md, eqs. (B1), (B2)), shared by the
 tests of the one-step output (tests/rtp/test_fixed_point.py) and of ``v_h`` (tests/rtp/test_fixed_voluntary.py).
 
 Values are in full-scale units; ``fixed`` is the ``wake.rtp.fixed`` module (its Q formats), passed in so that

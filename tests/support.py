@@ -4,6 +4,8 @@ import os
 import shutil
 from pathlib import Path
 
+import numpy as np
+
 #: The C sources of this checkout: tests build them rather than a possibly
 #: older copy installed with the package.
 CSRC = Path(__file__).resolve().parents[1] / "csrc"
@@ -16,6 +18,13 @@ def pads_dir():
     return path if path.is_dir() and any(path.glob("*.txt")) else None
 
 
+def pdkit_dir():
+    """pdkit's smartphone tremor-task recordings next to the checkout (or $WAKE_PDKIT_DIR), if present."""
+    env = os.environ.get("WAKE_PDKIT_DIR")
+    path = Path(env) if env else Path(__file__).resolve().parents[1].parent / "shared" / "data" / "pdkit"
+    return path if path.is_dir() and any(path.glob("T_-_*.csv")) else None
+
+
 def has_c_backend():
     from wake.rtp import c_backend_available
 
@@ -24,6 +33,7 @@ def has_c_backend():
 
 NO_PADS = "PADS recordings not found next to the checkout (../shared/data/pads) or in $WAKE_PADS_DIR"
 NO_CORE = "the compiled C core wake._rtp is not built"
+NO_PDKIT = "pdkit recordings not found next to the checkout (../shared/data/pdkit) or in $WAKE_PDKIT_DIR"
 
 
 def missing_tools(*names):
@@ -34,6 +44,22 @@ def missing_tools(*names):
     return f"{' and '.join(missing)} {'is' if len(missing) == 1 else 'are'} not installed (on PATH)"
 
 
+#: the environment variable in which .ci/run lists the steps that have passed before pytest ("make-test",
+#: "standalone-check"): a test that would only run one of them again skips, or checks that step's outputs
+CI_PASSED = "WAKE_CI_PASSED"
+
+
+def ci_passed(step):
+    """Whether CI already ran ``step`` and it passed (.ci/run lists it in $WAKE_CI_PASSED); never outside CI."""
+    return step in os.environ.get(CI_PASSED, "").split()
+
+
+def ci_skip_reason(target):
+    """The skip reason of a test that would only run ``make -C csrc target`` again after CI's own step did."""
+    return (f"CI already ran `make -C csrc {target}` and it passed (.ci/run lists it in ${CI_PASSED}); "
+            "a plain pytest runs it")
+
+
 def prove_script(name):
     """The module of one of csrc/tests/prove's scripts (eva_check, wp_check, assigns_check), loaded from its file."""
     import importlib.util
@@ -42,3 +68,45 @@ def prove_script(name):
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     return mod
+
+
+# -- the readers of wake.io.formats (tests/io/test_formats*.py) ---------------------------------------------
+
+TREMOR_HZ = 6.0
+NO_PARADIGMA = ("the ParaDigMa example files are not next to the checkout (../shared/data/paradigma) nor in "
+                "$WAKE_PARADIGMA_DIR")
+
+
+def paradigma_dir():
+    """The folder of the two ParaDigMa files (CWA, TSDF) next to the checkout (or $WAKE_PARADIGMA_DIR), if present."""
+    env = os.environ.get("WAKE_PARADIGMA_DIR")
+    path = Path(env) if env else Path(__file__).resolve().parents[1].parent / "shared" / "data" / "paradigma"
+    return path if (path / "axivity").is_dir() and (path / "tsdf_imu").is_dir() else None
+
+
+def motion(fs, kind, seconds=20.0, seed=0):
+    """Three axes of wrist motion at ``fs``: ``(x, tremor)``, each (n, 3).
+
+    ``kind`` "gyro": rad/s, slow voluntary rotation and a 6 Hz tremor;
+    "acc": m/s^2 with gravity (9.81 on z, tilting slowly) under the same.
+    """
+    rng = np.random.default_rng(seed)
+    t = np.arange(int(round(seconds * fs))) / fs
+    phases = rng.uniform(0, 2 * np.pi, 3)
+    voluntary = np.column_stack([np.sin(2 * np.pi * 0.4 * t + p) for p in phases])
+    tremor = 0.3 * np.column_stack([np.sin(2 * np.pi * TREMOR_HZ * t + 2 * p) for p in phases])
+    if kind == "acc":
+        voluntary = 2.0 * voluntary + np.array([0.0, 0.0, 9.81]) * np.cos(0.2 * np.sin(2 * np.pi * 0.1 * t))[:, None]
+    x = voluntary + tremor + 0.01 * rng.standard_normal(voluntary.shape)
+    return x, tremor
+
+
+UNITS = {"gyro": "rad/s", "acc": "m/s^2"}
+
+
+def tremor_captured(estimate, truth, fs, skip_s=8.0):
+    """Correlation of the filter's tremor with the true tremor after the warm-up (NaN rows left out)."""
+    k = int(skip_s * fs)
+    e, t = np.asarray(estimate)[k:], np.asarray(truth)[k:]
+    ok = np.isfinite(e)
+    return float(np.corrcoef(e[ok], t[ok])[0, 1])

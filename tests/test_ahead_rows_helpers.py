@@ -1,5 +1,5 @@
 """The helpers of bench/ahead_rows.py (issue 32's cost target): its restricted fit is the library's on the rows
-it keeps, and the substitution is undone after the block (docs/design.md, "A fit on fewer rows")."""
+it keeps, and the substitution is undone after the block (docs/studies/design.md, "A fit on fewer rows")."""
 
 import importlib.util
 import sys

@@ -1,4 +1,4 @@
-"""The package's shape (docs/architecture.md): imports run down the layers, modules and functions stay small."""
+"""The package's shape (docs/reference/architecture.md): imports run down the layers, modules and functions stay small."""
 
 import ast
 import sys
@@ -9,7 +9,7 @@ import pytest
 
 PACKAGE = Path(__file__).resolve().parents[1] / "wake"
 
-#: The layers of docs/architecture.md, lowest first.  A module may import from its own layer and below,
+#: The layers of docs/reference/architecture.md, lowest first.  A module may import from its own layer and below,
 #: never from above; every import counts, inside functions too.
 LAYERS = (
     ("wake._rtp", "wake._validation", "wake._files", "wake._core", "wake._docs", "wake.limits", "wake.registry",
@@ -36,7 +36,7 @@ def layer_of(module: str) -> int:
                 best, depth = i, name.count(".")
     if best is None:
         raise AssertionError(f"{module} is in no layer of tests/test_architecture.py: add it there and to "
-                             "docs/architecture.md")
+                             "docs/reference/architecture.md")
     return best
 
 
@@ -99,10 +99,10 @@ def test_the_walker_sees_an_upward_import(tmp_path, monkeypatch):
 
 
 def test_the_layers_in_the_docs_are_these():
-    text = (PACKAGE.parent / "docs" / "architecture.md").read_text()
+    text = (PACKAGE.parent / "docs" / "reference" / "architecture.md").read_text()
     for names in LAYERS:
         for name in names:
-            assert f"`{name}`" in text, f"docs/architecture.md does not place {name} in a layer"
+            assert f"`{name}`" in text, f"docs/reference/architecture.md does not place {name} in a layer"
 
 
 # -- size -----------------------------------------------------------------------------------------------------

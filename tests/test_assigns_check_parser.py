@@ -1,5 +1,5 @@
 """csrc/tests/prove/assigns_check.py reads the outputs Frama-C prints for each step (-out-external) and refuses a
-write that run_step's assigns list does not hold (docs/verification.md, "Termination", "What the steps write").
+write that run_step's assigns list does not hold (docs/studies/verification.md, "Termination", "What the steps write").
 The logs below follow the shapes of Frama-C 25's messages; no Frama-C is needed."""
 
 from support import prove_script

@@ -13,6 +13,7 @@ def test_demo_prints_the_table(capsys):
     assert len(rows) == 10
 
 
+@pytest.mark.slow
 def test_demo_reports_the_whole_recording_beside_the_papers_score(capsys):
     from wake import WakeFilter
     from wake.eval.metrics import nrmse

@@ -6,7 +6,7 @@ import pytest
 from wake import WakeFilter
 from wake.cli import main
 from wake.hpa.characterise import summarise
-from wake.io.writers import TREMOR_COLUMNS
+from wake.io.writers import TREMOR_COLUMNS, tremor_header
 
 FS = 100.0
 
@@ -46,7 +46,8 @@ def test_tremor_out_writes_one_row_per_window_and_channel(tremor_recording, tmp_
     out = tmp_path / "tremor.csv"
     assert main(["run", str(path), "--backend", "reference", "--tremor-out", str(out)]) == 0
     lines = out.read_text().splitlines()
-    assert lines[0].split(",") == ["channel", "unit"] + [cell for _, cell in TREMOR_COLUMNS]
+    assert lines[0].split(",") == ["channel", "unit"] + tremor_header(["rad/s", "rad/s"])
+    assert "rms [rad/s]" in lines[0] and "band_power [(rad/s)^2]" in lines[0] and "[unit" not in lines[0]
     rows = [line.split(",") for line in lines[1:]]
     res = WakeFilter(backend="reference").run(x)
     tables = res.tremor_stats(FS, x=x)

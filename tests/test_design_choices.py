@@ -1,4 +1,4 @@
-"""Pins for the choices where the paper is vague (docs/design.md has the numbers).
+"""Pins for the choices where the paper is vague (docs/studies/design.md has the numbers).
 
 Each test reruns the measurement that decided a default and asserts the
 default still wins, so a change that flips the decision fails here.

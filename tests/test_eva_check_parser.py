@@ -1,5 +1,5 @@
 """csrc/tests/prove/eva_check.py reads every alarm and unproven property of an Eva log, in each shape Frama-C 25
-prints them, and refuses a log whose summary counts more than it read (docs/verification.md, "Frama-C Eva").
+prints them, and refuses a log whose summary counts more than it read (docs/studies/verification.md, "Frama-C Eva").
 The logs below follow the shapes of Frama-C 25's messages; no Frama-C is needed."""
 
 from support import prove_script

@@ -69,6 +69,7 @@ def test_live_kalman_on_c_matches_reference(signal10):
     assert abs(nc - nr) <= 0.01 * nr
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(pads_dir() is None, reason=NO_PADS)
 def test_c_matches_reference_on_real_recordings():
     from wake.eval.datasets import load_pads_folder

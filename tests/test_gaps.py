@@ -1,5 +1,5 @@
 """Long gaps in a stream: the HPA reads only the samples after them, and the warm-up starts again
-(docs/design.md, "Missing samples")."""
+(docs/studies/design.md, "Missing samples")."""
 
 import numpy as np
 import pytest
@@ -70,7 +70,7 @@ def test_streaming_and_blocks_agree_with_run_around_gaps(signal, backend):
 
 
 def test_the_gap_policy_lowers_the_error_after_a_long_gap(monkeypatch):
-    """Measured in docs/design.md: after a 4.5 s gap the first 5 s are much better when the HPA reads only
+    """Measured in docs/studies/design.md: after a 4.5 s gap the first 5 s are much better when the HPA reads only
     the samples after the gap and warms up again (paper's synthetic signals, mean NRMSE 0.0871 -> 0.0732)."""
     def error_after(share):
         monkeypatch.setattr(schedule, "GAP_SHARE", share)
@@ -87,7 +87,7 @@ def test_the_gap_policy_lowers_the_error_after_a_long_gap(monkeypatch):
 
 
 def test_no_fit_on_less_than_two_seconds_after_a_gap(monkeypatch):
-    """docs/design.md, "Missing samples": after a long gap the schedule restarts from its first point of 2 s
+    """docs/studies/design.md, "Missing samples": after a long gap the schedule restarts from its first point of 2 s
     or more; restarting it whole (a 1-s fit replacing weights fitted before the gap) scores worse after a 1 s
     gap, on the paper's ten signals (0.0807 against 0.0769 over the next 5 s)."""
     from wake.eval.synthetic import paper_dataset

@@ -119,7 +119,7 @@ def test_a_state_of_another_rate_is_refused():
 @pytest.mark.parametrize("fs", [200, 500, 1000])
 def test_voluntary_accuracy_at_high_rates_is_that_of_100_hz(fs):
     """Same motion resampled: the voluntary NRMSE after 5 s within 5 % of the 100 Hz one (today's
-    structure gave 0.14 at 1 kHz against 0.07; docs/design.md)."""
+    structure gave 0.14 at 1 kHz against 0.07; docs/studies/design.md)."""
     x100, v100 = _signal(100, seconds=30.0)
     ref = nrmse(v100, WakeFilter(fs=100.0, backend="reference").run(x100).voluntary, 500)
     x, v = _signal(fs, seconds=30.0)

@@ -1,4 +1,4 @@
-"""The helpers of bench/rate_50hz.py (issue 33 at 50 Hz) and, on PADS, the decomposition docs/design.md
+"""The helpers of bench/rate_50hz.py (issue 33 at 50 Hz) and, on PADS, the decomposition docs/studies/design.md
 ("50 Hz: the measured limit") reports: the 100 Hz filter predicting 20 ms ahead, and the 50 Hz scoring."""
 
 import functools
@@ -66,10 +66,11 @@ def test_resample_takes_100_hz_to_the_rate_and_leaves_100_hz_alone():
     assert bench.resample(x, 50).shape == (500,) and bench.resample(x, 60).shape == (600,)
 
 
+@pytest.mark.slow
 @pytest.mark.realdata
 @pytest.mark.skipif(pads_dir() is None, reason=NO_PADS)
 def test_on_pads_50_hz_misses_5_percent_because_of_the_horizon_and_the_scoring():
-    """The numbers of docs/design.md at offset 0: the 100 Hz filter 0.1133; its own estimate scored at 50 Hz
+    """The numbers of docs/studies/design.md at offset 0: the 100 Hz filter 0.1133; its own estimate scored at 50 Hz
     already 5.5 % above it; 20 ms ahead it is worse than today's 50 Hz filter, at 100 Hz and at 50 Hz."""
     from wake.eval.datasets import load_pads_folder
 

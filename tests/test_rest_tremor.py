@@ -1,6 +1,6 @@
 """Rest tremor with little voluntary motion: a spectrum that rises into the tremor peak has no valley.
 
-docs/design.md, "Rest tremor with little voluntary motion": on such a window the
+docs/studies/design.md, "Rest tremor with little voluntary motion": on such a window the
 shallow-dip minimum sat on the lowest bin of the search (0.59 Hz), so the drift
 above it was called tremor while no window counted as a fallback.
 """

@@ -144,7 +144,7 @@ def test_24_hours_at_100_hz_on_the_c_core():
         check_state(rtp)
         P = rtp.covariance.reshape(rtp.level, rtp.level)
         # P is rebuilt from the constant-time form with each entry within a few LSB of the
-        # exact one (docs/fixed_point.md); entries within 4 LSB of a PSD matrix keep every
+        # exact one (docs/studies/fixed_point.md); entries within 4 LSB of a PSD matrix keep every
         # eigenvalue above -4 J LSB (the spectral norm of the perturbation is at most J max|E_ij|)
         lsb = rtp.full_scale**2 / 2.0**32
         assert np.linalg.eigvalsh(P).min() > -4 * rtp.level * lsb

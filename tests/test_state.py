@@ -19,22 +19,57 @@ DATA = Path(__file__).parent / "data"
 SAVED_AT = 1234
 
 
+#: The float reference after a saved state agrees with a fresh stream to this share of the signal's peak.
+#: Bit identity holds for the C core (integer arithmetic), not for the float reference across library builds:
+#: the pickles carry weights fitted by the numpy/scipy that wrote them, and a BLAS summing in another order
+#: moves the normal equations of the fit (wake.hpa.fit) by up to about L u relative (L = 500 rows, u = 2^-53).
+#: Their ridge bounds the condition number by J / ridge + 1 = 5e6 (J = 5, ridge 1e-6 of the mean diagonal),
+#: so the weights, and the prediction w'(a + d), move by at most 5e6 * 2 * 500 * 1.1e-16 = 5.6e-7 of their
+#: scale. 1e-6 of the signal's peak holds that with room; the differences seen were 7e-14 (numpy 2.4.6,
+#: scipy 1.17.1 against the builds that wrote the files). A cut-off decided otherwise would differ by far more.
+FLOAT_REFERENCE_TOLERANCE = 1e-6
+
+
 def _signal():
     return make_signal(5.0, seed=1, duration=20.0).measurement
 
 
+class _Unpickler(pickle.Unpickler):
+    """Reads the committed states under numpy 1.x too: they were written by numpy 2, whose arrays pickle as
+    ``numpy._core``, a module numpy 1.x calls ``numpy.core`` (a file format question, not one of WAKE's)."""
+
+    def find_class(self, module, name):
+        if module.startswith("numpy._core") and not hasattr(np, "_core"):
+            module = "numpy.core" + module[len("numpy._core"):]
+        return super().find_class(module, name)
+
+
+def _saved_state(name):
+    with open(DATA / name, "rb") as f:
+        return _Unpickler(f).load()
+
+
+def assert_continues(backend, continued, fresh, x):
+    """Bit for bit on the C core; within :data:`FLOAT_REFERENCE_TOLERANCE` of the peak on the float reference."""
+    if backend == "c":
+        np.testing.assert_array_equal(continued, fresh)
+    else:
+        np.testing.assert_allclose(continued, fresh, rtol=0,
+                                   atol=FLOAT_REFERENCE_TOLERANCE * float(np.max(np.abs(x))))
+
+
 @pytest.mark.parametrize("backend", ["reference", "c"])
-def test_a_state_saved_before_versioning_continues_bit_for_bit(backend):
+def test_a_state_saved_before_versioning_continues(backend):
     if backend == "c" and not has_c_backend():
         pytest.skip("the compiled C core wake._rtp is not built")
     x = _signal()
-    state = pickle.loads((DATA / f"state_unversioned_{backend}.pkl").read_bytes())
+    state = _saved_state(f"state_unversioned_{backend}.pkl")
     assert state.version == 0 and isinstance(state.channels[0], dict)
     g = WakeFilter(config=state.config)
     g.set_state(state)
     f = WakeFilter(config=state.config)
     f.update_block(x[:SAVED_AT])
-    np.testing.assert_array_equal(g.update_block(x[SAVED_AT:]), f.update_block(x[SAVED_AT:]))
+    assert_continues(backend, g.update_block(x[SAVED_AT:]), f.update_block(x[SAVED_AT:]), x)
     assert [u.applied_at for u in g.hpa_history[0]] == [u.applied_at for u in f.hpa_history[0]]
 
 
@@ -80,14 +115,14 @@ def test_a_state_of_layout_1_continues_with_the_gate_shut_until_the_next_hpa(bac
     if backend == "c" and not has_c_backend():
         pytest.skip("the compiled C core wake._rtp is not built")
     x = _signal()
-    state = pickle.loads((DATA / f"state_v1_{backend}.pkl").read_bytes())
+    state = _saved_state(f"state_v1_{backend}.pkl")
     assert state.version == 1
     g = WakeFilter(config=state.config)
     g.set_state(state)
     f = WakeFilter(config=state.config)
     f.update_block(x[:SAVED_AT])
     continued = g.update_block_ahead(x[SAVED_AT:])
-    np.testing.assert_array_equal(continued[0], f.update_block(x[SAVED_AT:]))
+    assert_continues(backend, continued[0], f.update_block(x[SAVED_AT:]), x)
     next_hpa = 1500 - SAVED_AT     # the first HPA after the state: it fits the first predictor
     assert not continued[2][:next_hpa].any() and not continued[3][:next_hpa].any()
     assert continued[2][-1] > 0     # later HPAs score it and open the gate

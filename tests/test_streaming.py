@@ -68,7 +68,7 @@ def test_inline_swap_point_is_the_window_end(stream):
 def test_gap_of_one_second_recovers(stream):
     """Policy: NaN = missing sample; the RTP predicts through it.  After a
     1 s gap the 0.5 s RMS prediction error is back within 1.5x its pre-gap
-    level 0.5 s after the gap ends (docs/design.md, "Missing samples")."""
+    level 0.5 s after the gap ends (docs/studies/design.md, "Missing samples")."""
     x = stream.measurement.copy()
     x[1200:1300] = np.nan
     f = WakeFilter(backend="reference")

@@ -1,5 +1,5 @@
 """The helpers of bench/tremor_ahead.py (issue 32's design study): the predictors and the gate's gain do what
-docs/design.md ("Tremor ahead", "The design study") says they do."""
+docs/studies/design.md ("Tremor ahead", "The design study") says they do."""
 
 import functools
 import importlib.util

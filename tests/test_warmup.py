@@ -1,4 +1,4 @@
-"""The first seconds after switch-on: start-up weights and the progressive HPA (docs/design.md, "Warm-up").
+"""The first seconds after switch-on: start-up weights and the progressive HPA (docs/studies/design.md, "Warm-up").
 
 The choices measured there are pinned here: the designed prior beats the
 deepest approximation before the first HPA, the warm-up HPA runs at 2, 3
@@ -85,6 +85,7 @@ def test_warmup_beats_the_first_release_in_every_slice_on_the_synthetic_set(pape
     assert now["after 5 s"] <= 1.02 * before["after 5 s"]
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(pads_dir() is None, reason=NO_PADS)
 def test_warmup_lowers_the_whole_recording_error_on_pads():
     now, before = _pads_slices(), _pads_slices(**FIRST_RELEASE)
@@ -179,7 +180,7 @@ def test_error_curve_is_the_binned_rms_over_one_range():
 
 
 def test_floor_rule_lowers_the_synthetic_error_where_shallow_raised_it(paper_signals):
-    """docs/design.md, "Cut-off on real wear": the 'shallow' rule alone raises the synthetic whole-recording
+    """docs/studies/design.md, "Cut-off on real wear": the 'shallow' rule alone raises the synthetic whole-recording
     error a little (0.07390 -> 0.07396 with the C core); the 'floor' rule, the default, lowers it (0.07158):
     shallow dips at the noise floor give the default, valleys at the floor their low edge."""
     floor = _slices(paper_signals)
@@ -209,15 +210,16 @@ def test_floor_rule_lowers_the_pads_error_and_leaves_few_windows_on_the_default(
     mean = lambda rows, k: float(np.mean([r[k] for r in rows]))  # noqa: E731
     # far fewer windows on the constant default cut-off than the paper rule (82 %): 24 % when the rule came
     # in (its target: at most 30 %), 33 % since a spectrum rising from 0.5 Hz into the tremor peak is no dip
-    # and falls back, which lowers the PADS error (docs/design.md, "Rest tremor with little voluntary motion")
+    # and falls back, which lowers the PADS error (docs/studies/design.md, "Rest tremor with little voluntary motion")
     on_default = sum(f in FALLBACK_FLAGS for f in flags) / len(flags)
     assert on_default <= 0.35, on_default
     for k in ("whole (from 0.5 s)", "after 5 s"):
         assert mean(floor, k) < 0.95 * mean(paper, k), k
 
 
+@pytest.mark.slow
 def test_detrended_truth_lowers_the_synthetic_error_under_the_paper_rule(paper_signals, monkeypatch):
-    """docs/design.md, "Tremor ground truth of a window": with the paper's cut-off rule the end-point line
+    """docs/studies/design.md, "Tremor ground truth of a window": with the paper's cut-off rule the end-point line
     taken out before the sharp high-pass lowers the synthetic error after 2 s and over the whole recording
     (0.07424 -> 0.07390 with the C core).  With the defaults (the 'floor' rule, a warm-up HPA at 1 s) it
     lowers the synthetic 1-2 s and whole-recording error (0.1385 -> 0.1224, 0.0703 -> 0.0701) and PADS in
@@ -236,6 +238,7 @@ def test_detrended_truth_lowers_the_synthetic_error_under_the_paper_rule(paper_s
         assert floor_detrended[k] < floor_plain[k], (k, floor_detrended[k], floor_plain[k])
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(pads_dir() is None, reason=NO_PADS)
 def test_detrended_truth_lowers_the_pads_error_under_the_default_rule(monkeypatch):
     import wake.hpa.run as hpa_run
@@ -249,7 +252,7 @@ def test_detrended_truth_lowers_the_pads_error_under_the_default_rule(monkeypatc
 
 
 def test_a_short_warmup_fit_is_installed_only_on_a_clean_valley():
-    """docs/design.md, "Warm-up": a fit on less than CLEAN_ONLY_BELOW_S (2 s) of samples is installed only
+    """docs/studies/design.md, "Warm-up": a fit on less than CLEAN_ONLY_BELOW_S (2 s) of samples is installed only
     with a 'valley' or 'floor_valley' cut-off; otherwise the weights in use stay (flag weights_kept)."""
     from wake.eval.synthetic import make_signal
     from wake.hpa.run import CLEAN_FLAGS, clean_only_below
@@ -280,6 +283,7 @@ def test_the_one_second_hpa_lowers_the_synthetic_1_to_2_s_error(paper_signals):
         assert now[k] <= before[k] * 1.001, k
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(pads_dir() is None, reason=NO_PADS)
 def test_the_one_second_hpa_does_not_cost_pads():
     now, before = _pads_slices(), _pads_slices(warmup_hpa_s=(2.0, 3.0, 4.0))
@@ -287,7 +291,7 @@ def test_the_one_second_hpa_does_not_cost_pads():
         assert now[k] <= before[k] * 1.001, (k, now[k], before[k])
 
 
-# -- the bound: weights fitted to the true voluntary motion (docs/design.md, "What any HPA could reach") --
+# -- the bound: weights fitted to the true voluntary motion (docs/studies/design.md, "What any HPA could reach") --
 
 def test_approximation_predictions_are_wakes_prediction_per_weight(signal10):
     from wake.eval.warmup import approximation_predictions
@@ -320,6 +324,7 @@ def test_truth_fitted_prediction_fits_every_sample_before_each_refit(signal10):
         truth_fitted_prediction(x, v[:-1], fs)
 
 
+@pytest.mark.slow
 def test_no_hpa_schedule_reaches_the_early_targets_on_the_synthetic_set(paper_signals):
     """Fitted to the true voluntary motion before every sample, WAKE's weights still miss the issue's
     1-2 s target (1.5x the after-5-s error) and BMFLC's 0.5-1 s error; the default HPA is close to

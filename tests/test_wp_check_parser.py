@@ -1,5 +1,5 @@
 """csrc/tests/prove/wp_check.py reads every goal of a WP log and passes it only when every goal is proved, the loop
-variant's two among them (docs/verification.md, "Termination").  The logs below follow the shapes of Frama-C 25's
+variant's two among them (docs/studies/verification.md, "Termination").  The logs below follow the shapes of Frama-C 25's
 messages; no Frama-C is needed."""
 
 from support import prove_script

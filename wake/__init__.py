@@ -17,11 +17,32 @@ applies them through a fixed filter bank and a Kalman update.
 True
 """
 
+from wake._validation import SparseChannelWarning
 from wake.rtp.adaptive import ClippingWarning
 from wake.config import CoreMissingWarning, WakeConfig
 from wake.filter import BACKENDS, WakeFilter, WakeResult, WakeState
 
-__version__ = "0.2.0"
+
+def _version() -> str:
+    """The version in the package metadata (pyproject.toml's ``[project] version``, the one place it is set).
+
+    Read with :mod:`importlib.metadata` when the package is installed; from a source checkout run without
+    installing (``PYTHONPATH`` on the checkout), from the pyproject.toml beside the package.
+    """
+    import re
+    from importlib import metadata
+    from pathlib import Path
+
+    try:
+        return metadata.version("wake-tremor")
+    except metadata.PackageNotFoundError:
+        pyproject = Path(__file__).resolve().parent.parent / "pyproject.toml"
+        text = pyproject.read_text(encoding="utf-8") if pyproject.is_file() else ""
+        found = re.search(r'^\[project\]$[^\[]*?^version = "([^"]+)"$', text, re.M | re.S)
+        return found.group(1) if found else "0+unknown"
+
+
+__version__ = _version()
 
 __all__ = ["WakeFilter", "WakeResult", "WakeState", "WakeConfig", "BACKENDS", "ClippingWarning",
-           "CoreMissingWarning", "__version__"]
+           "CoreMissingWarning", "SparseChannelWarning", "__version__"]

@@ -1,6 +1,6 @@
 """Whether the compiled core ``wake._rtp`` is installed, and how to get it.
 
-The lowest layer of the package (docs/architecture.md): the configuration
+The lowest layer of the package (docs/reference/architecture.md): the configuration
 asks it for the default backend, :mod:`wake.rtp` for its messages, and
 neither has to import the other.
 """
@@ -33,21 +33,32 @@ def shadowed_install():
 
     After ``pip install .`` in a checkout, Python started in the checkout imports the source tree (the current
     directory comes first on ``sys.path``), which has no compiled core, while the installed copy has one.
+    ``pip install .`` also leaves ``wake_tremor.egg-info`` in the checkout, which the metadata lookup finds
+    first; so every ``wake-tremor`` distribution on the path is asked, and every ``wake`` folder on
+    ``sys.path`` is looked at (an install by ``pip install --target`` has no metadata of its own).
     """
     import importlib.metadata
+    import sys
     from pathlib import Path
 
     here = Path(__file__).resolve().parent  # the wake package directory imported
     if not (here.parent / "pyproject.toml").is_file():
         return None  # not a source tree
-    try:
-        dist = importlib.metadata.distribution("wake-tremor")
-    except importlib.metadata.PackageNotFoundError:
-        return None
-    for f in dist.files or ():
-        if f.parts[:1] == ("wake",) and f.name.startswith("_rtp") and f.suffix in (".so", ".pyd"):
-            installed = Path(dist.locate_file(f)).resolve().parent
-            return installed if installed != here and installed.is_dir() else None
+
+    def has_core(folder: Path) -> bool:
+        return folder.is_dir() and folder != here and any(
+            f.name.startswith("_rtp") and f.suffix in (".so", ".pyd") for f in folder.iterdir())
+
+    for dist in importlib.metadata.distributions(name="wake-tremor"):
+        for f in dist.files or ():
+            if f.parts[:1] == ("wake",) and f.name.startswith("_rtp") and f.suffix in (".so", ".pyd"):
+                installed = Path(dist.locate_file(f)).resolve().parent
+                if has_core(installed):
+                    return installed
+    for entry in sys.path:
+        folder = (Path(entry or ".") / "wake").resolve()
+        if has_core(folder):
+            return folder
     return None
 
 

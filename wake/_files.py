@@ -7,7 +7,33 @@ import sys
 import tempfile
 from pathlib import Path
 
-__all__ = ["refuse_same_file", "atomic_write_text", "silence_stdout"]
+__all__ = ["check_output_path", "refuse_same_file", "atomic_write_text", "silence_stdout"]
+
+
+def check_output_path(out, *, option="--out"):
+    """Raise ValueError, before any work, when ``out`` cannot be written: its folder is missing (or is not
+    a folder), ``out`` is a folder, or the folder is not writable.
+
+    Examples
+    --------
+    >>> from wake._files import check_output_path
+    >>> check_output_path("/nonexistent/dir/o.csv")
+    Traceback (most recent call last):
+    ...
+    ValueError: --out /nonexistent/dir/o.csv: the folder /nonexistent/dir does not exist; create it first or \
+choose another path
+    """
+    path = Path(out)
+    folder = path.parent if str(path.parent) else Path(".")
+    if path.is_dir():
+        raise ValueError(f"{option} {out} is a folder; give a file name in it (e.g. {path / 'out.csv'})")
+    if not folder.exists():
+        raise ValueError(f"{option} {out}: the folder {folder} does not exist; create it first or choose another "
+                         "path")
+    if not folder.is_dir():
+        raise ValueError(f"{option} {out}: {folder} is a file, not a folder; choose another path")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise ValueError(f"{option} {out}: the folder {folder} is not writable; choose another path")
 
 
 def refuse_same_file(out, inputs, *, option="--out"):

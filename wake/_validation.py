@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import sys
 
 import numpy as np
 import pywt
@@ -65,8 +66,11 @@ def as_signal(x, *, name: str = "x", allow_nan: bool = False) -> tuple[np.ndarra
     arrays of more than two dimensions are refused.  A masked array's masked
     entries are missing samples: NaN where ``allow_nan``, else refused.
     """
-    masked = np.ma.getmaskarray(x) if np.ma.isMaskedArray(x) else None
-    arr = np.asarray(np.ma.getdata(x) if masked is not None else x)
+    # a masked array exists only once numpy.ma is imported: reading np.ma here would import it (and format its
+    # docstrings) at filtering time, the first time any signal comes through
+    ma = sys.modules.get("numpy.ma")
+    masked = ma.getmaskarray(x) if ma is not None and ma.isMaskedArray(x) else None
+    arr = np.asarray(ma.getdata(x) if masked is not None else x)
     if arr.dtype == bool or arr.dtype.kind not in "iuf":
         raise ValueError(
             f"{name} must hold real numbers (integer or float), got dtype {arr.dtype}; "
@@ -149,3 +153,61 @@ def check_pair(name: str, value) -> tuple[float, float]:
         if isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v):
             raise ValueError(f"{name} must hold two finite numbers, got {value!r}")
     return float(lo), float(hi)
+
+
+class SparseChannelWarning(UserWarning):
+    """A channel of a recording holds fewer finite samples than one HPA window (:func:`check_finite_channels`)."""
+
+
+def check_finite_channels(x, window_samples: int, names=None) -> None:
+    """The rule for a whole recording's channels: each must hold enough finite samples to be scored.
+
+    A channel without a single finite sample (all NaN: missing throughout) is
+    an error: there is nothing to filter, and its outputs would be NaN or
+    zero without a word.  A channel with some finite samples, but fewer than
+    one HPA window, is filtered with a :class:`SparseChannelWarning` naming
+    it: its HPA windows rest on interpolated or missing samples, so neither
+    its voluntary motion nor its tremor can be trusted.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (n, channels)
+        The recording, NaN marking a missing sample.
+    window_samples : int
+        ``L``, the HPA window in samples at the rate of ``x``.
+    names : sequence of str, optional
+        The channels' names for the messages (default ``channel 0``, ...).
+
+    Raises
+    ------
+    ValueError
+        Naming every channel without a finite sample (or when ``names`` does
+        not hold one name per channel).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wake._validation import check_finite_channels
+    >>> x = np.column_stack([np.ones(600), np.full(600, np.nan)])
+    >>> check_finite_channels(x, 500, names=["wrist", "elbow"])
+    Traceback (most recent call last):
+    ...
+    ValueError: channel elbow has no finite sample (every value is NaN or missing): there is nothing to filter; leave it out (wake run --column) or fix the recording
+    """
+    if names is not None and len(names) != x.shape[1]:
+        raise ValueError(f"names holds {len(names)} name(s) for the {x.shape[1]} channel(s) of x")
+    finite = np.count_nonzero(np.isfinite(x), axis=0)
+    label = [f"channel {c}" for c in range(x.shape[1])] if names is None else \
+        [f"channel {name}" for name in names]
+    empty = [label[c] for c in np.flatnonzero(finite == 0)]
+    if empty:
+        raise ValueError(f"{' and '.join(empty)} {'has' if len(empty) == 1 else 'have'} no finite sample (every "
+                         "value is NaN or missing): there is nothing to filter; leave it out (wake run --column) "
+                         "or fix the recording")
+    import warnings
+
+    for c in np.flatnonzero(finite < window_samples):
+        warnings.warn(f"{label[c]} has {int(finite[c])} finite samples, fewer than one HPA window "
+                      f"({window_samples}): too few for WAKE to fit its voluntary motion or characterise its "
+                      "tremor reliably (the HPA windows rest on interpolated or missing samples)",
+                      SparseChannelWarning, stacklevel=3)

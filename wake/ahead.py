@@ -5,7 +5,7 @@ fits the predictor and scores the previous one (:func:`fit_predictor`,
 :func:`held_out_gain`, :func:`gate_target`), the float reference and the C
 core run it per sample (:class:`AheadStep`, the twin of the C code), and the
 evaluation scores it.  The design and the numbers behind every constant are
-in docs/design.md, "Tremor ahead (issue 32)"
+in docs/studies/design.md, "Tremor ahead (issue 32)"
 (``python bench/tremor_ahead.py``).
 
 Per HPA window (``y``: WAKE's own tremor estimate ``x - voluntary`` over the
@@ -83,6 +83,18 @@ def lagged(s, taps: int = TAPS):
     return np.lib.stride_tricks.sliding_window_view(pad, taps)[:, ::-1]
 
 
+def fit_pair(estimate, truth, horizon: int):
+    """``estimate`` and ``truth`` as float arrays, checked for a fit ``horizon`` samples ahead: both 1-D and of
+    one length, ``horizon`` at least 1 (the rule of every predictor's fit)."""
+    y = np.asarray(estimate, dtype=float)
+    t = np.asarray(truth, dtype=float)
+    if y.shape != t.shape or y.ndim != 1:
+        raise ValueError(f"estimate and truth must be 1-D and of one length, got shapes {y.shape} and {t.shape}")
+    if horizon < 1:
+        raise ValueError(f"horizon must be at least 1 sample, got {horizon}")
+    return y, t
+
+
 def fit_predictor(estimate, truth, horizon: int, taps: int = TAPS, ridge: float = RIDGE):
     """The direct ``horizon``-step predictor from WAKE's tremor estimate to the tremor truth.
 
@@ -103,12 +115,7 @@ def fit_predictor(estimate, truth, horizon: int, taps: int = TAPS, ridge: float 
         +-:data:`COEFFICIENT_LIMIT`.  Zeros when the window has fewer than two
         such rows, or no power.
     """
-    y = np.asarray(estimate, dtype=float)
-    t = np.asarray(truth, dtype=float)
-    if y.shape != t.shape or y.ndim != 1:
-        raise ValueError(f"estimate and truth must be 1-D and of one length, got shapes {y.shape} and {t.shape}")
-    if horizon < 1:
-        raise ValueError(f"horizon must be at least 1 sample, got {horizon}")
+    y, t = fit_pair(estimate, truth, horizon)
     return fit_rows(lagged(y, taps)[taps - 1:y.size - horizon], t[taps - 1 + horizon:], ridge)
 
 
@@ -310,16 +317,22 @@ def bank_horizon(horizon: int, decimation: int) -> int:
     return max(1, (2 * int(horizon) + int(decimation)) // (2 * int(decimation)))
 
 
-def horizon_from_ms(horizon_ms: float, fs: float, max_samples: int = MAX_HORIZON) -> int:
+def horizon_from_ms(horizon_ms: float, fs: float, max_samples: int | None = None) -> int:
     """The horizon in samples of ``horizon_ms`` milliseconds at ``fs`` Hz, rounded to the nearest sample
-    (halves up); ``ValueError`` outside 1..``max_samples`` samples (:data:`MAX_HORIZON` at the bank rate;
-    ``MAX_HORIZON * D`` at an input rate ``D`` times it), naming the range in ms.
+    (halves up); ``ValueError`` outside 1..``max_samples`` samples (by default :data:`MAX_HORIZON` samples
+    of the bank rate: ``MAX_HORIZON * D`` at an input rate ``D`` times it), naming the range in ms.
 
     Examples
     --------
     >>> horizon_from_ms(50, 100.0), horizon_from_ms(25, 100.0), horizon_from_ms(20, 128.0)
     (5, 3, 3)
+    >>> horizon_from_ms(50, 1000.0)   # 5 samples of the bank's 100 Hz
+    50
     """
+    if max_samples is None:
+        from wake.sampling import decimation_for
+
+        max_samples = MAX_HORIZON * decimation_for(fs)
     ms = float(horizon_ms)
     samples = int(np.floor(ms * fs / 1000.0 + 0.5)) if np.isfinite(ms) else 0
     if not 1 <= samples <= max_samples:

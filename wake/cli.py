@@ -1,7 +1,7 @@
 """Command line: ``wake demo``, ``wake run``, ``wake stream``, ``wake evaluate``, ``wake profile``,
 ``wake export-header``, ``wake export-c``.
 
-The top layer of the package (docs/architecture.md).  :data:`COMMANDS` is
+The top layer of the package (docs/reference/architecture.md).  :data:`COMMANDS` is
 the table of commands: each entry names the function that runs it, and each
 function imports its module explicitly (lazily, so that ``wake --help`` loads
 nothing heavy).  ``demo``, ``run`` and ``stream`` are written here; the
@@ -40,7 +40,7 @@ def add_filter_arguments(p: argparse.ArgumentParser) -> None:
     rules = "; ".join(f"'{r.name}' {r.description}" for r in cutoff_rules()).replace("%", "%%")
     g.add_argument("--cutoff-rule", choices=cutoff_rule_names(), default=WakeConfig.cutoff_rule,
                    help=f"how the HPA finds f_d (default: {WakeConfig.cutoff_rule}): {rules} "
-                        "(docs/design.md, 'Cut-off on real wear')")
+                        "(docs/studies/design.md, 'Cut-off on real wear')")
 
 
 def add_horizon_argument(p: argparse.ArgumentParser) -> None:
@@ -48,21 +48,8 @@ def add_horizon_argument(p: argparse.ArgumentParser) -> None:
     p.add_argument("--horizon-ms", type=float, default=None, metavar="MS",
                    help="also write the tremor predicted MS ms ahead, its confidence (0..1) and the gated "
                         "command (confidence x tremor ahead) per channel; rounded to whole samples at the "
-                        "sampling rate, 1..32 samples (docs/design.md, 'How a firmware uses the command and "
+                        "sampling rate, 1..32 samples (docs/studies/design.md, 'How a firmware uses the command and "
                         "the confidence')")
-
-
-def horizon_setting(args, fs) -> dict:
-    """``{"horizon": samples}`` from ``--horizon-ms`` at ``fs`` (empty without it), and a line saying the
-    rounding (``""`` without it)."""
-    if getattr(args, "horizon_ms", None) is None:
-        return {}, ""
-    from wake.ahead import MAX_HORIZON, horizon_from_ms
-    from wake.sampling import decimation_for
-
-    h = horizon_from_ms(args.horizon_ms, fs, MAX_HORIZON * decimation_for(fs))
-    return {"horizon": h}, (f"horizon: {args.horizon_ms:g} ms at {fs:g} Hz is {h} sample(s) "
-                            f"({1000.0 * h / fs:g} ms; rounded to the nearest sample)")
 
 
 def make_filter(args, fs, **settings):
@@ -122,24 +109,31 @@ def _cmd_demo(args) -> int:
 
 
 def _cmd_run(args) -> int:
-    from wake._files import refuse_same_file
+    from wake._files import check_output_path, refuse_same_file
     from wake.io import write_result_csv
     from wake.io.writers import ahead_columns
     from wake.target import voluntary_ahead_refusal
-    from wake.io.options import read_from_arguments
+    from wake.io.options import horizon_setting, plot_channel_index, read_from_arguments
+    from wake.io.formats.bids import derivative_writer
+    from wake import __version__
 
     if args.plot:
         from wake.eval.plotting import require_matplotlib
 
         require_matplotlib()  # before the work, not after it
-    for option, out in (("--out", args.out), ("--tremor-out", args.tremor_out)):
+    for option, out in (("--out", args.out), ("--tremor-out", args.tremor_out), ("--plot", args.plot)):
         if out:
+            check_output_path(out, option=option)  # before the work, not after it
             refuse_same_file(out, [args.file], option=option)
     if args.out and args.tremor_out and Path(args.out).resolve() == Path(args.tremor_out).resolve():
         raise ValueError(f"--tremor-out {args.tremor_out} is also --out: the tremor table would overwrite the "
                          "filtered signals; choose another path")
     rec = read_from_arguments(args.file, args)
-    plot_channel = _plot_channel(args.plot_channel, rec) if args.plot else 0
+    write_bids = derivative_writer(args.bids_out, rec, __version__) if args.bids_out else None  # checked now
+    if args.combine:
+        from wake.io.combine import combine_axes
+        rec = combine_axes(rec, args.combine)
+    plot_channel = plot_channel_index(args.plot_channel, rec) if args.plot else 0
     x = rec.samples
     notes = "".join(f"; {note}" for note in rec.notes)
     print(f"{rec.name}: {x.shape[0]} samples x {x.shape[1]} channel(s) ({', '.join(rec.channels)}); "
@@ -148,7 +142,9 @@ def _cmd_run(args) -> int:
     if said:
         print(said)
     filt = make_filter(args, rec.fs, **horizon)
-    res = filt.run(x if x.shape[1] > 1 else x[:, 0])
+    from wake.io.progress import run_progress
+    with run_progress(filt, x.shape[0], x.shape[1], args.progress):
+        res = filt.run(x if x.shape[1] > 1 else x[:, 0], names=rec.channels)
     if args.out:
         columns = ahead_columns(filt.config) if horizon else ()
         rows = write_result_csv(args.out, rec, res, ahead=columns)
@@ -157,6 +153,8 @@ def _cmd_run(args) -> int:
         why = voluntary_ahead_refusal(filt.horizon, filt.backend, filt.hpa_backend) if horizon else None
         if why:
             print(f"no voluntary_ahead column: {why}")
+    if write_bids:
+        print(write_bids(rec, res, filt))
     cut = ", ".join(f"{c:.2f}" for c in res.mean_cutoff)
     print(f"{len(res.hpa[0])} HPA runs per channel, mean cut-off f_d = {cut} Hz, backend {res.backend}")
     print(rate_note(rec.fs))
@@ -166,7 +164,10 @@ def _cmd_run(args) -> int:
     if res.clipped is not None and np.any(res.clipped):
         print(f"warning: {int(np.sum(res.clipped))} input samples were clipped at full scale", file=sys.stderr)
     tables = res.tremor_stats(rec.fs, filt.config.tremor_band, x=x)
-    _print_tremor_summary(rec, tables, filt.config)
+    from wake.hpa.characterise import summary_lines
+
+    print("\n".join(summary_lines(rec.channels, [rec.unit(c) for c in range(len(rec.channels))], tables,
+                                  filt.config)))
     if args.tremor_out:
         from wake.io import write_tremor_csv
 
@@ -187,51 +188,18 @@ def _cmd_run(args) -> int:
     return 0
 
 
-def _print_tremor_summary(rec, tables, config) -> None:
-    """One paragraph per channel: the tremor of the full HPA windows (wake.hpa.characterise.summarise)."""
-    from wake.hpa.characterise import summarise
-
-    low, top = config.tremor_band
-    print(f"tremor per channel, over the full HPA windows ({config.window_s:g} s; the tremor lies between f_d "
-          f"and {top:g} Hz; docs/characterisation.md):")
-    for c, (name, table) in enumerate(zip(rec.channels, tables)):
-        s = summarise(table, config.window_samples)
-        unit = f" {rec.unit(c)}" if rec.unit(c) else ""
-        text = f"  {name}: a tremor peak in {s['tremor_windows']} of {s['windows']} windows"
-        if s["tremor_windows"]:
-            text += (f"; median frequency {s['frequency']:.2f} Hz, TSI {s['tsi']:.2f} Hz, "
-                     f"peak-to-peak {s['peak_to_peak']:.3g}{unit}")
-        text += f"; RMS {s['rms']:.3g}{unit}; in tremor {100 * s['time_share']:.0f} % of the time"
-        print(text)
-
-
-def _plot_channel(spec, rec) -> int:
-    """The channel ``--plot-channel`` names (a name or a 0-based index among the channels read); default 0."""
-    if spec is None:
-        return 0
-    if spec in rec.channels:
-        return rec.channels.index(spec)
-    if spec.strip().isdigit() and int(spec) < len(rec.channels):
-        return int(spec)
-    raise ValueError(f"--plot-channel {spec!r} is not a channel of {rec.name}; channels: "
-                     f"{', '.join(rec.channels)} (or a 0-based index below {len(rec.channels)})")
-
-
 def _stream_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="wake stream",
         description="Run WAKE on a live stream: voluntary motion and tremor out for every sample in.")
-    src = p.add_mutually_exclusive_group(required=True)
-    src.add_argument("--stdin", action="store_true", help="read one line of comma-separated values per sample")
-    src.add_argument("--lsl-in", metavar="NAME", help="read the Lab Streaming Layer stream of this name")
-    dst = p.add_mutually_exclusive_group(required=True)
-    dst.add_argument("--stdout", action="store_true", help="write one line per sample: voluntary..., tremor...")
-    dst.add_argument("--lsl-out", metavar="NAME", help="publish an LSL stream of this name")
-    p.add_argument("--fs", type=float, default=None,
-                   help="sampling rate in Hz (required with --stdin; default with LSL: the stream's nominal rate)")
+    from wake.io.options import add_stream_io_arguments
+
+    add_stream_io_arguments(p)
     p.add_argument("--timestamps", action="store_true",
-                   help="--stdin: the first value of each line is its timestamp, copied to the output line")
-    p.add_argument("--header", action="store_true", help="--stdout: write a line of column names first")
+                   help="--stdin: the first value of each line is its timestamp (the same as --time-column 0)")
+    p.add_argument("--header", action="store_true",
+                   help="--stdout: write a line of column names first (wake run --out's: 'time [s]', then per "
+                        "channel the measurement, _voluntary, _tremor)")
     p.add_argument("--bad-lines", choices=("stop", "missing"), default="stop",
                    help="a line that is not numbers or has the wrong count: stop with an error (default), "
                         "or take it as a missing sample (its output line holds the prediction and nan)")
@@ -249,18 +217,19 @@ def _stream_parser() -> argparse.ArgumentParser:
 
 def _cmd_stream(argv) -> int:
     """``wake stream``: WAKE on a live stream (:mod:`wake.io.stream`)."""
-    from wake.io.stream import SWITCH_INTERVAL_S, StreamStop, run_lsl, run_pipes
+    from wake.io.options import horizon_setting
+    from wake.io.pipes import run_pipes
+    from wake.io.replay import run_file
+    from wake.io.stream import SWITCH_INTERVAL_S, StreamStop, run_lsl
     from wake.target import voluntary_ahead_refusal
 
     args = _stream_parser().parse_args(argv)
-    if args.stdin and args.fs is None:
-        raise ValueError("--stdin needs the sampling rate: give it with --fs HZ")
     if args.fs is not None and not (math.isfinite(args.fs) and args.fs > 0):
         raise ValueError(f"--fs must be > 0 Hz, got {args.fs}")
     if args.max_samples < 0 or args.status < 0:
         raise ValueError("--max-samples and --status must be >= 0")
-    if args.stdin != args.stdout:
-        raise ValueError("use --stdin with --stdout, or --lsl-in with --lsl-out")
+    if bool(args.stdin or args.file) != args.stdout:
+        raise ValueError("use --stdin or --file with --stdout, or --lsl-in with --lsl-out")
 
     def log(msg):
         print(msg, file=sys.stderr, flush=True)
@@ -286,7 +255,7 @@ def _cmd_stream(argv) -> int:
     main_thread = threading.current_thread() is threading.main_thread()
     old = stop.install() if main_thread else []  # signal handlers can only be set from the main thread
     try:
-        return run_pipes(args, make, stop, log) if args.stdin else run_lsl(args, make, stop, log)
+        return (run_file if args.file else run_pipes if args.stdin else run_lsl)(args, make, stop, log)
     finally:
         for sig, handler in zip((signal.SIGINT, getattr(signal, "SIGTERM", None)), old):
             signal.signal(sig, handler)
@@ -336,8 +305,8 @@ def build_parser() -> argparse.ArgumentParser:
     d = sub.add_parser("demo", help="run the paper's synthetic dataset and compare with the paper")
     add_filter_arguments(d)
     d.add_argument("--plot", metavar="PNG", help="draw signal 1 (needs matplotlib)")
-    r = sub.add_parser("run", help="process a recording (CSV, PADS or MATLAB .mat)")
-    r.add_argument("file", help="recording: delimited text (a header row of names is read), a PADS .txt, or a .mat")
+    r = sub.add_parser("run", help="process a recording (CSV, PADS, MATLAB, wearable formats, Motion-BIDS)")
+    r.add_argument("file", help="recording: delimited text, a PADS .txt, a .mat or a file/folder of docs/reference/formats.md")
     from wake.io.options import add_reading_arguments
 
     add_reading_arguments(r)
@@ -347,10 +316,16 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--tremor-out", metavar="CSV",
                    help="write the tremor characterisation of every HPA window, one row per window and channel: "
                         "channel, unit, index, end_time, samples, cutoff, frequency, rms, peak_to_peak, "
-                        "band_power, time_share, tsi, reason (a NaN field's reason); docs/characterisation.md")
+                        "band_power, time_share, tsi, reason (a NaN field's reason); docs/studies/characterisation.md")
+    r.add_argument("--bids-out", metavar="DIR", help="write a BIDS derivative of a Motion-BIDS input (docs/reference/formats.md)")
     r.add_argument("--plot", metavar="PNG", help="draw one channel, and its tremor over time (frequency, "
                                                  "amplitude, TSI, time share) beside it in PNG's name with "
                                                  "'-tremor' (needs matplotlib; checked before the work)")
+    r.add_argument("--combine", choices=("norm", "pca"), default=None,
+                   help="each x, y, z triple of channels into one: 'norm' the magnitude (an accelerometer's less "
+                        "gravity), 'pca' the principal axis (for a gyroscope); wake.io.combine says how")
+    r.add_argument("--progress", choices=("auto", "on", "off"), default="auto",
+                   help="a progress bar (needs tqdm); auto: on a terminal, for 2 million samples or more")
     r.add_argument("--plot-channel", metavar="NAME|INDEX", default=None,
                    help="the channel --plot draws (default: the first); every channel is still filtered and "
                         "written to --out")
@@ -363,7 +338,20 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
+    import warnings
+
     argv = list(sys.argv[1:] if argv is None else argv)
+    saved = warnings.formatwarning
+    from wake.io.options import one_line_warnings
+
+    warnings.formatwarning = one_line_warnings(argv[0] if argv and not argv[0].startswith("-") else "")
+    try:
+        return _main(argv)
+    finally:
+        warnings.formatwarning = saved
+
+
+def _main(argv) -> int:
     parser = build_parser()
     if argv and argv[0] in COMMANDS:
         _, command = COMMANDS[argv[0]]

@@ -62,7 +62,7 @@ def _number(name: str, value, *, integer: bool = False, low_open: bool = False):
     return check_number(name, value, LIMITS[name], integer=integer, low_open=low_open)
 
 
-#: Candidate warm-up HPA times (s) of the automatic schedule (docs/design.md, "Warm-up").
+#: Candidate warm-up HPA times (s) of the automatic schedule (docs/studies/design.md, "Warm-up").
 AUTO_WARMUP_S = (1.0, 2.0, 3.0, 4.0)
 
 
@@ -106,7 +106,7 @@ class WakeConfig:
     wavelet : str
         Mother wavelet (a discrete PyWavelets name; the paper: ``"sym3"``).
     level : int
-        Decomposition level ``J``, 1..:data:`MAX_LEVEL`; the RTP window is ``2**J`` samples.
+        Decomposition level ``J``, 1 to :data:`MAX_LEVEL`; the RTP window is ``2**J`` samples.
     window_s : float
         HPA window ``L`` in seconds; the HPA runs every ``L`` samples.
         ``L`` must hold at least ``2 * 2**J`` samples and more than ``2 * ar_order``.
@@ -122,13 +122,13 @@ class WakeConfig:
         ran.  An explicit ``"c"`` without the core raises
         :class:`~wake.rtp.CoreUnavailable`, saying how to get it.
     mode : str
-        Wavelet boundary mode of the filter bank (docs/design.md).
+        Wavelet boundary mode of the filter bank (docs/studies/design.md).
     fit : {"causal", "paper"}
         What the HPA fits ``w`` on (see :mod:`wake.hpa.run`).
     process_noise_ratio : float
         Kalman process noise relative to the measurement noise: ``Q = q I``
         with ``q = process_noise_ratio * R`` of the current HPA window.  0
-        (the default, docs/design.md) keeps the pure filter bank.  The RTP
+        (the default, docs/studies/design.md) keeps the pure filter bank.  The RTP
         classes take the absolute ``q`` (their ``process_noise``).
     initial_covariance : float
         ``P(0) = p0 I`` in squared signal units.
@@ -144,7 +144,7 @@ class WakeConfig:
         ``"shallow"``, with both dips compared to the noise floor above the
         tremor band: a shallow dip at the floor gives the default, a valley
         at the floor moves to the floor's low edge (see
-        :func:`wake.hpa.find_cutoff`; docs/design.md, "Cut-off on real
+        :func:`wake.hpa.find_cutoff`; docs/studies/design.md, "Cut-off on real
         wear": 33 % instead of 82 % of PADS windows on the default, PADS
         tremor NRMSE 0.101 instead of 0.112, synthetic 0.0701 instead of
         0.0725, whole recordings).
@@ -164,7 +164,7 @@ class WakeConfig:
     headroom : float
         Factor of the automatic full scale, in [1, 1e4].  16 (24 dB) because
         real recordings often start quiet: on the PADS recordings 4x
-        clipped, 16x did not (docs/fixed_point.md); it costs 4 of the 16 bits.
+        clipped, 16x did not (docs/studies/fixed_point.md); it costs 4 of the 16 bits.
     hpa_mode : {"inline", "thread"}
         Streaming only (:meth:`~wake.WakeFilter.update`).  ``"inline"`` runs
         the HPA inside the ``update()`` call that completes a window;
@@ -175,12 +175,12 @@ class WakeConfig:
     hpa_backend : {"python", "c"}
         ``"python"`` (default): the float64 reference HPA.  ``"c"``: the
         single-precision C port a standalone device runs
-        (:mod:`wake.hpa.c_port`, docs/hpa_c.md), on the window quantised to
+        (:mod:`wake.hpa.c_port`, docs/studies/hpa_c.md), on the window quantised to
         int16 as the RTP sees it.
     warmup_hpa_s : tuple of float or None
         Progressive HPA: times since start (s), each shorter than
         ``window_s``, at which the HPA also runs, on every sample seen so far,
-        before the first full window (docs/design.md, "Warm-up").  ``()``
+        before the first full window (docs/studies/design.md, "Warm-up").  ``()``
         keeps the paper's schedule (the first HPA at ``window_s``).  Each
         must leave at least ``2 * 2**J`` samples.  ``None`` (the default):
         :func:`auto_warmup_points`, 1, 2, 3 and 4 s at the defaults.  A fit
@@ -193,7 +193,7 @@ class WakeConfig:
     decimation : int or None
         Input samples per filter-bank sample ``D``: the bank, HPA and RTP run
         at ``fs / D`` behind a causal boxcar front end (:mod:`wake.rate`;
-        docs/design.md, "Sampling rates other than 100 Hz").  ``None`` (the
+        docs/studies/design.md, "Sampling rates other than 100 Hz").  ``None`` (the
         default): :func:`~wake.sampling.decimation_for`, ``fs / 100`` rounded
         halves up, at least 1: the bank runs at 67-150 Hz, where ``level``,
         ``ar_order`` and ``window_s`` keep their 100 Hz meaning, and below
@@ -209,7 +209,7 @@ class WakeConfig:
         1..32 at the bank's rate, 1..32 D at an input rate D times it:
         ``tremor_ahead``, ``confidence`` and ``command`` of the result are the
         tremor at ``n + h`` predicted at ``n``, the gate and the gated command
-        (:mod:`wake.ahead`; docs/design.md, "Tremor ahead").  Above 150 Hz
+        (:mod:`wake.ahead`; docs/studies/design.md, "Tremor ahead").  Above 150 Hz
         the bank predicts ``h / D`` of its samples ahead (rounded) and the
         prediction holds over the ``D`` input samples of a group, like the
         voluntary motion.  The voluntary outputs do not depend on it.
@@ -279,6 +279,12 @@ class WakeConfig:
             put(name, _number(name, getattr(self, name)))
         nyquist = self.fs / 2
         lo, hi = check_pair("tremor_band", self.tremor_band)
+        if 0 < lo < hi and hi > nyquist:
+            low, high = TUNED_RATES
+            raise ValueError(
+                f"fs = {self.fs:g} Hz is too low for the tremor band {lo:g}-{hi:g} Hz: its top lies above fs/2 = "
+                f"{nyquist:g} Hz, so it needs at least {2 * hi:g} Hz. WAKE supports {low:g}-{high:g} Hz: record or "
+                f"resample into that range (from Python, a tremor_band ending at or below {nyquist:g} Hz also serves)")
         if not 0 < lo < hi <= nyquist:
             raise ValueError(f"tremor_band must satisfy 0 < low < high <= fs/2 = {nyquist:g}, got {self.tremor_band!r}")
         clo, chi = check_pair("cutoff_range", self.cutoff_range)

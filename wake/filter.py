@@ -1,8 +1,7 @@
 """The WAKE filter: the HPA every ``L`` samples, the RTP every sample.
 
-This module schedules; it holds no number format and no backend internals.
-Each channel owns an RTP object (:mod:`wake.rtp`) and the samples the next
-HPA (:mod:`wake.hpa`) needs.
+This module schedules; it holds no number format and no backend internals. Each channel owns an RTP
+object (:mod:`wake.rtp`) and the samples the next HPA (:mod:`wake.hpa`) needs.
 
 Output contract: ``run(x).prediction == update_block(x) == [update(v) for v in x]`` bit for bit (the
 prediction of the next sample; NaN marks a missing one); :attr:`WakeResult.voluntary` is it shifted by one.
@@ -16,7 +15,7 @@ from dataclasses import fields
 
 import numpy as np
 
-from wake._validation import as_sample, as_signal
+from wake._validation import as_sample, as_signal, check_finite_channels
 from wake.channel import Channel, start_weights_for
 from wake.rate import make_channel
 from wake._docs import parameters_doc
@@ -117,22 +116,22 @@ class WakeFilter:
         return [make_channel(self.config, self.taps, self.start_weights, limit) for _ in range(n)]
 
     # -- whole recordings --------------------------------------------------
-    def run(self, x) -> WakeResult:
+    def run(self, x, *, names=None) -> WakeResult:
         """Process a whole recording from a fresh state.
 
         Parameters
         ----------
         x : array_like, shape (n,) or (n, channels)
-            At least one HPA window (``window_s * fs`` samples) long.  NaN
-            marks a missing sample (as in :meth:`update`); inf is refused.
-            Each channel is filtered independently.
+            At least one HPA window (``window_s * fs`` samples) long.  NaN marks a missing sample (as in
+            :meth:`update`); inf is refused.  Each channel is filtered independently; one without a finite
+            sample is refused, one with fewer than a window warned of (``check_finite_channels``).
+        names : sequence of str, optional
+            The channels' names for those messages (default ``channel 0``, ...).
 
         Returns
         -------
         WakeResult
-            ``prediction`` equals ``reset()`` followed by
-            ``update_block(x)``; the filter's own streaming state is left
-            untouched.
+            ``prediction`` equals ``reset()`` then ``update_block(x)``; the filter's stream is untouched.
         """
         arr, one_d = as_signal(x, allow_nan=True)
         n = arr.shape[0]
@@ -143,6 +142,7 @@ class WakeFilter:
                 f"the recording has {n} samples; WAKE needs at least one HPA window of "
                 f"{self.config.window_samples} samples (window_s * fs = {self.config.window_s:g} s * "
                 f"{self.config.fs:g} Hz){transposed}")
+        check_finite_channels(arr, self.config.window_samples, names)
         channels = self._new_channels(arr.shape[1], streaming=False)
         out = np.stack([ch.process(arr[:, c]) for c, ch in enumerate(channels)], axis=-1)  # (5, n, channels)
         return self._result(arr, out, channels, one_d, _out_dtype(x))
@@ -184,7 +184,7 @@ class WakeFilter:
         ----------
         sample : float or array_like, shape (channels,)
             NaN marks a missing sample: the RTP predicts through it without
-            a measurement update (docs/design.md, "Missing samples").
+            a measurement update (docs/studies/design.md, "Missing samples").
 
         Returns
         -------
@@ -269,7 +269,7 @@ class WakeFilter:
 
         ``tremor_ahead`` is the tremor predicted there, ``confidence`` the gate in [0, 1] (0 until the
         second HPA, after a gap or a window without a tremor peak), ``command = confidence * tremor_ahead``
-        what an actuator plays then (docs/design.md, "How a firmware uses the command and the confidence").
+        what an actuator plays then (docs/studies/design.md, "How a firmware uses the command and the confidence").
         """
         with self._lock:
             rows = np.array([ch.rtp.last_ahead for ch in (self._channels or [])]).reshape(-1, 3)

@@ -1,6 +1,6 @@
 """Limits every layer shares: the highest decomposition level.
 
-The lowest layer of the package (docs/architecture.md), so that the filter
+The lowest layer of the package (docs/reference/architecture.md), so that the filter
 bank (:mod:`wake.wavelets`), the configuration (:mod:`wake.config`) and the
 C core's formats (:mod:`wake.rtp.qformat`) read one number.
 """

@@ -4,7 +4,7 @@ The filter bank and the HPA were designed at 100 Hz (a level-5 bank spans
 320 ms).  At a higher input rate ``fs`` a channel runs them at the bank rate
 ``fs / D``, ``D = WakeConfig.decimation_factor`` (``round(fs / 100)``, so the
 bank rate lies within 67-133 Hz), and this module does the rest
-(docs/design.md, "Sampling rates other than 100 Hz", has the measurement
+(docs/studies/design.md, "Sampling rates other than 100 Hz", has the measurement
 behind the choice):
 
 - **front end** (:class:`FrontEnd`): a causal boxcar of ``D`` input samples
@@ -34,14 +34,55 @@ they agree bit for bit.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from wake.channel import Channel, ChannelState
 from wake.config import WakeConfig
 
-__all__ = ["FrontEnd", "RateChannel", "RateChannelState", "make_channel"]
+__all__ = ["FrontEnd", "RateChannel", "RateChannelState", "in_input_samples", "make_channel"]
+
+
+def in_input_samples(update, factor: int):
+    """An HPA update with its sample counts in input samples: bank-rate count ``m`` is input count ``m D``.
+
+    The bank-rate channel counts what it has seen in bank samples; group
+    ``m`` (1-based) of the front end completes with input sample ``m D``, so
+    an HPA run after ``m`` bank samples ran after ``m D`` input samples, and
+    weights installed at bank sample ``a`` took effect at input sample
+    ``a D``.  Every update that leaves a :class:`RateChannel`
+    (``WakeResult.hpa``, ``WakeFilter.hpa_history``, and through them
+    :meth:`WakeResult.tremor_stats`, ``wake run``'s tremor summary and
+    ``--tremor-out``, the plots and ``wake evaluate``) goes through here, so
+    ``index / fs`` is the HPA window's end time in seconds at every rate.
+
+    Parameters
+    ----------
+    update : wake.hpa.HPAUpdate
+        An update of the bank-rate channel.
+    factor : int
+        ``D``, the decimation factor.
+
+    Returns
+    -------
+    wake.hpa.HPAUpdate
+        A copy with ``index`` and ``applied_at`` (unless -1: not installed)
+        multiplied by ``D``; ``update`` itself when ``D`` is 1.
+
+    Examples
+    --------
+    >>> from wake.hpa import HPAUpdate
+    >>> from wake.rate import in_input_samples
+    >>> u = HPAUpdate(500, 3.0, "valley", None, 1.0, 0.1, 0.0, applied_at=501)
+    >>> v = in_input_samples(u, 10)
+    >>> v.index, v.applied_at
+    (5000, 5010)
+    """
+    if factor == 1:
+        return update
+    applied = update.applied_at * factor if update.applied_at >= 0 else update.applied_at
+    return replace(update, index=update.index * factor, applied_at=applied)
 
 
 class FrontEnd:
@@ -103,9 +144,10 @@ class RateChannelState:
 class RateChannel:
     """One channel at an input rate ``D`` times the bank rate: front end, :class:`Channel`, held prediction.
 
-    The attributes the filter reads of a channel (``rtp``, ``updates``,
-    ``pending``, ``swap_if_ready``, ``schedule``) are the bank-rate
-    channel's: HPA indices count bank-rate samples.
+    The attributes the filter reads of a channel (``rtp``, ``pending``,
+    ``swap_if_ready``, ``schedule``) are the bank-rate channel's; its
+    :attr:`updates` are the bank-rate channel's with their sample counts in
+    input samples (:func:`in_input_samples`).
     """
 
     def __init__(self, config: WakeConfig, taps: np.ndarray, start_weights: np.ndarray,
@@ -116,7 +158,7 @@ class RateChannel:
         self.held = 0.0  # the carry-back: the newest bank-rate prediction, held over the group it predicts
 
     def __getattr__(self, name):
-        if name in ("rtp", "updates", "pending", "swap_if_ready", "schedule", "config", "weights"):
+        if name in ("rtp", "pending", "swap_if_ready", "schedule", "config", "weights"):
             return getattr(self.__dict__["inner"], name)
         raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
@@ -125,6 +167,11 @@ class RateChannel:
             setattr(self.inner, name, value)
         else:
             object.__setattr__(self, name, value)
+
+    @property
+    def updates(self) -> list:
+        """The HPA updates of the bank-rate channel, oldest first, counted in input samples."""
+        return [in_input_samples(u, self.factor) for u in self.inner.updates]
 
     def update(self, sample: float, executor) -> float:
         """One input sample (NaN: missing): the prediction of the voluntary motion at the next one."""

@@ -1,11 +1,11 @@
 """The cut-off rule registry: name -> Python function, C identifier, description.
 
-A cut-off rule decides the HPA's ``f_d`` from a window's spectrum (docs/design.md,
+A cut-off rule decides the HPA's ``f_d`` from a window's spectrum (docs/studies/design.md,
 "Cut-off on real wear").  Every place that lists the rules derives the list
 from here: the configuration's validation (:class:`wake.WakeConfig`), the
 command line's choices (``--cutoff-rule``), the C HPA's rule number
 (:mod:`wake.hpa.c_port`, checked against ``wake_hpa_rule_t`` of
-csrc/wake_hpa.h) and docs/design.md's list (checked by a test).
+csrc/wake_hpa.h) and docs/studies/design.md's list (checked by a test).
 
 Adding a rule is one Python function, decorated with
 :func:`register_cutoff_rule` (the registry line), and one C function
@@ -13,7 +13,7 @@ Adding a rule is one Python function, decorated with
 built-in rules are registered by :mod:`wake.hpa.cutoff`, in the order of
 their C enumerators.
 
-This module sits in the lowest layer (docs/architecture.md): it imports
+This module sits in the lowest layer (docs/reference/architecture.md): it imports
 nothing from the package.
 
 Examples

@@ -24,7 +24,7 @@ class WakeResult:
     product, what an actuator commanded ``h`` samples earlier plays at ``k``.
     :attr:`voluntary_ahead` is the voluntary motion at ``k`` predicted from
     ``x[:k - h + 1]`` by the HPA's second weight vector ``w_h``
-    (docs/design.md, "Voluntary motion at n + h").
+    (docs/studies/design.md, "Voluntary motion at n + h").
     Arrays are float32 when the input was float32, float64 otherwise.
     """
 

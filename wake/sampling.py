@@ -1,8 +1,8 @@
 """Sampling rates: the rate the filter bank runs at, and the input rates WAKE supports.
 
-The lowest layer (docs/architecture.md): :class:`wake.config.WakeConfig` derives its
+The lowest layer (docs/reference/architecture.md): :class:`wake.config.WakeConfig` derives its
 ``decimation_factor`` from :func:`decimation_for` and :mod:`wake.rate` runs the front
-end it implies; docs/design.md, "Sampling rates other than 100 Hz", has the measurement.
+end it implies; docs/studies/design.md, "Sampling rates other than 100 Hz", has the measurement.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ def decimation_for(fs: float) -> int:
     """``D``, input samples per filter-bank sample at ``fs`` Hz: ``fs / 100`` rounded, halves up, at least 1.
 
     The bank then runs at ``fs / D``, within 67-150 Hz for every ``fs`` >= 67 Hz
-    (docs/design.md, "Sampling rates other than 100 Hz": 250 Hz takes ``D = 3``,
+    (docs/studies/design.md, "Sampling rates other than 100 Hz": 250 Hz takes ``D = 3``,
     83 Hz, which measured better than ``D = 2``).
 
     Examples
@@ -33,7 +33,7 @@ def decimation_for(fs: float) -> int:
 
 
 #: Input rates (Hz) WAKE supports: the decimating front end keeps the bank within 67-150 Hz
-#: (docs/design.md, "Sampling rates other than 100 Hz").
+#: (docs/studies/design.md, "Sampling rates other than 100 Hz").
 TUNED_RATES = (50.0, 1000.0)
 
 
@@ -58,6 +58,12 @@ def warn_if_far_from_tuned_rate(config) -> None:
         RateWarning, stacklevel=3)
 
 
+def _ordinal(n: int) -> str:
+    """``2`` -> ``"2nd"``, ``3`` -> ``"3rd"``, ``11`` -> ``"11th"``, ``21`` -> ``"21st"``."""
+    suffix = "th" if 10 <= n % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(n % 10, "th")
+    return f"{n}{suffix}"
+
+
 def rate_note(fs: float) -> str:
     """One line on what ``fs`` costs per input sample and per second (``wake run``, ``wake stream``).
 
@@ -75,7 +81,7 @@ def rate_note(fs: float) -> str:
         work = f"per input sample one RTP step; per second {fs:g} RTP steps"
         how = "no front end"
     else:
-        work = (f"per input sample one front-end add, every {D}th also one RTP step; "
+        work = (f"per input sample one front-end add, every {_ordinal(D)} also one RTP step; "
                 f"per second {fs:g} adds and {bank:g} RTP steps")
         how = f"decimation {D}"
     return f"rate {fs:g} Hz: filter bank, HPA and RTP at {bank:g} Hz ({how}): {work} (Cortex-M instructions: wake profile --fs {fs:g})"

@@ -12,7 +12,7 @@ prediction with the sample that follows (csrc/wake_rtp.c,
 :mod:`wake.rtp.reference`).
 
 The voluntary motion ``h`` samples ahead (``WakeConfig.horizon = h > 1``,
-docs/design.md, "Voluntary motion at n + h") reads the same rule at another
+docs/studies/design.md, "Voluntary motion at n + h") reads the same rule at another
 horizon: the HPA fits a second weight vector ``w_h`` on
 ``PredictionTarget(h).fit_pairs`` (:func:`wake.hpa.run_hpa`), the RTP outputs
 ``w_h' (a + d)`` from the state of its one-step prediction, and
@@ -71,7 +71,7 @@ def voluntary_ahead_refusal(horizon: int, backend: str, hpa_backend: str = "pyth
 
     At ``horizon = 1`` it is the one-step ``voluntary`` on every backend.  Beyond, the second weight
     vector ``w_h`` is fitted by the Python HPA only (the C HPA does not fit one) and run by both RTPs,
-    the float reference and the C core (built with ``WAKE_RTP_VOLUNTARY_AHEAD``; docs/design.md,
+    the float reference and the C core (built with ``WAKE_RTP_VOLUNTARY_AHEAD``; docs/studies/design.md,
     "Voluntary motion at n + h").
 
     Examples

@@ -15,6 +15,7 @@ to zero.  Two views of the same operator live here:
 
 from __future__ import annotations
 
+import functools
 import warnings
 
 import numpy as np
@@ -33,7 +34,7 @@ __all__ = [
 
 #: Signal extension mode at the window boundaries.  The paper leaves it open;
 #: ``"constant"`` (edge replication) measured best for the causal end-of-window
-#: output on the synthetic set (docs/design.md, "Boundary mode").
+#: output on the synthetic set (docs/studies/design.md, "Boundary mode").
 DEFAULT_MODE = "constant"
 
 
@@ -120,6 +121,19 @@ def filter_bank_taps(wavelet="sym3", level=5, mode=DEFAULT_MODE):
     wav = check_wavelet(wavelet)
     level = check_level(level, MAX_LEVEL)
     mode = check_mode(mode)
+    if isinstance(wavelet, str):
+        # a constant of (name, level, mode): probed once per process (160 PyWavelets calls at level 5), not
+        # at every filter's construction
+        return _named_taps(wavelet, level, mode).copy()
+    return _taps(wav, level, mode)
+
+
+@functools.lru_cache(maxsize=64)
+def _named_taps(name, level, mode):
+    return _taps(pywt.Wavelet(name), level, mode)
+
+
+def _taps(wav, level, mode):
     n = 2**level
     taps = np.empty((level, n))
     eye = np.eye(n)

@@ -1,5 +1,5 @@
 #!/bin/sh
-# The C core through CMake, as a firmware project takes it (docs/packaging.md):
+# The C core through CMake, as a firmware project takes it (docs/reference/packaging.md):
 #   1. host build of csrc/ with the firmware warning set as errors, its unit tests under ctest;
 #   2. Cortex-M4 and Cortex-M0+ builds with csrc/cmake/arm-cortex-*.cmake, no forbidden symbol;
 #   3. install to a prefix and build tests/cmake_consumer with find_package(wake), run it;

@@ -4,7 +4,8 @@
 
 Runs ``cppcheck --addon=misra`` over wake_rtp.c, wake_hpa.c and wake_rate.c (their headers come in through the
 includes), counts the findings per rule and per unit (wake_rtp = wake_rtp.c + wake_rtp.h + wake_fixed.h, its
-integer helpers; wake_hpa = wake_hpa.c + wake_hpa.h), and compares them with the deviation table in docs/verification.md
+integer helpers; wake_hpa = wake_hpa.c + wake_hpa.h), and compares them with the deviation table in
+docs/studies/verification.md
 ("MISRA C:2012 deviations"), the one place the deviations are listed with their reasons. A rule
 that is not in the table, or a unit with more findings of a rule than the table allows, is an
 unlisted deviation: exit status 1. Fewer findings than listed are reported, so that the table can be
@@ -21,7 +22,7 @@ import sys
 from pathlib import Path
 
 CSRC = Path(__file__).resolve().parents[1]
-TABLE = CSRC.parent / "docs" / "verification.md"
+TABLE = CSRC.parent / "docs" / "studies" / "verification.md"
 SOURCES = ["wake_rtp.c", "wake_hpa.c", "wake_rate.c"]  # wake_rate: no deviation listed, so none allowed
 UNITS = ["wake_rtp", "wake_hpa"]
 #: files whose findings count in another file's unit (the RTP's integer helpers, moved out of wake_rtp.c)

@@ -1,5 +1,5 @@
 /*
- * The C HPA's ridge solve (STEP_SOLVE) against its guards (issue 34, docs/verification.md "The solve").
+ * The C HPA's ridge solve (STEP_SOLVE) against its guards (issue 34, docs/studies/verification.md "The solve").
  *
  * The file includes wake_hpa.c: solve_ridge and step_solve are static.  Three properties:
  *  1. On positive semi-definite systems (Gram matrices of random regressors, from well-conditioned to

@@ -201,7 +201,7 @@ static double sum_abs_w(const int32_t *w, int J)
     return s;
 }
 
-/* Static error bound in full-scale units (docs/fixed_point.md, B1):
+/* Static error bound in full-scale units (docs/studies/fixed_point.md, B1):
  * Q15 output rounding + Q23 rounding of y + the rounding of the 2^J FIR taps
  * h = B'w to Q(WAKE_RTP_FIR_FRAC) times |sample| <= 1. */
 static double static_bound(const int32_t *w, int J)
@@ -350,7 +350,7 @@ static double compare_run(int J, int signed_taps, double spread, double r, doubl
         default: m = rng_uniform(-0.3, 0.3); break;
         }
         mq = (int16_t)lround(m * Q15);
-        /* first-order Kalman term (docs/fixed_point.md): B = (1 - g) B + rho */
+        /* first-order Kalman term (docs/studies/fixed_point.md): B = (1 - g) B + rho */
         wu = 0.0;
         for (i = 0; i < J; ++i) for (j = 0; j < J; ++j) wu += f.w[i] * f.P[i * J + j] * f.w[j];
         S = wu + f.r;
@@ -566,7 +566,7 @@ static void test_missing_and_reset(void)
     }
     {
         /* Each stand-in enters the C window rounded to Q15 (the twin keeps it exact):
-         * docs/fixed_point.md (B3) adds sum_i |h_i| 2^-16 per stand-in in the window;
+         * docs/studies/fixed_point.md (B3) adds sum_i |h_i| 2^-16 per stand-in in the window;
          * at most 7 of the 16 window samples are stand-ins here.  Plus 1 LSB for the
          * static and Kalman terms measured without stand-ins (0.72 LSB). */
         double sum_h = 0.0, allowed;

@@ -159,7 +159,7 @@ static void test_against_double(int missing)
         moved = fmax(moved, fabs(vh / Q23 - s.last_output / Q23));
     }
     CHECK(identical, "the one-step outputs and the Kalman state do not move with w_h; without it v_h = y");
-    /* the one-step prediction's error (docs/fixed_point.md) is a few Q15 LSB; v_h's is of the same size */
+    /* the one-step prediction's error (docs/studies/fixed_point.md) is a few Q15 LSB; v_h's is of the same size */
     CHECK(worst < 4.0 / Q15, "v_h within 4 Q15 LSB of the double twin (missing %d): %.3g FS (y: %.3g)", missing, worst, worst_y);
     CHECK(worst > 0.0, "not accidentally exact");
     CHECK(moved > 1e-3, "w_h moves v_h away from y (%.3g FS)", moved);

@@ -74,6 +74,7 @@ def test_missing_optional_package_names_the_extra(monkeypatch):
         require("distributed", "--scheduler")
 
 
+@pytest.mark.slow
 def test_parallel_runs_store_and_report_what_a_serial_run_does(tmp_path):
     pytest.importorskip("joblib", reason="--jobs needs joblib: pip install \".[cohort]\"")
     serial, parallel = tmp_path / "serial", tmp_path / "parallel"
@@ -84,6 +85,7 @@ def test_parallel_runs_store_and_report_what_a_serial_run_does(tmp_path):
     assert "## Synthetic cohort" in (serial / "report.md").read_text()
 
 
+@pytest.mark.slow
 def test_dask_local_cluster_matches_serial(tmp_path):
     pytest.importorskip("distributed", reason="--scheduler needs Dask: pip install \".[dask]\"")
     serial, dask = tmp_path / "serial", tmp_path / "dask"
@@ -127,6 +129,7 @@ def _interrupted_run(out, count, sig):
     return proc.returncode, err.decode()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGKILL], ids=["SIGINT", "SIGKILL"])
 def test_killed_run_resumes_to_the_same_table_recomputing_only_what_was_missing(tmp_path, capsys, sig):
     count = 12
@@ -184,6 +187,7 @@ def _pads_file(path, seconds, rng):
     path.write_text("\n".join(",".join(f"{v:.8f}" for v in r) for r in np.column_stack([t, vals])) + "\n")
 
 
+@pytest.mark.slow
 def test_failing_recordings_are_recorded_in_one_line_and_the_others_evaluated(tmp_path, capsys):
     rng = np.random.default_rng(3)
     folder = tmp_path / "recs"
@@ -205,8 +209,8 @@ def test_failing_recordings_are_recorded_in_one_line_and_the_others_evaluated(tm
     assert "2 of 3 tasks computed" in capsys.readouterr().out
     store = ResultStore(out / "store", ROW_COLUMNS)
     assert not list((out / "store" / "parts").iterdir())            # merged again, each task once
-    # 6 axes x 6 methods, and the tremor ahead: 4 horizons x 8 methods x 6 axes
-    assert sorted(len(v) for v in store._by_task().values()) == [1, 1, 6 * 6 + 4 * 8 * 6]
+    # 6 axes x 7 methods (WAKE, four baselines, two trivial), and the tremor ahead: 4 horizons x 9 methods x 6 axes
+    assert sorted(len(v) for v in store._by_task().values()) == [1, 1, 6 * 7 + 4 * 9 * 6]
 
 
 def test_inputs_from_folders_files_and_globs(tmp_path):
@@ -220,14 +224,17 @@ def test_inputs_from_folders_files_and_globs(tmp_path):
         file_sources([tmp_path / "missing*.txt"])
 
 
+@pytest.mark.slow
 def test_plain_csv_needs_and_takes_its_rate(tmp_path, capsys):
     t = np.arange(1000) / 100.0
     data = np.column_stack([np.sin(2 * np.pi * 0.3 * t) + 0.1 * np.sin(2 * np.pi * 7 * t), np.cos(2 * np.pi * 0.5 * t)])
     path = tmp_path / "plain.csv"
     path.write_text("left,right\n" + "\n".join(f"{a:.6f},{b:.6f}" for a, b in data) + "\n")
     common = ["--synthetic", "0", "--backend", "reference", "--no-progress"]
-    assert cli([tmp_path / "no-rate", path, *common]) == 1
-    assert "plain.csv: ValueError:" in capsys.readouterr().err and "--fs HZ" in (tmp_path / "no-rate/report.md").read_text()
+    assert cli([tmp_path / "no-rate", path, *common]) == 2      # refused before the work (issue 43, item 5)
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "plain.csv has no time column" in err and "--fs HZ" in err
+    assert not (tmp_path / "no-rate" / "report.md").exists()
     assert cli([tmp_path / "rate", path, "--fs", "100", *common]) == 0
     text = (tmp_path / "rate" / "report.md").read_text()
     assert "| plain | left |" in text and "| plain | right |" in text

@@ -59,7 +59,7 @@ def test_plot_result_writes_a_png_with_the_cutoff_flag(tmp_path):
 
 
 def test_plot_counts_rest_tremor_without_a_valley_as_fallen_back(tmp_path):
-    """Rest tremor on slow drift (docs/design.md, "Rest tremor with little voluntary motion"): the figure
+    """Rest tremor on slow drift (docs/studies/design.md, "Rest tremor with little voluntary motion"): the figure
     said "0 % fell back" while f_d sat at 0.59 Hz; the windows without a dip now fall back and say so."""
     pytest.importorskip("matplotlib", reason="matplotlib is not installed (pip install matplotlib)")
     from wake.eval.synthetic import make_rest_tremor

@@ -66,6 +66,7 @@ def test_batches_stored_in_any_completion_order_equal_a_serial_run(tmp_path, fmt
     assert _exact(batched, tasks) == _exact(serial, tasks)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("executor", ["joblib", "dask"])
 def test_parallel_batches_equal_a_serial_run_bit_for_bit(tmp_path, executor):
     if executor == "joblib":

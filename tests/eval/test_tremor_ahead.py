@@ -1,5 +1,5 @@
 """The tremor ahead scored: do no harm in every slice of time since start, the issue's targets, the baselines'
-own extrapolation (docs/design.md, "Tremor ahead")."""
+own extrapolation (docs/studies/design.md, "Tremor ahead")."""
 
 import numpy as np
 import pytest
@@ -45,6 +45,7 @@ def pads():
     return _means(cases)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("ms", HORIZONS_MS)
 def test_the_command_does_no_harm_on_the_synthetic_set_in_any_slice(synthetic, ms):
     m = synthetic[ms]
@@ -59,6 +60,7 @@ def test_the_command_beats_zero_after_5_s_on_the_synthetic_set(synthetic, ms):
     assert synthetic[ms][GATED]["after 5 s"] < synthetic[ms][ZERO]["after 5 s"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("ms", [10, 20, 50, 100])
 def test_the_command_does_no_harm_on_pads_in_any_slice(pads, ms):
     m = pads[ms]

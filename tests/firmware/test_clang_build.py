@@ -1,4 +1,4 @@
-"""The C core built with clang stays within 1.3x of gcc's instruction counts and code size (docs/profiling.md)."""
+"""The C core built with clang stays within 1.3x of gcc's instruction counts and code size (docs/studies/profiling.md)."""
 
 import shutil
 from pathlib import Path

@@ -58,6 +58,7 @@ def test_a_slice_stays_within_its_budget_plus_the_entry_check(tmp_path):
     assert sum(r["slices"] for r in rows.values()) < 500      # done within the next L = 500 samples
 
 
+@pytest.mark.slow
 def test_the_per_function_profile_accounts_for_every_instruction_of_the_tremor_ahead_build(tmp_path):
     """--functions: each executed instruction counts once, under one function and one part, and the fit's parts
     are at least the arithmetic its formulation needs (one multiply-accumulate per tap and sample for the

@@ -197,6 +197,7 @@ def test_repository_manifests_are_the_generators_output():
     assert check_zephyr_module(ROOT) == []
 
 
+@pytest.mark.slow
 def test_cmake_layout_builds_with_cmake(tmp_path):
     cmake = __import__("shutil").which("cmake")
     if cmake is None:

@@ -228,7 +228,7 @@ def test_loop_annotation_may_hold_any_bound_expression():
 @needs_gcc
 @pytest.mark.parametrize("kalman", [True, False], ids=["active", "inert"])
 def test_static_bound_holds_and_is_tight_on_cortex_m4(tmp_path, kalman):
-    """docs/profiling.md: the bound is never below a measured step, and within 5 % of the worst one (J = 5).
+    """docs/studies/profiling.md: the bound is never below a measured step, and within 5 % of the worst one (J = 5).
 
     Two things keep it tight: a one-block loop that tests at its end counts B iterations, not B + 1
     (wake.firmware.wcet), and check_structure tests an inert instance's covariance without a branch on
@@ -240,7 +240,7 @@ def test_static_bound_holds_and_is_tight_on_cortex_m4(tmp_path, kalman):
 
 @needs_gcc
 def test_front_end_cost_at_1khz(tmp_path):
-    """docs/design.md, "In firmware": the front end's push beside the RTP step, from the static bounds."""
+    """docs/studies/design.md, "In firmware": the front end's push beside the RTP step, from the static bounds."""
     from wake.firmware.rate_cost import rate_cost
     from wake.firmware.wcet import static_bound
 
@@ -256,7 +256,7 @@ def test_front_end_cost_at_1khz(tmp_path):
 @needs_gcc
 @pytest.mark.parametrize("ahead", [True, False], ids=["ahead", "no-ahead"])
 def test_split_step_keeps_1khz_within_the_100hz_bound(tmp_path, ahead):
-    """Issue 33 (docs/design.md, "In firmware"): built with WAKE_RTP_SPLIT 1, the worst input sample at
+    """Issue 33 (docs/studies/design.md, "In firmware"): built with WAKE_RTP_SPLIT 1, the worst input sample at
     1 kHz (the static bound of wake_rate_step) is no larger than wake_rtp_step's at 100 Hz on Cortex-M4
     -O2, like with like (the tremor ahead compiled in at both rates, or at neither); the default build,
     what a 100 Hz firmware links, has none of the split entries."""

@@ -28,7 +28,7 @@ pytestmark = [
     pytest.mark.skipif(not (ROOT / "pyproject.toml").is_file(), reason="needs the source tree to build a wheel"),
 ]
 
-_IGNORE = shutil.ignore_patterns(".git", ".ci-venv", "build", "dist", "*.egg-info", "__pycache__", "*.so", "*.o",
+_IGNORE = shutil.ignore_patterns(".git", ".ci-venv", ".ci-dist", "build", "dist", "*.egg-info", "__pycache__", "*.so", "*.o",
                                  ".pytest_cache", ".benchmarks", ".hypothesis")
 
 
@@ -55,9 +55,22 @@ def _build_wheel(tmp: Path, env=None) -> Path:
     return wheels[0]
 
 
+#: the wheel .ci/run built (pip wheel -v) and installed, beside its build log: the test with a compiler takes it
+#: rather than building the same wheel again
+CI_WHEEL = os.environ.get("WAKE_CI_WHEEL")
+
+
+def _ci_wheel(tmp: Path) -> Path:
+    wheel = Path(CI_WHEEL)
+    dist = tmp / "dist"
+    dist.mkdir()
+    shutil.copy(wheel.parent / "build.log", tmp / "build.log")
+    return Path(shutil.copy(wheel, dist / wheel.name))
+
+
 def _install(tmp_path_factory, build_env=None):
     tmp = tmp_path_factory.mktemp("wheel")
-    wheel = _build_wheel(tmp, build_env)
+    wheel = _ci_wheel(tmp) if CI_WHEEL and build_env is None else _build_wheel(tmp, build_env)
     env_dir = tmp / "venv"
     venv.EnvBuilder(with_pip=False).create(env_dir)
     py = env_dir / ("Scripts/python.exe" if os.name == "nt" else "bin/python")

@@ -160,7 +160,7 @@ def test_run_hpa_c_scoring_the_previous_predictor_equals_one_instance_across_win
 @pytest.mark.parametrize("horizon", [1, 5])
 def test_filter_with_the_c_hpa_commands_the_tremor_ahead_as_with_the_python_hpa(horizon):
     """WakeFilter(hpa_backend="c") takes the predictor and goal from the C HPA; its gated command equals the
-    Python HPA's within the pipeline tolerance of docs/hpa_c.md (1 % NRMSE, whole and after 5 s)."""
+    Python HPA's within the pipeline tolerance of docs/studies/hpa_c.md (1 % NRMSE, whole and after 5 s)."""
     from wake import WakeFilter
 
     x = paper_dataset()[0].measurement[:6 * L]

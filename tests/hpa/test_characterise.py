@@ -54,7 +54,7 @@ def test_tsi_of_a_frequency_modulated_tremor(fm, dev):
     To first order the change per cycle is f'(t) / f0 = 2 pi fm dev cos(.) / f0, whose inter-quartile range
     over a uniform phase is sqrt(2) 2 pi fm dev / f0; the exact value of the construction (its zero crossings
     found by root finding) is the reference, within 8 %: the +-2 Hz band-pass trims the outer FM sidebands
-    and takes about 4 % off the deviation (docs/characterisation.md).
+    and takes about 4 % off the deviation (docs/studies/characterisation.md).
     """
     f0, seconds = 6.0, 40.0
     t = _time(int(seconds * FS))
@@ -203,10 +203,11 @@ def test_a_stream_is_characterised_from_its_history_and_the_samples_kept():
     assert np.all(np.abs(streamed["frequency"][streamed["samples"] == 500] - 7.0) < 0.1)
 
 
+@pytest.mark.slow
 @pytest.mark.realdata
 @pytest.mark.skipif(pads_dir() is None, reason=NO_PADS)
 def test_pads_tremor_where_the_data_shows_one_and_none_in_the_controls():
-    """The table of docs/characterisation.md, in its main lines: 040 (PD) has a 7.1-7.3 Hz tremor on its
+    """The table of docs/studies/characterisation.md, in its main lines: 040 (PD) has a 7.1-7.3 Hz tremor on its
     gyroscope, 070 (ET) a 5 Hz one, and neither healthy control has a tremor peak on any axis."""
     from wake.eval.datasets import load_pads_folder
     from wake.hpa.characterise import summarise

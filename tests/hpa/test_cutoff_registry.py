@@ -1,4 +1,4 @@
-"""Adding a cut-off rule is one Python function, one C function and one registry line (docs/architecture.md)."""
+"""Adding a cut-off rule is one Python function, one C function and one registry line (docs/reference/architecture.md)."""
 
 import numpy as np
 import pytest
@@ -72,6 +72,6 @@ def test_names_and_c_identifiers_are_unique(halfway_rule):
 def test_the_docs_list_every_built_in_rule():
     from pathlib import Path
 
-    text = (Path(__file__).resolve().parents[2] / "docs" / "design.md").read_text()
+    text = (Path(__file__).resolve().parents[2] / "docs" / "reference" / "design.md").read_text()
     for name in ("paper", "shallow", "floor"):
         assert f"`{name}`: {get_cutoff_rule(name).description}" in text

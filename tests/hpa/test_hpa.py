@@ -89,7 +89,7 @@ def test_shallow_rule_stops_at_shallow_max():
 
 
 def test_the_floor_rule_is_the_default():
-    """docs/design.md, "Cut-off on real wear": the 'floor' rule lowers the whole-recording error on PADS and on
+    """docs/studies/design.md, "Cut-off on real wear": the 'floor' rule lowers the whole-recording error on PADS and on
     the synthetic set against the paper's rule, so it is the default (tests/test_warmup.py pins the scores)."""
     assert (WakeConfig().cutoff_rule, WakeConfig().shallow_max) == ("floor", 4.0)
     assert CUTOFF_FLAGS["floor_valley"].startswith("rule 'floor'")

@@ -3,7 +3,7 @@
 pdkit 1.4.4 (the newest release) installs but does not import with the SciPy this package supports
 (``ImportError: cannot import name 'cumtrapz' from 'scipy.integrate'``; its ``fft_signal`` also calls
 ``scipy.signal.hann``, gone since SciPy 1.13), and its requirements miss ``tsfresh`` and ``future``
-(docs/characterisation.md, "pdkit").  So this test writes out what ``TremorProcessor.amplitude(df,
+(docs/studies/characterisation.md, "pdkit").  So this test writes out what ``TremorProcessor.amplitude(df,
 method="fft")`` computes with its defaults, on the same windows, and compares:
 
 - pdkit: 2nd-order Butterworth high-pass at 2 Hz (``lfilter``, causal), the central 256 samples times a

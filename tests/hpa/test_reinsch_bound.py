@@ -2,7 +2,7 @@
 
 csrc/wake_hpa.c clamps the states s and d of Reinsch's recursion (``d += x_c + lambda s; s += d``) to
 REINSCH_S_MAX and REINSCH_D_MAX every REINSCH_BLOCK samples, so that Frama-C Eva can bound them
-(docs/verification.md, "The DFT pass").  The clamp is only invisible if every state of every window of int16
+(docs/studies/verification.md, "The DFT pass").  The clamp is only invisible if every state of every window of int16
 samples stays below those bounds, roundings included: shown here for every window length the default build
 allows (n <= WAKE_HPA_MAX_WINDOW = 512; and n <= 1024 with the larger bounds of a larger build) and every bin
 1 <= m < n / 2, then checked on the worst windows with the C code's own single-precision arithmetic.
@@ -68,7 +68,7 @@ def test_exact_states_and_roundings_stay_below_the_clamp(large, lengths):
         es, ed = rounding_bounds(n, w, lam, s_max, d_max)
         worst_s = max(worst_s, float(np.max((s + es) / s_max)))
         worst_d = max(worst_d, float(np.max((d + ed) / d_max)))
-    # docs/verification.md quotes the margins: 2^31.9 of 2^33 and 2^32.9 of 2^34 (n <= 512), 2^34.5 of 2^35 and
+    # docs/studies/verification.md quotes the margins: 2^31.9 of 2^33 and 2^32.9 of 2^34 (n <= 512), 2^34.5 of 2^35 and
     # 2^35.5 of 2^36 (n <= 1024)
     assert worst_s < (0.75 if large else 0.55), worst_s
     assert worst_d < (0.75 if large else 0.55), worst_d

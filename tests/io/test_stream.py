@@ -56,13 +56,15 @@ def test_pipes_inline_equal_run_bit_for_bit_with_header_and_timestamps(signal3):
     res = stream(["--stdin", "--stdout", "--fs", "100", "--hpa-mode", "inline", "--timestamps", "--header"], text)
     assert res.returncode == 0, res.stderr
     out = res.stdout.splitlines()
-    assert out[0] == "time,gx_voluntary,gy_voluntary,gz_voluntary,gx_tremor,gy_tremor,gz_tremor"
+    # wake run --out's columns: the time in s, then per channel the measurement, voluntary, tremor
+    assert out[0] == ("time [s],gx,gx_voluntary,gx_tremor,gy,gy_voluntary,gy_tremor,gz,gz_voluntary,gz_tremor")
     got = np.array([[float(v) for v in line.split(",")] for line in out[1:]])
-    assert got.shape == (len(signal3), 7)
+    assert got.shape == (len(signal3), 10)
     ref = WakeFilter(fs=FS).run(signal3)
     np.testing.assert_array_equal(got[:, 0], stamps)
-    np.testing.assert_array_equal(got[:, 1:4], ref.voluntary)
-    np.testing.assert_array_equal(got[:, 4:], ref.tremor)
+    np.testing.assert_array_equal(got[:, 1::3], signal3)
+    np.testing.assert_array_equal(got[:, 2::3], ref.voluntary)
+    np.testing.assert_array_equal(got[:, 3::3], ref.tremor)
     assert "end of input: 1200 samples" in res.stderr and "f_d [Hz]: gx" in res.stderr
     # the first stderr line says when the filter is ready, so a producer can start its clock then
     assert res.stderr.splitlines()[0] == "wake stream: ready, reading stdin at 100 Hz"
@@ -72,22 +74,25 @@ def test_thread_mode_answers_every_sample_and_matches_run_until_the_first_swap(s
     res = stream(["--stdin", "--stdout", "--fs", "100"], lines_of(signal3))
     assert res.returncode == 0, res.stderr
     got = np.loadtxt(res.stdout.splitlines(), delimiter=",")
-    assert got.shape == (len(signal3), 6) and np.isfinite(got).all()
+    assert got.shape == (len(signal3), 10) and np.isfinite(got).all()
     ref = WakeFilter(fs=FS).run(signal3)
     first_hpa = ref.hpa[0][0].index  # nothing can differ before the first HPA result exists
-    np.testing.assert_array_equal(got[:first_hpa, :3], ref.voluntary[:first_hpa])
-    np.testing.assert_allclose(got[:, 3:] + got[:, :3], signal3, atol=1e-12)  # tremor = x - voluntary
+    np.testing.assert_array_equal(got[:first_hpa, 2::3], ref.voluntary[:first_hpa])
+    np.testing.assert_allclose(got[:, 3::3] + got[:, 2::3], signal3, atol=1e-12)  # tremor = x - voluntary
+    np.testing.assert_array_equal(got[:, 0], np.arange(len(signal3)) / FS)  # no time column: n / fs
 
 
 def test_ctrl_c_stops_cleanly_with_every_sample_answered(signal3):
-    p = subprocess.Popen([sys.executable, "-m", "wake", "stream", "--stdin", "--stdout", "--fs", "100"],
+    # --time-column none: the first line is answered at once (no lines read ahead to judge a column's shape)
+    p = subprocess.Popen([sys.executable, "-m", "wake", "stream", "--stdin", "--stdout", "--fs", "100",
+                          "--time-column", "none"],
                          stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=_env(),
                          cwd=HERE)
     try:
         p.stdin.write(lines_of(signal3[:50]))
         p.stdin.flush()
         answered = [p.stdout.readline() for _ in range(50)]  # the stream is now waiting for sample 51
-        assert all(line.count(",") == 5 for line in answered)
+        assert all(line.count(",") == 9 for line in answered)
         time.sleep(0.2)
         p.send_signal(signal.SIGINT)
         rest, err = p.communicate(timeout=30)
@@ -109,13 +114,14 @@ def test_a_bad_line(policy, signal3):
         assert "--bad-lines missing" in res.stderr
     else:
         assert res.returncode == 0 and len(out) == 41
-        bad = [float(v) for v in out[30].split(",")]
-        assert np.isfinite(bad[:3]).all() and np.isnan(bad[3:]).all()  # a prediction, no tremor
+        bad = np.array([float(v) for v in out[30].split(",")])
+        assert np.isfinite(bad[2::3]).all() and np.isnan(bad[3::3]).all()  # a prediction, no tremor
+        assert np.isnan(bad[1::3]).all() and bad[0] == 30 / FS  # no measurement; the time goes on
         assert "bad lines 1" in res.stderr
 
 
 @pytest.mark.parametrize("args, message", [
-    (["--stdin", "--stdout"], "--stdin needs the sampling rate: give it with --fs HZ"),
+    (["--stdin", "--stdout"], "the input has no time column, so the sampling rate is unknown: give it with --fs HZ"),
     (["--stdin", "--stdout", "--fs", "0"], "--fs must be > 0 Hz"),
     (["--stdin", "--stdout", "--fs", "100", "--level", "9"], "level must be from 1 to"),
 ])
@@ -192,7 +198,7 @@ def test_lsl_loopback_every_sample_in_order_equal_to_run(signal3):
         while not desc.empty():
             labels.append(desc.child_value("label"))
             desc = desc.next_sibling()
-        assert labels == ["gx_voluntary", "gy_voluntary", "gz_voluntary", "gx_tremor", "gy_tremor", "gz_tremor"]
+        assert labels == ["gx_voluntary", "gx_tremor", "gy_voluntary", "gy_tremor", "gz_voluntary", "gz_tremor"]
         assert outlet.wait_for_consumers(10)
         stamps = pylsl.local_clock() + np.arange(len(signal3)) / FS
         for row, t in zip(signal3.tolist(), stamps.tolist()):
@@ -211,8 +217,8 @@ def test_lsl_loopback_every_sample_in_order_equal_to_run(signal3):
     assert len(got) == len(signal3)
     ref = WakeFilter(fs=FS).run(signal3)
     g = np.array(got)
-    np.testing.assert_array_equal(g[:, :3], ref.voluntary)
-    np.testing.assert_array_equal(g[:, 3:], ref.tremor)
+    np.testing.assert_array_equal(g[:, 0::2], ref.voluntary)  # grouped by channel, as wake run groups them
+    np.testing.assert_array_equal(g[:, 1::2], ref.tremor)
     np.testing.assert_allclose(got_t, stamps, rtol=0, atol=1e-6)  # the input's timestamps, in order
     assert "the input stream ended: 1200 samples" in err
 
@@ -226,16 +232,15 @@ def test_pipes_with_a_horizon_write_the_tremor_ahead_of_each_sample_as_run_align
     out = res.stdout.splitlines()
     ref = WakeFilter(fs=FS, horizon=5).run(x)
     # the default backend, C core or float reference: both give the voluntary_ahead column (w_h)
-    tail = ",ch0_voluntary_ahead,ch1_voluntary_ahead"
+    kinds = ("", "_voluntary", "_tremor", "_tremor_ahead", "_confidence", "_command", "_voluntary_ahead")
     assert "no voluntary_ahead column" not in res.stderr
-    assert out[0] == ("ch0_voluntary,ch1_voluntary,ch0_tremor,ch1_tremor,ch0_tremor_ahead,ch1_tremor_ahead,"
-                      "ch0_confidence,ch1_confidence,ch0_command,ch1_command" + tail)
-    got = np.array([[float(v) for v in line.split(",")] for line in out[1:]])
-    np.testing.assert_array_equal(got[:, :2], ref.voluntary)
+    assert out[0] == "time [s]," + ",".join(f"col{c}{k}" for c in range(2) for k in kinds)  # as wake run
+    got = np.array([[float(v) for v in line.split(",")] for line in out[1:]])[:, 1:].reshape(len(x), 2, 7)
+    np.testing.assert_array_equal(got[:, :, 1], ref.voluntary)
     # the line of sample n carries what the filter predicts for n + 5: run() aligns it 5 rows later
     for i, name in enumerate(("tremor_ahead", "confidence", "command")):
-        np.testing.assert_array_equal(got[:-5, 4 + 2 * i:6 + 2 * i], getattr(ref, name)[5:])
-    assert got[:, 6:8].max() > 0.3
+        np.testing.assert_array_equal(got[:-5, :, 3 + i], getattr(ref, name)[5:])
+    assert got[:, :, 4].max() > 0.3
 
 
 def test_pipes_with_a_horizon_on_the_reference_write_the_voluntary_motion_ahead_as_run_aligns_it(signal3):
@@ -244,11 +249,12 @@ def test_pipes_with_a_horizon_on_the_reference_write_the_voluntary_motion_ahead_
                   "--backend", "reference"], lines_of(x))
     assert res.returncode == 0, res.stderr
     out = res.stdout.splitlines()
-    assert out[0] == "ch0_voluntary,ch0_tremor,ch0_tremor_ahead,ch0_confidence,ch0_command,ch0_voluntary_ahead"
+    assert out[0] == ("time [s],col0,col0_voluntary,col0_tremor,col0_tremor_ahead,col0_confidence,col0_command,"
+                      "col0_voluntary_ahead")
     got = np.array([[float(v) for v in line.split(",")] for line in out[1:]])
     ref = WakeFilter(fs=FS, horizon=5, backend="reference").run(x[:, 0])
     # the line of sample n carries the voluntary motion predicted for n + 5: run() aligns it 5 rows later
-    np.testing.assert_array_equal(got[:-5, 5], ref.voluntary_ahead[5:])
+    np.testing.assert_array_equal(got[:-5, 7], ref.voluntary_ahead[5:])
     assert not np.array_equal(ref.voluntary_ahead[600:], ref.voluntary[596:-4])   # w_h, not v held
 
 

@@ -6,9 +6,11 @@ import subprocess
 
 import pytest
 
-from support import CSRC
+from support import CSRC, ci_passed, ci_skip_reason
 
 
+@pytest.mark.slow
+@pytest.mark.skipif(ci_passed("make-test"), reason=ci_skip_reason("test"))
 @pytest.mark.skipif(shutil.which("make") is None, reason="make is not installed")
 @pytest.mark.skipif(shutil.which("gcc") is None, reason="gcc is not installed")
 def test_c_unit_tests(tmp_path):

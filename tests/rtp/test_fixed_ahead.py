@@ -172,7 +172,7 @@ def _errors_on_signal(sig, h, config):
 def test_command_within_one_percent_of_the_float_reference_on_the_synthetic_set(h):
     """Both readings of "within 1 %" hold on the paper's ten synthetic recordings (30 s each).
 
-    Measured (docs/fixed_point.md, "The tremor ahead"): the direct NRMSE reaches 0.96 % at h = 10 on
+    Measured (docs/studies/fixed_point.md, "The tremor ahead"): the direct NRMSE reaches 0.96 % at h = 10 on
     the recording with the weakest tremor (command 11 LSB rms: the Q15 delay line's rounding); the
     NRMSEs against the truth differ by at most 0.05 %.
     """

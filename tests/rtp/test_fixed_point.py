@@ -2,7 +2,7 @@
 
 The reference is always given the *quantised* configuration the C core holds
 (``FixedPointRTP.taps`` etc.) and Q15-rounded input, so the comparison
-measures the core's arithmetic error, which docs/fixed_point.md bounds.
+measures the core's arithmetic error, which docs/studies/fixed_point.md bounds.
 """
 
 import os
@@ -46,14 +46,14 @@ def twin(c):
 
 
 def static_bound(c):
-    """docs/fixed_point.md, eq. (B1), in full-scale units (:func:`fixed_point_bound.static_bound`)."""
+    """docs/studies/fixed_point.md, eq. (B1), in full-scale units (:func:`fixed_point_bound.static_bound`)."""
     return fixed_point_bound.static_bound(c.n_taps, _c)
 
 
 def reference_with_bound(c, x, fs):
     """Step a twin sample by sample; return its output and the per-sample bound (FS units).
 
-    Kalman term, docs/fixed_point.md eq. (B2): B <- (1 - g) B + rho with
+    Kalman term, docs/studies/fixed_point.md eq. (B2): B <- (1 - g) B + rho with
     g = w'Pw / S and rho = sum|w| 2^-24 + |e| (sum|w|)^2 4 LSB_P / S.
     """
     ref = twin(c)
@@ -206,7 +206,7 @@ def test_missing_samples():
     y_ref, bound = reference_with_bound(c, quantized(x, fs), fs)
     y_c = c.run(x)
     # each stand-in enters the C window rounded to Q15 (the reference keeps it exact):
-    # docs/fixed_point.md eq. (B3) adds sum_j |w_j| sum_i |B_ji| 2^-16 per stand-in in the window
+    # docs/studies/fixed_point.md eq. (B3) adds sum_j |w_j| sum_i |B_ji| 2^-16 per stand-in in the window
     taps = c.taps
     per = float(np.abs(c.weights) @ np.abs(taps).sum(axis=1)) * 2.0**-16 * fs
     in_window = np.convolve(np.isnan(x).astype(float), np.ones(c.n_taps))[: len(x)]
@@ -232,7 +232,7 @@ def test_load_state_round_trip():
     c.load_state(window, ref.correction, ref.covariance, ref.last_output)
     np.testing.assert_allclose(c.window, window, atol=fs * 2**-16)
     np.testing.assert_allclose(c.correction, ref.correction, atol=fs * 2**-24)
-    # of P the core keeps its variance along w (docs/fixed_point.md): P restarts as (w'Pw / w'w) I
+    # of P the core keeps its variance along w (docs/studies/fixed_point.md): P restarts as (w'Pw / w'w) I
     P_ref = ref.covariance.reshape(level, level)
     wq = c.weights
     lam = wq @ P_ref @ wq / (wq @ wq)
@@ -427,7 +427,7 @@ def test_highest_level_is_defined_once():
 def test_first_sample_gets_only_the_time_update():
     """The first sample primes the window and had no prediction before it: no measurement update, so P
     grows from p0 I to (p0 + q) I and d stays 0, in the C core and the float reference alike (the
-    choice keeps the priming off the Kalman path of wake_rtp_step's static bound; docs/design.md)."""
+    choice keeps the priming off the Kalman path of wake_rtp_step's static bound; docs/studies/design.md)."""
     rng = np.random.default_rng(4)
     level, fs = 4, 2.0
     w = make_weights(rng, level, 0.3)

@@ -1,7 +1,7 @@
 """The voluntary motion at n + h on the C core (WAKE_RTP_VOLUNTARY_AHEAD, issue 32) against the float reference.
 
 The reference is given the quantised configuration the C core holds (taps, w, w_h, R, q, p0) and Q15-rounded
-input, so the difference is the core's arithmetic error; docs/fixed_point.md's per-sample bound of the
+input, so the difference is the core's arithmetic error; docs/studies/fixed_point.md's per-sample bound of the
 one-step prediction (eqs. B1, B2), carried over to ``v_h = w_h' (a + d) = h_h' window + w_h' d_s + k (z - z_s)``,
 bounds it.
 """

@@ -59,7 +59,7 @@ def test_block_run_equals_steps_with_gaps_and_weight_changes(rng):
 
 
 def test_weight_change_restarts_the_covariance_isotropic(rng):
-    """docs/design.md, "Covariance at a weight change": P = (w'Pw / w'w) I with the old w; d and the window stay."""
+    """docs/studies/design.md, "Covariance at a weight change": P = (w'Pw / w'w) I with the old w; d and the window stay."""
     rtp = ReferenceRTP(TAPS, W, 0.3, 1e-3, 0.5)
     rtp.run(rng.normal(size=300))
     P = rtp.covariance.reshape(4, 4).copy()

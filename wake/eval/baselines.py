@@ -1,7 +1,7 @@
 """Baseline tremor extractors the paper compares WAKE with: BMFLC, E-BMFLC, WFLC.
 
 The defaults are the parameters tuned once on synthetic signal 1 and used
-for every signal (grid and result: docs/baselines.md).
+for every signal (grid and result: docs/studies/baselines.md).
 
 Every class has the :class:`wake.WakeFilter` contract: ``run(x)`` takes
 ``x`` of shape ``(n,)`` or ``(n, channels)`` (channels are independent) and
@@ -37,6 +37,16 @@ weights after sample ``k``, the regressors (or WFLC's phase) at ``k + h``.
 
 What they share (the result, the checks of their parameters, among them the
 LMS step-size bound, and the regressor rows) is in :mod:`wake.eval.baseline_model`.
+
+Speed
+-----
+Each ``run`` is one C call per channel (``csrc/eval/wake_eval.c``, built into
+the compiled core ``wake._rtp``, host-only) when the core is installed; the
+Python loop beside it (``run(..., engine="python")``) is the reference it is
+tested against (``tests/eval/test_baselines_c.py``: within 1e-12 of the
+largest output; the regressor rows and the recursions of E-BMFLC's
+information matrix are the same operations, only the sums and the Cholesky
+solve round differently) and what runs without the core.
 """
 
 from __future__ import annotations
@@ -44,10 +54,12 @@ from __future__ import annotations
 import numpy as np
 
 from wake._validation import as_signal, check_positive
+from wake.eval.baseline_c import ENGINES, c_loops_for, run_bmflc, run_ebmflc, run_wflc
 from wake.eval.baseline_model import (BaselineResult, band_bins, check_band, check_horizons, check_lms_steps,
                                       rows_ahead, shaped)
+from wake.eval.ehwflc import EHWFLCKF
 
-__all__ = ["BaselineResult", "BMFLC", "EBMFLC", "WFLC", "BASELINES", "baseline_methods"]
+__all__ = ["BaselineResult", "BMFLC", "EBMFLC", "WFLC", "BASELINES", "baseline_methods", "ENGINES"]
 
 
 class BMFLC:
@@ -90,11 +102,16 @@ class BMFLC:
         arg = 2 * np.pi * self.freqs[None, :] * k[:, None] / self.fs
         return np.concatenate((np.sin(arg), np.cos(arg)), axis=1)  # (len(k), 2M)
 
-    def run(self, x, horizons=()):
+    def run(self, x, horizons=(), engine="auto"):
+        """The baseline over ``x`` (``(n,)`` or ``(n, channels)``); ``horizons``: also the tremor part that
+        many samples ahead; ``engine``: a name in :data:`~wake.eval.baseline_c.ENGINES`."""
         arr, one_d = as_signal(x)
         n, channels = arr.shape
         hs = check_horizons(horizons)
+        c_loops = c_loops_for(engine)
         phi = rows_ahead(self._bank, n, max(hs, default=0))
+        if c_loops is not None:
+            return run_bmflc(self, c_loops, arr, one_d, hs, phi)
         ahead = {h: np.empty((n, channels)) for h in hs}
         w = np.zeros((phi.shape[1], channels))
         b = np.zeros(channels)
@@ -113,6 +130,7 @@ class BMFLC:
                 ahead[h][i] = phi[i + h] @ w
         s = shaped(one_d)
         return BaselineResult(s(vol), s(arr - vol), s(bank), self.name, ahead={h: s(a) for h, a in ahead.items()})
+
 
 
 class EBMFLC:
@@ -209,20 +227,25 @@ class EBMFLC:
             cols += [np.sin(arg), np.cos(arg)]
         return np.concatenate(cols, axis=1)
 
-    def run(self, x, horizons=()):
-        from scipy.linalg import cho_factor, cho_solve
-
+    def run(self, x, horizons=(), engine="auto"):
+        """The baseline over ``x`` (``(n,)`` or ``(n, channels)``); ``horizons``: also the tremor part that
+        many samples ahead; ``engine``: a name in :data:`~wake.eval.baseline_c.ENGINES`."""
         arr, one_d = as_signal(x)
         n, channels = arr.shape
         hs = check_horizons(horizons)
+        c_loops = c_loops_for(engine)
         phi = rows_ahead(self._regressors, n, max(hs, default=0))
-        ahead = {h: np.empty((n, channels)) for h in hs}
         p = phi.shape[1]
         nv = self._split()
         rho = self.rho
         delta = max(self.ridge * 0.5 / (1 - rho), 1e-12)
-        G = delta * np.eye(p)
         leak = (1 - rho) * delta
+        if c_loops is not None:
+            return run_ebmflc(self, c_loops, arr, one_d, hs, phi, nv, rho, delta, leak)
+        from scipy.linalg import cho_factor, cho_solve
+
+        ahead = {h: np.empty((n, channels)) for h in hs}
+        G = delta * np.eye(p)
         r = np.zeros((p, channels))
         w = np.zeros((p, channels))
         vol = np.empty((n, channels))
@@ -241,6 +264,7 @@ class EBMFLC:
                 ahead[h][i] = phi[i + h][nv:] @ w[nv:]
         s = shaped(one_d)
         return BaselineResult(s(vol), s(arr - vol), s(pred - vol), self.name, ahead={h: s(a) for h, a in ahead.items()})
+
 
 
 class WFLC:
@@ -305,10 +329,15 @@ class WFLC:
         return (f"WFLC(fs={self.fs:g}, n_harmonics={self.n_harmonics}, mu={self.mu:g}, mu0={self.mu0:g}, "
                 f"mu_bias={self.mu_bias:g}, f0={self.f0:g}, f_range={self.f_range}, beta={self.beta:g})")
 
-    def run(self, x, horizons=()):
+    def run(self, x, horizons=(), engine="auto"):
+        """The baseline over ``x`` (``(n,)`` or ``(n, channels)``); ``horizons``: also the tremor part that
+        many samples ahead; ``engine``: a name in :data:`~wake.eval.baseline_c.ENGINES`."""
         arr, one_d = as_signal(x)
         n, channels = arr.shape
         hs = check_horizons(horizons)
+        c_loops = c_loops_for(engine)
+        if c_loops is not None:
+            return run_wflc(self, c_loops, arr, one_d, hs)
         ahead = {h: np.empty((n, channels)) for h in hs}
         M = self.n_harmonics
         r = np.arange(1, M + 1)[:, None]  # (M, 1)
@@ -347,10 +376,11 @@ class WFLC:
                               ahead={h: s(a) for h, a in ahead.items()})
 
 
-#: The baselines by display name, in the order of the report.
-BASELINES = {"BMFLC": BMFLC, "E-BMFLC": EBMFLC, "WFLC": WFLC}
+
+#: The baselines by display name, in the order of the report (eHWFLC-KF: :mod:`wake.eval.ehwflc`, issue 46).
+BASELINES = {"BMFLC": BMFLC, "E-BMFLC": EBMFLC, "WFLC": WFLC, "eHWFLC-KF": EHWFLCKF}
 
 
 def baseline_methods(fs):
-    """The baselines with the parameters tuned once on synthetic signal 1 (docs/baselines.md)."""
+    """The baselines with the parameters tuned once on synthetic signal 1 (docs/studies/baselines.md)."""
     return {name: cls(fs=fs) for name, cls in BASELINES.items()}

@@ -22,7 +22,8 @@ from wake.eval.baselines import baseline_methods
 from wake.eval.metrics import best_lag, nrmse, offline_ground_truth, prf, snr_out
 from wake.eval.sources import Source, load_source
 from wake.eval.synthetic import paper_dataset
-from wake.eval.tremor_ahead import ahead_scores
+from wake.eval.suppression import suppression
+from wake.eval.tremor_ahead import ahead_commands
 from wake.eval.warmup import SLICES, error_curve, independent_ground_truth, slice_nrmse
 from wake.filter import WakeFilter
 from wake.rtp.literal import hpa_schedule, literal_rtp_predict, literal_rtp_run, operation_counts
@@ -44,7 +45,8 @@ TRIVIAL = (ZERO, ZERO_PREDICTION)
 ROW_COLUMNS = {"task": str, "source": str, "recording": str, "set": str, "config": str, "channel_index": int,
                "channel": str, "method": str, "fs": float, "snr_in": float, "cutoff": float, "truth_var": float,
                "nrmse": float, "prf": float, "snr_out": float, "lag": int, "voluntary_lag": int,
-               **{f"slice {name}": float for name in SLICES}, "curve": str, "hpa": str, "error": str}
+               **{f"slice {name}": float for name in SLICES}, "curve": str, "hpa": str, "error": str,
+               "reduction": float, "disturbance": float}
 
 
 @dataclass(frozen=True)
@@ -70,9 +72,9 @@ class Task:
 
     @property
     def key(self) -> str:
-        # "ahead": the task's rows hold the tremor ahead too (a store written before lacks them)
+        # "ahead": the task's rows hold the tremor ahead and its suppression too (a store written before lacks them)
         return (f"{self.source.key}|{self.config_label}|{'+'.join(self.backends)}|{int(self.baselines)}"
-                + ("|ahead" if self.ahead else ""))
+                + ("|ahead+suppression" if self.ahead else ""))
 
     @property
     def ahead(self) -> bool:
@@ -164,24 +166,28 @@ def _real_rows(task, loaded, vols, wake, start):
 #: Rows of the tremor ahead (:mod:`wake.eval.tremor_ahead`): ``set`` is this prefix and the set's name, ``method``
 #: the method's name, this separator and the horizon in ms (``"WAKE command (gated) @ 50 ms"``).
 AHEAD_SET, AHEAD_AT = "ahead-", " @ "
+#: Sources whose tremor-ahead rows are summarised apart (the others, PADS and files: "real").
+AHEAD_SETS_APART = ("paper", "cohort", "strong", "pdkit")
 
 
 def _ahead_rows(task, loaded, backends):
     """The tremor-ahead rows of a task: per horizon, method and channel, the slices of the predicted-tremor
-    NRMSE against the synthetic tremor component, or a recording's tremor independent of WAKE."""
+    NRMSE against the synthetic tremor component, or a recording's tremor independent of WAKE, and the
+    closed-loop suppression of an actuator playing it (:func:`wake.eval.suppression.suppression`: ``reduction``
+    %, ``disturbance`` RMS)."""
     x = loaded.x
-    if loaded.tremor is not None:
-        truth = loaded.tremor[:, None]
-    else:
-        truth = np.column_stack([independent_ground_truth(x[:, c], loaded.fs)[1] for c in range(x.shape[1])])
+    truths = [independent_ground_truth(x[:, c], loaded.fs) for c in range(x.shape[1])]
+    truth = loaded.tremor[:, None] if loaded.tremor is not None else np.column_stack([t[1] for t in truths])
     backend = "c" if "c" in backends else backends[0]
     rows = []
-    for ms, methods in ahead_scores(x, loaded.fs, truth, backend=backend, settings=task.settings).items():
-        for name, per_channel in methods.items():
-            for c, slices in enumerate(per_channel):
+    for ms, methods in ahead_commands(x, loaded.fs, truth, backend=backend, settings=task.settings).items():
+        for name, played in methods.items():
+            for c in range(x.shape[1]):
                 row = _blank(task, loaded, c, f"{name}{AHEAD_AT}{ms:g} ms")
-                row.update(set=AHEAD_SET + ("real" if not task.source.synthetic else task.source.kind),
-                           channel=loaded.channels[c], **{f"slice {k}": v for k, v in slices.items()})
+                reduction, disturbance = suppression(truth[:, c], played[:, c], loaded.fs, truths[c][2])
+                row.update(set=AHEAD_SET + (task.source.kind if task.source.kind in AHEAD_SETS_APART else "real"),
+                           channel=loaded.channels[c], reduction=reduction, disturbance=disturbance,
+                           **{f"slice {k}": v for k, v in slice_nrmse(truth[:, c], played[:, c], loaded.fs).items()})
                 rows.append(row)
     return rows
 

@@ -27,18 +27,45 @@ def load_pads(path, fs=100.0) -> Recording:
     return read_pads(path, fs=fs)
 
 
-def load_pads_folder(folder, pattern="*.txt", fs=100.0) -> list:
-    """Every PADS recording in ``folder`` matching ``pattern``, sorted by name.
+def dataset_files(folder, pattern, what="recording") -> list:
+    """The files of ``folder`` matching ``pattern``, sorted by name: the one rule every dataset's folder is read by.
 
-    Other files (``observation_NNN.json``, README.md) are ignored.
+    Raises ``ValueError`` naming the folder when it is not one or holds no match.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> d = pathlib.Path(tempfile.mkdtemp()); _ = (d / "b.txt").write_text(""); _ = (d / "a.txt").write_text("")
+    >>> [p.name for p in dataset_files(d, "*.txt")]
+    ['a.txt', 'b.txt']
     """
     folder = Path(folder)
     if not folder.is_dir():
         raise ValueError(f"{folder}: not a folder")
     files = sorted(p for p in folder.glob(pattern) if p.is_file())
     if not files:
-        raise ValueError(f"{folder}: no recording matches {pattern!r}")
-    return [load_pads(p, fs) for p in files]
+        raise ValueError(f"{folder}: no {what} matches {pattern!r}")
+    return files
+
+
+def default_data_dir(name, env_var, explicit=None, cwd=None):
+    """Where a dataset's folder is: ``explicit``, else ``$env_var``, else ``../shared/data/<name>`` relative to
+    ``cwd`` (the current directory) if it exists; ``None`` when none applies."""
+    if explicit:
+        return Path(explicit)
+    env = os.environ.get(env_var)
+    if env:
+        return Path(env)
+    guess = Path(cwd or os.getcwd()).resolve().parent / "shared" / "data" / name
+    return guess if guess.is_dir() else None
+
+
+def load_pads_folder(folder, pattern="*.txt", fs=100.0) -> list:
+    """Every PADS recording in ``folder`` matching ``pattern``, sorted by name.
+
+    Other files (``observation_NNN.json``, README.md) are ignored.
+    """
+    return [load_pads(p, fs) for p in dataset_files(folder, pattern)]
 
 
 def load_csv(path, column=None, fs=None, name=None) -> Recording:
@@ -55,11 +82,5 @@ def load_csv(path, column=None, fs=None, name=None) -> Recording:
 def default_pads_dir(explicit=None, cwd=None):
     """Where the PADS folder is: ``explicit``, else ``$WAKE_PADS_DIR``, else
     ``../shared/data/pads`` relative to ``cwd`` (the current directory) if it
-    exists; ``None`` when none applies."""
-    if explicit:
-        return Path(explicit)
-    env = os.environ.get("WAKE_PADS_DIR")
-    if env:
-        return Path(env)
-    guess = Path(cwd or os.getcwd()).resolve().parent / "shared" / "data" / "pads"
-    return guess if guess.is_dir() else None
+    exists; ``None`` when none applies (:func:`default_data_dir`)."""
+    return default_data_dir("pads", "WAKE_PADS_DIR", explicit, cwd)

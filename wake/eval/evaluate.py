@@ -1,6 +1,6 @@
 """``wake evaluate``: the paper's evaluation recomputed with our implementations, at any scale.
 
-What :func:`cli` writes into ``OUT_DIR`` (docs/evaluation.md explains the
+What :func:`cli` writes into ``OUT_DIR`` (docs/studies/evaluation.md explains the
 protocol and the options):
 
 * ``report.md``: Markdown tables.
@@ -52,10 +52,13 @@ from wake.eval.compute import (ROW_COLUMNS, WAKE_PARAMS, Task, ablation_literal_
                                compute_task, config_label, wake_name)
 from wake.eval.datasets import default_pads_dir
 from wake.eval.figures import tremor_candidate, write_figures
-from wake.eval.report import jsonable, markdown_report
+from wake.eval.report import jsonable, markdown_report, recordings_label
 from wake.eval.runner import TaskList, run_tasks
-from wake.eval.sources import cohort_sources, file_sources, pads_sources, paper_sources
+from wake.eval.pdkit import default_pdkit_dir
+from wake.eval.sources import (cohort_sources, file_sources, pads_sources, paper_sources, pdkit_sources,
+                               strong_sources)
 from wake.eval.store import ResultStore
+from wake.eval.suppression import suppression_figure
 from wake.eval.synthetic import PAPER_SNR_DB
 from wake.eval.tables import ahead_summary, compact_row, grid_ranking, real_summary, synthetic_summary
 from wake.rtp import c_backend_available
@@ -72,7 +75,7 @@ def evaluate_synthetic(backends, quick=False):
     >>> from wake.eval.evaluate import evaluate_synthetic
     >>> syn = evaluate_synthetic(["reference"], quick=True)
     >>> [r["signal"] for r in syn["rows"]], sorted(syn["rows"][0]["methods"])
-    ([1, 2], ['BMFLC', 'E-BMFLC', 'WAKE-ref', 'WFLC'])
+    ([1, 2], ['BMFLC', 'E-BMFLC', 'WAKE-ref', 'WFLC', 'eHWFLC-KF'])
     """
     tasks = [Task(s, tuple(WAKE_PARAMS.items()), tuple(backends)) for s in paper_sources(2 if quick else None)]
     return synthetic_summary([row for task in tasks for row in compute_task(task)])
@@ -141,7 +144,7 @@ def _parser():
     p = argparse.ArgumentParser(
         prog="wake evaluate",
         description="Recompute the paper's evaluation (synthetic table, real recordings, delay, literal-RTP "
-                    "ablation) with WAKE and the BMFLC/E-BMFLC/WFLC baselines, over any number of recordings, "
+                    "ablation) with WAKE and the BMFLC/E-BMFLC/WFLC/eHWFLC-KF baselines, over any number of recordings, "
                     "in parallel; write report.md, a result store and figures.")
     p.add_argument("out_dir", metavar="OUT_DIR", help="folder for report.md, results.json, store/ and the figures")
     p.add_argument("inputs", metavar="INPUT", nargs="*",
@@ -151,6 +154,11 @@ def _parser():
     p.add_argument("--pads", metavar="DIR", default=None,
                    help="PADS recordings folder (default when no INPUT: $WAKE_PADS_DIR, else ../shared/data/pads "
                         "relative to the current directory if present, else synthetic only)")
+    p.add_argument("--pdkit", metavar="DIR", default=None,
+                   help="pdkit's smartphone tremor-task recordings (default when no INPUT: $WAKE_PDKIT_DIR, else "
+                        "../shared/data/pdkit relative to the current directory if present)")
+    p.add_argument("--strong", metavar="N", type=int, default=0,
+                   help="also N signals of the synthetic strong-tremor set (wake.eval.strong_tremor; default 0)")
     p.add_argument("--synthetic-only", action="store_true", help="skip the real recordings")
     p.add_argument("--synthetic", metavar="N", type=int, default=None,
                    help="a generated cohort of N synthetic signals instead of the paper's ten (seed and SNR "
@@ -189,17 +197,51 @@ def _sources(args, notes):
     recordings, pads_dir = [], None
     if args.inputs:
         recordings += file_sources(args.inputs, fs=args.fs)
+        if args.fs is None:
+            _refuse_unknown_rates(recordings)
     if not args.synthetic_only and (args.pads or not (args.inputs or args.synthetic is not None)):
         pads_dir = default_pads_dir(args.pads)
         if pads_dir is not None:
             recordings += pads_sources(pads_dir)
         else:
             notes.append("No PADS folder (--pads, $WAKE_PADS_DIR or ../shared/data/pads): synthetic set only.")
+    if not args.synthetic_only and (args.pdkit or not (args.inputs or args.synthetic is not None)):
+        pdkit_dir = default_pdkit_dir(args.pdkit)
+        if pdkit_dir is not None:
+            recordings += pdkit_sources(pdkit_dir)
+    synthetic = synthetic + strong_sources(args.strong)
     if args.synthetic_only:
         recordings = []
     if args.quick:
         recordings = recordings[:2]
     return synthetic, recordings, pads_dir
+
+
+def _refuse_unknown_rates(sources):
+    """ValueError naming the files that have no time column (their rate unknown), saying that ``--fs`` serves.
+
+    Checked before the work, not found by each task: a file that reads into a signal (two samples or more)
+    once a rate is given lacks only the rate.  A file that does not read either way, or holds a single
+    sample, is left to its task (the report lists it as a failure).  Each INPUT is read once more for this,
+    and only when ``--fs`` is not given.
+    """
+    from wake.io import read_recording
+
+    unknown = []
+    for source in sources:
+        try:
+            read_recording(source.path)
+        except ValueError:
+            try:
+                if read_recording(source.path, fs=100.0).samples.shape[0] < 2:
+                    continue
+            except ValueError:
+                continue
+            unknown.append(Path(source.path).name)
+    if unknown:
+        names = ", ".join(unknown[:3]) + (f" and {len(unknown) - 3} more" if len(unknown) > 3 else "")
+        raise ValueError(f"{names} {'has' if len(unknown) == 1 else 'have'} no time column, so the sampling rate "
+                         "is unknown: give it with --fs HZ (the rate of every INPUT without a time column)")
 
 
 def _summaries(rows, first):
@@ -259,10 +301,11 @@ def cli(argv: list[str] | None = None) -> int:
         return 130
     store.compact()
     print(f"wake evaluate: {computed} of {len(tasks)} tasks computed, {len(tasks) - computed} from the store")
-    return _write_outputs(args, argv, out_dir, store, tasks, configs, backends, notes, pads_dir, t0)
+    return _write_outputs(args, argv, out_dir, store, tasks, configs, backends, notes, pads_dir, t0,
+                          recordings_label(recordings))
 
 
-def _write_outputs(args, argv, out_dir, store, tasks, configs, backends, notes, pads_dir, t0):
+def _write_outputs(args, argv, out_dir, store, tasks, configs, backends, notes, pads_dir, t0, real_name):
     rows = store.rows([t.key for t in tasks], convert=compact_row)
     labels = [config_label(c) for c in configs]
     parts = _summaries(rows, labels[0])
@@ -273,7 +316,9 @@ def _write_outputs(args, argv, out_dir, store, tasks, configs, backends, notes, 
     pick = tremor_candidate(real_rows)
     sources = {t.source.key: t.source for t in tasks}
     figs, fig_note = write_figures(out_dir, parts, pick and (pick, sources[pick["source"]], configs[0], backends),
-                                   sources)
+                                   sources, real_name)
+    if suppression_figure(ahead, out_dir / "fig_suppression.png"):
+        figs = [*figs, "fig_suppression.png"]
     if fig_note:
         notes.append(fig_note)
         print(f"wake evaluate: {fig_note}")
@@ -281,7 +326,7 @@ def _write_outputs(args, argv, out_dir, store, tasks, configs, backends, notes, 
     command = " ".join(str(a) for a in (argv if argv is not None else sys.argv[1:]))
     text = markdown_report(command=command, quick=args.quick, settings=configs[0], backends=backends, notes=notes,
                            parts=parts, ablation=abl, pads_dir=pads_dir, figures=figs, rankings=rankings,
-                           failures=failures, run_time=time.perf_counter() - t0, ahead=ahead)
+                           failures=failures, run_time=time.perf_counter() - t0, ahead=ahead, real_name=real_name)
     (out_dir / "report.md").write_text(text)
     (out_dir / "results.json").write_text(json.dumps(jsonable(
         {"backends": backends, "synthetic": parts["synthetic"], "cohort": parts["cohort"], "real": parts["real"],

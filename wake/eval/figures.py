@@ -46,12 +46,13 @@ def _pyplot():
     return plt
 
 
-def write_figures(out_dir, parts, tremor, sources):
+def write_figures(out_dir, parts, tremor, sources, real_name="PADS"):
     """Draw every figure the summaries allow into ``out_dir``; returns (file names, note).
 
     ``parts``: {"synthetic", "cohort", "real"} -> summary or None (:mod:`wake.eval.tables`);
     ``tremor``: ``(row, source, settings, backends)`` of the recording axis to draw, or None;
-    ``sources``: source key -> :class:`~wake.eval.sources.Source` (to reload the spectra's windows).
+    ``sources``: source key -> :class:`~wake.eval.sources.Source` (to reload the spectra's windows);
+    ``real_name``: what the real recordings are (:func:`wake.eval.report.recordings_label`).
     """
     plt = _pyplot()
     if plt is None:
@@ -72,13 +73,13 @@ def write_figures(out_dir, parts, tremor, sources):
                    ["\n".join(r.split("_")[:2]) for r in recs],
                    {n: [np.mean([r["methods"][n] for r in real["rows"] if r["recording"] == rec]) for rec in recs]
                     for n in names},
-                   "tremor NRMSE (mean of 6 axes)", "PADS recordings: NRMSE per recording", (10, 3.8), fontsize=8)
+                   "tremor NRMSE (mean over axes)", f"{real_name}: NRMSE per recording", (10, 3.8), fontsize=8)
         made.append("fig_nrmse_real.png")
         if tremor is not None:
             made.append(_tremor_figure(plt, out_dir, names, *tremor))
         made.append(_spectra_figure(plt, out_dir / "fig_spectra_by_flag.png", real["flag_windows"], sources))
     if any(parts.values()):
-        made.append(_error_time_figure(plt, out_dir / "fig_error_vs_time.png", parts))
+        made.append(_error_time_figure(plt, out_dir / "fig_error_vs_time.png", parts, real_name))
     return made, ""
 
 
@@ -123,9 +124,9 @@ def _error_line_style(name):
     return dict(lw=1, ls="--" if name in TRIVIAL else "-", zorder=2)
 
 
-def _error_time_figure(plt, path, parts):
+def _error_time_figure(plt, path, parts, real_name="PADS"):
     titles = {"synthetic": "Synthetic set: voluntary error", "cohort": "Synthetic cohort: voluntary error",
-              "real": "PADS: tremor error (independent truth)"}
+              "real": f"{real_name}: tremor error (independent truth)"}
     shown = [(titles[k], part) for k, part in parts.items() if part]
     fig, axes = plt.subplots(1, len(shown), figsize=(6 * len(shown), 4), squeeze=False)
     for ax, (title, part) in zip(axes[0], shown):

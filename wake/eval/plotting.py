@@ -12,6 +12,20 @@ from wake.hpa.spectrum import ar_psd
 MATPLOTLIB_HINT = "plotting needs matplotlib: pip install matplotlib (or pip install \".[plot]\" in a wake source tree)"
 
 
+def psd_label(unit: str) -> str:
+    """The axis label of a power spectral density of a signal in ``unit``.
+
+    Examples
+    --------
+    >>> from wake.eval.plotting import psd_label
+    >>> psd_label("deg/s"), psd_label("g"), psd_label("")
+    ('PSD ((deg/s)^2/Hz)', 'PSD (g^2/Hz)', 'PSD ((input unit)^2/Hz)')
+    """
+    from wake.io.writers import squared_unit
+
+    return f"PSD ({squared_unit(unit) or '(input unit)^2'}/Hz)"
+
+
 def require_matplotlib() -> None:
     """Raise ValueError naming the install when matplotlib is missing: call it before the work a figure ends."""
     import importlib.util
@@ -126,7 +140,7 @@ def plot_result(path, x, result, fs, *, voluntary_truth=None, tremor_truth=None,
         share = 100.0 * sum(f in FALLBACK_FLAGS for f in flags) / len(flags)
         ax[3].set_title(f"{len(flags)} HPA runs, {share:.0f} % fell back to the default cut-off", fontsize=9)
     ax[3].set_xlabel("frequency (Hz)")
-    ax[3].set_ylabel(f"PSD ({unit}$^2$/Hz)" if unit else "PSD (1/Hz)")
+    ax[3].set_ylabel(psd_label(unit))
     ax[3].set_xlim(0, min(20.0, fs / 2))
     _legend(ax[3])
     fig.tight_layout()

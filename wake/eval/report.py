@@ -12,9 +12,13 @@ import numpy as np
 
 from wake.eval.compute import TRIVIAL, WAKE_PARAMS, ZERO, ZERO_PREDICTION, baseline_methods
 from wake.eval.synthetic import PAPER_BMFLC, PAPER_EBMFLC, PAPER_WAKE
+from wake.eval.suppression import suppression_section
 from wake.eval.warmup import SLICES
 
-__all__ = ["method_order", "markdown_report", "jsonable"]
+__all__ = ["method_order", "markdown_report", "jsonable", "recordings_label", "PADS_LABEL"]
+
+#: What the report calls the real recordings when they are the PADS folder's.
+PADS_LABEL = "PADS"
 
 PAPER_COLUMNS = {"BMFLC": PAPER_BMFLC, "E-BMFLC": PAPER_EBMFLC, "WAKE": PAPER_WAKE}
 METRICS = ("nrmse", "prf", "snr_out")
@@ -35,7 +39,7 @@ def _table(header, rows):
 
 
 def method_order(names):
-    order = ["BMFLC", "E-BMFLC", "WFLC", "WAKE-ref", "WAKE"]
+    order = ["BMFLC", "E-BMFLC", "WFLC", "eHWFLC-KF", "WAKE-ref", "WAKE"]
     return [n for n in order if n in names]
 
 
@@ -65,11 +69,41 @@ def _synthetic_section(syn):
     return "\n".join(parts)
 
 
-def _real_section(real, pads_dir):
+def recordings_label(sources) -> str:
+    """What the real recordings of a report are, for its titles: :data:`PADS_LABEL`, pdkit, the names of the
+    files given, or each of those that is there.
+
+    Examples
+    --------
+    >>> from wake.eval.sources import Source
+    >>> from wake.eval.report import recordings_label
+    >>> recordings_label([Source("pads", "a", path="/p/001.txt")])
+    'PADS'
+    >>> recordings_label([Source("pads", "a", path="/p/001.txt"), Source("pdkit", "b", path="/k/t.csv")])
+    'PADS and pdkit'
+    >>> recordings_label([Source("file", f"{i}", path=f"/x/chfig{i}.txt") for i in range(3)])
+    'chfig0.txt, chfig1.txt, chfig2.txt'
+    >>> recordings_label([Source("file", f"{i}", path=f"/x/r{i}.csv") for i in range(5)])
+    '5 recordings (r0.csv ... r4.csv)'
+    """
+    from pathlib import Path
+
+    kinds = {s.kind for s in sources}
+    files = [Path(s.path).name for s in sources if s.kind == "file"]
+    parts = [name for kind, name in (("pads", PADS_LABEL), ("pdkit", "pdkit")) if kind in kinds]
+    if files:
+        parts.append(", ".join(files) if len(files) <= 3 else f"{len(files)} recordings ({files[0]} ... {files[-1]})")
+    return " and ".join(parts) or PADS_LABEL
+
+
+def _real_section(real, pads_dir, real_name=PADS_LABEL):
     rows = real["rows"]
     names = method_order(rows[0]["methods"])
-    parts = ["## Real recordings (PADS; paper \"Smartphone\" table)", "",
-             f"Folder: `{pads_dir}`. Tremor NRMSE per recording and axis against the offline ground truth "
+    title = (f"## Real recordings ({PADS_LABEL}; paper \"Smartphone\" table)" if real_name == PADS_LABEL
+             else f"## Real recordings ({real_name})")
+    where = f"Folder: `{pads_dir}`. " if pads_dir is not None else "The recordings given on the command line. "
+    parts = [title, "",
+             where + "Tremor NRMSE per recording and axis against the offline ground truth "
              "(sharp FFT high-pass of the whole recording at the mean `f_d` of WAKE's HPA runs on that axis, "
              f"`wake.eval.metrics.offline_ground_truth`); samples before {WAKE_PARAMS['window_s']:g} s left out. "
              "Best per row in bold.", ""]
@@ -150,12 +184,13 @@ def _nrmse(row, name):
 
 #: The parts of a report: (key, label in the verdict, headline row).
 PARTS = (("synthetic", "synthetic", "Synthetic (voluntary NRMSE)"),
-         ("cohort", "cohort", "Synthetic cohort (voluntary NRMSE)"), ("real", "real", "PADS (tremor NRMSE)"))
+         ("cohort", "cohort", "Synthetic cohort (voluntary NRMSE)"), ("real", "real", "{real} (tremor NRMSE)"))
 
 
-def _headline(parts):
+def _headline(parts, real_name=PADS_LABEL):
     names = method_order(next(p for p in parts.values() if p)["rows"][0]["methods"])
-    body = [[title] + [_fmt(float(np.mean([_nrmse(r, n) for r in parts[key]["rows"]]))) for n in names]
+    body = [[title.format(real=real_name)] + [_fmt(float(np.mean([_nrmse(r, n) for r in parts[key]["rows"]])))
+                                              for n in names]
             for key, _, title in PARTS if parts.get(key)]
     return _table(["Mean NRMSE"] + names, body)
 
@@ -178,19 +213,19 @@ def _verdict(parts, backends):
     return "\n".join(lines)
 
 
-def _time_section(parts):
+def _time_section(parts, real_name=PADS_LABEL):
     names = list(SLICES)
     out = ["## Time since start", "",
            "What a wearer lives through: mean NRMSE per slice of time since switch-on, and over the whole "
            "recording from 0.5 s (the tables above leave the first 5 s out, as the paper does). Each slice "
            "is normalised by the range of the truth within it. Synthetic: voluntary NRMSE against the known "
-           "voluntary motion. PADS: tremor NRMSE against a truth independent of WAKE (sharp high-pass at the "
+           f"voluntary motion. {real_name}: tremor NRMSE against a truth independent of WAKE (sharp high-pass at the "
            "Welch-spectrum valley between 1.5 and 5 Hz of each whole recording, `wake.eval.warmup`). "
            f"Two trivial estimates: \"{ZERO}\" says there is no tremor; \"{ZERO_PREDICTION}\" predicts 0 for "
            "the next sample, so all of the measurement counts as tremor. `fig_error_vs_time.png` draws the error "
            "against time since start.", ""]
     titles = {"synthetic": "Synthetic set (voluntary NRMSE)", "cohort": "Synthetic cohort (voluntary NRMSE)",
-              "real": "PADS (tremor NRMSE, independent truth)"}
+              "real": f"{real_name} (tremor NRMSE, independent truth)"}
     for key, part in parts.items():
         if not part:
             continue
@@ -209,9 +244,11 @@ def _ahead_section(ahead):
 
     names = list(SLICES)
     titles = {"paper": "Synthetic set (truth: the tremor component s_t)", "cohort": "Synthetic cohort (s_t)",
-              "real": "Recordings (truth: the tremor independent of WAKE)"}
+              "real": "Recordings (truth: the tremor independent of WAKE)",
+              "strong": "Strong synthetic set (truth: its tremor component)",
+              "pdkit": "pdkit, every axis (truth: the tremor independent of WAKE)"}
     out = ["## Tremor ahead", "",
-           "What an actuator plays at sample m is the tremor predicted at m - h (docs/design.md, \"Tremor "
+           "What an actuator plays at sample m is the tremor predicted at m - h (docs/studies/design.md, \"Tremor "
            f"ahead\"). NRMSE per slice of time since start, mean over axes. \"{GATED}\" is WakeResult.command "
            "(the prediction times the gate); \"zero\" sends nothing; the baselines extrapolate their own "
            "sinusoid models; the two hindsight rows are limits, not methods. \"/ zero\" is the command's "
@@ -229,11 +266,11 @@ def _ahead_section(ahead):
     return "\n".join(out)
 
 
-def _flag_section(real):
+def _flag_section(real, real_name=PADS_LABEL):
     total = sum(real["flags"].values())
     rows = [[f, str(k), f"{100 * k / total:.0f} %"] for f, k in sorted(real["flags"].items(), key=lambda kv: -kv[1])]
-    return "\n".join(["## The cut-off on PADS", "",
-                      f"Flags of WAKE's {total} HPA windows on PADS (warm-up windows included; docs/design.md, "
+    return "\n".join([f"## The cut-off on {real_name}", "",
+                      f"Flags of WAKE's {total} HPA windows on {real_name} (warm-up windows included; docs/studies/design.md, "
                       "\"Cut-off\"). `fig_spectra_by_flag.png` draws the AR spectrum of three windows of each flag "
                       "with the `f_d` the HPA took.", "", _table(["flag", "windows", "share"], rows)])
 
@@ -281,35 +318,36 @@ def _failure_section(failures):
 
 
 def markdown_report(*, command, quick, settings, backends, notes, parts, ablation, pads_dir, figures,
-                    rankings, failures, run_time, ahead=None):
-    """The whole ``report.md``, from the summaries of :mod:`wake.eval.tables`."""
+                    rankings, failures, run_time, ahead=None, real_name=PADS_LABEL):
+    """The whole ``report.md``, from the summaries of :mod:`wake.eval.tables`; ``real_name`` says what the real
+    recordings are (:func:`recordings_label`)."""
     params = "; ".join(repr(m) for m in baseline_methods(100.0).values())
     out = ["# WAKE evaluation", "",
            f"Command: `wake evaluate {command}`"
            + ("  (**--quick: a smoke run, not the paper's numbers**)" if quick else ""), "",
            f"WAKE: `WakeFilter({', '.join(f'{k}={v!r}' for k, v in settings.items())})`, backends: "
            f"{', '.join(backends)} (WAKE = C backend, WAKE-ref = float reference). Baselines (tuned once on "
-           f"synthetic signal 1, docs/baselines.md): `{params}`.", ""]
+           f"synthetic signal 1, docs/studies/baselines.md): `{params}`.", ""]
     out += [f"> {n}" for n in notes] + ([""] if notes else [])
     syn, coh, real = (parts.get(k) for k in ("synthetic", "cohort", "real"))
     if any(parts.values()):
-        out += ["## Headline", "", _headline(parts), "", _verdict(parts, backends), ""]
+        out += ["## Headline", "", _headline(parts, real_name), "", _verdict(parts, backends), ""]
     if syn:
         out += [_synthetic_section(syn), ""]
     if coh:
         out += [_cohort_section(coh)]
     if real:
-        out += [_real_section(real, pads_dir), ""]
+        out += [_real_section(real, pads_dir, real_name), ""]
     if any(parts.values()):
         out += [_lag_section(parts)]
     if ablation:
         out += [_ablation_section(ablation)]
     if any(parts.values()):
-        out += [_time_section(parts), ""]
+        out += [_time_section(parts, real_name), ""]
     if ahead:
-        out += [_ahead_section(ahead)]
+        out += [_ahead_section(ahead), suppression_section(ahead)]
     if real and real["flags"]:
-        out += [_flag_section(real), ""]
+        out += [_flag_section(real, real_name), ""]
     if rankings:
         out += [_grid_section(rankings)]
     if failures:

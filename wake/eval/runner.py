@@ -160,7 +160,7 @@ def _start_dask(distributed, scheduler, jobs):
     # no dashboard: its server and bokeh's import cost the parent seconds of a core the workers need
     # (start a cluster yourself and pass its address to watch one); and so no statistical profiler in the
     # workers either, which only feeds the dashboard: sampling the task's stack every 10 ms made a task cost
-    # 4-7 % more CPU than with it off (docs/evaluation.md, "At cohort scale")
+    # 4-7 % more CPU than with it off (docs/studies/evaluation.md, "At cohort scale")
     with require("dask", "--scheduler").config.set(LOCAL_CLUSTER_CONFIG):
         cluster = distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                            dashboard_address=None)

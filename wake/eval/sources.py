@@ -16,11 +16,14 @@ from pathlib import Path
 
 import numpy as np
 
+from wake.eval.datasets import dataset_files
 from wake.eval.synthetic import PAPER_SNR_DB, make_signal
 from wake.io import read_pads, read_recording
+from wake.io.formats import recordings_in
+from wake.io.formats.bids import is_motion_file
 
 __all__ = ["Source", "Loaded", "READABLE_SUFFIXES", "paper_sources", "cohort_sources", "file_sources",
-           "pads_sources", "load_source"]
+           "pads_sources", "pdkit_sources", "strong_sources", "load_source"]
 
 #: File suffixes a folder given as input is searched for (what :func:`wake.io.read_recording` reads).
 READABLE_SUFFIXES = (".txt", ".csv", ".tsv", ".dat", ".mat")
@@ -57,7 +60,7 @@ class Source:
 
     @property
     def synthetic(self) -> bool:
-        return self.kind in ("paper", "cohort")
+        return self.kind in ("paper", "cohort", "strong")
 
 
 @dataclass
@@ -100,10 +103,13 @@ def cohort_sources(count, seed=0, duration_s=50.0):
 def _files_in(pattern):
     path = Path(pattern)
     if path.is_dir():
-        files = sorted(p for p in path.iterdir() if p.is_file() and p.suffix.lower() in READABLE_SUFFIXES
-                       and not p.name.lower().startswith("readme"))
+        files = recordings_in(path)  # wake.io.formats: a BIDS dataset's *_motion.tsv, TSDF, CWA, EDF, Parquet ...
+        if not any(is_motion_file(f) for f in files):  # a BIDS dataset's other .tsv are sidecars, not recordings
+            files = sorted({*files, *(p for p in path.iterdir() if p.is_file() and p.suffix.lower() in
+                                      READABLE_SUFFIXES and not p.name.lower().startswith("readme"))})
         if not files:
-            raise ValueError(f"{path}: no recording in this folder (looked for {', '.join(READABLE_SUFFIXES)})")
+            raise ValueError(f"{path}: no recording in this folder (looked for {', '.join(READABLE_SUFFIXES)}, "
+                             "a BIDS *_motion.tsv, a TSDF *_meta.json and the wearable formats of docs/reference/formats.md)")
         return files
     if path.is_file():
         return [path]
@@ -136,17 +142,36 @@ def file_sources(patterns, kind="file", fs=None):
 
 def pads_sources(folder):
     """Every PADS recording (``*.txt``) of ``folder``, sorted by name (as ``load_pads_folder``)."""
-    folder = Path(folder)
-    if not folder.is_dir():
-        raise ValueError(f"{folder}: not a folder")
-    files = sorted(p for p in folder.glob("*.txt") if p.is_file())
-    if not files:
-        raise ValueError(f"{folder}: no recording matches '*.txt'")
-    return file_sources(files, kind="pads")
+    return file_sources(dataset_files(folder, "*.txt"), kind="pads")
+
+
+def pdkit_sources(folder):
+    """Every pdkit recording of ``folder`` (:func:`wake.eval.pdkit.load_pdkit_folder`'s files), sorted by name."""
+    from wake.eval.pdkit import PDKIT_PATTERN
+
+    return file_sources(dataset_files(folder, PDKIT_PATTERN, "pdkit recording"), kind="pdkit")
+
+
+def strong_sources(count, duration_s=30.0):
+    """``count`` signals of the synthetic strong-tremor set (:func:`wake.eval.strong_tremor.strong_tremor_dataset`)."""
+    if int(count) < 0:
+        raise ValueError(f"--strong needs a count >= 0, got {count}")
+    return [Source("strong", f"strong/{i}", index=i, duration_s=float(duration_s)) for i in range(int(count))]
 
 
 def load_source(source: Source) -> Loaded:
     """Read or generate ``source``'s samples (in the worker that evaluates it)."""
+    if source.kind == "strong":
+        from wake.eval.strong_tremor import KINDS, STRONG_SEED, make_strong_tremor
+
+        s = make_strong_tremor(seed=STRONG_SEED + source.index, duration=source.duration_s,
+                               kind=KINDS[source.index % 2])
+        return Loaded(s.name, s.fs, s.measurement[:, None], ("x",), s.voluntary, float("nan"), s.tremor)
+    if source.kind == "pdkit":
+        from wake.eval.pdkit import load_pdkit
+
+        rec = load_pdkit(source.path).recording
+        return Loaded(rec.name, rec.fs, rec.samples, tuple(rec.channels))
     if source.synthetic:
         s = make_signal(source.snr_db, seed=source.seed, duration=source.duration_s)
         name = f"signal {source.index + 1}" if source.kind == "paper" else f"cohort signal {source.index}"

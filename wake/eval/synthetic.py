@@ -14,7 +14,7 @@ fraction of the noise power in the tremor band, 0.5 by default) and scales
 both so that the SNR is met exactly.
 
 :func:`make_rest_tremor` builds the opposite case, rest tremor with little
-voluntary motion: a narrow 4-6 Hz tremor on slow 1/f drift (docs/design.md,
+voluntary motion: a narrow 4-6 Hz tremor on slow 1/f drift (docs/studies/design.md,
 "Rest tremor with little voluntary motion").
 """
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import sys
+import warnings
 
 import numpy as np
 
@@ -152,16 +153,29 @@ def ahead_summary(rows):
     >>> ahead_summary([row])["paper"]["horizons"][10.0]["zero"]["after 5 s"]
     0.5
     """
-    acc, axes = {}, {}
+    acc, axes, sup = {}, {}, {}
     for r in rows:
         if not r["set"].startswith(AHEAD_SET):
             continue
         name, ms = r["method"].rsplit(AHEAD_AT, 1)
         key = r["set"][len(AHEAD_SET):]
         acc.setdefault(key, {}).setdefault(float(ms.split()[0]), {}).setdefault(name, []).append(_slices_of(r))
+        sup.setdefault(key, {}).setdefault(float(ms.split()[0]), {}).setdefault(name, []).append(
+            (r.get("reduction", np.nan), r.get("disturbance", np.nan)))
         axes.setdefault(key, set()).add((r["source"], r["channel_index"]))
     if not acc:
         return None
     return {key: {"axes": len(axes[key]), "horizons": {ms: {n: mean_slices(v) for n, v in methods.items()}
-                                                       for ms, methods in sorted(by_ms.items())}}
+                                                       for ms, methods in sorted(by_ms.items())},
+                  "suppression": {ms: {n: _mean_suppression(v) for n, v in methods.items()}
+                                  for ms, methods in sorted(sup[key].items())}}
             for key, by_ms in acc.items()}
+
+
+def _mean_suppression(pairs):
+    """Mean ``{"reduction": %, "disturbance": RMS}`` over axes (NaN left out; rows stored before issue 46 have
+    neither)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)       # every row without them: NaN, said as such
+        red, dist = np.nanmean(np.asarray(pairs, dtype=float), axis=0)
+    return {"reduction": float(red), "disturbance": float(dist)}

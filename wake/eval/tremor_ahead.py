@@ -2,7 +2,7 @@
 
 What an actuator plays at sample ``m`` is the prediction made at ``m - h``; it is scored against the true
 tremor at ``m`` with the paper's NRMSE per slice of time since start (:func:`wake.eval.warmup.slice_nrmse`).
-The methods (docs/design.md, "Tremor ahead"):
+The methods (docs/studies/design.md, "Tremor ahead"):
 
 * WAKE's gated command (``WakeResult.command`` at ``horizon = h``) and its ungated prediction
   (``tremor_ahead``);
@@ -26,7 +26,7 @@ from wake.eval.warmup import slice_nrmse
 from wake.filter import WakeFilter
 
 __all__ = ["HORIZONS_MS", "GATED", "UNGATED", "ZERO", "ORACLE", "WIENER", "hindsight_predictor", "aligned",
-           "ahead_scores", "baselines_ahead"]
+           "ahead_scores", "ahead_commands", "baselines_ahead"]
 
 #: The horizons ``wake evaluate`` reports, in ms (an actuator's delay: 20-100 ms).
 HORIZONS_MS = (10, 20, 50, 100)
@@ -99,6 +99,21 @@ def ahead_scores(x, fs, truth, *, backend, settings=None, horizons_ms=HORIZONS_M
     """
     x = np.asarray(x, dtype=float).reshape(len(x), -1)
     truth = np.asarray(truth, dtype=float).reshape(x.shape)
+    return {ms: {name: [slice_nrmse(truth[:, c], est[:, c], fs) for c in range(x.shape[1])]
+                 for name, est in methods.items()}
+            for ms, methods in ahead_commands(x, fs, truth, backend=backend, settings=settings,
+                                              horizons_ms=horizons_ms, baselines=baselines).items()}
+
+
+def ahead_commands(x, fs, truth, *, backend, settings=None, horizons_ms=HORIZONS_MS, baselines=True):
+    """Per horizon and method, what an actuator plays at each sample: what :func:`ahead_scores` scores and
+    :mod:`wake.eval.suppression` feeds an actuator.
+
+    Parameters are those of :func:`ahead_scores`.  Returns ``{ms: {method: array (n, channels)}}``, each
+    aligned to the sample it plays at (:func:`aligned`).
+    """
+    x = np.asarray(x, dtype=float).reshape(len(x), -1)
+    truth = np.asarray(truth, dtype=float).reshape(x.shape)
     settings = dict(settings or {})
     horizons = {ms: horizon_from_ms(ms, fs) for ms in horizons_ms}
     extrapolated = baselines_ahead(x, fs, sorted(set(horizons.values()))) if baselines else {}
@@ -108,15 +123,15 @@ def ahead_scores(x, fs, truth, *, backend, settings=None, horizons_ms=HORIZONS_M
         y = x - res.voluntary
         methods = {GATED: res.command, UNGATED: res.tremor_ahead, ZERO: np.zeros_like(x)}
         methods.update({f"{name}, own extrapolation": aligned(P[h], h) for name, P in extrapolated.items()})
-        methods[ORACLE] = np.column_stack([aligned(hindsight_predictor(t, t, h), h) for t in truth.T])
-        methods[WIENER] = np.column_stack([aligned(hindsight_predictor(e, t, h), h) for e, t in zip(y.T, truth.T)])
-        out[ms] = {name: [slice_nrmse(truth[:, c], est[:, c], fs) for c in range(x.shape[1])]
-                   for name, est in methods.items()}
+        known = np.nan_to_num(truth)          # a gap has no truth (wake.eval.truth): 0 in the hindsight fits
+        methods[ORACLE] = np.column_stack([aligned(hindsight_predictor(t, t, h), h) for t in known.T])
+        methods[WIENER] = np.column_stack([aligned(hindsight_predictor(e, t, h), h) for e, t in zip(y.T, known.T)])
+        out[ms] = methods
     return out
 
 
 def baselines_ahead(x, fs, horizons):
-    """BMFLC, E-BMFLC and WFLC (:func:`wake.eval.baselines.baseline_methods`) extrapolating their tremor model:
+    """BMFLC, E-BMFLC, WFLC and eHWFLC-KF (:func:`wake.eval.baselines.baseline_methods`) extrapolating their tremor model:
     the weights after sample ``n``, the reference sinusoids at ``n + h`` (``BaselineResult.ahead``).
 
     Parameters
@@ -135,7 +150,7 @@ def baselines_ahead(x, fs, horizons):
     >>> import numpy as np
     >>> P = baselines_ahead(np.sin(np.arange(300) / 2.0)[:, None], 100.0, (1, 5))
     >>> sorted(P), P["WFLC"][5].shape
-    (['BMFLC', 'E-BMFLC', 'WFLC'], (300, 1))
+    (['BMFLC', 'E-BMFLC', 'WFLC', 'eHWFLC-KF'], (300, 1))
     """
     x = np.asarray(x, dtype=float)
     return {name: method.run(x, horizons=horizons).ahead for name, method in baseline_methods(fs).items()}

@@ -10,9 +10,7 @@ ground truth that does not depend on WAKE's own cut-off
 from __future__ import annotations
 
 import numpy as np
-import scipy.signal
 
-from wake.hpa.sharp import sharp_highpass
 
 __all__ = ["SLICES", "independent_cutoff", "independent_ground_truth", "slice_nrmse", "error_curve", "mean_slices",
            "mean_curve", "approximation_predictions", "truth_fitted_prediction"]
@@ -30,9 +28,11 @@ def independent_cutoff(x, fs, band=(1.5, 5.0)):
     tremor above it does not favour WAKE (the paper's offline truth uses
     WAKE's own mean ``f_d``).
     """
+    from scipy.signal import welch  # here: importing scipy.signal takes a second, and only recordings need it
+
     x = np.asarray(x, dtype=float)
     nper = int(min(x.size, 4 * fs))  # 0.25 Hz bins
-    f, p = scipy.signal.welch(x - x.mean(), fs=fs, nperseg=nper)
+    f, p = welch(x - x.mean(), fs=fs, nperseg=nper)
     inside = (f >= band[0]) & (f <= band[1])
     if not inside.any():
         raise ValueError(f"no Welch bin between {band[0]} and {band[1]} Hz at fs = {fs} Hz and {x.size} samples")
@@ -40,10 +40,12 @@ def independent_cutoff(x, fs, band=(1.5, 5.0)):
 
 
 def independent_ground_truth(x, fs, band=(1.5, 5.0)):
-    """(voluntary, tremor, cutoff): sharp FFT high-pass at :func:`independent_cutoff`."""
-    cutoff = independent_cutoff(x, fs, band)
-    tremor = sharp_highpass(np.asarray(x, dtype=float), fs, cutoff)
-    return np.asarray(x, dtype=float) - tremor, tremor, cutoff
+    """(voluntary, tremor, cutoff): the offline truth of a recording, :func:`wake.eval.truth.tremor_truth`
+    at :func:`independent_cutoff` (a high-pass with a smooth transition, safe against start transients,
+    steps and gaps; before issue 46 the sharp FFT high-pass)."""
+    from wake.eval.truth import tremor_truth
+
+    return tremor_truth(x, fs, band=band)
 
 
 def slice_nrmse(truth, estimate, fs, slices=None):
@@ -51,7 +53,7 @@ def slice_nrmse(truth, estimate, fs, slices=None):
 
     Each slice is normalised by the range of the truth within it (the
     paper's NRMSE applied to that stretch).  Slices the recording does not
-    reach are NaN.
+    reach are NaN; samples without a truth (NaN: a gap) are left out.
 
     Examples
     --------
@@ -71,7 +73,11 @@ def slice_nrmse(truth, estimate, fs, slices=None):
         if hi - lo < 2:
             out[name] = float("nan")
             continue
-        t, e = truth[lo:hi], estimate[lo:hi]
+        known = np.isfinite(truth[lo:hi])                 # a gap has no truth (wake.eval.truth): left out
+        t, e = truth[lo:hi][known], estimate[lo:hi][known]
+        if t.size < 2:
+            out[name] = float("nan")
+            continue
         span = t.max() - t.min()
         out[name] = float(np.sqrt(np.mean((t - e) ** 2)) / span) if span > 0 else float("nan")
     return out

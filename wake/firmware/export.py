@@ -219,7 +219,7 @@ def _rate_section(name: str, cfg: WakeConfig) -> str:
     return f"""
 /* Input at {cfg.fs:g} Hz: the core and the HPA above run at {cfg.fs / D:g} Hz on the mean of each group of
  * {D} input samples (wake_rate.c); step them when wake_rate_push ends a group and hold the prediction
- * until the next group ends (docs/design.md, "Sampling rates other than 100 Hz").  Include "wake_rate.h"
+ * until the next group ends (docs/studies/design.md, "Sampling rates other than 100 Hz").  Include "wake_rate.h"
  * before this header:
  *     static wake_rate_t fe;
  *     if ({name}_rate_init(&fe) != WAKE_RATE_OK) {{ ... }}

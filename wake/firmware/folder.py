@@ -125,7 +125,7 @@ and a call that sets q > 0 or p0 > 0 returns `WAKE_RTP_E_NO_KALMAN`.
 Checked to compile with `arm-none-eabi-gcc -std=c99 -mcpu=cortex-m4 -mthumb -c`
 and with the host compiler under `-Wall -Wextra -Werror`.  The core's
 documentation (number formats, worst-case cost, fixed-point error bound) is in
-the `wake` source tree: `docs/fixed_point.md` and `docs/profiling.md`.
+the `wake` source tree: `docs/studies/fixed_point.md` and `docs/studies/profiling.md`.
 The macro prefix of this configuration is `{macro}_`.
 """
 
@@ -150,7 +150,7 @@ def export_folder(directory, *, force: bool = False, sources=None, layout: str =
         installed with the package).
     layout : str
         One of :data:`wake.firmware.layouts.LAYOUTS`: ``plain`` (default), ``cmake``, ``platformio``,
-        ``arduino`` or ``zephyr`` (docs/packaging.md).
+        ``arduino`` or ``zephyr`` (docs/reference/packaging.md).
     **config
         Keyword arguments of :func:`wake.firmware.export.export_header`
         (``wavelet``, ``level``, ``measurement_noise``, ``full_scale``, ...).

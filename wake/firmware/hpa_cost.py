@@ -8,7 +8,7 @@ float) at ``-O2`` with the struct sized for WakeConfig's defaults
 counter of :mod:`wake.firmware.profile` on a set of 5 s windows: one whole
 HPA (``wake_hpa_run``), and every ``wake_hpa_slice`` call of a sliced run.
 The largest slice is a measured maximum over those windows; the slicing's
-cost model bounds it by design (docs/hpa_c.md).  ``--functions`` attributes
+cost model bounds it by design (docs/studies/hpa_c.md).  ``--functions`` attributes
 every instruction of a whole HPA to its function and with ``--ahead`` to the
 parts of the tremor-ahead fit (:mod:`wake.firmware.hpa_functions`).
 

@@ -9,7 +9,7 @@ them:
 ``cmake``
     The same plus ``CMakeLists.txt`` and ``cmake/`` (the Cortex-M4 / M0+ toolchain files and the
     package configuration), copied from ``csrc/``: ``add_subdirectory(DIR)`` or an installable
-    ``find_package(wake)`` package (docs/packaging.md).
+    ``find_package(wake)`` package (docs/reference/packaging.md).
 ``platformio``
     ``library.json`` with the sources in ``src/`` (PlatformIO's default source folder).
 ``arduino``
@@ -29,19 +29,21 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from wake import __version__
+
 __all__ = ["LAYOUTS", "layout_files", "library_json", "library_properties", "zephyr_files"]
 
 #: The layouts ``wake export-c --layout`` writes.
 LAYOUTS = ("plain", "cmake", "platformio", "arduino", "zephyr")
 
 NAME = "wake"
-VERSION = "0.2.0"
+VERSION = __version__  # the package metadata's, so a firmware folder says which release wrote it
 SUMMARY = ("WAKE real-time tremor extraction: fixed-point wavelet predictor with adaptive Kalman "
            "filtering and a single-precision hyper-parameter adjustment, C99, no allocation")
 #: The project's address in the manifests: the package's PyPI page (pyproject.toml names it wake-tremor).
 HOMEPAGE = "https://pypi.org/project/wake-tremor/"
 LICENSE = "MIT"
-#: Compiler flag the HPA needs (a fixed evaluation order: docs/hpa_c.md); harmless for the RTP.
+#: Compiler flag the HPA needs (a fixed evaluation order: docs/studies/hpa_c.md); harmless for the RTP.
 HPA_FLAG = "-ffp-contract=off"
 #: Files of csrc/ the cmake layout copies beside the core.
 CMAKE_FILES = ("CMakeLists.txt", "cmake/arm-cortex-m4.cmake", "cmake/arm-cortex-m0plus.cmake",
@@ -95,7 +97,7 @@ if(CONFIG_WAKE)
   zephyr_library()
   zephyr_library_sources({base}/wake_rtp.c {base}/wake_hpa.c {base}/wake_rate.c)
   zephyr_include_directories({base})
-  # the HPA's fixed evaluation order (docs/hpa_c.md)
+  # the HPA's fixed evaluation order (docs/studies/hpa_c.md)
   zephyr_library_compile_options({HPA_FLAG})
 endif()
 """

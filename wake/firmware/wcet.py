@@ -5,7 +5,7 @@ function and of everything it calls (the core's helpers and libgcc's), built
 from the disassembly of the linked ELF image (capstone), in two measures:
 instructions issued and cycles of a per-instruction timing model.
 
-How it works (``docs/profiling.md`` has the details and the tables):
+How it works (``docs/studies/profiling.md`` has the details and the tables):
 
 1. Each function is cut into basic blocks at branch targets and after
    branches and returns.  A call (``bl``) costs the callee's bound; a branch

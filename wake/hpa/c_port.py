@@ -4,7 +4,7 @@ The Python HPA (:func:`wake.hpa.run_hpa`) stays the reference; this module
 only exists so that the C port can be tested against it and so that
 ``WakeFilter(hpa_backend="c")`` runs the whole pipeline a standalone device
 runs.  The C HPA reads the window as the RTP does: int16 Q15 of a full
-scale.  docs/hpa_c.md records how closely it agrees.
+scale.  docs/studies/hpa_c.md records how closely it agrees.
 """
 
 from __future__ import annotations

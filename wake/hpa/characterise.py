@@ -3,7 +3,7 @@
 :func:`characterise_window` turns one window (the samples the HPA read, its
 cut-off ``f_d`` and flag, the configuration's tremor band) into a
 :class:`TremorStats`; :func:`tremor_table` does it for every HPA run of a
-channel.  The definitions (docs/characterisation.md has the measurements
+channel.  The definitions (docs/studies/characterisation.md has the measurements
 behind each choice):
 
 tremor
@@ -65,7 +65,7 @@ from wake.hpa.schedule import prepare_window
 from wake.hpa.sharp import end_point_line, sharp_highpass
 
 __all__ = ["ENVELOPE_K", "NARROW_HALF_BAND_HZ", "PEAK_RATIO", "REASONS", "TABLE_FIELDS", "TremorStats",
-           "characterise_window", "summarise", "tremor_table"]
+           "characterise_window", "summarise", "summary_lines", "tremor_table"]
 
 #: A periodogram maximum is a tremor peak when it is this many times the band's median power (13 dB).
 PEAK_RATIO = 20.0
@@ -104,6 +104,7 @@ class TremorStats:
 
 
 _NAN = float("nan")
+
 
 
 def _check_band(fs, cutoff, tremor_band):
@@ -366,3 +367,25 @@ def summarise(table, window_samples) -> dict:
             "frequency": median(peaked["frequency"]), "rms": median(heard["rms"]),
             "peak_to_peak": median(peaked["peak_to_peak"]), "tsi": median(peaked["tsi"]),
             "time_share": float(np.mean(heard["time_share"])) if heard.size else _NAN}
+
+
+def summary_lines(channels, units, tables, config) -> list:
+    """The tremor paragraph ``wake run`` prints: a heading and one line per channel (:func:`summarise` of its table).
+
+    ``units`` holds each channel's unit ("" for none); ``config`` is the filter's :class:`~wake.config.WakeConfig`.
+    """
+    top = config.tremor_band[1]
+    lines = [f"tremor per channel, over the full HPA windows ({config.window_s:g} s; the tremor lies between f_d "
+             f"and {top:g} Hz; docs/studies/characterisation.md):"]
+    for name, unit, table in zip(channels, units, tables):
+        s = summarise(table, config.window_samples)
+        unit = f" {unit}" if unit else ""
+        if not s["windows"]:
+            lines.append(f"  {name}: no full HPA window (too few finite samples): not characterised")
+            continue
+        text = f"  {name}: a tremor peak in {s['tremor_windows']} of {s['windows']} windows"
+        if s["tremor_windows"]:
+            text += (f"; median frequency {s['frequency']:.2f} Hz, TSI {s['tsi']:.2f} Hz, "
+                     f"peak-to-peak {s['peak_to_peak']:.3g}{unit}")
+        lines.append(text + f"; RMS {s['rms']:.3g}{unit}; in tremor {100 * s['time_share']:.0f} % of the time")
+    return lines

@@ -98,7 +98,7 @@ def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
         bins above ``tremor_band`` there is no floor and it acts as
         ``"shallow"``.  On the ten PADS recordings it leaves 33 % of HPA
         windows on the default instead of 82 %, and it lowers the error on
-        PADS and on the paper's synthetic set (docs/design.md, "Cut-off on
+        PADS and on the paper's synthetic set (docs/studies/design.md, "Cut-off on
         real wear" and "Rest tremor with little voluntary motion").
     shallow_max : float
         Highest cut-off the ``"shallow"`` and ``"floor"`` rules take from a
@@ -239,15 +239,16 @@ def _valley_or_dip(s: Spectrum, *, shallow: bool, floor: float):
             if low.size >= 3:
                 dip = low[np.argmin(db[low])]
                 # a minimum on the lowest bin is no dip: the PSD rises from there into the tremor peak
-                # (rest tremor on slow drift; docs/design.md, "Rest tremor with little voluntary motion")
+                # (rest tremor on slow drift; docs/studies/design.md, "Rest tremor with little voluntary motion")
                 if dip > low[0] and db[dip] >= floor + s.floor_margin_db:
                     return float(freqs[dip]), "shallow_valley"
         return float(s.default_cutoff), "no_valley"
     if db[valley] < floor + s.floor_margin_db:
         # a valley at the noise floor: where the minimum falls inside the gap is noise; the gap's low
         # edge is where the voluntary content ends
-        edge = valley
-        while edge > 0 and freqs[edge - 1] >= lo and db[edge - 1] <= db[valley] + s.edge_db:
-            edge -= 1
+        # walking down from the valley while the bin below is at or above lo and within edge_db of it: the
+        # edge is one above the highest bin below the valley where that fails (bin 0 when none does)
+        stop = np.flatnonzero(~((freqs[:valley] >= lo) & (db[:valley] <= db[valley] + s.edge_db)))
+        edge = int(stop[-1]) + 1 if stop.size else 0
         return float(freqs[edge]), "floor_valley"
     return float(freqs[valley]), "valley"

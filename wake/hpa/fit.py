@@ -16,7 +16,7 @@ def fit_weights(approximations, target, ridge=1e-6, weight_limit=WEIGHT_LIMIT, *
     With ``center`` and ``shrink > 0`` the fit minimises
     ``|A w - y|^2 + shrink * trace(A'A) / J * |w - center|^2`` instead: a
     warm-up window too short to pin ``w`` down is pulled towards the prior
-    weights (docs/design.md, "Warm-up").
+    weights (docs/studies/design.md, "Warm-up").
 
     ``e_L`` is quadratic in ``w``, so its minimum (which the paper reaches
     with a quasi-Newton search) has the closed form of the normal equations.

@@ -15,7 +15,7 @@ with ``H(f) = sum_j w_j B_j(f)`` the response of the filter bank's output
 (the prediction of sample ``n + 1`` made at ``n``).  The voluntary band is
 ``[0, default_cutoff]`` and the tremor band the configuration's
 ``tremor_band``: the cut-off the HPA falls back to when it finds none.
-docs/design.md ("Warm-up") gives the measured effect.
+docs/studies/design.md ("Warm-up") gives the measured effect.
 """
 
 from __future__ import annotations

@@ -17,7 +17,7 @@ the RTP predicts the *next* sample from the *causal* end-of-window
 approximations.  ``fit="causal"`` (the default) fits what the RTP actually
 sees: the filter-bank output at sample ``k`` against the voluntary ground
 truth at ``k + 1``.  ``fit="paper"`` keeps the paper's fit.  The measured
-difference is in docs/design.md.
+difference is in docs/studies/design.md.
 """
 
 from __future__ import annotations
@@ -59,13 +59,13 @@ class HPAUpdate:
 
 
 #: Pull of a warm-up fit towards the start-up weights: shrink = WARMUP_SHRINK * (L - n) / L
-#: for a window of n < L samples, 0 for a full window (docs/design.md, "Warm-up").
+#: for a window of n < L samples, 0 for a full window (docs/studies/design.md, "Warm-up").
 WARMUP_SHRINK = 0.0
 
 #: A warm-up fit on fewer than this many seconds of samples is installed only when the window's spectrum
 #: separates voluntary motion from tremor cleanly (a cut-off flag in :data:`CLEAN_FLAGS`); otherwise the
 #: weights in use stay (flag ``"weights_kept"``).  One second cannot resolve a shoulder or a missing
-#: tremor peak, and a fit on it extrapolates the slow trend (docs/design.md, "Warm-up").
+#: tremor peak, and a fit on it extrapolates the slow trend (docs/studies/design.md, "Warm-up").
 CLEAN_ONLY_BELOW_S = 2.0
 
 #: The cut-off flags of a clean separation: a valley 3 dB deep, at or above the noise floor.
@@ -79,7 +79,7 @@ def clean_only_below(config: WakeConfig) -> int:
 
 def tremor_ahead(x, outputs, weights, tremor_gt, config: WakeConfig, flag: str, previous_ahead=None,
                  new_samples: int = 0) -> dict:
-    """The tremor-ahead fields of an :class:`HPAUpdate` (docs/design.md, "Tremor ahead").
+    """The tremor-ahead fields of an :class:`HPAUpdate` (docs/studies/design.md, "Tremor ahead").
 
     WAKE's tremor estimate over the window, ``y(k) = x(k) - w . a(k-1)`` for ``k = N .. n-1`` (``a``: the
     filter-bank ``outputs``, ``w``: the weights this HPA installs), against the window's truth ``tremor_gt``: the
@@ -100,7 +100,7 @@ def voluntary_ahead_weights(outputs, voluntary_gt, n_taps: int, horizon: int, ri
 
     The one-step fit (:func:`wake.hpa.fit.fit_weights`, the same ridge, weight limit and warm-up pull) on
     ``PredictionTarget(horizon).fit_pairs``: the filter-bank outputs ``a(k)`` against the voluntary ground
-    truth ``v(k + horizon)`` of the same window (docs/design.md, "Voluntary motion at n + h").
+    truth ``v(k + horizon)`` of the same window (docs/studies/design.md, "Voluntary motion at n + h").
 
     Examples
     --------
@@ -209,7 +209,7 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
         # the voluntary motion h samples ahead, fitted by the same rules (None at h = 1 and when kept)
         ahead_weights = voluntary_ahead_weights(outputs, voluntary_gt, taps.shape[1], config.horizon, ridge,
                                                 start_weights, shrink)
-    # the predictor learns from the estimate these weights will give from now on (docs/design.md, "Tremor
+    # the predictor learns from the estimate these weights will give from now on (docs/studies/design.md, "Tremor
     # ahead": with the weights in use before this HPA, PADS at 100 ms came to 1.008 x zero after 5 s)
     ahead = tremor_ahead(x, outputs, w, tremor_gt, config, flag, previous_ahead, new_samples)
     return HPAUpdate(index, cutoff, flag, w, measurement_noise, err, used, tuple(flags),

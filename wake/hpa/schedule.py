@@ -19,7 +19,7 @@ here                   ``wake_hpa_t``
 ``gap_skipped``        ``gap_skipped``
 =====================  =========================================
 
-The rules (docs/design.md, "Warm-up" and "Missing samples"): warm-up HPAs
+The rules (docs/studies/design.md, "Warm-up" and "Missing samples"): warm-up HPAs
 at ``config.hpa_points()``, then one every ``L`` samples on the last ``L``;
 a run of missing samples at least :data:`GAP_SHARE` of ``L`` long is a long
 gap: no HPA inside it, and at its end the schedule starts again from there,
@@ -40,7 +40,7 @@ __all__ = ["GAP_SHARE", "HPASchedule", "ScheduleState", "prepare_window"]
 
 #: A run of missing samples at least this share of the HPA window long is a long gap: the HPA schedule
 #: starts again at its end, warm-up first, as after ``reset()``, and no window reaches back into it
-#: (docs/design.md, "Missing samples").  Shorter runs are interpolated over.
+#: (docs/studies/design.md, "Missing samples").  Shorter runs are interpolated over.
 GAP_SHARE = 0.2
 
 #: A sample beyond this many robust peaks of its window is an outlier for the HPA (interpolated over,
@@ -90,7 +90,7 @@ class HPASchedule:
     def point_after(self, count: int) -> int:
         """The next HPA point after ``count`` samples: the schedule from the stream's start, or from the end
         of the latest long gap, there from its first point of ``CLEAN_ONLY_BELOW_S`` (2 s) or more: the weights
-        in use were fitted before the gap, and a shorter fit does not beat them (docs/design.md, "Missing
+        in use were fitted before the gap, and a shorter fit does not beat them (docs/studies/design.md, "Missing
         samples")."""
         if self.gap_end is None:
             return self.config.next_hpa(count)

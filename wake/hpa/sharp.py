@@ -74,7 +74,7 @@ def detrended_highpass(x, fs, cutoff):
     in the tremor truth at both ends of the window, where the causal fit's
     newest rows are.  The line through the first and last samples is
     voluntary by definition; taking it out first removes the jump
-    (docs/design.md, "Tremor ground truth of a window").
+    (docs/studies/design.md, "Tremor ground truth of a window").
 
     Examples
     --------

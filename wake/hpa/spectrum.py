@@ -8,11 +8,14 @@ from wake._validation import check_positive
 
 __all__ = ["autocorrelation", "levinson_durbin", "yule_walker", "ar_psd", "window_order"]
 
+#: The smallest normal float64: the floor of the spectrum's denominator (read once; np.finfo is not free).
+_TINY = float(np.finfo(float).tiny)
+
 
 def window_order(n, order):
     """The AR order a window of ``n`` samples is fitted with: ``min(order, (n - 1) // 2)``.
 
-    A warm-up window (docs/design.md, "Warm-up") may be shorter than ``L``;
+    A warm-up window (docs/studies/design.md, "Warm-up") may be shorter than ``L``;
     the cap keeps the Yule-Walker system over-determined (``n > 2 p``, as
     WakeConfig asks of ``L``).
 
@@ -137,4 +140,4 @@ def ar_psd(x, fs, order=17, n_freqs=512):
     if freqs.size != n_freqs:  # n_freqs below the AR order: sample the fine grid
         pick = np.linspace(0, freqs.size - 1, n_freqs).round().astype(int)
         freqs, denom = freqs[pick], denom[pick]
-    return freqs, sigma2 / np.maximum(denom, np.finfo(float).tiny)
+    return freqs, sigma2 / np.maximum(denom, _TINY)

@@ -9,7 +9,8 @@ The streams of ``wake stream`` (live data over pipes or Lab Streaming Layer)
 are in :mod:`wake.io.stream`; the command's options in :mod:`wake.cli`.
 """
 
-from wake.io.readers import FORMATS, PADS_CHANNELS, PADS_UNITS, read_csv, read_mat, read_pads, read_recording
+from wake.io.readers import FORMATS, PADS_CHANNELS, PADS_UNITS, read_csv, read_pads, read_recording
+from wake.io.matlab import read_mat
 from wake.io.recording import Recording, Timing, analyse_time, nominal_rate, resample_uniform
 from wake.io.writers import result_columns, write_result_csv, write_tremor_csv
 

@@ -4,23 +4,25 @@
 :class:`~wake.io.recording.Recording` on a uniform grid with channel names
 and units.
 
-Time column (``time_column="auto"``): the first column is taken as time when
-its header names it so (``t``, ``time``, ``timestamp``, ``time_s``,
-``time [ms]``, ...) or, without such a name, when it is shaped like a clock:
-non-decreasing, advancing, with at least 90 % of its steps within 50 % of the
-median step, and not a plain row counter (integers stepping by exactly 1:
-those are read as an index and dropped, and the rate must be given).  Its
-unit (s, ms, us, ns) comes from its header (``t [ms]``, ``timestamp_ms``) or,
-when the header says none, from its step size
-(:mod:`wake.io.time_column`); ``Recording.timing`` says which and why.
+Time column (``time_column="auto"``): the rule of :mod:`wake.io.time_column`
+(:func:`~wake.io.time_column.find_time_column`): a column named like time
+(``time``, ``Zeit [s]``, ``timestamp_ms``, ``TimeUs``, ... anywhere, text
+columns passed over) or, in a file without names, a first numeric column
+shaped like a clock (a plain row counter 0, 1, 2, ... is read as an index and
+dropped, and the rate must be given).  Its unit (s, ms, us, ns) comes from
+its header (``t [ms]``, ``timestamp_ms``) or, when the header says none, from
+its step size; ``Recording.timing`` says which and why.
 
 Delimited text (:mod:`wake.io.text_table`): only the columns asked for are
 parsed as numbers, so text columns beside the signals (a subject id, a
 label) are no obstacle; a decimal comma is detected or given
 (``decimal=","``).
 
-Rate: ``fs`` when given, else the time column's (:func:`nominal_rate`); a
-file with neither is refused with a message that names both fixes.
+Rate: the time column's (:func:`~wake.io.recording.nominal_rate`), or ``fs``
+when given; an ``fs`` that contradicts the time column's own rate by over
+5 % is refused with a message naming both rates, unless ``resample=True``
+(``--resample``) asks for that grid (:func:`~wake.io.recording.check_rate`).
+A file with neither is refused with a message that names both fixes.
 
 Header cells may carry a unit: ``acc_x [g]`` or ``acc_x (g)`` is channel
 ``acc_x`` in ``g``.  PADS files (7 numeric columns, time then accelerometer
@@ -31,29 +33,28 @@ and get their channel names and units.
 from __future__ import annotations
 
 import re
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from wake._validation import check_positive
-from wake.io.recording import Recording, Timing, analyse_time, nominal_rate, resample_uniform
-from wake.io.text_table import check_decimal_mark, read_text_table
-from wake.io.time_column import (TimeUnit, is_row_counter, is_time_name, shaped_like_time, unit_from_name,
-                                 unit_from_steps)
+from wake.io import formats
+from wake.io.recording import Recording, Timing, analyse_time, check_rate, resample_uniform
+from wake.io.text_table import TextTable, check_decimal_mark, read_text_table
+from wake.io.time_column import TimeUnit, find_time_column, is_row_counter, unit_from_name, unit_from_steps
 
-__all__ = ["FORMATS", "PADS_CHANNELS", "PADS_UNITS", "read_recording", "read_csv", "read_pads", "read_mat"]
+__all__ = ["FORMATS", "PADS_CHANNELS", "PADS_UNITS", "TableLayout", "read_recording", "read_csv", "read_pads",
+           "table_layout"]
 
-#: Formats :func:`read_recording` knows (``"auto"`` picks by content and suffix).
-FORMATS = ("auto", "csv", "pads", "mat")
+#: Formats :func:`read_recording` knows (``"auto"`` picks by content and suffix; after mat: :mod:`wake.io.formats`).
+FORMATS = ("auto", "csv", "pads", "mat", *formats.FORMATS)
 #: Channel names of a PADS recording, in file order after the time column.
 PADS_CHANNELS = ("acc_x", "acc_y", "acc_z", "gyro_x", "gyro_y", "gyro_z")
 #: Units of :data:`PADS_CHANNELS`.
 PADS_UNITS = ("g", "g", "g", "rad/s", "rad/s", "rad/s")
 
 _UNIT = re.compile(r"^(.*?)\s*[\[(]\s*([^\])]*?)\s*[\])]\s*$")
-_MAT_TIME = ("t", "time", "timestamp", "timestamps", "Time", "T")
-_MAT_RATE = ("fs", "Fs", "FS", "srate", "sampling_rate", "sample_rate", "samplerate", "SampleRate")
 
 
 def split_unit(cell: str) -> tuple[str, str]:
@@ -112,7 +113,7 @@ def _select(names, columns, path, time_index, text=()):
 
 
 def _finish(path, name, column, names, units, time_index, time_unit, fs, columns, *, text=(), notes=(),
-            rate_source="--fs"):
+            rate_source="--fs", resample=False):
     """Select the channels, take the time column and put the samples on a uniform grid.
 
     ``column(j)`` gives file column ``j`` as floats (only the columns used are asked for); ``time_unit`` is
@@ -136,7 +137,8 @@ def _finish(path, name, column, names, units, time_index, time_unit, fs, columns
     time_unit = unit_from_steps(raw) if time_unit is None else time_unit
     time = raw * time_unit.seconds
     try:
-        rate = nominal_rate(time) if fs is None else check_positive("fs", fs)
+        given = "fs (--fs)" if rate_source == "--fs" else rate_source
+        rate = check_rate(fs, time, resample=resample, given=given, column=f"the time column {names[time_index]!r}")
         timing = analyse_time(time, rate)
         if timing.resampled:
             values, _ = resample_uniform(time, values, rate)
@@ -147,7 +149,8 @@ def _finish(path, name, column, names, units, time_index, time_unit, fs, columns
                      notes=tuple(notes))
 
 
-def read_csv(path, *, fs=None, time_column="auto", columns=None, name=None, decimal="auto") -> Recording:
+def read_csv(path, *, fs=None, time_column="auto", columns=None, name=None, decimal="auto",
+             resample=False) -> Recording:
     """A delimited text file: comma, semicolon, tab or whitespace separated.
 
     Parameters
@@ -155,6 +158,9 @@ def read_csv(path, *, fs=None, time_column="auto", columns=None, name=None, deci
     path : str or Path
     fs : float, optional
         Sampling rate of the output grid, Hz.  Default: the time column's.
+        Beside a time column it must agree with the column's own rate
+        (within 5 %, :func:`wake.io.recording.check_rate`) unless
+        ``resample`` is True.
     time_column : "auto", None, str or int
         ``"auto"``: detect (module docstring); ``None``: there is none; a
         header name or a 0-based index: that column.
@@ -167,6 +173,9 @@ def read_csv(path, *, fs=None, time_column="auto", columns=None, name=None, deci
     decimal : {"auto", ".", ","}
         Decimal mark (:mod:`wake.io.text_table`): ``"auto"`` reads
         ``0,5;1,2`` as two numbers, 0.5 and 1.2.
+    resample : bool
+        Resample the time column onto ``fs`` even where ``fs`` contradicts
+        the column's own rate (``--resample``).
 
     Examples
     --------
@@ -181,7 +190,49 @@ def read_csv(path, *, fs=None, time_column="auto", columns=None, name=None, deci
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"{path}: no such file" + (" (it is a folder)" if path.is_dir() else ""))
-    table = read_text_table(path, decimal)
+    lay = table_layout(read_text_table(path, decimal), time_column, path, columns)
+    return _finish(path, name or path.stem, lay.column, lay.names, lay.units, lay.time_index, lay.time_unit, fs,
+                   columns, text=lay.text, notes=lay.notes, resample=resample)
+
+
+@dataclass(frozen=True)
+class TableLayout:
+    """What the rules make of a delimited text table: names, units, text columns and the time column.
+
+    Indices count the table's columns from ``start`` (1 when a headerless first column is a row counter,
+    read as an index and dropped; else 0).  ``wake run`` (:func:`read_csv`) and ``wake stream``
+    (:mod:`wake.io.stream`, on its first lines) both take their columns from :func:`table_layout`.
+    """
+
+    table: TextTable
+    names: tuple  #: per column from ``start``: the header's names, else ``col{j}`` (the file column's index)
+    units: tuple  #: per column from ``start``: the header's unit cells ("" for none)
+    time_index: int | None  #: the time column (from ``start``), or None
+    time_unit: TimeUnit | None  #: its unit (None: judge it from its steps)
+    text: tuple  #: the text columns (from ``start``)
+    start: int  #: table columns before the first one counted
+    notes: tuple  #: what the reader inferred (a decimal comma)
+
+    def column(self, j: int) -> np.ndarray:
+        """Column ``j`` (from ``start``) as floats."""
+        return self.table.numbers(j + self.start, self.names[j])
+
+
+def table_layout(table: TextTable, time_column="auto", path="input", columns=None) -> TableLayout:
+    """The names, units, text columns and time column of ``table``, by the rules of this module.
+
+    ``columns`` matters only to a headerless row counter: when channels are asked for by file index,
+    it is not dropped, so that the indices stay the file's.
+
+    Examples
+    --------
+    >>> from wake.io.readers import table_layout
+    >>> from wake.io.text_table import table_from_lines
+    >>> rows = ["subject,timestamp_ms,gx [deg/s]"] + [f"P01,{10 * i},{0.5 * i}" for i in range(5)]
+    >>> lay = table_layout(table_from_lines(list(enumerate(rows, 1))))
+    >>> lay.names, lay.units, lay.time_index, lay.time_unit.unit, lay.text
+    (('subject', 'timestamp_ms', 'gx'), ('', '', 'deg/s'), 1, 'ms', (0,))
+    """
     width = table.width
     header = [split_unit(c) for c in table.header] if table.header is not None else None
     names = [h[0] for h in header] if header else [f"col{i}" for i in range(width)]
@@ -202,8 +253,9 @@ def read_csv(path, *, fs=None, time_column="auto", columns=None, name=None, deci
             and time_column == "auto" and is_row_counter(column(0)):
         start = 1  # a row counter as the first column: an index, not a signal
     notes = ("decimal comma",) if table.decimal_comma else ()
-    return _finish(path, name or path.stem, lambda j: column(j + start), names[start:], units[start:],
-                   time_index, time_unit, fs, columns, text=tuple(j - start for j in text), notes=notes)
+    return TableLayout(table, tuple(names[start:]), tuple(units[start:]),
+                       None if time_index is None else time_index - start, time_unit,
+                       tuple(j - start for j in text if j >= start), start, notes)
 
 
 def _find_time(column, names, units, time_column, path, has_header, text=()):
@@ -212,13 +264,8 @@ def _find_time(column, names, units, time_column, path, has_header, text=()):
     if _no_time(time_column):
         return None, None
     if isinstance(time_column, str) and time_column.lower() == "auto":
-        if width < 2 or 0 in text:
-            return None, None
-        if has_header and is_time_name(names[0], units[0]):
-            return 0, unit_from_name(names[0], units[0])
-        if (not has_header or not names[0]) and shaped_like_time(column(0)):
-            return 0, None  # unnamed: by its shape
-        return None, None  # a named column that is not called time is a signal
+        i, _ = find_time_column(names, lambda j: j in text, column, has_header)  # the rule: wake.io.time_column
+        return (None, None) if i is None else (i, unit_from_name(names[i], units[i]) if has_header else None)
     if isinstance(time_column, bool) or not isinstance(time_column, (str, int, np.integer)):
         raise ValueError(f"time_column must be 'auto', None, a name or an index, got {time_column!r}")
     i = _column_index(time_column, names, path, what="time column")
@@ -250,94 +297,24 @@ def read_pads(path, fs=100.0, columns=None) -> Recording:
         raise ValueError(f"{path}: need at least two samples, got {data.shape[0]}")
     fs = check_positive("fs", fs)
     return _finish(path, path.stem, lambda j: data[:, j], names, ["s", *PADS_UNITS], 0, TimeUnit("s", "unit cell"),
-                   fs, columns)
-
-
-def read_mat(path, *, fs=None, time_column="auto", columns=None, name=None) -> Recording:
-    """A MATLAB ``.mat`` file (v4 to v7; v7.3 is HDF5 and is refused with a hint).
-
-    Numeric variables of the recording's length become channels: a vector is
-    one channel named after the variable, an ``n x k`` matrix (or ``k x n``)
-    gives ``var_0 .. var_{k-1}``.  A vector named ``t`` / ``time`` /
-    ``timestamp`` is the time column; a scalar named ``fs`` / ``Fs`` /
-    ``srate`` / ``sampling_rate`` is the rate when ``fs`` is not given.
-    """
-    import scipy.io
-
-    path = Path(path)
-    if not path.is_file():
-        raise ValueError(f"{path}: no such file")
-    try:
-        mat = scipy.io.loadmat(path, squeeze_me=False)
-    except NotImplementedError:
-        raise ValueError(f"{path}: a MATLAB v7.3 (HDF5) file; save it with save(..., '-v7') or export a CSV") \
-            from None
-    except (ValueError, TypeError, OSError, scipy.io.matlab.MatReadError) as exc:
-        raise ValueError(f"{path}: not a readable MATLAB file ({exc})") from None
-    arrays = {k: np.asarray(v) for k, v in mat.items() if not k.startswith("__")}
-    numeric = {k: v for k, v in arrays.items() if v.dtype.kind in "iuf" and v.size > 0}
-    rate_source = "--fs"
-    if fs is None:
-        for k in _MAT_RATE:
-            if k in numeric and numeric[k].size == 1:
-                fs = float(numeric.pop(k).reshape(-1)[0])
-                rate_source = f"the file's {k!r} variable"
-                break
-    else:
-        for k in _MAT_RATE:
-            numeric.pop(k, None)
-    time = None
-    if not _no_time(time_column):
-        keys = _MAT_TIME if time_column == "auto" else (time_column,)
-        for k in keys:
-            if k in numeric and 1 in numeric[k].shape and numeric[k].size > 1:
-                time = numeric.pop(k).reshape(-1).astype(float)
-                break
-        else:
-            if time_column != "auto":
-                raise ValueError(f"{path}: no time vector {time_column!r}; variables: {', '.join(arrays)}")
-    length = time.size if time is not None else max((max(v.shape) for v in numeric.values()), default=0)
-    names, cols = [], []
-    for k, v in numeric.items():
-        v = v.astype(float)
-        if v.ndim != 2 or length not in v.shape:
-            continue
-        v = v if v.shape[0] == length else v.T
-        if v.shape[1] == 1:
-            names.append(k)
-            cols.append(v[:, 0])
-        else:
-            names.extend(f"{k}_{i}" for i in range(v.shape[1]))
-            cols.extend(v.T)
-    if not cols:
-        what = f"of {length} samples" if length else "of numbers"
-        raise ValueError(f"{path}: no numeric vector or matrix {what}; variables: "
-                         f"{', '.join(f'{k} {v.shape}' for k, v in arrays.items())}")
-    data = np.column_stack(cols)
-    if np.isinf(data).any():
-        raise ValueError(f"{path}: a variable holds inf (use nan for a missing sample)")
-    time_index = None
-    if time is not None:
-        data = np.column_stack([time, data])
-        names = ["time", *names]
-        time_index = 0
-    units = [""] * len(names)
-    return _finish(path, name or path.stem, lambda j: data[:, j], names, units, time_index, TimeUnit(), fs, columns,
-                   rate_source=rate_source)
+                   fs, columns, resample=True)  # fs is the grid asked for: a PADS clock runs near 100 Hz
 
 
 def read_recording(path, *, format="auto", fs=None, time_column="auto", columns=None, decimal="auto",
-                   units=None) -> Recording:
+                   units=None, resample=False) -> Recording:
     """Read a recording in any known format onto a uniform grid.
 
     Parameters
     ----------
     path : str or Path
-    format : {"auto", "csv", "pads", "mat"}
-        ``"auto"``: ``.mat`` files are MATLAB, everything else delimited
-        text (PADS files are recognised by their shape).
-    fs, time_column, columns, decimal
+    format : {"auto", "csv", "pads", "mat", "cwa", "gt3x", "geneactiv", "edf", "tsdf", "parquet", "bids"}
+        ``"auto"``: those of :mod:`wake.io.formats` by suffix and content (a
+        folder holding one too), ``.mat`` files are MATLAB, everything else
+        delimited text (PADS files are recognised by their shape).
+    fs, time_column, columns, decimal, resample
         See :func:`read_csv` (``decimal`` applies to delimited text only).
+        An ``fs`` that contradicts the file's time column is refused, naming
+        both rates, unless ``resample=True``.
     units : str or sequence of str, optional
         The channels' units where the file does not say them (a headerless
         CSV): one unit for every channel, or one per channel.
@@ -357,13 +334,37 @@ def read_recording(path, *, format="auto", fs=None, time_column="auto", columns=
         raise ValueError(f"format must be one of {', '.join(FORMATS)}, got {format!r}")
     check_decimal_mark(decimal)  # before the format is chosen: a .mat file is refused a bad one too
     path = Path(path)
-    if format == "mat" or (format == "auto" and path.suffix.lower() == ".mat"):
-        rec = read_mat(path, fs=fs, time_column=time_column, columns=columns)
+    found = formats.resolve(path, format)
+    if found is not None:
+        rec = _read_format(*found, fs=fs, time_column=time_column, columns=columns, resample=resample)
+    elif format == "mat" or (format == "auto" and path.suffix.lower() == ".mat"):
+        from wake.io.matlab import read_mat  # it takes the rules of this module (_finish)
+
+        rec = read_mat(path, fs=fs, time_column=time_column, columns=columns, resample=resample)
     elif format == "pads":
         rec = read_pads(path, fs=100.0 if fs is None else fs, columns=columns)
     else:
-        rec = read_csv(path, fs=fs, time_column=time_column, columns=columns, decimal=decimal)
+        rec = read_csv(path, fs=fs, time_column=time_column, columns=columns, decimal=decimal, resample=resample)
     return rec if units is None else with_units(rec, units)
+
+
+def _read_format(path, fmt, *, fs, time_column, columns, resample) -> Recording:
+    """A file of :mod:`wake.io.formats`: its library reads the table, :func:`_finish` applies the rules."""
+    if fmt not in formats.NAMED_COLUMNS and not (isinstance(time_column, str) and time_column.lower() == "auto"):
+        raise ValueError(f"{path}: a {fmt} recording's time comes from the file itself; --time-column "
+                         "(time_column=) applies to delimited text and Parquet: leave it at auto")
+    table = formats.read_table(path, fmt, columns)
+    if table.meta.get("columns"):
+        columns = None  # the reader took exactly the channels asked for (EDF: one rate)
+    if table.time is None:  # named columns (Parquet): the time column is found as in a CSV file's header
+        time_index, time_unit = _find_time(table.column, table.names, table.units, time_column, path, True,
+                                           table.text)
+        return _finish(path, table.name, table.column, table.names, table.units, time_index, time_unit, fs,
+                       columns, text=table.text, notes=table.notes, resample=resample)
+    width = len(table.names)  # the clock after the channels: a 0-based index names a channel
+    names, units = [*table.names, "time"], [*table.units, "s"]
+    return _finish(path, table.name, lambda j: table.time if j == width else table.column(j), names, units, width,
+                   TimeUnit("s", "unit cell"), fs, columns, notes=table.notes, resample=resample)
 
 
 def with_units(rec: Recording, units) -> Recording:

@@ -14,7 +14,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["COMMON_RATES", "Recording", "Timing", "analyse_time", "nominal_rate", "resample_uniform", "REGULAR_TOLERANCE"]
+__all__ = ["COMMON_RATES", "RATE_TOLERANCE", "Recording", "Timing", "analyse_time", "check_rate", "nominal_rate",
+           "resample_uniform", "REGULAR_TOLERANCE"]
 
 #: A time column whose every step is within this fraction of the median step
 #: (and whose rate is the one asked for) is used as it is, without resampling.
@@ -126,6 +127,47 @@ def nominal_rate(time) -> float:
             return float(common)
     whole = round(rate)
     return float(whole) if whole > 0 and abs(rate - whole) <= 0.01 * whole else rate
+
+
+#: A rate that differs from a time column's own rate by more than this fraction of it contradicts the column.
+RATE_TOLERANCE = 0.05
+
+
+def check_rate(fs, time, *, resample: bool = False, given: str = "fs (--fs)", column: str = "the time column",
+               can_resample: bool = True):
+    """The rate of the output grid: the time column's own (:func:`nominal_rate`) when ``fs`` is None, else
+    ``fs``, refused when it contradicts the column by over :data:`RATE_TOLERANCE` unless ``resample``.
+
+    A rate given beside a time column that runs at another one is most often a slip (the wrong file, a
+    unit misread), and resampling a 100 Hz file onto 1 kHz makes ten rows of every one without a word; so
+    it takes ``resample=True`` (``--resample``) to ask for that.  ``can_resample=False`` (a live stream,
+    which is not resampled) leaves that way out of the message.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wake.io.recording import check_rate
+    >>> check_rate(None, np.arange(50) / 100.0), check_rate(100.0, np.arange(50) / 99.4)
+    (100.0, 100.0)
+    >>> check_rate(1000.0, np.arange(50) / 100.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: fs (--fs) 1000 Hz contradicts the time column, which runs at 100 Hz: leave the rate out to use 100 Hz, or ask for a 1000 Hz grid with resample=True (--resample); to ignore the time column, time_column=None (--time-column none)
+    """
+    own = nominal_rate(time)
+    if fs is None:
+        return own
+    if not (np.isfinite(fs) and fs > 0):
+        raise ValueError(f"{given} must be > 0 Hz, got {fs}")
+    fs = float(fs)
+    if not resample and abs(fs - own) > RATE_TOLERANCE * own:
+        if not can_resample:
+            raise ValueError(f"{given} {fs:g} Hz contradicts {column}, which runs at {own:g} Hz: leave the rate "
+                             f"out to use {own:g} Hz; to ignore the time column, --time-column none")
+        raise ValueError(f"{given} {fs:g} Hz contradicts {column}, which runs at {own:g} Hz: leave the rate out "
+                         f"to use {own:g} Hz, or ask for a {fs:g} Hz grid with resample=True (--resample); to "
+                         "ignore the time column, time_column=None (--time-column none)")
+    return fs
 
 
 def analyse_time(time, fs: float) -> Timing:

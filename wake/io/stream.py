@@ -5,19 +5,35 @@ this module reads and writes the streams.
 
 Every input sample gets exactly one output sample, in order:
 
-* ``--stdin`` / ``--stdout``: one line of comma-separated values per sample
-  (optionally led by a timestamp with ``--timestamps``, copied to the output);
-  a first line that is not numeric names the channels.
+* ``--stdin`` / ``--stdout`` (:mod:`wake.io.pipes`): one line per sample, read by the rules of
+  ``wake run`` (:class:`~wake.io.pipes.LineLayout`, :func:`wake.io.readers.table_layout`):
+  the delimiter and decimal mark, a header row, text columns (left out) and
+  the time column (:mod:`wake.io.time_column`) are taken from the first
+  lines, the channels are named as ``wake run`` names them (the header's
+  names, else ``col{j}`` after the file column), ``--column``,
+  ``--time-column``, ``--decimal`` and ``--units`` mean what they mean
+  there, and ``--fs`` may be left out when a time column gives the rate (an
+  ``--fs`` that contradicts it is refused).  Only where a column's shape
+  alone can tell whether it is time (no header row, ``--time-column auto``)
+  does the stream read :data:`~wake.io.pipes.DETECT_LINES` lines before it answers the
+  first (then at once); ``--time-column none`` (or a header row) answers
+  from the first line.  A time column is not resampled: its value, in s, is
+  copied to the output line.
 * ``--lsl-in NAME`` / ``--lsl-out NAME``: an LSL inlet resolved by name (any
   channel count, its nominal rate as ``fs``) and an outlet of
   ``2 x channels`` values with the input's timestamps and channel labels.
   Needs the optional ``pylsl`` (``pip install pylsl``, or ``pip install ".[lsl]"`` in a source tree).
 
-Output per input sample ``x(n)``: the voluntary motion ``v(n)`` (predicted from the samples before ``n``:
-``WakeFilter.run``'s ``voluntary[n]``), then the tremor ``x(n) - v(n)``: all voluntary values first, then
-all tremor values (with ``--horizon-ms`` the ahead columns after them, :func:`_kinds`).  With ``--hpa-mode
-inline`` the output equals ``WakeFilter.run`` bit for bit; the default ``thread`` keeps the HPA off the
-sample path, so its weights take effect a few samples later (``docs/design.md``, "Streaming").
+Output per input sample ``x(n)``, over pipes the columns of ``wake run --out``
+(:func:`wake.io.writers.result_columns`): the time in s, then per channel the
+measurement, the voluntary motion ``v(n)`` (predicted from the samples before
+``n``: ``WakeFilter.run``'s ``voluntary[n]``) and the tremor ``x(n) - v(n)``,
+and with ``--horizon-ms`` that channel's ahead columns (:func:`_kinds`); over
+LSL, per channel the voluntary motion, the tremor and the ahead columns.
+Values are written in the shortest form that reads back exactly.  With
+``--hpa-mode inline`` the output equals ``WakeFilter.run`` bit for bit; the
+default ``thread`` keeps the HPA off the sample path, so its weights take
+effect a few samples later (``docs/studies/design.md``, "Streaming").
 
 Since ``v(n)`` is known before ``x(n)`` arrives, a sample's output line is written first and the filter
 takes the sample in afterwards: the filter's work is not on the sample-in -> result-out path.
@@ -31,17 +47,15 @@ from __future__ import annotations
 import gc
 import math
 import signal
-import sys
 import time
 from collections import deque
 
 import numpy as np
 
 from wake.sampling import rate_note
-from wake._files import silence_stdout
 from wake.io.writers import VOLUNTARY_AHEAD_COLUMN, ahead_columns
 
-__all__ = ["StreamProcessor", "StreamStop", "run_pipes", "run_lsl", "SWITCH_INTERVAL_S"]
+__all__ = ["StreamProcessor", "StreamStop", "run_lsl", "SWITCH_INTERVAL_S"]
 
 #: GIL switch interval while an HPA thread runs beside the sample path (default Python: 5 ms).
 SWITCH_INTERVAL_S = 2e-4
@@ -155,117 +169,11 @@ class StreamStop:
         return old
 
 
-def _fmt(values) -> str:
-    return ",".join(repr(float(v)) for v in values)
-
-
-def _parse(line: str, expect: int | None):
-    cells = [c.strip() for c in line.split(",")]
-    out = []
-    for c in cells:
-        if c == "" or c.lower() == "nan":
-            out.append(math.nan)
-            continue
-        v = float(c)  # ValueError: the caller names the line
-        if math.isinf(v):
-            raise ValueError("inf (send nan or an empty cell for a missing sample)")
-        out.append(v)
-    if expect is not None and len(out) != expect:
-        raise ValueError(f"{len(out)} values where the stream has {expect}")
-    return out
-
-
 def _ready(filt):
     """Before the first sample: the HPA worker running, and the objects of the set-up out of the GC's way."""
     filt.start_worker()
     gc.collect()
     gc.freeze()  # the set-up's objects (numpy, scipy, ...) are never scanned again: short collections
-
-
-def run_pipes(args, make_filter, stop, log) -> int:
-    """``--stdin`` / ``--stdout``: one line in, one line out, until the input ends or ``stop`` is requested.
-
-    ``args`` holds the options of ``wake stream`` (``wake.cli``), ``make_filter(fs)`` builds the filter,
-    ``stop`` is a :class:`StreamStop`, ``log(message)`` writes a status line.  Returns the exit status.
-    """
-    fin, fout = sys.stdin, sys.stdout
-    filt = make_filter(args.fs)
-    try:
-        _ready(filt)
-        log(f"wake stream: ready, reading stdin at {args.fs:g} Hz")
-        log(rate_note(args.fs))  # after the ready line, which a producer waits for
-        return _pipe_loop(args, stop, log, filt, fin, fout)
-    finally:
-        filt.close()  # also on an early error return: the worker never outlives the command
-
-
-def _pipe_loop(args, stop, log, filt, fin, fout) -> int:
-    names = None
-    proc = None
-    width = None
-    lineno = 0
-    last_status = time.monotonic()
-    try:
-        while not stop.requested:
-            stop.reading = True
-            try:
-                line = fin.readline()
-            except KeyboardInterrupt:
-                break
-            finally:
-                stop.reading = False
-            if not line:
-                break
-            t_in = time.perf_counter()
-            lineno += 1
-            text = line.strip()
-            if not text or text.startswith("#"):
-                continue
-            if proc is None and names is None and not _numeric_line(text):
-                names = [c.strip() for c in text.split(",")]
-                if args.timestamps:
-                    names = names[1:]
-                continue
-            try:
-                values = _parse(text, width)
-            except ValueError as exc:
-                if args.bad_lines == "stop" or width is None:
-                    log(f"wake stream: error: input line {lineno}: {exc}; fix the line or pass --bad-lines "
-                        "missing to treat it as a missing sample")
-                    return 2
-                values = [math.nan] * width
-                proc.bad += 1
-                if proc.bad <= 5:
-                    log(f"wake stream: warning: input line {lineno}: {exc}; taken as a missing sample")
-            if width is None:
-                width = len(values)
-                n_ch = width - (1 if args.timestamps else 0)
-                if n_ch < 1:
-                    log("wake stream: error: --timestamps needs at least one value after the timestamp")
-                    return 2
-                if names is not None and len(names) != n_ch:
-                    log(f"wake stream: error: the header names {len(names)} channels, line {lineno} has {n_ch}")
-                    return 2
-                names = names or [f"ch{i}" for i in range(n_ch)]
-                proc = StreamProcessor(filt, names)
-                if args.header:
-                    head = (["time"] if args.timestamps else []) + [f"{c}_{kind}" for kind in _kinds(args, filt)
-                                                                    for c in names]
-                    fout.write(",".join(head) + "\n")
-            stamp = values[:1] if args.timestamps else []
-            out = _answer(proc, args, values[1:] if args.timestamps else values)
-            fout.write(_fmt([*stamp, *np.concatenate(out)]) + "\n")
-            fout.flush()
-            done, last_status = _after_sample(proc, args, log, t_in, last_status)
-            if done:
-                break
-    except BrokenPipeError:
-        log("wake stream: error: the output pipe was closed by the reader; stopping")
-        silence_stdout()
-        _finish(proc, log, "output closed")
-        return 1
-    _finish(proc, log, "stopped by signal" if stop.requested else "end of input")
-    return 0
 
 
 def _kinds(args, filt) -> tuple:
@@ -291,14 +199,6 @@ def _after_sample(proc, args, log, t_in, last_status):
         last_status = time.monotonic()
         log(f"wake stream: {proc.status()}")
     return bool(args.max_samples) and proc.samples >= args.max_samples, last_status
-
-
-def _numeric_line(text: str) -> bool:
-    try:
-        _parse(text, None)
-        return True
-    except ValueError:
-        return False
 
 
 def _finish(proc, log, why):
@@ -358,8 +258,8 @@ def run_lsl(args, make_filter, stop, log) -> int:
     out_info = pylsl.StreamInfo(args.lsl_out, "WAKE", len(kinds) * n_ch, fs, pylsl.cf_double64,
                                 f"wake-{info.source_id()}")
     chans = out_info.desc().append_child("channels")
-    for kind in kinds:
-        for label, unit in zip(labels, units):
+    for label, unit in zip(labels, units):  # grouped by channel, as wake run groups its columns
+        for kind in kinds:
             c = chans.append_child("channel")
             c.append_child_value("label", f"{label}_{kind}")
             c.append_child_value("unit", "" if kind == "confidence" else unit)
@@ -385,7 +285,7 @@ def run_lsl(args, make_filter, stop, log) -> int:
                 continue
             t_in = time.perf_counter()
             values = [math.nan if (v is None or math.isinf(v)) else float(v) for v in sample]
-            outlet.push_sample(np.concatenate(_answer(proc, args, values)).tolist(), stamp)
+            outlet.push_sample(np.column_stack(_answer(proc, args, values)).reshape(-1).tolist(), stamp)
             done, last_status = _after_sample(proc, args, log, t_in, last_status)
             if done:
                 break

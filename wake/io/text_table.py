@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["DECIMAL_MARKS", "TextTable", "check_decimal_mark", "read_text_table"]
+__all__ = ["DECIMAL_MARKS", "TextTable", "check_decimal_mark", "read_text_table", "table_from_lines"]
 
 #: Accepted values of ``decimal``.
 DECIMAL_MARKS = ("auto", ".", ",")
@@ -83,6 +83,18 @@ class TextTable:
     def is_text(self, j: int) -> bool:
         """Column ``j`` holds no number at all (a label, a subject id)."""
         return not any(cell and _is_number(cell, self.decimal_comma) for cell in self.cells[j])
+
+    def split(self, line: str) -> list:
+        """The cells of one more line of the same file (the table's delimiter), stripped."""
+        cells = line.split() if self.delimiter is None else next(csv.reader([line], delimiter=self.delimiter))
+        return [c.strip() for c in cells]
+
+    def number(self, cell: str) -> float:
+        """One cell as a float with the table's decimal mark (empty: NaN); ValueError for text or inf."""
+        v = _to_float(cell, self.decimal_comma)
+        if np.isinf(v):
+            raise ValueError(f"infinite value {cell!r} (leave the cell empty or write nan for a missing sample)")
+        return v
 
     def numbers(self, j: int, name: str = "") -> np.ndarray:
         """Column ``j`` as floats (empty cells: NaN); a text cell or an infinite value is refused with its line."""
@@ -155,7 +167,13 @@ def read_text_table(path, decimal: str = "auto") -> TextTable:
     (['subject', 'gyro_x'], True, [0.5, 1.25])
     """
     path = Path(path)
-    lines = _lines(path)
+    return table_from_lines(_lines(path), decimal, path)
+
+
+def table_from_lines(lines, decimal: str = "auto", source="input") -> TextTable:
+    """A :class:`TextTable` of ``(line number, text)`` pairs (no comment or blank lines): the rules of
+    :func:`read_text_table` for lines that come from elsewhere (``wake stream`` reads its first lines so)."""
+    path = source if isinstance(source, Path) else Path(str(source))
     delimiter, comma = _dialect([line for _, line in lines[:20]], decimal)
     rows = []
     for lineno, line in lines:

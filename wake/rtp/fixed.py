@@ -6,7 +6,7 @@ the C library, the one firmware runs (with the voluntary motion ahead, ``w_h``,
 :mod:`wake.rtp.fixed_voluntary`).  Values cross the boundary in physical units and
 are quantised with ``full_scale`` (FS) into the formats of :mod:`wake.rtp.qformat`
 (which needs no compiled core); importing this module checks that the compiled core
-has those formats.  See ``docs/fixed_point.md`` for the error analysis.
+has those formats.  See ``docs/studies/fixed_point.md`` for the error analysis.
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ import numpy as np
 from wake._rtp import ffi, lib
 from wake.rtp.fixed_ahead import AheadMixin
 from wake.rtp.fixed_voluntary import VoluntaryAheadMixin
+from wake.rtp.status import check_status as _check
 from wake.rtp.qformat import (  # noqa: F401  (re-exported: the formats of this core)
     _INT32_MAX, _INT32_MIN, FIR_FRAC, GATE_FRAC, MAX_LEVEL, P_FRAC, SAMPLE_FRAC, STATE_FRAC, TAP_FRAC, TAP_ROW_ABS_MAX,
     WEIGHT_FRAC, WEIGHT_MAX, format_mismatches, quantize_taps, quantize_variance, quantize_weights,
@@ -30,26 +31,6 @@ if format_mismatches(lib):
                       "(python build_ffi.py)")
 _SAMPLE_SCALE = 2.0**SAMPLE_FRAC
 _step_c = lib.wake_rtp_step   # bound once: step() runs per sample
-
-_STATUS_TEXT = {
-    int(lib.WAKE_RTP_E_NULL): "null pointer",
-    int(lib.WAKE_RTP_E_LEVEL): "level out of range",
-    int(lib.WAKE_RTP_E_TAPS): "taps out of range",
-    int(lib.WAKE_RTP_E_WEIGHTS): "weights out of range",
-    int(lib.WAKE_RTP_E_NOISE): "bad noise values",
-    int(lib.WAKE_RTP_E_UNINIT): "uninitialised state",
-    int(lib.WAKE_RTP_E_CORRUPT): "corrupted state",
-    int(lib.WAKE_RTP_E_STATE): "bad state values",
-    int(lib.WAKE_RTP_E_NO_KALMAN): "a Kalman setting in a core built without the Kalman update (WAKE_RTP_KALMAN 0)",
-    int(lib.WAKE_RTP_E_AHEAD): "a tremor-ahead value out of range",
-}
-
-
-def _check(status, what):
-    status = int(status)
-    if status != int(lib.WAKE_RTP_OK):
-        raise RuntimeError(f"{what} failed: {_STATUS_TEXT.get(status, 'unknown error')} (status {status})")
-
 
 class FixedPointRTP(AheadMixin, VoluntaryAheadMixin):
     """One channel of the RTP on the fixed-point C core.
@@ -191,7 +172,7 @@ class FixedPointRTP(AheadMixin, VoluntaryAheadMixin):
         Values are quantised like everything else; out-of-range values raise
         ValueError.  The C core keeps of the covariance what the recursion
         uses, its variance along ``w``: ``P`` restarts as ``(w'Pw / w'w) I``
-        (docs/design.md, "Covariance at a weight change"); ``d`` is kept whole.
+        (docs/studies/design.md, "Covariance at a weight change"); ``d`` is kept whole.
         """
         scale = self.full_scale
         win = np.asarray(window_oldest_first, dtype=float).reshape(-1)

@@ -7,7 +7,7 @@ samples ahead ``P(n) = c . line`` (coefficients Q27; ``P`` and the command in Q2
 (Q30) and makes the command ``g P``.  :class:`AheadMixin` is the interface
 :class:`wake.rtp.reference.ReferenceRTP` shares (``set_ahead``, ``last_ahead``, ``run_ahead``); it
 needs the struct ``_state`` and ``full_scale`` of :class:`~wake.rtp.fixed.FixedPointRTP`.
-docs/fixed_point.md, "The tremor ahead", bounds its error.
+docs/studies/fixed_point.md, "The tremor ahead", bounds its error.
 """
 
 from __future__ import annotations
@@ -15,12 +15,12 @@ from __future__ import annotations
 import numpy as np
 
 from wake._rtp import ffi, lib
+from wake.rtp.status import check_status as _check
 from wake.ahead import ramp_step
 from wake.rtp.qformat import AHEAD_COEF_FRAC, AHEAD_TAPS, GATE_FRAC, SAMPLE_FRAC, STATE_FRAC, quantize_ahead
 
 __all__ = ["AheadMixin", "quantize_ramp"]
 
-_AHEAD_ERROR = int(lib.WAKE_RTP_E_AHEAD)
 
 
 def quantize_ramp(alpha: float) -> int:
@@ -38,11 +38,6 @@ def quantize_ramp(alpha: float) -> int:
     return max(1, int(round(a * 2.0**GATE_FRAC)))
 
 
-def _check(status, what):
-    status = int(status)
-    if status != int(lib.WAKE_RTP_OK):
-        extra = " (a tremor-ahead value out of range)" if status == _AHEAD_ERROR else ""
-        raise RuntimeError(f"{what} failed with status {status}{extra}")
 
 
 class AheadMixin:

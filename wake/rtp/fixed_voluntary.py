@@ -5,7 +5,7 @@ With ``horizon = h > 1`` the HPA fits a second weight vector ``w_h`` (``HPAUpdat
 RTP outputs ``v_h(n) = w_h' (a + d)``, the voluntary motion predicted for ``n + h`` from the state of the
 one-step prediction (:class:`wake.rtp.reference.ReferenceRTP` is the float twin).  The C core runs it as a
 second FIR ``B' w_h`` over the window plus one product, ``w_h' d = w_h' d_s + k (z - z_s)`` with
-``k = w_h' w / |w|^2`` (docs/design.md, "Voluntary motion at n + h"); the output is Q23 of the full scale.
+``k = w_h' w / |w|^2`` (docs/studies/design.md, "Voluntary motion at n + h"); the output is Q23 of the full scale.
 Until a ``w_h`` is installed it is the one-step prediction held, as in the float reference.
 """
 
@@ -14,18 +14,13 @@ from __future__ import annotations
 import numpy as np
 
 from wake._rtp import ffi, lib
+from wake.rtp.status import check_status as _check
 from wake.rtp.qformat import STATE_FRAC, quantize_weights
 
 __all__ = ["VoluntaryAheadMixin"]
 
-_WEIGHTS_ERROR = int(lib.WAKE_RTP_E_WEIGHTS)
 
 
-def _check(status, what):
-    status = int(status)
-    if status != int(lib.WAKE_RTP_OK):
-        extra = " (w_h outside ±64)" if status == _WEIGHTS_ERROR else ""
-        raise RuntimeError(f"{what} failed with status {status}{extra}")
 
 
 class VoluntaryAheadMixin:

@@ -21,7 +21,7 @@ core whose formats differ, and ``tests/rtp/test_qformat.py`` reads the header
 to check them, so the header stays their one source.  ``wake export-header``
 quantises with this module on a machine without the compiled core.
 
-See ``docs/fixed_point.md`` for the error analysis.
+See ``docs/studies/fixed_point.md`` for the error analysis.
 """
 
 from __future__ import annotations

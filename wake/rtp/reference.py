@@ -5,7 +5,7 @@ tested against; the two are written line for line alike.  One
 :class:`ReferenceRTP` is one channel's state, the twin of the C struct
 ``wake_rtp_t``.
 
-The per-sample recursion (docs/design.md maps each line onto the paper)::
+The per-sample recursion (docs/studies/design.md maps each line onto the paper)::
 
     buffer <- newest sample                      m_J(n), a ring of 2**J samples
     e      = m(n) - y(n-1)                       innovation, eq. (r(k))
@@ -123,7 +123,7 @@ class ReferenceRTP:
         The window, ``d`` and the last output are kept.  The covariance
         restarts isotropic at the variance it held along the direction it
         observed: ``P = (w_old' P w_old / |w_old|^2) I`` (the largest ``P_ii``
-        when ``w_old = 0``; docs/design.md, "Covariance at a weight change").
+        when ``w_old = 0``; docs/studies/design.md, "Covariance at a weight change").
         """
         w = np.array(weights, dtype=float).reshape(-1)
         if w.shape != (self.level,) or not np.isfinite(w).all():
@@ -248,7 +248,7 @@ class ReferenceRTP:
         self._push(sample)
         if not first:
             # the first sample had no prediction before it: no innovation, no
-            # measurement update (docs/design.md, "What the Kalman state observes")
+            # measurement update (docs/studies/design.md, "What the Kalman state observes")
             self._measurement_update(sample)
         self._time_update()
         y = self._predict()

@@ -49,7 +49,7 @@ static wake_rtp_t rtp;
  * The fields every call checks (check_instance in wake_hpa.c): the sealed configuration, the feeding
  * counters and the run's loop counters, all declared before wake_hpa_t::lo. The numeric work state
  * after them (int64 sums, floats) is the run's own output and is trusted, not re-checked
- * (docs/verification.md, "Corrupted state"): the harness corrupts only the checked part.
+ * (docs/studies/verification.md, "Corrupted state"): the harness corrupts only the checked part.
  */
 #define CHECKED_BYTES offsetof(wake_hpa_t, lo)
 

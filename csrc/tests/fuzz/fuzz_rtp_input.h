@@ -33,7 +33,7 @@ static wake_cov_t read_noise(fuzz_input_t *in)
 /**
  * The Kalman accumulators s, z and q |w|^2 are the recursion's own outputs, clamped by it every sample
  * to +-2^50, +-2^40 and [0, 2^47]; the per-sample path trusts those ranges rather than re-checking
- * them (a check costs cycles on every sample; docs/verification.md, "Corrupted state"). A corrupted
+ * them (a check costs cycles on every sample; docs/studies/verification.md, "Corrupted state"). A corrupted
  * value is brought back into its range, keeping the fuzzer's bits.
  */
 static void keep_accumulators_in_range(wake_rtp_t *s)

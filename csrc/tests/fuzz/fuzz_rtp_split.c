@@ -25,7 +25,7 @@
  * prediction and the same observable state, byte for byte (everything before wake_rtp_t::split_fir, as
  * csrc/tests/test_wake_rtp_split.c compares), and the front ends the same state.  After a corruption only
  * the statuses must agree: a corrupted state is one no call sequence makes (the ring holds each sample
- * twice, and the split step reads the other copy of some: docs/verification.md, "Fuzzing"), on which the
+ * twice, and the split step reads the other copy of some: docs/studies/verification.md, "Fuzzing"), on which the
  * header promises safety (every operation saturates), not the same prediction.
  */
 #include <stddef.h>

@@ -4,7 +4,7 @@
     python tests/prove/assigns_check.py --entry step_lag_end --jobs 2
 
 run_step's contract (tests/prove/eva_hpa_steps.c, above its declaration) lists the fields of the instance the
-steps write; the dispatch entries use that contract instead of the steps' bodies (docs/verification.md, "The
+steps write; the dispatch entries use that contract instead of the steps' bodies (docs/studies/verification.md, "The
 dispatch and the integer chunks"). This script runs the step entries of eva_check.py (each step of a run from
 its precondition, with the options eva_check.py gives it) with Frama-C's outputs analysis after Eva
 (``-out-external``: an over-approximation of the locations a function writes, callees included, on the states

@@ -17,7 +17,7 @@ tremor-ahead build, WAKE_HPA_AHEAD 1) and per configuration (the 64-bit multiply
 the Cortex-M0+ split arithmetic, WAKE_RTP_KALMAN 1 and 0; the -O2 and -Os source paths), each bounded
 by ``--timeout`` seconds and run ``--jobs`` at a time, on the ILP32 data model of a Cortex-M (machdep gcc_x86_32). It prints a
 Markdown table of the alarms per entry and configuration, then compares the distinct alarms
-(file and assertion) with the justified ones listed in docs/verification.md ("Eva alarms"), the one
+(file and assertion) with the justified ones listed in docs/studies/verification.md ("Eva alarms"), the one
 place they are listed. Exit status: 0 every alarm is listed; 1 an unlisted alarm, an analysis that
 did not finish (timeout or error) or a degeneration; 3 frama-c is missing (Debian: apt-get install
 frama-c-base).
@@ -35,9 +35,9 @@ import time
 from pathlib import Path
 
 CSRC = Path(__file__).resolve().parents[2]
-DOC = CSRC.parent / "docs" / "verification.md"
+DOC = CSRC.parent / "docs" / "studies" / "verification.md"
 RTP_ENTRIES = ["wake_rtp_init", "wake_rtp_set_weights", "wake_rtp_reset", "wake_rtp_step",
-               "wake_rtp_step_missing", "wake_rtp_run", "wake_rtp_run_outputs", "wake_rtp_load_state", "wake_rtp_get_state",
+               "wake_rtp_step_missing", "wake_rtp_run", "wake_rtp_load_state", "wake_rtp_get_state",
                "wake_rtp_reciprocal", "wake_rtp_set_ahead", "wake_rtp_set_ahead_ramp", "wake_rtp_ahead_output",
                "wake_rtp_load_ahead_state", "wake_rtp_get_ahead_state"]
 #: entries of the split step, analysed in every configuration with WAKE_RTP_SPLIT 1 added
@@ -45,7 +45,7 @@ SPLIT_ENTRIES = ["wake_rtp_prepare", "wake_rtp_finish", "wake_rtp_finish_missing
 SPLIT_DEFS = " -DWAKE_RTP_SPLIT=1"
 #: entries of the voluntary motion at n + h, analysed in every configuration with WAKE_RTP_VOLUNTARY_AHEAD 1 added
 #: (wake_rtp_step with it on: --entry wake_rtp_step --voluntary-ahead)
-VOLUNTARY_ENTRIES = ["wake_rtp_set_voluntary_ahead", "wake_rtp_voluntary_ahead_output"]
+VOLUNTARY_ENTRIES = ["wake_rtp_set_voluntary_ahead", "wake_rtp_voluntary_ahead_output", "wake_rtp_run_outputs"]
 VOLUNTARY_DEFS = " -DWAKE_RTP_VOLUNTARY_AHEAD=1"
 #: the entries whose code runs the voluntary motion's restart (its gain k = w_h' w / |w|^2 by long division and its
 #: FIR build), analysed again in the build with WAKE_RTP_VOLUNTARY_AHEAD 1 (unit rtp_voluntary), every configuration
@@ -69,14 +69,14 @@ HPA_ENTRIES = ["wake_hpa_default_config", "wake_hpa_init", "wake_hpa_push", "wak
 #: in all of them
 HPA_CONFIGS = ["mul64 K1", "m0split K0"]
 HPA_ALL_CONFIG_ENTRIES = {"wake_hpa_apply"}
-#: the tremor-ahead build (off by default; docs/verification.md, "The tremor-ahead build"): WAKE_HPA_AHEAD 1
+#: the tremor-ahead build (off by default; docs/studies/verification.md, "The tremor-ahead build"): WAKE_HPA_AHEAD 1
 #: and the RTP's WAKE_RTP_AHEAD it needs (on by default, stated so that the unit does not depend on that
 #: default). Every HPA entry again, with the ahead counters, fields and steps compiled in, and the entry
 #: that exists only there; the same configurations as above
 AHEAD_DEFS = " -DWAKE_HPA_AHEAD=1 -DWAKE_RTP_AHEAD=1"
 AHEAD_HPA_ENTRIES = HPA_ENTRIES + ["wake_hpa_ahead_to_rtp"]
 #: the steps of one HPA run, each from its precondition (tests/prove/eva_hpa_steps.c, which includes wake_hpa.c:
-#: the steps are static), each checking the postcondition the next assumes (docs/verification.md, "A whole HPA
+#: the steps are static), each checking the postcondition the next assumes (docs/studies/verification.md, "A whole HPA
 #: run"); the HPA's own code, so one configuration
 STEP_ENTRIES = ["step_sums", "step_lags", "step_lag_end", "step_diag", "step_levinson", "step_psd", "step_psd_chunk",
                 "step_cutoff", "step_bins", "step_dft", "step_dft_chunk", "step_bin", "step_ramp", "step_ramp_chunk",
@@ -84,7 +84,7 @@ STEP_ENTRIES = ["step_sums", "step_lags", "step_lag_end", "step_diag", "step_lev
                 "step_gram", "step_solve", "step_sums_chunk", "step_lags_chunk", "dispatch_slice", "dispatch_run"]
 STEP_CONFIGS = ["mul64 K1"]
 #: the tremor-ahead steps of a run (tests/prove/eva_hpa_ahead_steps.c, the build with WAKE_HPA_AHEAD 1), as the
-#: steps above; the pass as a chunk from any sample with its invariant (docs/verification.md, "The tremor-ahead build")
+#: steps above; the pass as a chunk from any sample with its invariant (docs/studies/verification.md, "The tremor-ahead build")
 AHEAD_STEP_ENTRIES = ["step_sums_ahead", "step_ahead_start", "step_ahead_pass_chunk", "step_ahead_solve"]
 #: every step entry: the window lengths (and, per entry, the lag or the order) are split into one Eva state each
 #: (Frama_C_interval_split), kept through the calls and beyond the default limit of 100 splits; the window
@@ -94,7 +94,7 @@ STEP_OPTIONS = ("-eva-interprocedural-splits", "-eva-split-limit", "1000", "-eva
 #: the chunk entries' states (eva_hpa_steps.c: start index x lag x budget class) kept apart
 CHUNK_OPTIONS = ("-eva-slevel", "20000", "-eva-split-limit", "20000")
 #: HPA entries analysed on request only (--hpa-report): a whole run's float loops over a window of any
-#: samples widen to every float (docs/verification.md, "What Eva does not yet cover")
+#: samples widen to every float (docs/studies/verification.md, "What Eva does not yet cover")
 HPA_REPORT_ENTRIES = [("hpa", "wake_hpa_run")]
 #: entries whose inputs are floats of any bit pattern (NaN and infinities included): the code itself
 #: tests them, so Eva's non-finite float alarms are off there (-warn-special-float none); everywhere
@@ -104,7 +104,7 @@ RAW_FLOAT_ENTRIES = {"wake_hpa_init", "wake_hpa_to_rtp", "wake_hpa_apply", "wake
                      # infinity on the way included (eva_hpa_ahead_steps.c)
                      "step_ahead_solve"}
 #: extra Eva options per entry of the tremor-ahead build, after ENTRY_OPTIONS'. apply: its driver ranges the RTP's
-#: predictor and goal (docs/verification.md, "The tremor-ahead build"), so more states pass the RTP's check, and
+#: predictor and goal (docs/studies/verification.md, "The tremor-ahead build"), so more states pass the RTP's check, and
 #: with the default 100 states per statement the refusal path of wake_hpa_to_rtp (outputs unset) is joined with
 #: the others again (a false "uninitialized" at wake_rtp_set_weights, as without round_clamp:0)
 AHEAD_ENTRY_OPTIONS = {"wake_hpa_apply": ("-eva-slevel", "300")}
@@ -372,7 +372,7 @@ def main(argv=None) -> int:
         for f in failures:
             print(f"error: {f}", file=sys.stderr)
         return 1
-    print("prove: OK (every alarm is listed and justified in docs/verification.md)")
+    print("prove: OK (every alarm is listed and justified in docs/studies/verification.md)")
     return 0
 
 

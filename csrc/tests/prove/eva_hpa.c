@@ -1,7 +1,7 @@
 /**
  * @file eva_hpa.c
  * @brief Frama-C Eva analysis entries for the single-precision HPA (csrc/wake_hpa.c): one per
- *        public function (make -C csrc prove; docs/verification.md).
+ *        public function (make -C csrc prove; docs/studies/verification.md).
  *
  * Inputs: any int16 sample, any configuration and start weights for init (floats of any bit
  * pattern: init must refuse what is not finite or out of range), and, for the functions that take
@@ -54,7 +54,7 @@ static void valid_instance(void)
  * An instance initialised by init with any configuration, bank and start weights init accepts, whose
  * feeding and run counters (wake_hpa_t::count up to wake_hpa_t::lo) then take any content; the work
  * pointer points to a window buffer. The configuration itself is guarded by a 32-bit seal (a hash,
- * which Eva cannot invert): the analysis takes it as init left it (docs/verification.md).
+ * which Eva cannot invert): the analysis takes it as init left it (docs/studies/verification.md).
  * Returns 0 when init refused the configuration (nothing to analyse).
  */
 static int any_checked_fields(void)
@@ -171,7 +171,7 @@ void eva_wake_hpa_to_rtp(void)
 void eva_wake_hpa_apply(void)
 {
     if (any_checked_fields()) {
-        /* an RTP of any content, with eva_rtp.c's two exceptions (docs/verification.md, "Corrupted state"):
+        /* an RTP of any content, with eva_rtp.c's two exceptions (docs/studies/verification.md, "Corrupted state"):
            the taps pointer points to a table, the Kalman accumulators lie in their documented ranges */
         unknown(&rtp, sizeof rtp);
         unknown(rtp_taps, sizeof rtp_taps);

@@ -2,7 +2,7 @@
  * @file eva_hpa_ahead_steps.c
  * @brief Frama-C Eva entries for the tremor-ahead steps of one HPA run (csrc/wake_hpa.c built with
  *        WAKE_HPA_AHEAD 1), each from a state whose fields are ranged as the step's precondition, each
- *        checking (`//@ assert`) the postcondition the next step assumes (docs/verification.md, "The
+ *        checking (`//@ assert`) the postcondition the next step assumes (docs/studies/verification.md, "The
  *        tremor-ahead build").
  *
  * As tests/prove/eva_hpa_steps.c (which is the default build's: its solve ends in STEP_IDLE, here in
@@ -256,7 +256,7 @@ static void last_piece(void)
  * predictor within +-8, and for the last piece any cut-off flag and full-scale count (last_piece).  The solve tests
  * what it divides by and clips what it produces (a pivot not positive and finite: no fit; a coefficient above 8,
  * below -8 or not finite: 8, -8 or 0; a gain above 1, below 0 or NaN: 1 or 0), so an infinity on the way is not an
- * error there: the entry runs with -warn-special-float none, as the conversions of a result do (docs/verification.md,
+ * error there: the entry runs with -warn-special-float none, as the conversions of a result do (docs/studies/verification.md,
  * "The tremor-ahead build": without it, 13 alarms at those intermediates).  Postcondition: what publish writes, the
  * predictor within +-8 (also kept as the one the next run scores) and the goal in [0, 1], 0 without a tremor peak,
  * for a silent window or at full scale; the run idle with its result ready.

@@ -2,7 +2,7 @@
  * @file eva_hpa_steps.c
  * @brief Frama-C Eva entries for the steps of one HPA run (csrc/wake_hpa.c), each from a state whose
  *        fields are ranged as the step's precondition, each checking (`//@ assert`) the postcondition
- *        the next step assumes (make -C csrc prove; docs/verification.md, "A whole HPA run").
+ *        the next step assumes (make -C csrc prove; docs/studies/verification.md, "A whole HPA run").
  *
  * The steps are `static`, so this file includes wake_hpa.c (it is only ever given to Frama-C, never
  * compiled into the library).  Every entry starts from an instance wake_hpa_init accepted with the
@@ -12,13 +12,13 @@
  * ranges the fields the step reads as the steps before it guarantee.  wake_hpa_run gives every loop
  * step its whole loop in one piece (a budget of INT32_MAX / 2): the entries call the step the same way.
  * The *_chunk entries call a loop step as a sliced run does: from any index of its loop (an interval), with
- * the fields it carries between chunks within its invariant and any budget (docs/verification.md, "Chunks
+ * the fields it carries between chunks within its invariant and any budget (docs/studies/verification.md, "Chunks
  * of a sliced run"): the spectrum, the DFT pass, the ramp and the diagonals of Rxx B' (eva_step_diag_chunk, from
  * any diag: the step clamps what a chunk loads to its bound) and a bin's slide (eva_step_bin_end_chunk, from any
  * Q_m and phasors: the step clamps them where a chunk loads them and its phasors every SLIDE_BLOCK rows).
  * The integer chunk entries (eva_step_sums_chunk, eva_step_lags_chunk) call an integer loop step from any index of its
  * loop with a small budget, and the dispatch entries (eva_dispatch_slice, eva_dispatch_run) run wake_hpa_slice
- * and wake_hpa_run from a run in any phase with run_step's contract instead of its body (docs/verification.md,
+ * and wake_hpa_run from a run in any phase with run_step's contract instead of its body (docs/studies/verification.md,
  * "The dispatch and the integer chunks").
  */
 #include <float.h>
@@ -62,7 +62,7 @@
 /**
  * The DFT pass's Reinsch states (STEP_DFT's postcondition, shown by eva_step_dft below): the bounds wake_hpa.c
  * clamps them to every REINSCH_BLOCK samples, 2^33 for s and 2^34 for d in this build (WAKE_HPA_MAX_WINDOW <= 512).
- * The clamp never fires on a window of int16 samples (wake_hpa.c, above reinsch_run1; docs/verification.md).
+ * The clamp never fires on a window of int16 samples (wake_hpa.c, above reinsch_run1; docs/studies/verification.md).
  */
 #define DFT_S_MAX REINSCH_S_MAX
 #define DFT_D_MAX REINSCH_D_MAX
@@ -894,7 +894,7 @@ void eva_step_solve(void)
     }
 }
 
-/* ---- chunks of the integer loop steps (docs/verification.md, "The dispatch and the integer chunks") ------ */
+/* ---- chunks of the integer loop steps (docs/studies/verification.md, "The dispatch and the integer chunks") ------ */
 
 /**
  * The items a chunk entry gives an integer loop step: every budget that buys 1 .. CHUNK_ITEMS of them, the
@@ -1004,13 +1004,13 @@ void eva_step_lags_chunk(void)
     }
 }
 
-/* ---- the dispatch (docs/verification.md, "The dispatch and the integer chunks") --------------------------------- */
+/* ---- the dispatch (docs/studies/verification.md, "The dispatch and the integer chunks") --------------------------------- */
 
 /**
  * run_step as the dispatch sees it: one piece of the step `phase` names, from a state of a run, within @p budget
  * (@p fixed: piece_cost, the cost of an indivisible step or of one item of a loop step).  The dispatch entries below
  * use this contract instead of the body (-eva-use-spec run_step); the step entries show each clause (the list in
- * docs/verification.md).  What piece_cost reads and the steps may write: the phase, and t, d, pair in the phases
+ * docs/studies/verification.md).  What piece_cost reads and the steps may write: the phase, and t, d, pair in the phases
  * whose cost depends on them; the configuration, the window's length and order and the PSD bins (cut_hi,
  * cut_shallow) are set by init and begin, which no step writes (assigns).
  */
@@ -1040,7 +1040,7 @@ static int32_t run_step(wake_hpa_t *h, int32_t budget, int32_t fixed);
 /**
  * run_pieces as its callers use it (wake_hpa_slice: WAKE_HPA_SLICE_BUDGET, wake_hpa_run: INT32_MAX / 2), from a
  * state check_instance accepted: WP proves its loop's variant (left) from run_step's and piece_cost's contracts
- * (tests/prove/wp_check.py; docs/verification.md, "Termination"), and that it ends in a state run_step's contract
+ * (tests/prove/wp_check.py; docs/studies/verification.md, "Termination"), and that it ends in a state run_step's contract
  * accepts again; the dispatch entries check the preconditions at its calls.
  */
 /*@ requires \valid(h);
@@ -1098,7 +1098,7 @@ void eva_dispatch_slice(void)
 /**
  * wake_hpa_run on a run in any phase (after slices): one run_pieces(INT32_MAX / 2).  run_step's contract bounds
  * what a piece spends by the budget, not what a whole run spends, so from the contract the run may stop short
- * (running); that it never does is measured (docs/verification.md, "Termination").
+ * (running); that it never does is measured (docs/studies/verification.md, "Termination").
  */
 void eva_dispatch_run(void)
 {

@@ -1,12 +1,12 @@
 /**
  * @file eva_rtp.c
  * @brief Frama-C Eva analysis entries for the fixed-point RTP (csrc/wake_rtp.c): one per public
- *        function, every input ranged as the API allows (make -C csrc prove; docs/verification.md).
+ *        function, every input ranged as the API allows (make -C csrc prove; docs/studies/verification.md).
  *
  * An instance given to a function other than init has any content at all (the corruption checks
  * must refuse what they cannot use), with two exceptions the header documents: the caller-owned
  * taps pointer points to a taps table (of any content), and the Kalman accumulators s, z and
- * q |w|^2 lie in the ranges the recursion keeps them in (docs/verification.md, "Corrupted state").
+ * q |w|^2 lie in the ranges the recursion keeps them in (docs/studies/verification.md, "Corrupted state").
  */
 #include <stdint.h>
 #include <string.h>
@@ -116,6 +116,7 @@ void eva_wake_rtp_run(void)
     (void)wake_rtp_run(&rtp, block, block, Frama_C_size_t_interval(0u, sizeof block / sizeof block[0]));
 }
 
+#if WAKE_RTP_VOLUNTARY_AHEAD
 /* a block with every output, any sample flagged missing or none (missing NULL), any length up to the array's */
 static uint8_t flags[2 * WAKE_RTP_MAX_TAPS];
 static wake_q15_t voluntary[2 * WAKE_RTP_MAX_TAPS];
@@ -133,6 +134,7 @@ void eva_wake_rtp_run_outputs(void)
                                Frama_C_size_t_interval(0u, sizeof block / sizeof block[0]), voluntary, tremor_ahead,
                                gate, command, voluntary_ahead);
 }
+#endif
 
 void eva_wake_rtp_load_state(void)
 {

@@ -7,7 +7,7 @@ Proves, with ``frama-c -wp -wp-rte`` on tests/prove/eva_hpa_steps.c (which inclu
 and run_pieces their contracts), every goal of ``run_pieces``: its loop invariants, its loop variant ``left``
 (positive where an iteration goes on, strictly lower after it), its loop assigns, run_step's and piece_cost's
 preconditions at their calls, no signed overflow, and its postcondition; from run_step's and piece_cost's
-contracts, which the Eva entries show (docs/verification.md, "Termination").  The SMT prover is the first of
+contracts, which the Eva entries show (docs/studies/verification.md, "Termination").  The SMT prover is the first of
 alt-ergo, z3, cvc4 that Why3 detects (a Why3 configuration of the installed provers is written to a temporary
 folder when none is set).  Exit status: 0 every goal proved, the variant's two among them; 1 a goal not proved
 or an error; 3 frama-c, why3 or every prover missing (Debian: apt-get install frama-c-base why3 cvc4).

@@ -3,7 +3,7 @@
 What one ``wake_rtp_step`` costs on a Cortex-M, counted instruction by
 instruction in an emulator, and how much memory the core takes.
 
-Method (details and numbers in ``docs/profiling.md``):
+Method (details and numbers in ``docs/studies/profiling.md``):
 
 1. The core (``csrc/wake_rtp.c``) is cross-compiled with ``arm-none-eabi-gcc``
    for each target (Cortex-M4 ``-O2`` and ``-Os``, Cortex-M0+ ``-O2``), with

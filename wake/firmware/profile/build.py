@@ -1,5 +1,6 @@
 """Cross-compilation of the core into a bare-metal image, and a minimal ELF reader."""
 
+from __future__ import annotations
 
 import shutil
 import struct
@@ -41,7 +42,7 @@ TARGET_LIMITS = {"bound_m4_active": 650, "ahead_state_bytes": 256, "state_bytes"
 #: little room for compiler versions.  Default build: bound M4 -O2 599 active / 453 inert, M0+ -O2 2,031
 #: active, 3,728 B at M4 -Os, 464 B state (88 B of it the tremor ahead), 128 B stack; without the tremor
 #: ahead: 493 / 348, 1,429, 3,060 B (unchanged).  The goals above are reported as met or missed beside them
-#: and fail the run only with ``--check-goals`` (all met; see docs/profiling.md).
+#: and fail the run only with ``--check-goals`` (all met; see docs/studies/profiling.md).
 CEILING_LIMITS = {"bound_m4_active": 620, "bound_m4_inert": 475, "bound_m0plus_active": 2100, "code_bytes": 3850,
                   "ahead_state_bytes": 96, "state_bytes": 512, "stack_bytes": 200, "bound_gap": 0.07,
                   "lean_bound_m4_active": 520, "lean_bound_m4_inert": 375, "lean_bound_m0plus_active": 1500,

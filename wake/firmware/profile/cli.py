@@ -1,5 +1,6 @@
 """Command line of ``wake profile``."""
 
+from __future__ import annotations
 
 import argparse
 import json
@@ -195,7 +196,7 @@ def _report(profiles, footprints, hot, qemu, hpa):
         "static bound: longest path through wake_rtp_step's control-flow graph and its callees, built from the "
         "image's disassembly, with loop trip counts from the source's `wcet-loop:` annotations (N = 2^J); "
         "inert = the Kalman update (kalman_update) not called. Valid for instances of level J.",
-        f"cycles: per-instruction Cortex-M4 / Cortex-M0+ timing model, zero wait states (docs/profiling.md), "
+        f"cycles: per-instruction Cortex-M4 / Cortex-M0+ timing model, zero wait states (docs/studies/profiling.md), "
         f"applied to the bound's path and to every measured step; µs = bound cycles at {clocks}; the budget is "
         f"one sample period at {SAMPLE_RATE_HZ:g} Hz.",
         "Each level's image is built with -DWAKE_RTP_MAX_LEVEL=J (a firmware for that level).",

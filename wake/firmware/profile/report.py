@@ -1,5 +1,6 @@
 """Footprint, stack depth, the QEMU cross-check and the Markdown report."""
 
+from __future__ import annotations
 
 import functools
 import re

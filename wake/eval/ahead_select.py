@@ -1,0 +1,129 @@
+"""Any tremor-ahead predictor of :mod:`wake.ahead`, run as the filter runs its own, in float, and its limit.
+
+The filter ships one predictor (``"fir8"``, in the C core too).  To choose another by measurement without
+touching the filter, :func:`command_with` refits it at each HPA of a filter run from what that HPA knew
+(WAKE's estimate over the window with the weights the HPA installed, the window's tremor truth, the cut-off
+flag: what :func:`wake.hpa.run.tremor_ahead` reads), gates it by :func:`wake.ahead.held_out_gain` and
+:func:`wake.ahead.gate_target` through the 0.3-s ramp, and runs it per sample on the stream's tremor estimate
+``x - voluntary``: the filter's own design when ``predictor="fir8"`` (:func:`command_with` reproduces
+``WakeResult.command`` of the float reference to rounding; ``tests/eval/test_ahead_select.py``).
+
+:func:`wiener_limit` is the hindsight limit of the issue: the ``taps``-tap least-squares predictor from
+WAKE's own estimate to the true tremor, fitted on the whole recording.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from wake.ahead import gate_target, held_out_gain, lagged, ramp_step
+from wake.ahead_models import fit_model
+from wake.eval.tremor_ahead import aligned, hindsight_predictor
+from wake.hpa.sharp import detrended_highpass
+from wake.wavelets import filter_bank_outputs, filter_bank_taps
+
+__all__ = ["window_pairs", "command_with", "wiener_limit"]
+
+
+def window_pairs(x, result, config, channel=0):
+    """Per HPA of one channel: ``(index, estimate, truth, flag)`` as :func:`wake.hpa.run.tremor_ahead` sees them.
+
+    ``estimate``: WAKE's tremor estimate over the window recomputed with the weights the HPA installed;
+    ``truth``: the window's sharp high-pass truth at the HPA's cut-off (the end-point line out).
+    """
+    x = np.asarray(x, dtype=float)
+    taps = filter_bank_taps(config.wavelet, config.level, config.mode)
+    out = []
+    for u in result.hpa[channel]:
+        m = min(u.index, config.window_samples)
+        w = x[u.index - m:u.index]
+        outputs = filter_bank_outputs(w, taps)
+        N = w.shape[0] - outputs.shape[0] + 1
+        estimate = w[N:] - outputs[:-1] @ np.asarray(u.weights, dtype=float)
+        truth = detrended_highpass(w, config.fs, u.cutoff)[N:]
+        out.append((u.index, estimate, truth, u.cutoff_flag))
+    return out
+
+
+def command_with(x, result, config, horizon, predictor="fir8", channel=0):
+    """The gated command of ``predictor`` (:data:`wake.ahead_models.PREDICTORS`) on one channel of a filter run.
+
+    Parameters
+    ----------
+    x : array_like, shape (n,)
+        The channel's samples.
+    result : WakeResult
+        ``WakeFilter(...).run`` of the recording (its voluntary output and HPA updates are used).
+    config : WakeConfig
+        The filter's configuration.
+    horizon : int
+        Samples ahead.
+    predictor : str
+    channel : int
+        Which channel of ``result``.
+
+    Returns
+    -------
+    prediction, gate, command : numpy.ndarray, shape (n,)
+        Aligned to the sample they are for (``command[m]`` was sent at ``m - horizon``), as ``WakeResult``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wake import WakeConfig, WakeFilter
+    >>> from wake.eval.synthetic import make_signal
+    >>> s = make_signal(5.0, seed=1, duration=12.0)
+    >>> cfg = WakeConfig(fs=s.fs, horizon=2, backend="reference")
+    >>> res = WakeFilter(config=cfg).run(s.measurement)
+    >>> P, g, cmd = command_with(s.measurement, res, cfg, 2)
+    >>> bool(np.allclose(cmd, res.command, atol=1e-9))
+    True
+    """
+    if config.decimation_factor != 1:
+        raise ValueError(f"command_with runs at the filter bank's rate: fs = {config.fs:g} Hz decimates by "
+                         f"{config.decimation_factor}; pass decimation=1 in the WakeConfig, or a rate of at most "
+                         f"150 Hz")
+    x = np.asarray(x, dtype=float).reshape(-1)
+    y = x - np.asarray(result.voluntary, dtype=float).reshape(x.size, -1)[:, channel]
+    pairs = window_pairs(x, result, config, channel)
+    n = x.size
+    P = np.zeros(n)
+    goal = np.zeros(n)
+    previous, last = None, 0
+    starts = [applied_at(result, channel, i, idx) for i, (idx, *_rest) in enumerate(pairs)] + [n]
+    for i, (index, estimate, truth, flag) in enumerate(pairs):
+        gain = held_out_gain(estimate, truth, previous, horizon, index - last)
+        c = fit_model(estimate, truth, horizon, predictor)
+        a, b = starts[i], starts[i + 1]
+        if b > a:
+            P[a:b] = lagged(y[max(0, a - c.size + 1):b], c.size)[min(a, c.size - 1):] @ c
+            goal[a:b] = gate_target(gain, flag)
+        previous, last = c, index
+    alpha = ramp_step(config.fs)
+    g = np.empty(n)
+    v = 0.0
+    for k in range(n):
+        v += alpha * (goal[k] - v)
+        g[k] = v
+    return aligned(P, horizon), aligned(g, horizon), aligned(g * P, horizon)
+
+
+def applied_at(result, channel, i, index):
+    """Sample from which the ``i``-th HPA's model predicts: the last sample of its window (0-based
+    ``applied_at - 1``; the filter installs the HPA before that sample's step), or ``index - 1``."""
+    at = getattr(result.hpa[channel][i], "applied_at", -1)
+    return (int(at) if at is not None and at >= 0 else int(index)) - 1
+
+
+def wiener_limit(estimate, truth, horizon, taps=40):
+    """The hindsight ``taps``-tap Wiener predictor from WAKE's estimate to the true tremor, aligned to the sample
+    it is for (:func:`wake.eval.tremor_ahead.hindsight_predictor`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> s = np.sin(np.arange(600) / 3.0)
+    >>> bool(np.abs(wiener_limit(s, s, 5)[100:] - s[100:]).max() < 1e-3)
+    True
+    """
+    return aligned(hindsight_predictor(estimate, truth, horizon, taps=taps), horizon)
