@@ -1080,16 +1080,19 @@ static void ahead_finish(wake_rtp_t *s, wake_q23_t tremor, wake_ratio_t gate)
 /** The sample into a prepared window: h' window from the prepared sum (the first sample fills the window). */
 static WAKE_RTP_ALWAYS_INLINE int64_t take_prepared(wake_rtp_t *s, wake_q15_t sample)
 {
+    int64_t acc;
     if (s->primed != 0u) {
         ring_store(s, sample);
         /* h' window = prepared + h_{N-1} m(n), exact (the prepared sum clamped to its range, |.| < 2^52) */
-        return clamp_quiet(s->split_fir, 52u) + fir_product(s->fir[s->n_taps - 1u], sample);
+        acc = clamp_quiet(s->split_fir, 52u) + fir_product(s->fir[s->n_taps - 1u], sample);
+    } else {
+        /* the first sample fills the window with itself: h' window = (sum of h) m(n), exact (the prepared
+         * sum clamped to its range, |.| <= 2^39) */
+        prime_window(s, sample);
+        ring_store(s, sample);
+        acc = times_sample(clamp_quiet(s->split_fir, 39u), sample);
     }
-    /* the first sample fills the window with itself: h' window = (sum of h) m(n), exact (the prepared sum
-     * clamped to its range, |.| <= 2^39) */
-    prime_window(s, sample);
-    ring_store(s, sample);
-    return times_sample(clamp_quiet(s->split_fir, 39u), sample);
+    return acc;
 }
 
 #if WAKE_RTP_KALMAN
@@ -1112,29 +1115,36 @@ static WAKE_RTP_ALWAYS_INLINE uint32_t kalman_finish(wake_rtp_t *s, wake_q23_t e
 /** The sample into the window: a step's push (its FIR is predict's), or a prepared step's FIR sum. */
 static WAKE_RTP_ALWAYS_INLINE int64_t take_sample(wake_rtp_t *s, wake_q15_t sample, int prepared)
 {
+    int64_t acc = 0;
 #if WAKE_RTP_SPLIT
     if (prepared != 0) {
-        return take_prepared(s, sample);
+        acc = take_prepared(s, sample);
+    } else {
+        push(s, sample);
     }
 #else
     (void)prepared;
-#endif
     push(s, sample);
-    return 0;
+#endif
+    return acc;
 }
 
 #if WAKE_RTP_KALMAN
 /** The Kalman measurement update of a live instance for the innovation e; returns its saturations. */
 static WAKE_RTP_ALWAYS_INLINE uint32_t kalman_measured(wake_rtp_t *s, wake_q23_t e, int prepared)
 {
+    uint32_t ev;
 #if WAKE_RTP_SPLIT
     if (prepared != 0) {
-        return kalman_finish(s, e);
+        ev = kalman_finish(s, e);
+    } else {
+        ev = kalman_update(s, e);
     }
 #else
     (void)prepared;
+    ev = kalman_update(s, e);
 #endif
-    return kalman_update(s, e);
+    return ev;
 }
 #endif
 
@@ -1147,12 +1157,13 @@ static WAKE_RTP_ALWAYS_INLINE void time_update_of_sample(wake_rtp_t *s, uint32_t
         if (!s->inert) {
             s->s = time_updated(s, events);
         }
-        return;
+    } else {
+        time_update_only(s, events);
     }
 #else
     (void)prepared;
-#endif
     time_update_only(s, events);
+#endif
 }
 
 /** y(n): the FIR over the window (a step) or the prepared sum @p acc (a prepared step), plus z. */
@@ -1169,13 +1180,14 @@ static WAKE_RTP_ALWAYS_INLINE void ahead_of_sample(wake_rtp_t *s, wake_q23_t tre
 #if WAKE_RTP_SPLIT
     if (prepared != 0) {
         ahead_finish(s, tremor, (measured != 0) ? s->split_gate : ahead_gate_next(s, 0));
-        return;
+    } else {
+        ahead_step(s, tremor);
     }
 #else
     (void)prepared;
-#endif
     (void)measured;
     ahead_step(s, tremor);
+#endif
 }
 #endif
 
@@ -1247,14 +1259,30 @@ static wake_q15_t finish_validated(wake_rtp_t *s, wake_q15_t sample, int measure
 static WAKE_RTP_ALWAYS_INLINE wake_q15_t validated(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev,
                                                    int prepared)
 {
+    wake_q15_t y;
 #if WAKE_RTP_SPLIT
     if (prepared != 0) {
-        return finish_validated(s, sample, measured, ev);
+        y = finish_validated(s, sample, measured, ev);
+    } else {
+        y = step_validated(s, sample, measured, ev);
     }
 #else
     (void)prepared;
+    y = step_validated(s, sample, measured, ev);
 #endif
-    return step_validated(s, sample, measured, ev);
+    return y;
+}
+
+/** 1 when a prepared step (@p prepared) finds no prepare since the last step. */
+static WAKE_RTP_ALWAYS_INLINE int unprepared(const wake_rtp_t *s, int prepared)
+{
+#if WAKE_RTP_SPLIT
+    return ((prepared != 0) && (s->split_ready != 1u)) ? 1 : 0;
+#else
+    (void)s;
+    (void)prepared;
+    return 0;
+#endif
 }
 
 /**
@@ -1269,13 +1297,10 @@ static WAKE_RTP_ALWAYS_INLINE wake_rtp_status_t sample_checked(wake_rtp_t *s, wa
     if (st != WAKE_RTP_OK) {
         return st;
     }
-    if (prediction == NULL) {
-        return WAKE_RTP_E_NULL;
+    if ((prediction == NULL) || unprepared(s, prepared)) {
+        return (prediction == NULL) ? WAKE_RTP_E_NULL : WAKE_RTP_E_UNPREPARED;   /* nothing changes */
     }
 #if WAKE_RTP_SPLIT
-    if ((prepared != 0) && (s->split_ready != 1u)) {
-        return WAKE_RTP_E_UNPREPARED;              /* nothing changes */
-    }
     s->split_ready = 0u;                           /* the step changes what a prepare read */
 #endif
     if (!measured) {
