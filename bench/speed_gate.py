@@ -166,7 +166,7 @@ def measure(repeats: int) -> dict:
 
 ROOT = Path(__file__).resolve().parents[1]
 #: the documents that carry the table: each has it once, from its header line to the note under it
-DOCS = [ROOT / "README.md", ROOT / "docs" / "profiling.md"]
+DOCS = [ROOT / "README.md", ROOT / "docs" / "studies" / "profiling.md"]
 #: the table (its lines from the header), what separates it from its note (blank lines, a tag), the note
 TABLE_BLOCK = re.compile(r"^(?P<table>\| measure \| what \| unit \|.*\n(?:\|.*\n)*)(?P<sep>(?:\n|<!--.*-->\n)+)"
                          r"(?P<note>\S.*medians of \d+ repeats)$", re.M)

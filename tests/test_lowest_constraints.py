@@ -13,7 +13,8 @@ def _floors():
     text = (ROOT / "pyproject.toml").read_text()
     wanted = re.search(r"^dependencies = \[(.*?)\]", text, re.S | re.M).group(1)
     for extra in ("test", "plot"):
-        wanted += re.search(rf"^{extra} = \[(.*?)\]", text, re.M).group(1)
+        wanted += re.search(rf"^{extra} = \[(.*?)\]$", text, re.S | re.M).group(1)
+    # an entry with an environment marker ("x>=1; python_version>='3.10'") is not installable on the lowest Python
     return {name.lower(): floor for name, floor in re.findall(r'"([A-Za-z0-9_.-]+)>=([0-9.]+)"', wanted)}
 
 

@@ -26,8 +26,8 @@ def _load(csrc):
 def copy(tmp_path):
     """A copy of csrc/ (no build outputs) and docs/studies/verification.md, and prove_tier loaded from it."""
     shutil.copytree(ROOT / "csrc", tmp_path / "csrc", ignore=shutil.ignore_patterns("build", "__pycache__"))
-    (tmp_path / "docs").mkdir()
-    shutil.copy(ROOT / "docs" / "verification.md", tmp_path / "docs" / "verification.md")
+    (tmp_path / "docs" / "studies").mkdir(parents=True)
+    shutil.copy(ROOT / "docs" / "studies" / "verification.md", tmp_path / "docs" / "studies" / "verification.md")
     (tmp_path / "csrc" / "tests" / "prove" / "full_prove_record.json").unlink(missing_ok=True)
     return tmp_path, _load(tmp_path / "csrc")
 
@@ -70,7 +70,7 @@ def test_the_listed_alarms_count_but_not_the_rest_of_verification_md(copy):
     root, tier = copy
     items = tier.inputs()
     tier.write_record(items, tier.digest(items), 1, "prove: OK\n")
-    doc = root / "docs" / "verification.md"
+    doc = root / "docs" / "studies" / "verification.md"
     doc.write_text(doc.read_text() + "\nA paragraph about something else.\n")
     assert tier.choose()[0] == "quick"
     text = doc.read_text()

@@ -306,7 +306,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_filter_arguments(d)
     d.add_argument("--plot", metavar="PNG", help="draw signal 1 (needs matplotlib)")
     r = sub.add_parser("run", help="process a recording (CSV, PADS, MATLAB, wearable formats, Motion-BIDS)")
-    r.add_argument("file", help="recording: delimited text, a PADS .txt, a .mat or a file/folder of docs/reference/formats.md")
+    r.add_argument("file", help="recording: delimited text, a PADS .txt, a .mat or a file/folder of docs/guide/formats.md")
     from wake.io.options import add_reading_arguments
 
     add_reading_arguments(r)
@@ -317,7 +317,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="write the tremor characterisation of every HPA window, one row per window and channel: "
                         "channel, unit, index, end_time, samples, cutoff, frequency, rms, peak_to_peak, "
                         "band_power, time_share, tsi, reason (a NaN field's reason); docs/studies/characterisation.md")
-    r.add_argument("--bids-out", metavar="DIR", help="write a BIDS derivative of a Motion-BIDS input (docs/reference/formats.md)")
+    r.add_argument("--bids-out", metavar="DIR", help="write a BIDS derivative of a Motion-BIDS input (docs/guide/formats.md)")
     r.add_argument("--plot", metavar="PNG", help="draw one channel, and its tremor over time (frequency, "
                                                  "amplitude, TSI, time share) beside it in PNG's name with "
                                                  "'-tremor' (needs matplotlib; checked before the work)")

@@ -1,6 +1,6 @@
 """The readers of wake.io.formats: the two real ParaDigMa files (Axivity CWA, TSDF) and, for the other formats,
 files written in the test by each format's own library; read back, then filtered by `wake run`, `wake stream
---file` and `wake evaluate` (docs/reference/formats.md)."""
+--file` and `wake evaluate` (docs/guide/formats.md)."""
 
 import csv
 import struct

@@ -109,7 +109,7 @@ def _files_in(pattern):
                                       READABLE_SUFFIXES and not p.name.lower().startswith("readme"))})
         if not files:
             raise ValueError(f"{path}: no recording in this folder (looked for {', '.join(READABLE_SUFFIXES)}, "
-                             "a BIDS *_motion.tsv, a TSDF *_meta.json and the wearable formats of docs/reference/formats.md)")
+                             "a BIDS *_motion.tsv, a TSDF *_meta.json and the wearable formats of docs/guide/formats.md)")
         return files
     if path.is_file():
         return [path]

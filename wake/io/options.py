@@ -39,7 +39,7 @@ def add_reading_arguments(p, *, what: str = "the recording", fs_help: str | None
                         "(default: every numeric column but the time column)")
     if not stream:
         g.add_argument("--format", choices=FORMATS, default="auto",
-                       help="file format (default: by suffix and content, docs/reference/formats.md; .mat by suffix, else "
+                       help="file format (default: by suffix and content, docs/guide/formats.md; .mat by suffix, else "
                             "delimited text; PADS by its shape)")
     g.add_argument("--decimal", choices=DECIMAL_MARKS, default="auto",
                    help="decimal mark of delimited text (default: auto, a comma between digits in a file "

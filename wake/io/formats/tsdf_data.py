@@ -13,7 +13,7 @@ from any of its binary files, or from a folder that holds one metadata file.
   counts to m/s^2 or deg/s), in the units the metadata names.
 - Quality: a channel named ``quality`` (or ending in ``_quality``, ``_flag``):
   a row whose flag is 0 is a missing sample, NaN in every channel, so the
-  filter predicts through it (``docs/reference/formats.md``).
+  filter predicts through it (``docs/guide/formats.md``).
 
 Examples
 --------
