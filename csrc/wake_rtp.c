@@ -20,19 +20,9 @@
  * worst-case execution time from the compiled image.
  */
 #include "wake_rtp.h"
+#include "wake_fixed.h"
 
 #include <string.h>
-
-/* Cores without a 32 x 32 -> 64-bit multiply instruction (ARMv6-M, ARMv8-M
- * baseline): 64-bit products are assembled from 16 x 16-bit ones, so no
- * __aeabi_lmul call is made. */
-#ifndef WAKE_RTP_NO_LONG_MULTIPLY /* the host tests also build it with 1, to run the Cortex-M0+ arithmetic */
-#if defined(__ARM_ARCH_6M__) || defined(__ARM_ARCH_8M_BASE__)
-#define WAKE_RTP_NO_LONG_MULTIPLY 1
-#else
-#define WAKE_RTP_NO_LONG_MULTIPLY 0
-#endif
-#endif
 
 /* The FIR reads its taps split in parts (wake_fir_t) where that avoids 64-bit
  * sums; its 32-bit sums hold up to 64 taps. */
@@ -61,21 +51,8 @@
 #define WAKE_RTP_COLD
 #endif
 
-/* Helpers that an -Os build keeps out of line.  gcc's size heuristics inline
- * them at every call site, where each copy of their 64-bit arithmetic costs
- * more than the call (docs/studies/profiling.md, "Code at -Os").  Other levels inline
- * them as before: the -O2 code that the cost targets bound is unchanged. */
-#if defined(__GNUC__) && defined(__OPTIMIZE_SIZE__)
-#define WAKE_RTP_OUTLINE_AT_OS __attribute__((noinline))
-#define WAKE_RTP_INLINE_UNLESS_OS static WAKE_RTP_OUTLINE_AT_OS
-#else
-#define WAKE_RTP_OUTLINE_AT_OS
-#define WAKE_RTP_INLINE_UNLESS_OS static inline
-#endif
-
 /* The ring is 4-byte aligned inside the struct (prime_window stores words). */
 typedef char wake_rtp_ring_is_aligned[(offsetof(wake_rtp_t, ring) % 4u == 0u) ? 1 : -1];
-
 
 #define P_FRAC WAKE_RTP_P_FRAC
 #define RATIO_ONE (INT32_C(1) << WAKE_RTP_RATIO_FRAC)
@@ -84,94 +61,7 @@ typedef char wake_rtp_ring_is_aligned[(offsetof(wake_rtp_t, ring) % 4u == 0u) ? 
 /* Q(FIR) x Q15 -> Q23 */
 #define FIR_TO_SIGNAL_SHIFT (WAKE_RTP_FIR_FRAC + WAKE_RTP_SAMPLE_FRAC - WAKE_RTP_STATE_FRAC)
 
-/* ---------------------------------------------------------------------- */
-/* Integer helpers (libfixmath style: static inline, no macros).           */
-/* ---------------------------------------------------------------------- */
-
-/** Add n events to a counter that sticks at UINT32_MAX (no branch on the data). */
-static inline void count_events(uint32_t *counter, uint32_t n)
-{
-    uint32_t sum = *counter + n;
-    *counter = (sum < n) ? UINT32_MAX : sum;
-}
-
-/** floor(v / 2^sh) for 0 <= sh <= 63, without shifting a negative value. */
-static inline int64_t shift_right_floor(int64_t v, unsigned sh)
-{
-    if (v >= 0) {
-        return v >> sh;
-    }
-    /* v < 0: -1 - v is in [0, INT64_MAX]; floor(v/2^k) = -1 - floor((-1-v)/2^k) */
-    return -1 - ((-1 - v) >> sh);
-}
-
-#if WAKE_RTP_AHEAD
-/** floor(v / 2^sh) for 0 <= sh <= 31, in 32 bits (one arithmetic shift), without shifting a negative value. */
-static inline int32_t shift_right_floor32(int32_t v, unsigned sh)
-{
-    return (v >= 0) ? (v >> sh) : (-1 - ((-1 - v) >> sh));
-}
-#endif
-
-/** round(v / 2^sh), halves up, for 1 <= sh <= 62 and |v| <= 2^62 (cannot overflow). */
-WAKE_RTP_INLINE_UNLESS_OS int64_t shift_right_round(int64_t v, unsigned sh)
-{
-    return shift_right_floor(v + (INT64_C(1) << (sh - 1u)), sh);
-}
-
-/** Narrow int64 to int32, saturating; adds 1 to *events when it saturates. */
-static inline int32_t narrow_saturate(int64_t v, uint32_t *events)
-{
-    /* v + 2^31 in [0, 2^32) exactly when v fits: one 64-bit add and a test of the top word */
-    const uint32_t over = (uint32_t)(((uint64_t)v + UINT64_C(0x80000000)) >> 32) != 0u;
-    *events += over;
-    return over ? ((v < 0) ? INT32_MIN : INT32_MAX) : (int32_t)v;
-}
-
-/** Narrow int32 to int16, saturating; adds 1 to *events when it saturates. */
-WAKE_RTP_INLINE_UNLESS_OS int16_t narrow_saturate16(int32_t v, uint32_t *events)
-{
-    *events += (uint32_t)((v > INT16_MAX) | (v < INT16_MIN));
-    return (int16_t)((v > INT16_MAX) ? INT16_MAX : (v < INT16_MIN) ? INT16_MIN : v);
-}
-
-#if WAKE_RTP_KALMAN || WAKE_RTP_AHEAD
-/** a * b exactly, for int32 operands (a 32 x 32 -> 64-bit multiply). */
-static inline int64_t multiply_wide(int32_t a, int32_t b)
-{
-#if WAKE_RTP_NO_LONG_MULTIPLY
-    /* a = ah 2^16 + al, b = bh 2^16 + bl with al, bl in [0, 2^16): four 16 x 16-bit products */
-    int32_t ah = (int32_t)shift_right_floor(a, 16u), bh = (int32_t)shift_right_floor(b, 16u);
-    int32_t al = (int32_t)((uint32_t)a & 0xFFFFu), bl = (int32_t)((uint32_t)b & 0xFFFFu);
-    int64_t cross = (int64_t)(ah * bl) + (int64_t)(al * bh);       /* each |.| < 2^31 */
-    return (int64_t)(ah * bh) * 4294967296 + cross * 65536 + (int64_t)((uint32_t)al * (uint32_t)bl);
-#else
-    return (int64_t)a * b;
-#endif
-}
-#endif
-
-/** a * b exactly, for uint32 operands. */
-static inline uint64_t multiply_wide_unsigned(uint32_t a, uint32_t b)
-{
-#if WAKE_RTP_NO_LONG_MULTIPLY
-    uint32_t ah = a >> 16, al = a & 0xFFFFu, bh = b >> 16, bl = b & 0xFFFFu;
-    uint64_t cross = (uint64_t)(ah * bl) + (uint64_t)(al * bh);
-    return ((uint64_t)(ah * bh) << 32) + (cross << 16) + (uint64_t)(al * bl);
-#else
-    return (uint64_t)a * b;
-#endif
-}
-
-#if WAKE_RTP_KALMAN /* helpers of the Kalman part only */
-/** v clamped to +-2^bits, 1 <= bits <= 62; adds 1 to *events when it clamps. */
-WAKE_RTP_INLINE_UNLESS_OS int64_t clamp_symmetric(int64_t v, unsigned bits, uint32_t *events)
-{
-    const int64_t top = INT64_C(1) << bits;
-    *events += (uint32_t)((v > top) | (v < -top));
-    return (v > top) ? top : (v < -top) ? -top : v;
-}
-
+#if WAKE_RTP_KALMAN /* the ranges of the Kalman's scalars */
 /** v clamped to +-2^40 (the range of z = w'd); adds 1 to *events when it clamps. */
 static inline int64_t clamp_wide(int64_t v, uint32_t *events)
 {
@@ -184,35 +74,6 @@ WAKE_RTP_INLINE_UNLESS_OS int64_t clamp_cov_wide(int64_t v, uint32_t *events)
     return clamp_symmetric(v, 50u, events);
 }
 
-/**
- * round(a b / 2^sh) for |a| <= 2^50, 20 <= sh <= 31: a = hi 2^31 + lo with
- * lo in [0, 2^31), so a b = hi b 2^31 + lo b from two 32 x 32 -> 64-bit products.
- * |result| < 2^62.
- */
-static inline int64_t multiply_wide_by32(int64_t a, int32_t b, unsigned sh)
-{
-    int64_t hi = shift_right_floor(a, 31u);                                /* |hi| <= 2^19 */
-    int32_t lo = (int32_t)(a - hi * (INT64_C(1) << 31));                   /* [0, 2^31) */
-    return multiply_wide((int32_t)hi, b) * (INT64_C(1) << (31u - sh)) + shift_right_round(multiply_wide(lo, b), sh);
-}
-
-/** Number of significant bits of v >= 1, portable. */
-static inline unsigned bit_length64(uint64_t v)
-{
-#if defined(__GNUC__) && defined(__ARM_FEATURE_CLZ)
-    /* CLZ (Cortex-M3/M4/M7): no branch on the data, so the step's worst path is its usual one */
-    return 64u - (unsigned)__builtin_clzll(v);
-#else
-    unsigned n = 0;
-    if (v >> 32) { v >>= 32; n += 32; }
-    if (v >> 16) { v >>= 16; n += 16; }
-    if (v >> 8) { v >>= 8; n += 8; }
-    if (v >> 4) { v >>= 4; n += 4; }
-    if (v >> 2) { v >>= 2; n += 2; }
-    if (v >> 1) { v >>= 1; n += 1; }
-    return n + (unsigned)v;
-#endif
-}
 #endif
 
 uint32_t wake_rtp_reciprocal(uint32_t x)
@@ -1114,55 +975,18 @@ static void voluntary_ahead_step(wake_rtp_t *s)
 }
 #endif
 
+/* Functions inlined even at -Os: the parts of the per-sample control flow below, each of which one caller
+ * instantiates for a constant case (a copy per case is what a hand-written copy of the flow would hold). */
+#if defined(__GNUC__)
+#define WAKE_RTP_ALWAYS_INLINE __attribute__((always_inline)) inline
+#else
+#define WAKE_RTP_ALWAYS_INLINE inline
+#endif
+
 /** One more sample since the restart (sticks at UINT32_MAX): P gains q I per sample. */
 static inline void count_step(wake_rtp_t *s)
 {
     s->steps += (uint32_t)(s->steps != UINT32_MAX);
-}
-
-/**
- * One sample of a checked instance, with @p ev events counted before it.
- * @p measured 0: a missing sample of a primed stream, @p sample the stand-in
- * step_checked computed.
- */
-static wake_q15_t step_validated(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev)
-{
-    wake_q15_t y;
-#if WAKE_RTP_AHEAD
-    wake_q23_t tremor = 0;                 /* e(n): 0 for the first sample and a missing one */
-#endif
-    if (!s->primed || !measured) {
-        /* No measurement update, only the time update P = P + q I: a missing sample has no
-         * innovation, and neither has the first sample of a stream (no prediction preceded it;
-         * e would be 0 by construction: the window is primed with it).  It also keeps the
-         * priming off the Kalman update's path: the step's static bound is the longer of the
-         * two, not their sum. */
-        push(s, sample);
-        time_update_only(s, &ev);
-    } else {
-        const wake_q23_t e = innovation(s, sample, &ev); /* its saturation is counted even when inert */
-#if WAKE_RTP_AHEAD
-        tremor = e;                                       /* the tremor estimate m(n) - y(n-1) */
-#endif
-        push(s, sample);
-#if WAKE_RTP_KALMAN
-        if (!s->inert) {
-            ev += kalman_update(s, e);
-        }
-#else
-        (void)e;
-#endif
-    }
-    count_step(s);
-    y = predict(s, &ev);
-    count_events(&s->saturations, ev);
-#if WAKE_RTP_VOLUNTARY_AHEAD
-    voluntary_ahead_step(s);
-#endif
-#if WAKE_RTP_AHEAD
-    ahead_step(s, tremor);
-#endif
-    return y;
 }
 
 /** The last prediction y(n-1) rounded to Q15 (not yet saturated): it stands in for a missing sample. */
@@ -1171,51 +995,10 @@ static inline int32_t stand_in(const wake_rtp_t *s)
     return (int32_t)shift_right_round(s->last_output, SIGNAL_GUARD_BITS);
 }
 
-/** wake_rtp_step (@p measured 1) and wake_rtp_step_missing (0): the checks, then the step. */
-static WAKE_RTP_OUTLINE_AT_OS wake_rtp_status_t step_checked(wake_rtp_t *s, wake_q15_t sample, int measured, wake_q15_t *prediction)
-{
-    uint32_t ev = 0u;
-    wake_rtp_status_t st = check_structure(s);
-    if (st != WAKE_RTP_OK) {
-        return st;
-    }
-    if (prediction == NULL) {
-        return WAKE_RTP_E_NULL;
-    }
-#if WAKE_RTP_SPLIT
-    s->split_ready = 0u;                           /* the step changes what a prepare read */
-#endif
-    if (!measured) {
-#if WAKE_RTP_AHEAD
-        s->ahead_goal = 0;                         /* the held-out gain needs a window's worth of samples again */
-#endif
-        if (!s->primed) {
-            *prediction = 0;                       /* a missing sample before the first: nothing to predict from */
-#if WAKE_RTP_AHEAD
-            ahead_step(s, 0);                      /* the tremor ahead still takes its estimate 0 */
-#endif
-            return WAKE_RTP_OK;
-        }
-        sample = narrow_saturate16(stand_in(s), &ev);
-    }
-    *prediction = step_validated(s, sample, measured, ev);
-    return WAKE_RTP_OK;
-}
-
-wake_rtp_status_t wake_rtp_step(wake_rtp_t *s, wake_q15_t sample, wake_q15_t *prediction)
-{
-    return step_checked(s, sample, 1, prediction);
-}
-
-wake_rtp_status_t wake_rtp_step_missing(wake_rtp_t *s, wake_q15_t *prediction)
-{
-    return step_checked(s, 0, 0, prediction);
-}
-
 #if WAKE_RTP_SPLIT
 /* ---------------------------------------------------------------------- */
-/* The split step (WAKE_RTP_SPLIT): prepare without the sample, finish     */
-/* with it; the result of step_checked bit for bit                         */
+/* The split step (WAKE_RTP_SPLIT): the parts of a step that prepare      */
+/* computes without the sample, and what finish adds to them              */
 /* ---------------------------------------------------------------------- */
 
 /** v clamped to +-2^bits (1 <= bits <= 62), not counted: it only guards a corrupted prepared sum. */
@@ -1278,9 +1061,285 @@ static inline int64_t times_sample(int64_t a, int32_t x)
     return ((int64_t)p_hi * 16777216) + ((int64_t)p_mid * 4096) + (int64_t)p_lo;
 }
 
+#if WAKE_RTP_AHEAD
+/** ahead_step with the older seven products and the gate @p gate prepared. */
+static void ahead_finish(wake_rtp_t *s, wake_q23_t tremor, wake_ratio_t gate)
+{
+    uint32_t ev = 0u;
+    const unsigned head = ahead_next_head(s);
+    const wake_q15_t e = ahead_estimate(tremor, &ev);
+    /* P = prepared + c_0 e(n): Q42, the prepared sum clamped to its range so that a corrupted one cannot
+     * overflow; the gate read through the 31-bit mask of ahead_gate_next */
+    const int64_t dot = clamp_quiet(s->split_ahead, 49u) + multiply_wide(s->ahead_coef[0], e);
+    ahead_line_store(s, head, e);
+    ahead_output(s, ahead_predicted(dot), (int32_t)((uint32_t)gate & UINT32_C(0x7FFFFFFF)));
+    count_events(&s->ahead_saturations, ev);
+}
+#endif
+
+/** The sample into a prepared window: h' window from the prepared sum (the first sample fills the window). */
+static WAKE_RTP_ALWAYS_INLINE int64_t take_prepared(wake_rtp_t *s, wake_q15_t sample)
+{
+    int64_t acc;
+    if (s->primed != 0u) {
+        ring_store(s, sample);
+        /* h' window = prepared + h_{N-1} m(n), exact (the prepared sum clamped to its range, |.| < 2^52) */
+        acc = clamp_quiet(s->split_fir, 52u) + fir_product(s->fir[s->n_taps - 1u], sample);
+    } else {
+        /* the first sample fills the window with itself: h' window = (sum of h) m(n), exact (the prepared
+         * sum clamped to its range, |.| <= 2^39) */
+        prime_window(s, sample);
+        ring_store(s, sample);
+        acc = times_sample(clamp_quiet(s->split_fir, 39u), sample);
+    }
+    return acc;
+}
+
+#if WAKE_RTP_KALMAN
+/** The measurement update with the prepared gain and covariance; returns its saturations. */
+static WAKE_RTP_ALWAYS_INLINE uint32_t kalman_finish(wake_rtp_t *s, wake_q23_t e)
+{
+    uint32_t ev = 0u;
+    s->z = kalman_corrected(s, s->split_rho, e, &ev);
+    s->s = clamp_cov_wide(s->split_s, &ev);   /* within +-2^50 already, unless corrupted */
+    return ev + s->split_events;
+}
+#endif
+#endif
+
+/* The per-sample control flow is written once (sample_flow, sample_checked): @p prepared 0 makes the whole
+ * step (wake_rtp_step), 1 finishes what wake_rtp_prepare computed (WAKE_RTP_SPLIT builds).  Every caller
+ * passes a constant and the functions below are always inlined (WAKE_RTP_ALWAYS_INLINE), so each caller
+ * compiles to its own path only: the helpers that follow pick the one of the two versions of each part. */
+
+/** The sample into the window: a step's push (its FIR is predict's), or a prepared step's FIR sum. */
+static WAKE_RTP_ALWAYS_INLINE int64_t take_sample(wake_rtp_t *s, wake_q15_t sample, int prepared)
+{
+    int64_t acc = 0;
+#if WAKE_RTP_SPLIT
+    if (prepared != 0) {
+        acc = take_prepared(s, sample);
+    } else {
+        push(s, sample);
+    }
+#else
+    (void)prepared;
+    push(s, sample);
+#endif
+    return acc;
+}
+
+#if WAKE_RTP_KALMAN
+/** The Kalman measurement update of a live instance for the innovation e; returns its saturations. */
+static WAKE_RTP_ALWAYS_INLINE uint32_t kalman_measured(wake_rtp_t *s, wake_q23_t e, int prepared)
+{
+    uint32_t ev;
+#if WAKE_RTP_SPLIT
+    if (prepared != 0) {
+        ev = kalman_finish(s, e);
+    } else {
+        ev = kalman_update(s, e);
+    }
+#else
+    (void)prepared;
+    ev = kalman_update(s, e);
+#endif
+    return ev;
+}
+#endif
+
+/** The time update of a sample without a measurement update; a prepared step's inline (s has not changed
+ * since the prepare). */
+static WAKE_RTP_ALWAYS_INLINE void time_update_of_sample(wake_rtp_t *s, uint32_t *events, int prepared)
+{
+#if WAKE_RTP_SPLIT && WAKE_RTP_KALMAN
+    if (prepared != 0) {
+        if (!s->inert) {
+            s->s = time_updated(s, events);
+        }
+    } else {
+        time_update_only(s, events);
+    }
+#else
+    (void)prepared;
+    time_update_only(s, events);
+#endif
+}
+
+/** y(n): the FIR over the window (a step) or the prepared sum @p acc (a prepared step), plus z. */
+static WAKE_RTP_ALWAYS_INLINE wake_q15_t sample_output(wake_rtp_t *s, int64_t acc, int prepared, uint32_t *events)
+{
+    return (prepared != 0) ? step_output(s, acc, events) : predict(s, events);
+}
+
+#if WAKE_RTP_AHEAD
+/** The tremor ahead of the sample, e(n) = @p tremor: a step's, or a prepared step's with the prepared gate
+ * (a missing sample's goal is 0: its gate is computed here). */
+static WAKE_RTP_ALWAYS_INLINE void ahead_of_sample(wake_rtp_t *s, wake_q23_t tremor, int measured, int prepared)
+{
+#if WAKE_RTP_SPLIT
+    if (prepared != 0) {
+        ahead_finish(s, tremor, (measured != 0) ? s->split_gate : ahead_gate_next(s, 0));
+    } else {
+        ahead_step(s, tremor);
+    }
+#else
+    (void)prepared;
+    (void)measured;
+    ahead_step(s, tremor);
+#endif
+}
+#endif
+
 /**
- * wake_rtp_prepare on a checked instance.  Everything below is what step_validated computes before
- * it needs the sample, stored for finish_validated:
+ * One sample of a checked instance, with @p ev events counted before it.
+ * @p measured 0: a missing sample of a primed stream, @p sample the stand-in
+ * sample_checked computed.  @p prepared: see above.
+ */
+static WAKE_RTP_ALWAYS_INLINE wake_q15_t sample_flow(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev,
+                                                     int prepared)
+{
+    wake_q15_t y;
+    int64_t acc;
+#if WAKE_RTP_AHEAD
+    wake_q23_t tremor = 0;                 /* e(n): 0 for the first sample and a missing one */
+#endif
+    if (!s->primed || !measured) {
+        /* No measurement update, only the time update P = P + q I: a missing sample has no
+         * innovation, and neither has the first sample of a stream (no prediction preceded it;
+         * e would be 0 by construction: the window is primed with it).  It also keeps the
+         * priming off the Kalman update's path: the step's static bound is the longer of the
+         * two, not their sum.  (A prepared step takes its sample after the update, as below.) */
+        acc = (prepared != 0) ? 0 : take_sample(s, sample, prepared);
+        time_update_of_sample(s, &ev, prepared);
+    } else {
+        const wake_q23_t e = innovation(s, sample, &ev); /* its saturation is counted even when inert */
+#if WAKE_RTP_AHEAD
+        tremor = e;                                       /* the tremor estimate m(n) - y(n-1) */
+#endif
+        acc = (prepared != 0) ? 0 : take_sample(s, sample, prepared);
+#if WAKE_RTP_KALMAN
+        if (!s->inert) {
+            ev += kalman_measured(s, e, prepared);
+        }
+#else
+        (void)e;
+#endif
+    }
+    if (prepared != 0) {
+        acc = take_sample(s, sample, prepared);           /* the update reads nothing the sample changes */
+    }
+    count_step(s);
+    y = sample_output(s, acc, prepared, &ev);
+    count_events(&s->saturations, ev);
+#if WAKE_RTP_VOLUNTARY_AHEAD
+    voluntary_ahead_step(s);               /* not with WAKE_RTP_SPLIT (wake_rtp.h) */
+#endif
+#if WAKE_RTP_AHEAD
+    ahead_of_sample(s, tremor, measured, prepared);
+#endif
+    return y;
+}
+
+/** sample_flow of a whole step. */
+static wake_q15_t step_validated(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev)
+{
+    return sample_flow(s, sample, measured, ev, 0);
+}
+
+#if WAKE_RTP_SPLIT
+/** sample_flow of a prepared step. */
+static wake_q15_t finish_validated(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev)
+{
+    return sample_flow(s, sample, measured, ev, 1);
+}
+#endif
+
+/** The validated step: sample_flow of a whole step or of a prepared one. */
+static WAKE_RTP_ALWAYS_INLINE wake_q15_t validated(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev,
+                                                   int prepared)
+{
+    wake_q15_t y;
+#if WAKE_RTP_SPLIT
+    if (prepared != 0) {
+        y = finish_validated(s, sample, measured, ev);
+    } else {
+        y = step_validated(s, sample, measured, ev);
+    }
+#else
+    (void)prepared;
+    y = step_validated(s, sample, measured, ev);
+#endif
+    return y;
+}
+
+/** 1 when a prepared step (@p prepared) finds no prepare since the last step. */
+static WAKE_RTP_ALWAYS_INLINE int unprepared(const wake_rtp_t *s, int prepared)
+{
+#if WAKE_RTP_SPLIT
+    return ((prepared != 0) && (s->split_ready != 1u)) ? 1 : 0;
+#else
+    (void)s;
+    (void)prepared;
+    return 0;
+#endif
+}
+
+/**
+ * wake_rtp_step (@p measured 1) and wake_rtp_step_missing (0), or with @p prepared wake_rtp_finish and
+ * wake_rtp_finish_missing: the checks, then the step.
+ */
+static WAKE_RTP_ALWAYS_INLINE wake_rtp_status_t sample_checked(wake_rtp_t *s, wake_q15_t sample, int measured,
+                                                               wake_q15_t *prediction, int prepared)
+{
+    uint32_t ev = 0u;
+    wake_rtp_status_t st = check_structure(s);
+    if (st != WAKE_RTP_OK) {
+        return st;
+    }
+    if ((prediction == NULL) || unprepared(s, prepared)) {
+        return (prediction == NULL) ? WAKE_RTP_E_NULL : WAKE_RTP_E_UNPREPARED;   /* nothing changes */
+    }
+#if WAKE_RTP_SPLIT
+    s->split_ready = 0u;                           /* the step changes what a prepare read */
+#endif
+    if (!measured) {
+#if WAKE_RTP_AHEAD
+        s->ahead_goal = 0;                         /* the held-out gain needs a window's worth of samples again */
+#endif
+        if (!s->primed) {
+            *prediction = 0;                       /* a missing sample before the first: nothing to predict from */
+#if WAKE_RTP_AHEAD
+            ahead_of_sample(s, 0, measured, prepared);   /* the tremor ahead still takes its estimate 0 */
+#endif
+            return WAKE_RTP_OK;
+        }
+        sample = narrow_saturate16(stand_in(s), &ev);
+    }
+    *prediction = validated(s, sample, measured, ev, prepared);
+    return WAKE_RTP_OK;
+}
+
+/** wake_rtp_step (@p measured 1) and wake_rtp_step_missing (0). */
+static WAKE_RTP_OUTLINE_AT_OS wake_rtp_status_t step_checked(wake_rtp_t *s, wake_q15_t sample, int measured, wake_q15_t *prediction)
+{
+    return sample_checked(s, sample, measured, prediction, 0);
+}
+
+wake_rtp_status_t wake_rtp_step(wake_rtp_t *s, wake_q15_t sample, wake_q15_t *prediction)
+{
+    return step_checked(s, sample, 1, prediction);
+}
+
+wake_rtp_status_t wake_rtp_step_missing(wake_rtp_t *s, wake_q15_t *prediction)
+{
+    return step_checked(s, 0, 0, prediction);
+}
+
+#if WAKE_RTP_SPLIT
+/**
+ * wake_rtp_prepare on a checked instance.  Everything below is what sample_flow computes before it
+ * needs the sample, stored for its prepared case:
  *
  *   fir    = h' window(n) - h_{N-1} m(n)       the window after the next push, less its newest product
  *            (before the first sample: the sum of h, the first sample fills the window with itself)
@@ -1331,100 +1390,10 @@ static void split_refresh(wake_rtp_t *s)
     }
 }
 
-#if WAKE_RTP_AHEAD
-/** ahead_step with the older seven products and the gate @p gate prepared. */
-static void ahead_finish(wake_rtp_t *s, wake_q23_t tremor, wake_ratio_t gate)
-{
-    uint32_t ev = 0u;
-    const unsigned head = ahead_next_head(s);
-    const wake_q15_t e = ahead_estimate(tremor, &ev);
-    /* P = prepared + c_0 e(n): Q42, the prepared sum clamped to its range so that a corrupted one cannot
-     * overflow; the gate read through the 31-bit mask of ahead_gate_next */
-    const int64_t dot = clamp_quiet(s->split_ahead, 49u) + multiply_wide(s->ahead_coef[0], e);
-    ahead_line_store(s, head, e);
-    ahead_output(s, ahead_predicted(dot), (int32_t)((uint32_t)gate & UINT32_C(0x7FFFFFFF)));
-    count_events(&s->ahead_saturations, ev);
-}
-#endif
-
-/** step_validated on a prepared instance (the same cases, the same order of the state's changes). */
-static wake_q15_t finish_validated(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev_before)
-{
-    uint32_t ev = ev_before;
-    wake_q15_t y;
-    int64_t acc;
-    wake_q23_t tremor = 0;                 /* e(n): 0 for the first sample and a missing one */
-    if ((s->primed != 0u) && (measured != 0)) {
-        const wake_q23_t e = innovation(s, sample, &ev);
-        tremor = e;
-#if WAKE_RTP_KALMAN
-        if (!s->inert) {
-            s->z = kalman_corrected(s, s->split_rho, e, &ev);
-            s->s = clamp_cov_wide(s->split_s, &ev);   /* within +-2^50 already, unless corrupted */
-            ev += s->split_events;
-        }
-#endif
-    } else {
-#if WAKE_RTP_KALMAN
-        if (!s->inert) {                   /* the time update only (s has not changed since the prepare) */
-            s->s = time_updated(s, &ev);
-        }
-#endif
-    }
-    if (s->primed != 0u) {
-        ring_store(s, sample);
-        /* h' window = prepared + h_{N-1} m(n), exact (the prepared sum clamped to its range, |.| < 2^52) */
-        acc = clamp_quiet(s->split_fir, 52u) + fir_product(s->fir[s->n_taps - 1u], sample);
-    } else {
-        /* the first sample fills the window with itself: h' window = (sum of h) m(n), exact (the
-         * prepared sum clamped to its range, |.| <= 2^39) */
-        prime_window(s, sample);
-        ring_store(s, sample);
-        acc = times_sample(clamp_quiet(s->split_fir, 39u), sample);
-    }
-    count_step(s);
-    y = step_output(s, acc, &ev);
-    count_events(&s->saturations, ev);
-#if WAKE_RTP_AHEAD
-    ahead_finish(s, tremor, (measured != 0) ? s->split_gate : ahead_gate_next(s, 0));
-#else
-    (void)tremor;
-#endif
-    return y;
-}
-
-/** wake_rtp_finish (@p measured 1) and wake_rtp_finish_missing (0): step_checked on a prepared instance. */
+/** wake_rtp_finish (@p measured 1) and wake_rtp_finish_missing (0). */
 static wake_rtp_status_t finish_checked(wake_rtp_t *s, wake_q15_t sample, int measured, wake_q15_t *prediction)
 {
-    uint32_t ev = 0u;
-    wake_rtp_status_t st = check_structure(s);
-    if ((st == WAKE_RTP_OK) && (prediction == NULL)) {
-        st = WAKE_RTP_E_NULL;
-    }
-    if ((st == WAKE_RTP_OK) && (s->split_ready != 1u)) {
-        st = WAKE_RTP_E_UNPREPARED;
-    }
-    if (st == WAKE_RTP_OK) {
-        wake_q15_t m = sample;
-        s->split_ready = 0u;
-        if (measured == 0) {
-#if WAKE_RTP_AHEAD
-            s->ahead_goal = 0;             /* the held-out gain needs a window's worth of samples again */
-#endif
-            if (s->primed != 0u) {
-                m = narrow_saturate16(stand_in(s), &ev);      /* the last prediction stands in for the missing sample */
-            }
-        }
-        if ((measured == 0) && (s->primed == 0u)) {
-            *prediction = 0;               /* a missing sample before the first: nothing to predict from */
-#if WAKE_RTP_AHEAD
-            ahead_finish(s, 0, ahead_gate_next(s, 0));
-#endif
-        } else {
-            *prediction = finish_validated(s, m, measured, ev);
-        }
-    }
-    return st;
+    return sample_checked(s, sample, measured, prediction, 1);
 }
 
 wake_rtp_status_t wake_rtp_prepare(wake_rtp_t *s)

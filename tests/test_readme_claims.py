@@ -633,6 +633,25 @@ def check_q_formats():
 SLOW_CLAIMS = {"baselines", "warmup-slices", "profile"}
 
 
+@claim("extension-configuration")
+def check_extension_configuration():
+    import build_ffi
+
+    headers = "\n".join((ROOT / "csrc" / h).read_text() for h in build_ffi.HEADERS)
+    config = dict(build_ffi.CONFIGURATION)
+    rows = {cells[0].strip("`"): cells[1:3] for cells in
+            ([c.strip() for c in line.strip().strip("|").split("|")]
+             for line in tagged("extension-configuration", fold=False).splitlines() if line.startswith("| `WAKE_"))}
+    assert set(rows) >= set(config), f"definitions of the build not listed: {set(config) - set(rows)}"
+    for name, (extension, default) in rows.items():
+        # the header's default: `#ifndef NAME` followed by `#define NAME value`
+        m = re.search(rf"#ifndef {name}\n#define {name} (\d+)\n", headers)
+        assert m, f"{name}: no default in {', '.join(build_ffi.HEADERS)}"
+        assert default == m[1], (name, default, m[1])
+        assert extension == config.get(name, m[1]), (name, extension, config.get(name, m[1]))
+    assert f"windows longer than {rows['WAKE_HPA_MAX_WINDOW'][1]} samples" in tagged("extension-configuration")
+
+
 @pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in SLOW_CLAIMS else n
                                   for n in sorted(CHECKS)])
 def test_claim(name, tmp_path):
@@ -643,4 +662,5 @@ def test_claim(name, tmp_path):
             fn(tmp_path)
         else:
             fn()
+
 

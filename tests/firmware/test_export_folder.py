@@ -50,9 +50,10 @@ def compile_folder(cc, folder, extra):
 
 def test_folder_holds_the_core_unchanged_and_the_configuration(tmp_path):
     files = export_folder(tmp_path / "fw", sources=CSRC, **CONFIG)
-    assert [f.name for f in files] == ["wake_rtp.c", "wake_rtp.h", "wake_hpa.c", "wake_hpa.h", "wake_rate.c",
-                                       "wake_rate.h", "wake_config.h", "README.md"]
-    for name in ("wake_rtp.c", "wake_rtp.h", "wake_hpa.c", "wake_hpa.h", "wake_rate.c", "wake_rate.h"):
+    assert [f.name for f in files] == ["wake_rtp.c", "wake_rtp.h", "wake_fixed.h", "wake_hpa.c", "wake_hpa.h",
+                                       "wake_rate.c", "wake_rate.h", "wake_config.h", "README.md"]
+    for name in ("wake_rtp.c", "wake_rtp.h", "wake_fixed.h", "wake_hpa.c", "wake_hpa.h", "wake_rate.c",
+                 "wake_rate.h"):
         assert (tmp_path / "fw" / name).read_bytes() == (CSRC / name).read_bytes()
     header = (tmp_path / "fw" / "wake_config.h").read_text()
     assert "static inline wake_rtp_status_t wake_config_init(wake_rtp_t *rtp)" in header

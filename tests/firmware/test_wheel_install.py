@@ -138,8 +138,8 @@ def test_export_c_from_the_wheel_compiles_for_cortex_m4_and_the_host(installed):
     env_dir, py, work = installed
     _run([env_dir / "bin" / "wake", "export-c", "fw", "--level", "5", "--wavelet", "sym3"], cwd=work)
     fw = work / "fw"
-    assert sorted(p.name for p in fw.iterdir()) == ["README.md", "wake_config.h", "wake_hpa.c", "wake_hpa.h",
-                                                    "wake_rate.c", "wake_rate.h", "wake_rtp.c", "wake_rtp.h"]
+    assert sorted(p.name for p in fw.iterdir()) == ["README.md", "wake_config.h", "wake_fixed.h", "wake_hpa.c",
+                                                    "wake_hpa.h", "wake_rate.c", "wake_rate.h", "wake_rtp.c", "wake_rtp.h"]
     (fw / "use_config.c").write_text('#include "wake_hpa.h"\n#include "wake_config.h"\n'
                                      "int start(void) { static wake_rtp_t r; static wake_hpa_t h;\n"
                                      "  return wake_config_init(&r) + (int)wake_config_hpa_init(&h); }\n")

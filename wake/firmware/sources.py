@@ -14,7 +14,7 @@ from pathlib import Path
 __all__ = ["SourcesUnavailable", "csrc_dir"]
 
 #: Files every use of the sources needs.
-_REQUIRED = ("wake_rtp.c", "wake_rtp.h")
+_REQUIRED = ("wake_rtp.c", "wake_rtp.h", "wake_fixed.h")
 
 
 class SourcesUnavailable(FileNotFoundError):

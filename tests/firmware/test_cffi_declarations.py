@@ -1,0 +1,45 @@
+"""The extension's cffi declarations (csrc/wake_cffi.h) against the C it is compiled from.
+
+build_ffi.py reads its declarations from csrc/wake_cffi.h, written for cffi.  cffi's API mode checks
+every declaration in that file against the headers (a field of the wrong size or offset stops the import);
+these tests check the other direction: every public function the extension's sources define is declared,
+and the file is one cffi reads as it is (no preprocessor conditionals to strip).
+"""
+
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+import build_ffi
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_cdef_holds_no_conditional_or_include():
+    text = (ROOT / "csrc" / build_ffi.CDEF).read_text()
+    directives = {line.split()[0] for line in text.splitlines() if line.lstrip().startswith("#")}
+    assert directives == {"#define"}, f"wake_cffi.h must hold declarations cffi reads as they are: {directives}"
+
+
+def test_every_defined_function_is_declared():
+    lib = pytest.importorskip("wake._rtp", reason="the extension is not built (python build_ffi.py)")
+    nm = shutil.which("nm")
+    if nm is None:
+        pytest.skip("nm (binutils) is not installed: cannot list the extension's symbols")
+    out = subprocess.run([nm, "-D", "--defined-only", lib.__file__], capture_output=True, text=True, check=True).stdout
+    defined = {f[2] for f in (line.split() for line in out.splitlines())
+               if len(f) == 3 and f[1] == "T" and f[2].startswith("wake_")}
+    assert {"wake_rtp_step", "wake_hpa_run", "wake_rate_push", "wake_rtp_set_voluntary_ahead"} <= defined
+    missing = sorted(defined - set(dir(lib.lib)))
+    assert not missing, f"defined in csrc/ but not declared in csrc/wake_cffi.h: {missing}"
+
+
+def test_configuration_matches_the_compiled_constants():
+    lib = pytest.importorskip("wake._rtp", reason="the extension is not built (python build_ffi.py)").lib
+    config = dict(build_ffi.CONFIGURATION)
+    assert lib.WAKE_RTP_VOLUNTARY_AHEAD == int(config["WAKE_RTP_VOLUNTARY_AHEAD"])
+    assert lib.WAKE_HPA_AHEAD == int(config["WAKE_HPA_AHEAD"])
+    assert lib.WAKE_HPA_MAX_WINDOW == int(config["WAKE_HPA_MAX_WINDOW"])
+    assert lib.WAKE_RTP_SPLIT == 0 and lib.WAKE_RTP_AHEAD == 1 and lib.WAKE_RTP_KALMAN == 1
