@@ -369,3 +369,7 @@ void wake_eval_wflc(const double *x, size_t n, size_t m, double fs, double omega
                     double two_mu, double two_mu_bias, double two_mu0, double beta, const long *horizons,
                     size_t n_horizons, double *a, double *c, double *sn, double *cs, double *vol, double *bank,
                     double *freq, double *ahead);
+void wake_eval_ehwflc(const double *x, size_t n, size_t m, double fs, double omega0, double lo, double hi,
+                      double two_mu0, double beta, double p0, double q_bias, double q_tremor, const long *horizons,
+                      size_t n_horizons, double *w, double *p, double *phi, double *pphi, double *vol, double *bank,
+                      double *freq, double *ahead);
