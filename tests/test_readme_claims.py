@@ -639,7 +639,7 @@ def check_extension_configuration():
 
     headers = "\n".join((ROOT / "csrc" / h).read_text() for h in build_ffi.HEADERS)
     config = dict(build_ffi.CONFIGURATION)
-    rows = {cells[0].strip("`"): cells[1:3] for cells in
+    rows = {cells[0].strip("`"): [c.strip("`") for c in cells[1:3]] for cells in
             ([c.strip() for c in line.strip().strip("|").split("|")]
              for line in tagged("extension-configuration", fold=False).splitlines() if line.startswith("| `WAKE_"))}
     assert set(rows) >= set(config), f"definitions of the build not listed: {set(config) - set(rows)}"
@@ -649,7 +649,7 @@ def check_extension_configuration():
         assert m, f"{name}: no default in {', '.join(build_ffi.HEADERS)}"
         assert default == m[1], (name, default, m[1])
         assert extension == config.get(name, m[1]), (name, extension, config.get(name, m[1]))
-    assert f"windows longer than {rows['WAKE_HPA_MAX_WINDOW'][1]} samples" in tagged("extension-configuration")
+    assert f"windows longer than `{rows['WAKE_HPA_MAX_WINDOW'][1]}` samples" in tagged("extension-configuration")
 
 
 @pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in SLOW_CLAIMS else n
