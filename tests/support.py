@@ -110,3 +110,14 @@ def tremor_captured(estimate, truth, fs, skip_s=8.0):
     e, t = np.asarray(estimate)[k:], np.asarray(truth)[k:]
     ok = np.isfinite(e)
     return float(np.corrcoef(e[ok], t[ok])[0, 1])
+
+
+def load_build_ffi():
+    """The checkout's build_ffi.py as a module, loaded by its path: under CI the package is installed from its
+    wheel and the checkout's top is not on sys.path."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("build_ffi", Path(__file__).resolve().parents[1] / "build_ffi.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module

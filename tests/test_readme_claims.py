@@ -635,7 +635,9 @@ SLOW_CLAIMS = {"baselines", "warmup-slices", "profile"}
 
 @claim("extension-configuration")
 def check_extension_configuration():
-    import build_ffi
+    from support import load_build_ffi
+
+    build_ffi = load_build_ffi()
 
     headers = "\n".join((ROOT / "csrc" / h).read_text() for h in build_ffi.HEADERS)
     config = dict(build_ffi.CONFIGURATION)

@@ -12,7 +12,9 @@ from pathlib import Path
 
 import pytest
 
-import build_ffi
+from support import load_build_ffi
+
+build_ffi = load_build_ffi()
 
 ROOT = Path(__file__).resolve().parents[2]
 
