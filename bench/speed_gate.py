@@ -233,7 +233,7 @@ def table(results: dict, markdown: bool) -> str:
         lines = ["| " + " | ".join(head) + " |", "|---|---|---|---:|---:|---|---|"]
         lines += ["| " + " | ".join(f"`{c}`" if i == 0 else c for i, c in enumerate(row)) + " |" for row in rows]
     else:
-        lines = [f"{name:<22} {ratio:>9} (ceiling {ceiling:>5g}) {verdict:<6} {unit:<11} {times}"
+        lines = [f"{name:<22} {ratio:>9} (ceiling {ceiling:>5}) {verdict:<6} {unit:<11} {times}"
                  for name, _, unit, ratio, ceiling, verdict, times in rows]
     return "\n".join(lines)
 
