@@ -23,7 +23,7 @@ from wake.sampling import TUNED_RATES, RateWarning, decimation_for, warn_if_far_
 from wake.registry import cutoff_rule_names
 
 __all__ = ["CoreMissingWarning", "RateWarning", "TUNED_RATES", "WakeConfig", "MAX_LEVEL",
-           "WEIGHT_LIMIT", "BACKENDS", "HPA_BACKENDS", "HPA_MODES", "FITS", "LIMITS"]
+           "WEIGHT_LIMIT", "BACKENDS", "HPA_BACKENDS", "HPA_MODES", "FITS", "RIDGE_SCALES", "LIMITS"]
 
 #: Largest |weight| the HPA hands over.  The C core holds weights in Q24 and
 #: accepts |w| <= 64; keeping the HPA at half of that leaves room for the
@@ -37,6 +37,7 @@ HPA_MODES = ("inline", "thread")
 HPA_BACKENDS = ("python", "c")
 #: What the HPA fits ``w`` on (see :mod:`wake.hpa.run`).
 FITS = ("causal", "paper")
+RIDGE_SCALES = ("gram", "centred")  # what the weight fit's ridge is relative to (wake.hpa.fit.ridge_scale_of)
 #: Weights before the first HPA (see :mod:`wake.hpa.prior`).
 INITIAL_WEIGHTS = ("prior", "deepest")
 
@@ -134,6 +135,9 @@ class WakeConfig:
         ``P(0) = p0 I`` in squared signal units.
     ridge : float
         Relative ridge of the weight fit.
+    ridge_scale : {"gram", "centred"}
+        ``ridge`` relative to the Gram matrix (default, the C HPA's) or to its centred form, which gravity
+        does not inflate (Python HPA only; :func:`wake.hpa.fit.ridge_scale_of`; issue 46).
     tremor_band, cutoff_range, default_cutoff
         Cut-off search, see :func:`wake.hpa.find_cutoff`.
     cutoff_rule : {"floor", "paper", "shallow"}
@@ -237,6 +241,7 @@ class WakeConfig:
     process_noise_ratio: float = 0.0
     initial_covariance: float = 0.0
     ridge: float = 1e-6
+    ridge_scale: str = "gram"
     tremor_band: tuple = (2.5, 15.0)
     cutoff_range: tuple = (0.5, 6.0)
     default_cutoff: float = 2.0
@@ -273,8 +278,10 @@ class WakeConfig:
         if self.cutoff_rule not in cutoff_rule_names():
             raise ValueError(f"unknown cutoff_rule {self.cutoff_rule!r}; valid choices: "
                              f"{', '.join(cutoff_rule_names())}")
-        if self.fit not in FITS:
-            raise ValueError(f"unknown fit {self.fit!r}; valid choices: {', '.join(FITS)}")
+        for name, choices in (("fit", FITS), ("ridge_scale", RIDGE_SCALES), ("hpa_mode", HPA_MODES),
+                              ("hpa_backend", HPA_BACKENDS), ("initial_weights", INITIAL_WEIGHTS)):
+            if getattr(self, name) not in choices:
+                raise ValueError(f"unknown {name} {getattr(self, name)!r}; valid choices: {', '.join(choices)}")
         for name in ("process_noise_ratio", "initial_covariance", "ridge"):
             put(name, _number(name, getattr(self, name)))
         nyquist = self.fs / 2
@@ -302,14 +309,9 @@ class WakeConfig:
         if self.full_scale is not None:
             put("full_scale", _number("full_scale", self.full_scale, low_open=True))
         put("headroom", _number("headroom", self.headroom))
-        if self.hpa_mode not in HPA_MODES:
-            raise ValueError(f"unknown hpa_mode {self.hpa_mode!r}; valid choices: {', '.join(HPA_MODES)}")
-        if self.hpa_backend not in HPA_BACKENDS:
-            raise ValueError(f"unknown hpa_backend {self.hpa_backend!r}; valid choices: {', '.join(HPA_BACKENDS)}")
+        if self.hpa_backend == "c" and self.ridge_scale != "gram":
+            raise ValueError("ridge_scale='centred' needs hpa_backend='python' (the C HPA's ridge is the Gram one)")
         put("warmup_hpa_s", self._warmup_points())
-        if self.initial_weights not in INITIAL_WEIGHTS:
-            raise ValueError(f"unknown initial_weights {self.initial_weights!r}; valid choices: "
-                             f"{', '.join(INITIAL_WEIGHTS)}")
         put("hpa_history_limit", _number("hpa_history_limit", self.hpa_history_limit, integer=True))
         if self.decimation is not None:
             put("decimation", _number("decimation", self.decimation, integer=True))
@@ -392,8 +394,7 @@ class WakeConfig:
     def replace(self, **changes) -> "WakeConfig":
         """A copy with some settings changed (validated again)."""
         values = {f.name: getattr(self, f.name) for f in fields(self)}
-        unknown = set(changes) - set(values)
-        if unknown:
+        if unknown := set(changes) - set(values):
             raise TypeError(f"unknown setting(s) {sorted(unknown)}; valid: {', '.join(values)}")
         values.update(changes)
         return WakeConfig(**values)

@@ -95,7 +95,7 @@ def tremor_ahead(x, outputs, weights, tremor_gt, config: WakeConfig, flag: str, 
 
 
 def voluntary_ahead_weights(outputs, voluntary_gt, n_taps: int, horizon: int, ridge: float, start_weights,
-                            shrink: float):
+                            shrink: float, ridge_scale: str = "gram"):
     """``w_h``: the weights of the voluntary motion ``horizon`` samples ahead (None at ``horizon = 1``).
 
     The one-step fit (:func:`wake.hpa.fit.fit_weights`, the same ridge, weight limit and warm-up pull) on
@@ -114,7 +114,7 @@ def voluntary_ahead_weights(outputs, voluntary_gt, n_taps: int, horizon: int, ri
     if horizon == 1:
         return None
     approx, target = PredictionTarget(horizon).fit_pairs(outputs, voluntary_gt, n_taps)
-    return fit_weights(approx, target, ridge, center=start_weights, shrink=shrink)[0]
+    return fit_weights(approx, target, ridge, center=start_weights, shrink=shrink, ridge_scale=ridge_scale)[0]
 
 
 def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, index: int = 0,
@@ -197,7 +197,8 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
         target = voluntary_gt
     L = config.window_samples
     shrink = WARMUP_SHRINK * (L - x.size) / L if (start_weights is not None and x.size < L) else 0.0
-    w, err, used = fit_weights(approx, target, ridge, center=start_weights, shrink=shrink)
+    w, err, used = fit_weights(approx, target, ridge, center=start_weights, shrink=shrink,
+                               ridge_scale=config.ridge_scale)
     ahead_weights = None
     if used > ridge:
         flags.append("regularised")
@@ -208,7 +209,7 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
     else:
         # the voluntary motion h samples ahead, fitted by the same rules (None at h = 1 and when kept)
         ahead_weights = voluntary_ahead_weights(outputs, voluntary_gt, taps.shape[1], config.horizon, ridge,
-                                                start_weights, shrink)
+                                                start_weights, shrink, config.ridge_scale)
     # the predictor learns from the estimate these weights will give from now on (docs/studies/design.md, "Tremor
     # ahead": with the weights in use before this HPA, PADS at 100 ms came to 1.008 x zero after 5 s)
     ahead = tremor_ahead(x, outputs, w, tremor_gt, config, flag, previous_ahead, new_samples)
