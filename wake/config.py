@@ -15,7 +15,7 @@ import math
 import numbers
 from dataclasses import dataclass, fields
 
-from wake._core import BUILD_HINT, core_installed, missing_core_hint
+from wake._core import CoreMissingWarning, default_backend as _default_backend
 from wake._validation import check_level, check_mode, check_number, check_pair, check_wavelet
 from wake.ahead import MAX_HORIZON, bank_horizon, check_horizon
 from wake.limits import MAX_LEVEL
@@ -57,6 +57,7 @@ LIMITS = {
     "horizon": (1, MAX_HORIZON),      # samples
     "shallow_max": (0.0, 1e5),        # Hz, exclusive low; at least cutoff_range[0] (checked beside it)
     "decimation": (1, 1000),
+    "gate_cutoff": (0.0, 1e5),        # Hz, exclusive low; below fs/2 (checked beside it)
 }
 
 def _number(name: str, value, *, integer: bool = False, low_open: bool = False):
@@ -76,24 +77,6 @@ def auto_warmup_points(fs: float, window_s: float, level: int) -> tuple:
     while times[-1] + 4.0 < window_s:
         times.append(times[-1] + 4.0)
     return tuple(t for t in times if need <= int(round(t * fs)) < L)
-
-
-class CoreMissingWarning(UserWarning):
-    """The compiled C core is not installed: the default backend is the float64 reference."""
-
-
-def _default_backend() -> str:
-    """``"c"`` when the compiled core imports, else ``"reference"``, warning (once per process) which."""
-    if core_installed():
-        return "c"
-    import warnings
-
-    hint = missing_core_hint()
-    hint = hint.split(", or use")[0] if hint == BUILD_HINT else hint
-    warnings.warn("the compiled C core (wake._rtp) is not importable, so WAKE runs on the float64 reference "
-                  f"backend; to run the fixed-point core that firmware runs, {hint}",
-                  CoreMissingWarning, stacklevel=4)
-    return "reference"
 
 
 @dataclass(frozen=True)
@@ -217,6 +200,12 @@ class WakeConfig:
         the bank predicts ``h / D`` of its samples ahead (rounded) and the
         prediction holds over the ``D`` input samples of a group, like the
         voluntary motion.  The voluntary outputs do not depend on it.
+    gate_cutoff : float or None
+        The gate's held-out gain (:func:`wake.ahead.held_out_gain`) measured against the window's tremor
+        above ``max(f_d, gate_cutoff)`` Hz instead of above ``f_d``: what a rhythm just above the HPA's
+        cut-off (a 3-Hz voluntary pronation-supination) predicts then opens no gate.  ``None`` (the
+        default): ``f_d``, as the C HPA does.  4 is the lower edge of pathological tremor (issue 46,
+        docs/studies/design.md, "Tremor ahead where tremor is strong").  Python HPA only.
 
     Examples
     --------
@@ -256,6 +245,7 @@ class WakeConfig:
     hpa_history_limit: int = 1000
     decimation: int | None = None
     horizon: int = 1
+    gate_cutoff: float | None = None
 
     def __post_init__(self):
         put = lambda name, value: object.__setattr__(self, name, value)  # noqa: E731 (frozen)
@@ -309,8 +299,13 @@ class WakeConfig:
         if self.full_scale is not None:
             put("full_scale", _number("full_scale", self.full_scale, low_open=True))
         put("headroom", _number("headroom", self.headroom))
-        if self.hpa_backend == "c" and self.ridge_scale != "gram":
-            raise ValueError("ridge_scale='centred' needs hpa_backend='python' (the C HPA's ridge is the Gram one)")
+        if self.gate_cutoff is not None:
+            put("gate_cutoff", _number("gate_cutoff", self.gate_cutoff, low_open=True))
+            if not self.gate_cutoff < nyquist:
+                raise ValueError(f"gate_cutoff must lie below fs/2 = {nyquist:g} Hz (or be None), got {self.gate_cutoff!r}")
+        if self.hpa_backend == "c" and (self.ridge_scale != "gram" or self.gate_cutoff is not None):
+            raise ValueError("ridge_scale='centred' and gate_cutoff need hpa_backend='python' (the C HPA has neither): "
+                             "pass hpa_backend='python', or ridge_scale='gram' and gate_cutoff=None")
         put("warmup_hpa_s", self._warmup_points())
         put("hpa_history_limit", _number("hpa_history_limit", self.hpa_history_limit, integer=True))
         if self.decimation is not None:

@@ -36,7 +36,7 @@ def test_unknown_rules_are_refused_naming_the_choices():
         WakeConfig(ridge_scale="mean")
     with pytest.raises(ValueError, match="valid choices: gram, centred"):
         fit_weights(np.eye(3), np.ones(3), ridge_scale="mean")
-    with pytest.raises(ValueError, match="needs hpa_backend='python'"):
+    with pytest.raises(ValueError, match="need hpa_backend='python'"):
         WakeConfig(ridge_scale="centred", hpa_backend="c")
 
 

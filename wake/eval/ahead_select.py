@@ -19,6 +19,7 @@ import numpy as np
 from wake.ahead import gate_target, held_out_gain, lagged, ramp_step
 from wake.ahead_models import fit_model
 from wake.eval.tremor_ahead import aligned, hindsight_predictor
+from wake.hpa.run import gate_truth
 from wake.hpa.sharp import detrended_highpass
 from wake.wavelets import filter_bank_outputs, filter_bank_taps
 
@@ -26,10 +27,13 @@ __all__ = ["window_pairs", "command_with", "wiener_limit"]
 
 
 def window_pairs(x, result, config, channel=0):
-    """Per HPA of one channel: ``(index, estimate, truth, flag)`` as :func:`wake.hpa.run.tremor_ahead` sees them.
+    """Per HPA of one channel: ``(index, estimate, truth, flag, gated)`` as :func:`wake.hpa.run.tremor_ahead`
+    sees them.
 
     ``estimate``: WAKE's tremor estimate over the window recomputed with the weights the HPA installed;
-    ``truth``: the window's sharp high-pass truth at the HPA's cut-off (the end-point line out).
+    ``truth``: the window's sharp high-pass truth at the HPA's cut-off (the end-point line out); ``gated``:
+    the truth the gate's held-out gain is measured against (:func:`wake.hpa.run.gate_truth`,
+    ``config.gate_cutoff``; ``truth`` itself by default).
     """
     x = np.asarray(x, dtype=float)
     taps = filter_bank_taps(config.wavelet, config.level, config.mode)
@@ -40,8 +44,9 @@ def window_pairs(x, result, config, channel=0):
         outputs = filter_bank_outputs(w, taps)
         N = w.shape[0] - outputs.shape[0] + 1
         estimate = w[N:] - outputs[:-1] @ np.asarray(u.weights, dtype=float)
-        truth = detrended_highpass(w, config.fs, u.cutoff)[N:]
-        out.append((u.index, estimate, truth, u.cutoff_flag))
+        full = detrended_highpass(w, config.fs, u.cutoff)
+        gated = gate_truth(w, config.fs, u.cutoff, full, config.gate_cutoff)[N:]
+        out.append((u.index, estimate, full[N:], u.cutoff_flag, gated))
     return out
 
 
@@ -91,8 +96,8 @@ def command_with(x, result, config, horizon, predictor="fir8", channel=0):
     goal = np.zeros(n)
     previous, last = None, 0
     starts = [applied_at(result, channel, i, idx) for i, (idx, *_rest) in enumerate(pairs)] + [n]
-    for i, (index, estimate, truth, flag) in enumerate(pairs):
-        gain = held_out_gain(estimate, truth, previous, horizon, index - last)
+    for i, (index, estimate, truth, flag, gated) in enumerate(pairs):
+        gain = held_out_gain(estimate, gated, previous, horizon, index - last)
         c = fit_model(estimate, truth, horizon, predictor)
         a, b = starts[i], starts[i + 1]
         if b > a:
