@@ -7,7 +7,8 @@ neither has to import the other.
 
 from __future__ import annotations
 
-__all__ = ["BUILD_HINT", "CoreUnavailable", "core_installed", "missing_core_hint", "shadowed_install"]
+__all__ = ["BUILD_HINT", "CoreUnavailable", "CoreMissingWarning", "core_installed", "default_backend",
+           "missing_core_hint", "shadowed_install"]
 
 #: How to get the compiled core, for every message that needs it.
 BUILD_HINT = ("build it with `pip install .` (or `pip install -e .` inside a source tree) on a machine "
@@ -73,3 +74,21 @@ def missing_core_hint() -> str:
     return (f"Python imported the source tree {tree} (the current directory comes first on sys.path), which has "
             f"no compiled core, instead of the installed package in {installed}, which has it: run from "
             "another directory, or install the checkout in place with `pip install -e .`")
+
+
+class CoreMissingWarning(UserWarning):
+    """The compiled C core is not installed: the default backend is the float64 reference."""
+
+
+def default_backend() -> str:
+    """``"c"`` when the compiled core imports, else ``"reference"``, warning (once per process) which."""
+    if core_installed():
+        return "c"
+    import warnings
+
+    hint = missing_core_hint()
+    hint = hint.split(", or use")[0] if hint == BUILD_HINT else hint
+    warnings.warn("the compiled C core (wake._rtp) is not importable, so WAKE runs on the float64 reference "
+                  f"backend; to run the fixed-point core that firmware runs, {hint}",
+                  CoreMissingWarning, stacklevel=4)
+    return "reference"

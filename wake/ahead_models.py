@@ -7,6 +7,14 @@ where tremor is strong and does no harm where it is weak; the candidates are her
 own (:func:`wake.eval.ahead_select.command_with`) and a later change can port the chosen one.  The study that
 chose among them: docs/studies/design.md, "Tremor ahead where tremor is strong" (``python bench/strong_ahead.py``).
 
+Beside them, predictors that adapt **per sample** (:data:`ADAPTIVE`, :func:`adaptive_predictor`): the HPA installs
+its ``"fir8"`` predictor as the starting point, and between two HPAs the coefficients follow WAKE's own tremor
+estimate, whose value at ``n`` becomes known ``horizon`` samples after it was predicted (no truth needed):
+``"nlms8"``, normalised LMS on 8 taps (:class:`NLMSPredictor`, about 26 multiply-adds and one division a sample);
+``"rls16"``, exponentially weighted RLS on 16 taps (:class:`RLSPredictor`, a ceiling of per-sample adaptation:
+about 3 x 16^2 multiply-adds a sample, beyond a microcontroller's step).  The evaluation runs them with
+:func:`wake.eval.ahead_select.command_with` as it runs the others.
+
 Examples
 --------
 >>> import numpy as np
@@ -20,9 +28,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from wake.ahead import RIDGE, fit_pair, fit_predictor, fit_rows, lagged
+from wake.ahead import COEFFICIENT_LIMIT, RIDGE, fit_pair, fit_predictor, fit_rows, lagged
 
-__all__ = ["ORDERS", "SELECT_HELD_OUT", "PREDICTORS", "fit_selected", "fit_model"]
+__all__ = ["ORDERS", "SELECT_HELD_OUT", "PREDICTORS", "ADAPTIVE", "NLMS_STEP", "RLS_FORGET", "fit_selected",
+           "fit_model", "NLMSPredictor", "RLSPredictor", "adaptive_predictor"]
 
 #: Orders :func:`fit_selected` chooses from, per window, by the held-out score.
 ORDERS = (8, 16, 24, 40)
@@ -119,3 +128,165 @@ def fit_model(estimate, truth, horizon: int, predictor: str = "fir8"):
     if predictor == "order-select":
         return fit_selected(estimate, truth, horizon)
     raise ValueError(f"predictor must be one of {PREDICTORS}, got {predictor!r}")
+
+
+#: The per-sample adaptive predictors :func:`adaptive_predictor` knows (each starts from the HPA's ``"fir8"``).
+ADAPTIVE = ("nlms8", "rls16")
+
+#: Step size of :class:`NLMSPredictor` (``"nlms8"``): of 0.02, 0.05, 0.1 and 0.2 the best on the strong set at 20
+#: and 50 ms, within 1 % of the best (0.02) on pdkit's tremor axes (``python bench/strong_ahead.py --sweep-nlms``;
+#: docs/studies/design.md, "Tremor ahead where tremor is strong").
+NLMS_STEP = 0.05
+
+#: Forgetting factor of :class:`RLSPredictor` (``"rls16"``): a memory of about 1 / (1 - 0.995) = 200 samples.
+RLS_FORGET = 0.995
+
+
+class NLMSPredictor:
+    """A direct ``horizon``-step predictor of WAKE's tremor estimate adapted per sample by normalised LMS.
+
+    Per sample ``n`` (``Y(n) = [y(n), ..., y(n-p+1)]``, newest first)::
+
+        e    = y(n) - c . Y(n - h)                     the error of the prediction made h samples ago
+        c   <- c + mu e Y(n - h) / (eps + |Y(n - h)|^2)     each clipped to +-COEFFICIENT_LIMIT
+        P(n) = c . Y(n)                                the tremor predicted for n + h
+
+    :meth:`install` sets ``c`` to an HPA's predictor (the delay line carries over).  The clip is the HPA
+    predictor's (:data:`wake.ahead.COEFFICIENT_LIMIT`): a burst or a step cannot drive ``c`` past what the
+    fixed-point core holds.
+
+    Parameters
+    ----------
+    taps : int
+        ``p``, at least 1.
+    horizon : int
+        ``h``, samples ahead, at least 1.
+    mu : float
+        Step size in (0, 2) (:data:`NLMS_STEP`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> s = np.sin(2 * np.pi * 6.0 * np.arange(2000) / 100.0)
+    >>> pred = NLMSPredictor(8, horizon=5)
+    >>> P = np.array([pred.step(v) for v in s])
+    >>> bool(np.abs(P[1500:-5] - s[1505:]).max() < 0.05)
+    True
+    >>> NLMSPredictor(8, horizon=5, mu=3.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: mu must lie in (0, 2) (normalised LMS is stable there), got 3.0
+    """
+
+    def __init__(self, taps: int, horizon: int, mu: float = NLMS_STEP):
+        self.taps, self.horizon = check_taps_horizon(taps, horizon)
+        if not 0.0 < float(mu) < 2.0:
+            raise ValueError(f"mu must lie in (0, 2) (normalised LMS is stable there), got {mu!r}")
+        self.mu = float(mu)
+        self.coefficients = np.zeros(self.taps)
+        self.line = np.zeros(self.taps + self.horizon)   # y(n), ..., y(n - p - h + 1), newest first
+
+    def install(self, coefficients):
+        """Start from an HPA's predictor (``coefficients`` newest first, zero-padded or cut to ``taps``)."""
+        self.coefficients = padded(coefficients, self.taps)
+
+    def step(self, estimate: float) -> float:
+        """Take ``y(n)``; return ``P(n)``, the tremor predicted for ``n + horizon``."""
+        self.line[1:] = self.line[:-1]
+        self.line[0] = estimate
+        past = self.line[self.horizon:]
+        e = estimate - self.coefficients @ past
+        self.coefficients = np.clip(self.coefficients + self.mu * e * past / (1e-12 + past @ past),
+                                    -COEFFICIENT_LIMIT, COEFFICIENT_LIMIT)
+        return float(self.coefficients @ self.line[:self.taps])
+
+
+class RLSPredictor(NLMSPredictor):
+    """:class:`NLMSPredictor`'s predictor adapted by exponentially weighted recursive least squares.
+
+    ``k = Q Y(n-h) / (lam + Y(n-h)' Q Y(n-h))``, ``c <- c + k e`` (clipped as :class:`NLMSPredictor`'s),
+    ``Q <- (Q - k Y(n-h)' Q) / lam``.  ``Q`` restarts as ``I / delta`` at each :meth:`install` and at the
+    first sample whose regressor has power, ``delta`` 1 % of the regressor's mean square: each HPA's
+    predictor is a fresh start.  The division by ``lam`` is skipped while the mean diagonal of ``Q`` is above
+    its start ``1 / delta``: a narrow-band tremor excites two of the ``p`` directions, and forgetting in the
+    others would grow ``Q`` without bound (RLS wind-up).
+
+    Parameters
+    ----------
+    taps, horizon : int
+    forget : float
+        ``lam`` in (0, 1] (:data:`RLS_FORGET`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> s = np.sin(2 * np.pi * 6.0 * np.arange(1000) / 100.0)
+    >>> pred = RLSPredictor(4, horizon=5)
+    >>> P = np.array([pred.step(v) for v in s])
+    >>> bool(np.abs(P[500:-5] - s[505:]).max() < 1e-3)
+    True
+    """
+
+    def __init__(self, taps: int, horizon: int, forget: float = RLS_FORGET):
+        super().__init__(taps, horizon)
+        if not 0.0 < float(forget) <= 1.0:
+            raise ValueError(f"forget must lie in (0, 1], got {forget!r}")
+        self.forget = float(forget)
+        self.q = None
+
+    def install(self, coefficients):
+        super().install(coefficients)
+        self.q = None
+
+    def step(self, estimate: float) -> float:
+        self.line[1:] = self.line[:-1]
+        self.line[0] = estimate
+        past = self.line[self.horizon:]
+        power = float(past @ past) / self.taps
+        if self.q is None and power > 0:
+            self.q0 = 100.0 / power
+            self.q = np.eye(self.taps) * self.q0
+        if self.q is not None:
+            e = estimate - self.coefficients @ past
+            qx = self.q @ past
+            k = qx / (self.forget + past @ qx)
+            self.coefficients = np.clip(self.coefficients + k * e, -COEFFICIENT_LIMIT, COEFFICIENT_LIMIT)
+            self.q = self.q - np.outer(k, qx)
+            if np.trace(self.q) <= self.taps * self.q0:
+                self.q /= self.forget
+        return float(self.coefficients @ self.line[:self.taps])
+
+
+def check_taps_horizon(taps, horizon):
+    """``(taps, horizon)`` as positive integers, or a ValueError naming which is wrong."""
+    for name, v in (("taps", taps), ("horizon", horizon)):
+        if isinstance(v, bool) or not float(v).is_integer() or int(v) < 1:
+            raise ValueError(f"{name} must be a positive integer, got {v!r}")
+    return int(taps), int(horizon)
+
+
+def padded(coefficients, taps: int):
+    """``coefficients`` as a float array of ``taps``: zero-padded, or cut to its ``taps`` newest."""
+    c = np.asarray(coefficients, dtype=float).reshape(-1)
+    out = np.zeros(taps)
+    out[:min(taps, c.size)] = c[:taps]
+    return out
+
+
+def adaptive_predictor(name: str, horizon: int):
+    """A fresh per-sample predictor by name (:data:`ADAPTIVE`).
+
+    Examples
+    --------
+    >>> type(adaptive_predictor("nlms8", 2)).__name__, adaptive_predictor("rls16", 2).taps
+    ('NLMSPredictor', 16)
+    >>> adaptive_predictor("lms", 2)
+    Traceback (most recent call last):
+    ...
+    ValueError: adaptive predictor must be one of ('nlms8', 'rls16'), got 'lms'
+    """
+    if name == "nlms8":
+        return NLMSPredictor(8, horizon, NLMS_STEP)      # the module's values when called (a study may set them)
+    if name == "rls16":
+        return RLSPredictor(16, horizon, RLS_FORGET)
+    raise ValueError(f"adaptive predictor must be one of {ADAPTIVE}, got {name!r}")

@@ -15,7 +15,7 @@ import math
 import numbers
 from dataclasses import dataclass, fields
 
-from wake._core import BUILD_HINT, core_installed, missing_core_hint
+from wake._core import CoreMissingWarning, default_backend as _default_backend
 from wake._validation import check_level, check_mode, check_number, check_pair, check_wavelet
 from wake.ahead import MAX_HORIZON, bank_horizon, check_horizon
 from wake.limits import MAX_LEVEL
@@ -23,7 +23,7 @@ from wake.sampling import TUNED_RATES, RateWarning, decimation_for, warn_if_far_
 from wake.registry import cutoff_rule_names
 
 __all__ = ["CoreMissingWarning", "RateWarning", "TUNED_RATES", "WakeConfig", "MAX_LEVEL",
-           "WEIGHT_LIMIT", "BACKENDS", "HPA_BACKENDS", "HPA_MODES", "FITS", "LIMITS"]
+           "WEIGHT_LIMIT", "BACKENDS", "HPA_BACKENDS", "HPA_MODES", "FITS", "RIDGE_SCALES", "LIMITS"]
 
 #: Largest |weight| the HPA hands over.  The C core holds weights in Q24 and
 #: accepts |w| <= 64; keeping the HPA at half of that leaves room for the
@@ -37,6 +37,7 @@ HPA_MODES = ("inline", "thread")
 HPA_BACKENDS = ("python", "c")
 #: What the HPA fits ``w`` on (see :mod:`wake.hpa.run`).
 FITS = ("causal", "paper")
+RIDGE_SCALES = ("gram", "centred")  # what the weight fit's ridge is relative to (wake.hpa.fit.ridge_scale_of)
 #: Weights before the first HPA (see :mod:`wake.hpa.prior`).
 INITIAL_WEIGHTS = ("prior", "deepest")
 
@@ -56,6 +57,7 @@ LIMITS = {
     "horizon": (1, MAX_HORIZON),      # samples
     "shallow_max": (0.0, 1e5),        # Hz, exclusive low; at least cutoff_range[0] (checked beside it)
     "decimation": (1, 1000),
+    "gate_cutoff": (0.0, 1e5),        # Hz, exclusive low; below fs/2 (checked beside it)
 }
 
 def _number(name: str, value, *, integer: bool = False, low_open: bool = False):
@@ -75,24 +77,6 @@ def auto_warmup_points(fs: float, window_s: float, level: int) -> tuple:
     while times[-1] + 4.0 < window_s:
         times.append(times[-1] + 4.0)
     return tuple(t for t in times if need <= int(round(t * fs)) < L)
-
-
-class CoreMissingWarning(UserWarning):
-    """The compiled C core is not installed: the default backend is the float64 reference."""
-
-
-def _default_backend() -> str:
-    """``"c"`` when the compiled core imports, else ``"reference"``, warning (once per process) which."""
-    if core_installed():
-        return "c"
-    import warnings
-
-    hint = missing_core_hint()
-    hint = hint.split(", or use")[0] if hint == BUILD_HINT else hint
-    warnings.warn("the compiled C core (wake._rtp) is not importable, so WAKE runs on the float64 reference "
-                  f"backend; to run the fixed-point core that firmware runs, {hint}",
-                  CoreMissingWarning, stacklevel=4)
-    return "reference"
 
 
 @dataclass(frozen=True)
@@ -134,6 +118,9 @@ class WakeConfig:
         ``P(0) = p0 I`` in squared signal units.
     ridge : float
         Relative ridge of the weight fit.
+    ridge_scale : {"gram", "centred"}
+        ``ridge`` relative to the Gram matrix (default, the C HPA's) or to its centred form, which gravity
+        does not inflate (Python HPA only; :func:`wake.hpa.fit.ridge_scale_of`; issue 46).
     tremor_band, cutoff_range, default_cutoff
         Cut-off search, see :func:`wake.hpa.find_cutoff`.
     cutoff_rule : {"floor", "paper", "shallow"}
@@ -213,6 +200,12 @@ class WakeConfig:
         the bank predicts ``h / D`` of its samples ahead (rounded) and the
         prediction holds over the ``D`` input samples of a group, like the
         voluntary motion.  The voluntary outputs do not depend on it.
+    gate_cutoff : float or None
+        The gate's held-out gain (:func:`wake.ahead.held_out_gain`) measured against the window's tremor
+        above ``max(f_d, gate_cutoff)`` Hz instead of above ``f_d``: what a rhythm just above the HPA's
+        cut-off (a 3-Hz voluntary pronation-supination) predicts then opens no gate.  ``None`` (the
+        default): ``f_d``, as the C HPA does.  4 is the lower edge of pathological tremor (issue 46,
+        docs/studies/design.md, "Tremor ahead where tremor is strong").  Python HPA only.
 
     Examples
     --------
@@ -237,6 +230,7 @@ class WakeConfig:
     process_noise_ratio: float = 0.0
     initial_covariance: float = 0.0
     ridge: float = 1e-6
+    ridge_scale: str = "gram"
     tremor_band: tuple = (2.5, 15.0)
     cutoff_range: tuple = (0.5, 6.0)
     default_cutoff: float = 2.0
@@ -251,6 +245,7 @@ class WakeConfig:
     hpa_history_limit: int = 1000
     decimation: int | None = None
     horizon: int = 1
+    gate_cutoff: float | None = None
 
     def __post_init__(self):
         put = lambda name, value: object.__setattr__(self, name, value)  # noqa: E731 (frozen)
@@ -273,8 +268,10 @@ class WakeConfig:
         if self.cutoff_rule not in cutoff_rule_names():
             raise ValueError(f"unknown cutoff_rule {self.cutoff_rule!r}; valid choices: "
                              f"{', '.join(cutoff_rule_names())}")
-        if self.fit not in FITS:
-            raise ValueError(f"unknown fit {self.fit!r}; valid choices: {', '.join(FITS)}")
+        for name, choices in (("fit", FITS), ("ridge_scale", RIDGE_SCALES), ("hpa_mode", HPA_MODES),
+                              ("hpa_backend", HPA_BACKENDS), ("initial_weights", INITIAL_WEIGHTS)):
+            if getattr(self, name) not in choices:
+                raise ValueError(f"unknown {name} {getattr(self, name)!r}; valid choices: {', '.join(choices)}")
         for name in ("process_noise_ratio", "initial_covariance", "ridge"):
             put(name, _number(name, getattr(self, name)))
         nyquist = self.fs / 2
@@ -302,14 +299,14 @@ class WakeConfig:
         if self.full_scale is not None:
             put("full_scale", _number("full_scale", self.full_scale, low_open=True))
         put("headroom", _number("headroom", self.headroom))
-        if self.hpa_mode not in HPA_MODES:
-            raise ValueError(f"unknown hpa_mode {self.hpa_mode!r}; valid choices: {', '.join(HPA_MODES)}")
-        if self.hpa_backend not in HPA_BACKENDS:
-            raise ValueError(f"unknown hpa_backend {self.hpa_backend!r}; valid choices: {', '.join(HPA_BACKENDS)}")
+        if self.gate_cutoff is not None:
+            put("gate_cutoff", _number("gate_cutoff", self.gate_cutoff, low_open=True))
+            if not self.gate_cutoff < nyquist:
+                raise ValueError(f"gate_cutoff must lie below fs/2 = {nyquist:g} Hz (or be None), got {self.gate_cutoff!r}")
+        if self.hpa_backend == "c" and (self.ridge_scale != "gram" or self.gate_cutoff is not None):
+            raise ValueError("ridge_scale='centred' and gate_cutoff need hpa_backend='python' (the C HPA has neither): "
+                             "pass hpa_backend='python', or ridge_scale='gram' and gate_cutoff=None")
         put("warmup_hpa_s", self._warmup_points())
-        if self.initial_weights not in INITIAL_WEIGHTS:
-            raise ValueError(f"unknown initial_weights {self.initial_weights!r}; valid choices: "
-                             f"{', '.join(INITIAL_WEIGHTS)}")
         put("hpa_history_limit", _number("hpa_history_limit", self.hpa_history_limit, integer=True))
         if self.decimation is not None:
             put("decimation", _number("decimation", self.decimation, integer=True))
@@ -392,8 +389,7 @@ class WakeConfig:
     def replace(self, **changes) -> "WakeConfig":
         """A copy with some settings changed (validated again)."""
         values = {f.name: getattr(self, f.name) for f in fields(self)}
-        unknown = set(changes) - set(values)
-        if unknown:
+        if unknown := set(changes) - set(values):
             raise TypeError(f"unknown setting(s) {sorted(unknown)}; valid: {', '.join(values)}")
         values.update(changes)
         return WakeConfig(**values)

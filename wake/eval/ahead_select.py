@@ -6,7 +6,10 @@ touching the filter, :func:`command_with` refits it at each HPA of a filter run 
 flag: what :func:`wake.hpa.run.tremor_ahead` reads), gates it by :func:`wake.ahead.held_out_gain` and
 :func:`wake.ahead.gate_target` through the 0.3-s ramp, and runs it per sample on the stream's tremor estimate
 ``x - voluntary``: the filter's own design when ``predictor="fir8"`` (:func:`command_with` reproduces
-``WakeResult.command`` of the float reference to rounding; ``tests/eval/test_ahead_select.py``).
+``WakeResult.command`` of the float reference to rounding; ``tests/eval/test_ahead_select.py``).  A per-sample
+adaptive predictor (:data:`wake.ahead_models.ADAPTIVE`) starts from each HPA's ``"fir8"`` and adapts between
+HPAs; its gate's gain is the least-squares scale of the predictions it actually made on the samples new since
+the previous HPA (:func:`adaptive_run`).
 
 :func:`wiener_limit` is the hindsight limit of the issue: the ``taps``-tap least-squares predictor from
 WAKE's own estimate to the true tremor, fitted on the whole recording.
@@ -16,20 +19,24 @@ from __future__ import annotations
 
 import numpy as np
 
-from wake.ahead import gate_target, held_out_gain, lagged, ramp_step
-from wake.ahead_models import fit_model
+from wake.ahead import MIN_HELD_OUT, fit_predictor, gate_target, held_out_gain, lagged, ramp_step, scale_gain
+from wake.ahead_models import ADAPTIVE, PREDICTORS, adaptive_predictor, fit_model
 from wake.eval.tremor_ahead import aligned, hindsight_predictor
+from wake.hpa.run import gate_truth
 from wake.hpa.sharp import detrended_highpass
 from wake.wavelets import filter_bank_outputs, filter_bank_taps
 
-__all__ = ["window_pairs", "command_with", "wiener_limit"]
+__all__ = ["window_pairs", "command_with", "adaptive_run", "wiener_limit"]
 
 
 def window_pairs(x, result, config, channel=0):
-    """Per HPA of one channel: ``(index, estimate, truth, flag)`` as :func:`wake.hpa.run.tremor_ahead` sees them.
+    """Per HPA of one channel: ``(index, estimate, truth, flag, gated)`` as :func:`wake.hpa.run.tremor_ahead`
+    sees them.
 
     ``estimate``: WAKE's tremor estimate over the window recomputed with the weights the HPA installed;
-    ``truth``: the window's sharp high-pass truth at the HPA's cut-off (the end-point line out).
+    ``truth``: the window's sharp high-pass truth at the HPA's cut-off (the end-point line out); ``gated``:
+    the truth the gate's held-out gain is measured against (:func:`wake.hpa.run.gate_truth`,
+    ``config.gate_cutoff``; ``truth`` itself by default).
     """
     x = np.asarray(x, dtype=float)
     taps = filter_bank_taps(config.wavelet, config.level, config.mode)
@@ -40,8 +47,9 @@ def window_pairs(x, result, config, channel=0):
         outputs = filter_bank_outputs(w, taps)
         N = w.shape[0] - outputs.shape[0] + 1
         estimate = w[N:] - outputs[:-1] @ np.asarray(u.weights, dtype=float)
-        truth = detrended_highpass(w, config.fs, u.cutoff)[N:]
-        out.append((u.index, estimate, truth, u.cutoff_flag))
+        full = detrended_highpass(w, config.fs, u.cutoff)
+        gated = gate_truth(w, config.fs, u.cutoff, full, config.gate_cutoff)[N:]
+        out.append((u.index, estimate, full[N:], u.cutoff_flag, gated))
     return out
 
 
@@ -59,6 +67,8 @@ def command_with(x, result, config, horizon, predictor="fir8", channel=0):
     horizon : int
         Samples ahead.
     predictor : str
+        One of :data:`wake.ahead_models.PREDICTORS` (refitted at each HPA) or :data:`wake.ahead_models.ADAPTIVE`
+        (adapted per sample, :func:`adaptive_run`).
     channel : int
         Which channel of ``result``.
 
@@ -83,6 +93,8 @@ def command_with(x, result, config, horizon, predictor="fir8", channel=0):
         raise ValueError(f"command_with runs at the filter bank's rate: fs = {config.fs:g} Hz decimates by "
                          f"{config.decimation_factor}; pass decimation=1 in the WakeConfig, or a rate of at most "
                          f"150 Hz")
+    if predictor not in PREDICTORS + ADAPTIVE:
+        raise ValueError(f"predictor must be one of {PREDICTORS + ADAPTIVE}, got {predictor!r}")
     x = np.asarray(x, dtype=float).reshape(-1)
     y = x - np.asarray(result.voluntary, dtype=float).reshape(x.size, -1)[:, channel]
     pairs = window_pairs(x, result, config, channel)
@@ -91,8 +103,11 @@ def command_with(x, result, config, horizon, predictor="fir8", channel=0):
     goal = np.zeros(n)
     previous, last = None, 0
     starts = [applied_at(result, channel, i, idx) for i, (idx, *_rest) in enumerate(pairs)] + [n]
-    for i, (index, estimate, truth, flag) in enumerate(pairs):
-        gain = held_out_gain(estimate, truth, previous, horizon, index - last)
+    if predictor in ADAPTIVE:
+        P, goal = adaptive_run(y, pairs, starts[:-1], predictor, horizon)
+        pairs = []
+    for i, (index, estimate, truth, flag, gated) in enumerate(pairs):
+        gain = held_out_gain(estimate, gated, previous, horizon, index - last)
         c = fit_model(estimate, truth, horizon, predictor)
         a, b = starts[i], starts[i + 1]
         if b > a:
@@ -106,6 +121,48 @@ def command_with(x, result, config, horizon, predictor="fir8", channel=0):
         v += alpha * (goal[k] - v)
         g[k] = v
     return aligned(P, horizon), aligned(g, horizon), aligned(g * P, horizon)
+
+
+def adaptive_run(y, pairs, starts, predictor, horizon):
+    """The predictions and the gate's goals of a per-sample adaptive predictor over a stream.
+
+    Parameters
+    ----------
+    y : numpy.ndarray, shape (n,)
+        WAKE's tremor estimate ``x - voluntary``, the stream the predictor reads.
+    pairs : list
+        :func:`window_pairs` of the run.
+    starts : list of int
+        The sample from which each HPA's result is in use (:func:`applied_at`).
+    predictor : str
+        One of :data:`wake.ahead_models.ADAPTIVE`.
+    horizon : int
+
+    Returns
+    -------
+    P, goal : numpy.ndarray, shape (n,)
+        ``P[k]``, the tremor predicted at ``k`` for ``k + horizon``; ``goal[k]``, the gate's goal in use.
+
+    Each HPA installs its ``"fir8"`` predictor (:func:`wake.ahead.fit_predictor` on the window) as the starting
+    point, and sets the goal to the least-squares scale (:func:`wake.ahead.scale_gain`) of the predictions made
+    since the previous HPA onto the window's gated truth (0 for the first HPA or with fewer than
+    :data:`wake.ahead.MIN_HELD_OUT` of them), or 0 without a tremor peak (:func:`wake.ahead.gate_target`).
+    """
+    n = y.size
+    P, goal = np.zeros(n), np.zeros(n)
+    model = adaptive_predictor(predictor, horizon)
+    j, last, now = 0, 0, 0.0
+    for k in range(n):
+        while j < len(pairs) and starts[j] <= k:
+            index, estimate, truth, flag, gated = pairs[j]
+            first = max(last, index - gated.size, horizon)
+            gain = scale_gain(P[first - horizon:index - horizon], gated[gated.size - (index - first):]) \
+                if j > 0 and index - first >= MIN_HELD_OUT else 0.0
+            model.install(fit_predictor(estimate, truth, horizon))
+            now, last, j = gate_target(gain, flag), index, j + 1
+        P[k] = model.step(y[k])
+        goal[k] = now
+    return P, goal
 
 
 def applied_at(result, channel, i, index):

@@ -5,13 +5,39 @@ from __future__ import annotations
 import numpy as np
 
 from wake.ahead import identity
-from wake.config import WEIGHT_LIMIT
+from wake.config import RIDGE_SCALES, WEIGHT_LIMIT
 from wake.wavelets import default_weights  # noqa: F401  (re-exported: the weights before any fit)
 
-__all__ = ["fit_weights", "default_weights"]
+__all__ = ["fit_weights", "ridge_scale_of", "default_weights"]
 
 
-def fit_weights(approximations, target, ridge=1e-6, weight_limit=WEIGHT_LIMIT, *, center=None, shrink=0.0):
+def ridge_scale_of(A, G, rule: str = "gram") -> float:
+    """The mean diagonal the weight fit's relative ridge multiplies (``WakeConfig.ridge_scale``).
+
+    ``"gram"``: ``trace(A'A) / J``; ``"centred"``: the same of ``A`` with each column's mean taken out,
+    ``(trace(A'A) - L |mean(A)|^2) / J``, which a constant offset in the signal (gravity) does not inflate,
+    floored at ``1e-6`` of the first (an offset with little or no motion: the ridge still keeps the system
+    solvable in float64).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> A = np.array([[10.0, 11.0], [12.0, 9.0]])
+    >>> ridge_scale_of(A, A.T @ A), ridge_scale_of(A, A.T @ A, "centred")
+    (223.0, 2.0)
+    """
+    J = A.shape[1]
+    gram = float(np.trace(G) / J)
+    if rule == "gram":
+        return gram
+    if rule == "centred":
+        mean = A.mean(axis=0)
+        return max(gram - A.shape[0] * float(mean @ mean) / J, 1e-6 * gram)
+    raise ValueError(f"unknown ridge_scale {rule!r}; valid choices: {', '.join(RIDGE_SCALES)}")
+
+
+def fit_weights(approximations, target, ridge=1e-6, weight_limit=WEIGHT_LIMIT, *, center=None, shrink=0.0,
+                ridge_scale="gram"):
     """Least-squares weights ``w`` minimising ``e_L = sqrt(|A w - y|^2 / L)``.
 
     With ``center`` and ``shrink > 0`` the fit minimises
@@ -23,7 +49,8 @@ def fit_weights(approximations, target, ridge=1e-6, weight_limit=WEIGHT_LIMIT, *
     with a quasi-Newton search) has the closed form of the normal equations.
     A ridge ``lambda = ridge * trace(A'A) / J`` keeps the nearly collinear
     approximations well-posed; it is raised tenfold until every weight lies
-    within ``weight_limit``.
+    within ``weight_limit``.  ``ridge_scale="centred"`` takes the trace of
+    the centred Gram matrix instead (:func:`ridge_scale_of`).
 
     Returns
     -------
@@ -51,7 +78,7 @@ def fit_weights(approximations, target, ridge=1e-6, weight_limit=WEIGHT_LIMIT, *
     J = A.shape[1]
     G = A.T @ A
     b = A.T @ y
-    scale = np.trace(G) / J
+    scale = ridge_scale_of(A, G, ridge_scale)
     if not np.isfinite(scale) or scale <= 0:
         return np.zeros(J), float(np.sqrt(np.mean(y**2))), float(ridge)
     eye = identity(J)   # made once per J

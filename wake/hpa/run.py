@@ -35,7 +35,7 @@ from wake.hpa.sharp import detrended_highpass
 from wake.hpa.spectrum import ar_psd, window_order
 from wake.wavelets import filter_bank_outputs, filter_bank_taps, wavelet_approximations
 
-__all__ = ["HPAUpdate", "run_hpa", "tremor_ahead", "voluntary_ahead_weights"]
+__all__ = ["HPAUpdate", "run_hpa", "tremor_ahead", "gate_truth", "voluntary_ahead_weights"]
 
 @dataclass(frozen=True)
 class HPAUpdate:
@@ -77,25 +77,51 @@ def clean_only_below(config: WakeConfig) -> int:
     return int(round(CLEAN_ONLY_BELOW_S * config.fs))
 
 
+def gate_truth(x, fs: float, cutoff: float, tremor_gt, gate_cutoff):
+    """The truth the gate's held-out gain is measured against (``WakeConfig.gate_cutoff``).
+
+    ``tremor_gt`` (the window's tremor above the HPA's cut-off ``f_d``) when ``gate_cutoff`` is None or at
+    most ``f_d``; else the window's sharp high-pass above ``gate_cutoff``
+    (:func:`wake.hpa.sharp.detrended_highpass`, the same samples ``x``).  The gain is the least-squares scale
+    of the predictions onto this truth, so a gated command is no worse than zero against it on the held-out
+    samples: a rhythm between ``f_d`` and ``gate_cutoff`` (pdkit's 3-Hz pronation-supination, which a
+    recording's truth calls voluntary) no longer opens the gate by itself.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.arange(500) / 100.0
+    >>> x = np.sin(2 * np.pi * 3.0 * t) + 0.1 * np.sin(2 * np.pi * 7.0 * t)
+    >>> T = detrended_highpass(x, 100.0, 2.0)
+    >>> gate_truth(x, 100.0, 2.0, T, None) is T, round(float(np.std(gate_truth(x, 100.0, 2.0, T, 4.0))), 3)
+    (True, 0.07)
+    """
+    if gate_cutoff is None or gate_cutoff <= cutoff:
+        return tremor_gt
+    return detrended_highpass(x, fs, gate_cutoff)
+
+
 def tremor_ahead(x, outputs, weights, tremor_gt, config: WakeConfig, flag: str, previous_ahead=None,
-                 new_samples: int = 0) -> dict:
+                 new_samples: int = 0, cutoff: float = 0.0) -> dict:
     """The tremor-ahead fields of an :class:`HPAUpdate` (docs/studies/design.md, "Tremor ahead").
 
     WAKE's tremor estimate over the window, ``y(k) = x(k) - w . a(k-1)`` for ``k = N .. n-1`` (``a``: the
     filter-bank ``outputs``, ``w``: the weights this HPA installs), against the window's truth ``tremor_gt``: the
     :func:`wake.ahead.fit_predictor` at ``config.horizon``, the :func:`wake.ahead.held_out_gain` of
-    ``previous_ahead`` on the ``new_samples`` samples since its HPA, and the :func:`wake.ahead.gate_target`.
+    ``previous_ahead`` on the ``new_samples`` samples since its HPA (against :func:`gate_truth` at the
+    window's ``cutoff``), and the :func:`wake.ahead.gate_target`.
     """
     N = x.shape[0] - outputs.shape[0] + 1
     estimate = x[N:] - outputs[:-1] @ np.asarray(weights, dtype=float)
     truth = tremor_gt[N:]
-    gain = held_out_gain(estimate, truth, previous_ahead, config.horizon, new_samples)
+    gated = gate_truth(x, config.fs, cutoff, tremor_gt, config.gate_cutoff)[N:]
+    gain = held_out_gain(estimate, gated, previous_ahead, config.horizon, new_samples)
     return dict(ahead_coefficients=fit_predictor(estimate, truth, config.horizon), ahead_gain=gain,
                 ahead_goal=gate_target(gain, flag))
 
 
 def voluntary_ahead_weights(outputs, voluntary_gt, n_taps: int, horizon: int, ridge: float, start_weights,
-                            shrink: float):
+                            shrink: float, ridge_scale: str = "gram"):
     """``w_h``: the weights of the voluntary motion ``horizon`` samples ahead (None at ``horizon = 1``).
 
     The one-step fit (:func:`wake.hpa.fit.fit_weights`, the same ridge, weight limit and warm-up pull) on
@@ -114,7 +140,7 @@ def voluntary_ahead_weights(outputs, voluntary_gt, n_taps: int, horizon: int, ri
     if horizon == 1:
         return None
     approx, target = PredictionTarget(horizon).fit_pairs(outputs, voluntary_gt, n_taps)
-    return fit_weights(approx, target, ridge, center=start_weights, shrink=shrink)[0]
+    return fit_weights(approx, target, ridge, center=start_weights, shrink=shrink, ridge_scale=ridge_scale)[0]
 
 
 def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, index: int = 0,
@@ -197,7 +223,8 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
         target = voluntary_gt
     L = config.window_samples
     shrink = WARMUP_SHRINK * (L - x.size) / L if (start_weights is not None and x.size < L) else 0.0
-    w, err, used = fit_weights(approx, target, ridge, center=start_weights, shrink=shrink)
+    w, err, used = fit_weights(approx, target, ridge, center=start_weights, shrink=shrink,
+                               ridge_scale=config.ridge_scale)
     ahead_weights = None
     if used > ridge:
         flags.append("regularised")
@@ -208,9 +235,9 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
     else:
         # the voluntary motion h samples ahead, fitted by the same rules (None at h = 1 and when kept)
         ahead_weights = voluntary_ahead_weights(outputs, voluntary_gt, taps.shape[1], config.horizon, ridge,
-                                                start_weights, shrink)
+                                                start_weights, shrink, config.ridge_scale)
     # the predictor learns from the estimate these weights will give from now on (docs/studies/design.md, "Tremor
     # ahead": with the weights in use before this HPA, PADS at 100 ms came to 1.008 x zero after 5 s)
-    ahead = tremor_ahead(x, outputs, w, tremor_gt, config, flag, previous_ahead, new_samples)
+    ahead = tremor_ahead(x, outputs, w, tremor_gt, config, flag, previous_ahead, new_samples, cutoff)
     return HPAUpdate(index, cutoff, flag, w, measurement_noise, err, used, tuple(flags),
                      weights_ahead=ahead_weights, **ahead)
