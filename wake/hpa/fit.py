@@ -44,22 +44,58 @@ def fit_weights(approximations, target, ridge=1e-6, weight_limit=WEIGHT_LIMIT, *
     """
     A = np.asarray(approximations, dtype=float)
     y = np.asarray(target, dtype=float)
-    if A.ndim != 2 or y.shape != (A.shape[0],):
-        raise ValueError(f"approximations must be (L, J) and target (L,), got {A.shape} and {y.shape}")
-    if A.shape[0] < A.shape[1]:
-        raise ValueError(f"need at least J = {A.shape[1]} rows to fit J weights, got {A.shape[0]}")
-    J = A.shape[1]
-    G = A.T @ A
-    b = A.T @ y
-    scale = np.trace(G) / J
-    if not np.isfinite(scale) or scale <= 0:
-        return np.zeros(J), float(np.sqrt(np.mean(y**2))), float(ridge)
+    if A.ndim not in (2, 3) or y.shape != A.shape[:-1]:
+        raise ValueError(f"approximations must be (L, J) and target (L,) (or stacks of them, (W, L, J) and "
+                         f"(W, L)), got {A.shape} and {y.shape}")
+    if A.shape[-2] < A.shape[-1]:
+        raise ValueError(f"need at least J = {A.shape[-1]} rows to fit J weights, got {A.shape[-2]}")
+    if A.ndim == 3:
+        return _fit_stack(A, y, float(ridge), weight_limit, center, shrink)
+    w, err, used = _fit_stack(A[None], y[None], float(ridge), weight_limit, center, shrink)
+    return w[0], float(err[0]), float(used[0])
+
+
+def _fit_stack(A, y, ridge, weight_limit, center, shrink):
+    """:func:`fit_weights` of each window of a stack (W, L, J): one Gram matrix and one solve for every window
+    whose first ridge holds (the usual case), the ridge raised window by window where it does not.  Each
+    window's numbers are those of its own fit (the batched matmul and solve run the same BLAS and LAPACK
+    calls per window)."""
+    n, J = A.shape[0], A.shape[2]
+    At = np.swapaxes(A, 1, 2)
+    G = At @ A
+    b = (At @ y[:, :, None])[:, :, 0]
+    scale = np.trace(G, axis1=1, axis2=2) / J
     eye = identity(J)   # made once per J
     if center is not None and shrink > 0:
         # |A w - y|^2 + s |w - c|^2: the normal equations gain s I on the left and s c on the right
-        G = G + shrink * scale * eye
-        b = b + shrink * scale * np.asarray(center, dtype=float)
-    factor = float(ridge)
+        G = G + (shrink * scale)[:, None, None] * eye
+        b = b + (shrink * scale)[:, None] * np.asarray(center, dtype=float)
+    w, used = np.zeros((n, J)), np.full(n, ridge)
+    powered = np.isfinite(scale) & (scale > 0)   # a window without power: w = 0 (its error below)
+    rows = np.flatnonzero(powered)
+    todo = rows
+    if rows.size and (ridge > 0 or shrink > 0):
+        try:
+            first = np.linalg.solve(G[rows] + (ridge * scale[rows])[:, None, None] * eye, b[rows][:, :, None])[:, :, 0]
+        except np.linalg.LinAlgError:   # one singular window: each solved alone (and refused alone)
+            first = None
+        if first is not None:
+            ok = np.isfinite(first).all(axis=1) & (np.abs(first).max(axis=1) <= weight_limit)
+            w[rows[ok]] = first[ok]
+            todo = rows[~ok]
+    for i in todo:
+        w[i], used[i] = _raised(A[i], y[i], G[i], b[i], scale[i], eye, ridge, weight_limit, shrink)
+    if powered.all():
+        err = np.sqrt(np.mean(((A @ w[:, :, None])[:, :, 0] - y) ** 2, axis=1))
+    else:
+        err = np.sqrt(np.mean(y**2, axis=1))
+        err[rows] = np.sqrt(np.mean(((A[rows] @ w[rows, :, None])[:, :, 0] - y[rows]) ** 2, axis=1))
+    return w, err, used
+
+
+def _raised(A, y, G, b, scale, eye, ridge, weight_limit, shrink):
+    """One window's fit, the ridge raised tenfold until every weight lies within ``weight_limit``."""
+    factor = ridge
     for _ in range(16):
         if factor > 0 or shrink > 0:
             w = np.linalg.solve(G + factor * scale * eye, b)
@@ -70,7 +106,4 @@ def fit_weights(approximations, target, ridge=1e-6, weight_limit=WEIGHT_LIMIT, *
         factor = max(factor * 10.0, 1e-9)
     else:  # pragma: no cover - a ridge of 1e7 * trace makes w tiny
         w = np.clip(w, -weight_limit, weight_limit)
-    err = float(np.sqrt(np.mean((A @ w - y) ** 2)))
-    return w, err, factor
-
-
+    return w, factor
