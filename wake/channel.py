@@ -19,18 +19,24 @@ import copy
 from collections import deque
 from dataclasses import dataclass, replace
 from functools import partial
+from itertools import islice
 
 import numpy as np
 
 from wake.ahead import TAPS, installed_goal
 from wake.config import WakeConfig
 from wake.hpa import HPAUpdate, default_weights, run_hpa
+from wake.hpa.run import analyse_windows, finish_hpa
 from wake.hpa.c_port import run_hpa_c
 from wake.hpa.prior import prior_weights
 from wake.hpa.schedule import HPASchedule, ScheduleState, prepare_window
 from wake.rtp.adaptive import AdaptiveRTP, AdaptiveRTPState, ClippingWarning
 
 __all__ = ["Channel", "ChannelState", "ClippingWarning", "start_weights_for"]
+
+#: The batch path's windows analysed at once (:meth:`Channel.points`): up to this many samples of them (65
+#: windows of 5 s at 100 Hz; one window at a time from L = 2**17 on), so its memory stays that of a few windows.
+BATCH_SAMPLES = 2**15
 
 
 @dataclass
@@ -73,20 +79,27 @@ class Channel:
         return self.config.process_noise_ratio * measurement_noise
 
     # -- HPA ---------------------------------------------------------------
-    def hpa_job(self, window):
+    def hpa_job(self, window, count=None, prepared=None, analysis=None):
         """The HPA call for ``window`` as a function of no arguments, with everything it reads bound
-        (it may run off the sample path)."""
-        window = prepare_window(window)
+        (it may run off the sample path).
+
+        ``count`` is the sample count of its point (default: the schedule's now), ``prepared`` the window as
+        :func:`~wake.hpa.schedule.prepare_window` gave it and ``analysis`` its window-only steps
+        (:func:`~wake.hpa.run.analyse_windows`; Python HPA), when a batch path has them already.
+        """
+        count = self.schedule.count if count is None else count
+        window = prepare_window(window) if prepared is None else prepared
         if self.config.hpa_backend == "c":
             # the C HPA reads the int16 samples the RTP reads (its full scale once on the C path)
-            hpa, extra = run_hpa_c, dict(full_scale=self.rtp.full_scale if self.rtp.on_c else None)
+            hpa, extra = run_hpa_c, dict(taps=self.taps, full_scale=self.rtp.full_scale if self.rtp.on_c else None)
+        elif analysis is None:
+            hpa, extra = run_hpa, dict(taps=self.taps, start_weights=self.start_weights)
         else:
-            hpa, extra = run_hpa, dict(start_weights=self.start_weights)
+            hpa, window, extra = finish_hpa, analysis, dict(start_weights=self.start_weights)
         # both fit the tremor ahead and score the previous HPA's predictor on the samples since it
         previous = None if self.ahead_coefficients is None else self.ahead_coefficients.copy()
-        return partial(hpa, window, self.config, taps=self.taps, previous_weights=self.weights.copy(),
-                       index=self.schedule.count, previous_ahead=previous,
-                       new_samples=self.schedule.count - self.ahead_index, **extra)
+        return partial(hpa, window, self.config, previous_weights=self.weights.copy(), index=count,
+                       previous_ahead=previous, new_samples=count - self.ahead_index, **extra)
 
     def hpa(self, window):
         """Run the HPA on ``window`` inline and install its result before the next RTP step."""
@@ -136,16 +149,40 @@ class Channel:
         if self.config.hpa_mode == "thread":
             self.swap_if_ready(wait=True, first_sample=self.schedule.count + 1)
         start = 0
-        for stop, window in self.schedule.block(x):
+        for stop, window, count, prepared, analysis in self.points(x):
             # the HPA at this point runs before the RTP step of x[stop]
             if start < stop:
                 y[:, start:stop] = self.rtp.run_outputs(x[start:stop])
                 start = stop
             if window is not None:
-                self.hpa(window)
+                self.apply(self.hpa_job(window, count, prepared, analysis)(), window, first_sample=count)
         if start < n:
             y[:, start:] = self.rtp.run_outputs(x[start:])
         return y
+
+    def points(self, x):
+        """The HPA points of block ``x`` (:meth:`HPASchedule.block`) as ``(stop, window, count, prepared,
+        analysis)``: ``count`` the point's sample count, ``prepared`` the window the HPA reads and, for the
+        Python HPA, ``analysis`` its window-only steps, done for up to :data:`BATCH_SAMPLES` samples of windows
+        at once (:func:`~wake.hpa.run.analyse_windows`, windows of one length together: no window's steps
+        read an earlier HPA, so they may run before the RTP reaches the point; bit for bit one at a time)."""
+        points = self.schedule.block(x)
+        size = max(1, BATCH_SAMPLES // self.schedule.window_samples)
+        while chunk := [(stop, window, self.schedule.count) for stop, window in islice(points, size)]:
+            prepared = [None if window is None else prepare_window(window) for _, window, _ in chunk]
+            analyses = [None] * len(chunk)
+            if self.config.hpa_backend != "c":
+                lengths = {}
+                for i, win in enumerate(prepared):
+                    if win is not None:
+                        lengths.setdefault(win.shape[0], []).append(i)
+                for rows in lengths.values():
+                    done = analyse_windows(np.stack([prepared[i] for i in rows]), self.config, taps=self.taps,
+                                           start_weights=self.start_weights)
+                    for i, analysis in zip(rows, done):
+                        analyses[i] = analysis
+            for (stop, window, count), win, analysis in zip(chunk, prepared, analyses):
+                yield stop, window, count, win, analysis
 
     def update(self, sample: float, executor) -> float:
         """One sample of the stream (NaN: missing): the prediction of the voluntary motion at the next one.

@@ -35,7 +35,8 @@ from wake.hpa.sharp import detrended_highpass
 from wake.hpa.spectrum import ar_psd, window_order
 from wake.wavelets import filter_bank_outputs, filter_bank_taps, wavelet_approximations
 
-__all__ = ["HPAUpdate", "run_hpa", "tremor_ahead", "voluntary_ahead_weights"]
+__all__ = ["HPAUpdate", "WindowAnalysis", "analyse_windows", "finish_hpa", "run_hpa", "tremor_ahead",
+           "voluntary_ahead_weights"]
 
 @dataclass(frozen=True)
 class HPAUpdate:
@@ -164,53 +165,105 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
     >>> upd.cutoff_flag, upd.weights.shape
     ('valley', (5,))
     """
-    fs, level, fit, ridge, default_cutoff = config.fs, config.level, config.fit, config.ridge, config.default_cutoff
-    if taps is None:
-        taps = filter_bank_taps(config.wavelet, level, config.mode)
     x = np.asarray(window, dtype=float)
-    flags = []
-    spread = np.std(x)
-    if not spread > 1e-12 * max(1.0, np.max(np.abs(x))):
-        w = np.array(previous_weights, dtype=float) if previous_weights is not None else default_weights(level)
-        floor = max(1e-12, (1e-6 * np.max(np.abs(x))) ** 2)
-        # a silent window has nothing to predict: the predictor stays, the gate shuts
-        kept = np.zeros(TAPS) if previous_ahead is None else np.array(previous_ahead, dtype=float)
-        return HPAUpdate(index, float(default_cutoff), "silent", w, float(floor), 0.0, float(ridge),
-                         ("weights_kept",), ahead_coefficients=kept)
+    return finish_hpa(analyse_windows(x[None], config, taps=taps, start_weights=start_weights)[0], config,
+                      previous_weights=previous_weights, index=index, start_weights=start_weights,
+                      previous_ahead=previous_ahead, new_samples=new_samples)
+
+
+@dataclass(frozen=True)
+class WindowAnalysis:
+    """What an HPA computes from its window alone (:func:`analyse_windows`): S1 to S4 before the choices that
+    read the previous HPA's results (:func:`finish_hpa`)."""
+
+    x: np.ndarray                #: the window
+    silent: bool                 #: no spread: nothing below is computed
+    cutoff: float = 0.0
+    flag: str = ""
+    tremor_gt: np.ndarray | None = None
+    voluntary_gt: np.ndarray | None = None
+    measurement_noise: float = 0.0
+    outputs: np.ndarray | None = None   #: the filter-bank outputs over the window
+    weights: np.ndarray | None = None   #: the fit (installed unless a short window keeps the weights in use)
+    fit_error: float = 0.0
+    ridge: float = 0.0
+    shrink: float = 0.0
+
+
+def analyse_windows(windows, config: WakeConfig, *, taps=None, start_weights=None) -> list:
+    """The window-only steps of :func:`run_hpa` for a stack of windows of one length, ``(W, n)``: one
+    :class:`WindowAnalysis` per row, each bit for bit what that window alone gives (the spectra, high-passes,
+    filter-bank outputs and fits of every row at once; the cut-off search row by row).  No row depends on
+    another, nor on an earlier HPA: a batch path analyses every window of a block first, then finishes them
+    in order (:func:`finish_hpa`)."""
+    fs, ridge = config.fs, config.ridge
+    if taps is None:
+        taps = filter_bank_taps(config.wavelet, config.level, config.mode)
+    X = np.asarray(windows, dtype=float)
+    n = X.shape[1]
+    spread = np.std(X, axis=1)
+    live = spread > 1e-12 * np.maximum(1.0, np.max(np.abs(X), axis=1))
+    out = [WindowAnalysis(X[i], True) for i in range(X.shape[0])]
+    rows = np.flatnonzero(live)
+    if not rows.size:
+        return out
+    if rows.size < X.shape[0]:
+        X, spread = X[rows], spread[rows]
     # a warm-up window may be shorter than L: its AR order is capped (window_order)
-    freqs, psd = ar_psd(x, fs, window_order(x.size, config.ar_order))
-    cutoff, flag = find_cutoff(freqs, psd, tremor_band=config.tremor_band, cutoff_range=config.cutoff_range,
-                               default_cutoff=default_cutoff, rule=config.cutoff_rule,
-                               shallow_max=config.shallow_max)
+    freqs, psd = ar_psd(X, fs, window_order(n, config.ar_order))
+    found = [find_cutoff(freqs, row, tremor_band=config.tremor_band, cutoff_range=config.cutoff_range,
+                         default_cutoff=config.default_cutoff, rule=config.cutoff_rule,
+                         shallow_max=config.shallow_max) for row in psd]
     # the window's end-point line is voluntary: taken out first, it leaves no seam in the FFT
-    tremor_gt = detrended_highpass(x, fs, cutoff)
-    voluntary_gt = x - tremor_gt
-    # R: variance of the tremor ground truth, floored at 1e-6 of the window's
-    # variance so that a window with no tremor still gives S = w'Pw + R > 0.
-    measurement_noise = float(max(np.var(tremor_gt), 1e-6 * spread**2))
-    outputs = filter_bank_outputs(x, taps)
-    if fit == "causal":
+    tremor_gt = detrended_highpass(X, fs, [cutoff for cutoff, _ in found])
+    voluntary_gt = X - tremor_gt
+    # R: variance of the tremor ground truth, floored at 1e-6 of the window's variance so that a window
+    # with no tremor still gives S = w'Pw + R > 0 (max(var, floor), row by row)
+    noise, floor = np.var(tremor_gt, axis=1), 1e-6 * spread**2
+    noise = np.where(floor > noise, floor, noise)
+    outputs = filter_bank_outputs(X, taps)
+    if config.fit == "causal":
         # a(k) for k = N-1 .. L-1-h against v_GT(k + h), h = TARGET.horizon (wake.target)
         approx, target = TARGET.fit_pairs(outputs, voluntary_gt, taps.shape[1])
     else:
-        approx = wavelet_approximations(x, config.wavelet, level, config.mode)
+        approx = np.stack([wavelet_approximations(x, config.wavelet, config.level, config.mode) for x in X])
         target = voluntary_gt
     L = config.window_samples
-    shrink = WARMUP_SHRINK * (L - x.size) / L if (start_weights is not None and x.size < L) else 0.0
+    shrink = WARMUP_SHRINK * (L - n) / L if (start_weights is not None and n < L) else 0.0
     w, err, used = fit_weights(approx, target, ridge, center=start_weights, shrink=shrink)
-    ahead_weights = None
-    if used > ridge:
+    for j, i in enumerate(rows):
+        out[i] = WindowAnalysis(X[j], False, found[j][0], found[j][1], tremor_gt[j], voluntary_gt[j],
+                                float(noise[j]), outputs[j], w[j].copy(), float(err[j]), float(used[j]), shrink)
+    return out
+
+
+def finish_hpa(a: WindowAnalysis, config: WakeConfig, *, previous_weights=None, index: int = 0,
+               start_weights=None, previous_ahead=None, new_samples: int = 0) -> HPAUpdate:
+    """The :class:`HPAUpdate` of an analysed window (:func:`analyse_windows`), given what the previous HPA left
+    (the arguments of :func:`run_hpa`): the weights kept or installed, ``w_h`` and the tremor ahead."""
+    level, ridge = config.level, config.ridge
+    if a.silent:
+        w = np.array(previous_weights, dtype=float) if previous_weights is not None else default_weights(level)
+        floor = max(1e-12, (1e-6 * np.max(np.abs(a.x))) ** 2)
+        # a silent window has nothing to predict: the predictor stays, the gate shuts
+        kept = np.zeros(TAPS) if previous_ahead is None else np.array(previous_ahead, dtype=float)
+        return HPAUpdate(index, float(config.default_cutoff), "silent", w, float(floor), 0.0, float(ridge),
+                         ("weights_kept",), ahead_coefficients=kept)
+    flags = []
+    w, ahead_weights = a.weights, None
+    if a.ridge > ridge:
         flags.append("regularised")
-    if x.size < clean_only_below(config) and flag not in CLEAN_FLAGS:
+    if a.x.size < clean_only_below(config) and a.flag not in CLEAN_FLAGS:
         # a short warm-up window without a clean valley: its fit is not installed
         w = np.array(previous_weights, dtype=float) if previous_weights is not None else default_weights(level)
         flags.append("weights_kept")
     else:
         # the voluntary motion h samples ahead, fitted by the same rules (None at h = 1 and when kept)
-        ahead_weights = voluntary_ahead_weights(outputs, voluntary_gt, taps.shape[1], config.horizon, ridge,
-                                                start_weights, shrink)
+        n_taps = a.x.size - a.outputs.shape[0] + 1   # the filter bank's length (outputs: one per full history)
+        ahead_weights = voluntary_ahead_weights(a.outputs, a.voluntary_gt, n_taps, config.horizon, ridge,
+                                                start_weights, a.shrink)
     # the predictor learns from the estimate these weights will give from now on (docs/studies/design.md, "Tremor
     # ahead": with the weights in use before this HPA, PADS at 100 ms came to 1.008 x zero after 5 s)
-    ahead = tremor_ahead(x, outputs, w, tremor_gt, config, flag, previous_ahead, new_samples)
-    return HPAUpdate(index, cutoff, flag, w, measurement_noise, err, used, tuple(flags),
+    ahead = tremor_ahead(a.x, a.outputs, w, a.tremor_gt, config, a.flag, previous_ahead, new_samples)
+    return HPAUpdate(index, a.cutoff, a.flag, w, a.measurement_noise, a.fit_error, a.ridge, tuple(flags),
                      weights_ahead=ahead_weights, **ahead)
