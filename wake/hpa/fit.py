@@ -70,22 +70,27 @@ def _fit_stack(A, y, ridge, weight_limit, center, shrink):
         # |A w - y|^2 + s |w - c|^2: the normal equations gain s I on the left and s c on the right
         G = G + (shrink * scale)[:, None, None] * eye
         b = b + (shrink * scale)[:, None] * np.asarray(center, dtype=float)
-    w, used = np.zeros((n, J)), np.full(n, ridge)
+    used = np.full(n, ridge)
     powered = np.isfinite(scale) & (scale > 0)   # a window without power: w = 0 (its error below)
-    rows = np.flatnonzero(powered)
-    todo = rows
+    every = bool(powered.all())
+    rows = np.arange(n) if every else np.flatnonzero(powered)
+    todo, w = rows, np.zeros((n, J))
     if rows.size and (ridge > 0 or shrink > 0):
+        Gp, bp, sp = (G, b, scale) if every else (G[rows], b[rows], scale[rows])
         try:
-            first = np.linalg.solve(G[rows] + (ridge * scale[rows])[:, None, None] * eye, b[rows][:, :, None])[:, :, 0]
+            first = np.linalg.solve(Gp + (ridge * sp)[:, None, None] * eye, bp[:, :, None])[:, :, 0]
         except np.linalg.LinAlgError:   # one singular window: each solved alone (and refused alone)
             first = None
         if first is not None:
             ok = np.isfinite(first).all(axis=1) & (np.abs(first).max(axis=1) <= weight_limit)
-            w[rows[ok]] = first[ok]
-            todo = rows[~ok]
+            if every and ok.all():
+                w, todo = first, ()
+            else:
+                w[rows[ok]] = first[ok]
+                todo = rows[~ok]
     for i in todo:
         w[i], used[i] = _raised(A[i], y[i], G[i], b[i], scale[i], eye, ridge, weight_limit, shrink)
-    if powered.all():
+    if every:
         err = np.sqrt(np.mean(((A @ w[:, :, None])[:, :, 0] - y) ** 2, axis=1))
     else:
         err = np.sqrt(np.mean(y**2, axis=1))

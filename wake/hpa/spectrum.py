@@ -44,9 +44,13 @@ def autocorrelation(x, max_lag):
     # Only max_lag + 1 lags are needed: p + 1 dot products, O(p L), where the full correlation
     # (np.correlate mode="full") is O(L^2): 4 s at L = 2e5 and 166 s at L = 5e5.  A (W, 1, m) @ (W, m, 1)
     # matmul runs BLAS's dot on each window: each lag is np.dot's, bit for bit.
-    r = np.empty((rows.shape[0], max_lag + 1))
-    for k in range(max_lag + 1):
-        r[:, k] = (rows[:, :, : n - k] @ rows[:, 0, k:, None])[:, 0, 0]
+    if rows.shape[0] == 1:   # one window: np.dot itself (a matmul's dispatch costs more than the dot)
+        s = rows[0, 0]
+        r = np.array([[np.dot(s[: n - k], s[k:]) for k in range(max_lag + 1)]])
+    else:
+        r = np.empty((rows.shape[0], max_lag + 1))
+        for k in range(max_lag + 1):
+            r[:, k] = (rows[:, :, : n - k] @ rows[:, 0, k:, None])[:, 0, 0]
     return (r / n).reshape(x.shape[:-1] + (max_lag + 1,))
 
 
@@ -91,6 +95,8 @@ def _levinson_rows(r, order):
     ``reflection`` (W, order).  The recursion runs once for every row, each row's operations those of the
     one-row recursion (the same dot, multiplies and adds): a row whose error reached 0 stops there."""
     n_rows = r.shape[0]
+    if n_rows == 1:
+        return _levinson_one(r[0], order)
     a = np.zeros((n_rows, order + 1))
     a[:, 0] = 1.0
     refl = np.zeros((n_rows, order))
@@ -117,6 +123,27 @@ def _levinson_step(r, back, a, err, refl, m, order):
     a[:, 1 : m + 1] += k[:, None] * a[:, m - 1 :: -1][:, :m]
     refl[:, m - 1] = k
     return a, err * (1.0 - k * k), refl
+
+
+def _levinson_one(r, order):
+    """:func:`_levinson_rows` of one row, its operations on Python floats and np.dot (a batched step's array
+    calls cost more than the arithmetic they do on one row): the same numbers (tests/hpa/test_window_stack.py)."""
+    a = np.zeros(order + 1)
+    a[0] = 1.0
+    refl = [0.0] * order
+    err = float(r[0])
+    r_m = r.tolist()
+    back = np.ascontiguousarray(r[order - 1 :: -1][:order])
+    dot = np.dot
+    for m in range(1, order + 1):
+        if err <= 0:
+            break
+        acc = r_m[m] + float(dot(a[1:m], back[order - m : order - 1]))
+        k = -acc / err
+        a[1 : m + 1] += k * a[m - 1 :: -1][:m]
+        refl[m - 1] = k
+        err *= 1.0 - k * k
+    return a[None], np.array([max(err, 0.0)]), np.array([refl])
 
 
 def yule_walker(x, order):
