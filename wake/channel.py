@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import copy
 from collections import deque
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from functools import partial
 from itertools import islice
 
@@ -26,7 +26,7 @@ import numpy as np
 from wake.ahead import TAPS, installed_goal
 from wake.config import WakeConfig
 from wake.hpa import HPAUpdate, default_weights, run_hpa
-from wake.hpa.run import analyse_windows, finish_hpa
+from wake.hpa.run import analyse_windows, finish_hpa, recorded
 from wake.hpa.c_port import run_hpa_c
 from wake.hpa.prior import prior_weights
 from wake.hpa.schedule import HPASchedule, ScheduleState, prepare_window
@@ -127,7 +127,7 @@ class Channel:
         # w_h, the voluntary motion ahead (horizon > 1); None keeps the one in use
         self.rtp.set_weights_ahead(upd.weights_ahead)
         flags = upd.flags + tuple(note for note in notes if note not in upd.flags)
-        self.updates.append(replace(upd, applied_at=first_sample, flags=flags))
+        self.updates.append(recorded(upd, applied_at=first_sample, flags=flags))
 
     def swap_if_ready(self, wait=False, first_sample=None):
         """Thread mode: install a finished HPA between two samples."""

@@ -59,6 +59,24 @@ class HPAUpdate:
     weights_ahead: np.ndarray | None = None
 
 
+def recorded(update: HPAUpdate, **changes) -> HPAUpdate:
+    """``dataclasses.replace(update, **changes)`` without its per-call field walk (an HPA's result is recorded
+    once per window on the batch path): a new :class:`HPAUpdate`, ``update`` untouched.
+
+    Examples
+    --------
+    >>> u = HPAUpdate(5, 2.0, "valley", np.ones(2), 1.0, 0.1, 1e-6)
+    >>> recorded(u, applied_at=6).applied_at, u.applied_at
+    (6, -1)
+    """
+    unknown = set(changes) - set(HPAUpdate.__dataclass_fields__)
+    if unknown:
+        raise TypeError(f"HPAUpdate has no field(s) {sorted(unknown)}")
+    new = object.__new__(HPAUpdate)
+    new.__dict__.update(update.__dict__, **changes)
+    return new
+
+
 #: Pull of a warm-up fit towards the start-up weights: shrink = WARMUP_SHRINK * (L - n) / L
 #: for a window of n < L samples, 0 for a full window (docs/studies/design.md, "Warm-up").
 WARMUP_SHRINK = 0.0
