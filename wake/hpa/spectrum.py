@@ -196,7 +196,7 @@ def ar_psd(x, fs, order=17, n_freqs=512):
     denom = np.abs(np.fft.rfft(a, nfft, axis=-1)) ** 2
     if pick is not None:
         denom = denom[..., pick]
-    return freqs.copy(), np.expand_dims(sigma2, -1) / np.maximum(denom, _TINY)
+    return freqs.copy(), np.asarray(sigma2)[..., None] / np.maximum(denom, _TINY)
 
 
 @functools.lru_cache(maxsize=64, typed=True)   # typed: True is not 1 (check_positive refuses a bool)
