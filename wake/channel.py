@@ -31,6 +31,7 @@ from wake.hpa.c_port import run_hpa_c
 from wake.hpa.prior import prior_weights
 from wake.hpa.schedule import HPASchedule, ScheduleState, prepare_window
 from wake.rtp.adaptive import AdaptiveRTP, AdaptiveRTPState, ClippingWarning
+from wake.rtp.full_scale import robust_peak
 
 __all__ = ["Channel", "ChannelState", "ClippingWarning", "start_weights_for"]
 
@@ -103,9 +104,11 @@ class Channel:
 
     def hpa(self, window):
         """Run the HPA on ``window`` inline and install its result before the next RTP step."""
-        self.apply(self.hpa_job(window)(), window, first_sample=self.schedule.count)
+        peak = robust_peak(window)   # read by the window's preparation and by the full-scale policy
+        self.apply(self.hpa_job(window, prepared=prepare_window(window, peak))(), window,
+                   first_sample=self.schedule.count, peak=peak)
 
-    def apply(self, upd: HPAUpdate, window, first_sample: int):
+    def apply(self, upd: HPAUpdate, window, first_sample: int, peak=None):
         """Install an HPA result between two samples.
 
         ``first_sample`` is the 1-based number of the first sample whose RTP
@@ -115,7 +118,7 @@ class Channel:
         """
         self.weights = upd.weights
         notes = self.rtp.install(self.weights, upd.measurement_noise, self.process_noise(upd.measurement_noise),
-                                 window)
+                                 window, peak)
         self.measurement_noise = self.rtp.measurement_noise if self.rtp.on_c else upd.measurement_noise
         # an HPA without a predictor shuts the gate, and so does a window clipped at the C core's full scale:
         # the C HPA applies that rule itself to the int16 window it read (its goal is final, "clipping" among
@@ -149,27 +152,31 @@ class Channel:
         if self.config.hpa_mode == "thread":
             self.swap_if_ready(wait=True, first_sample=self.schedule.count + 1)
         start = 0
-        for stop, window, count, prepared, analysis in self.points(x):
+        for stop, window, count, (prepared, peak), analysis in self.points(x):
             # the HPA at this point runs before the RTP step of x[stop]
             if start < stop:
                 y[:, start:stop] = self.rtp.run_outputs(x[start:stop])
                 start = stop
             if window is not None:
-                self.apply(self.hpa_job(window, count, prepared, analysis)(), window, first_sample=count)
+                self.apply(self.hpa_job(window, count, prepared, analysis)(), window, first_sample=count,
+                           peak=peak)
         if start < n:
             y[:, start:] = self.rtp.run_outputs(x[start:])
         return y
 
     def points(self, x):
-        """The HPA points of block ``x`` (:meth:`HPASchedule.block`) as ``(stop, window, count, prepared,
-        analysis)``: ``count`` the point's sample count, ``prepared`` the window the HPA reads and, for the
+        """The HPA points of block ``x`` (:meth:`HPASchedule.block`) as ``(stop, window, count, (prepared, peak),
+        analysis)``: ``count`` the point's sample count, ``prepared`` the window the HPA reads, ``peak`` the
+        window's robust peak (read by the preparation and the full-scale policy) and, for the
         Python HPA, ``analysis`` its window-only steps, done for up to :data:`BATCH_SAMPLES` samples of windows
         at once (:func:`~wake.hpa.run.analyse_windows`, windows of one length together: no window's steps
         read an earlier HPA, so they may run before the RTP reaches the point; bit for bit one at a time)."""
         points = self.schedule.block(x)
         size = max(1, BATCH_SAMPLES // self.schedule.window_samples)
         while chunk := [(stop, window, self.schedule.count) for stop, window in islice(points, size)]:
-            prepared = [None if window is None else prepare_window(window) for _, window, _ in chunk]
+            peaks = [None if window is None else robust_peak(window) for _, window, _ in chunk]
+            prepared = [None if window is None else prepare_window(window, peak)
+                        for (_, window, _), peak in zip(chunk, peaks)]
             analyses = [None] * len(chunk)
             if self.config.hpa_backend != "c":
                 lengths = {}
@@ -181,8 +188,8 @@ class Channel:
                                            start_weights=self.start_weights)
                     for i, analysis in zip(rows, done):
                         analyses[i] = analysis
-            for (stop, window, count), win, analysis in zip(chunk, prepared, analyses):
-                yield stop, window, count, win, analysis
+            for (stop, window, count), win, peak, analysis in zip(chunk, prepared, peaks, analyses):
+                yield stop, window, count, (win, peak), analysis
 
     def update(self, sample: float, executor) -> float:
         """One sample of the stream (NaN: missing): the prediction of the voluntary motion at the next one.
