@@ -92,3 +92,18 @@ def _has_c():
     from wake.rtp import c_backend_available
 
     return c_backend_available()
+
+
+@pytest.mark.parametrize("horizon", [1, 5])
+def test_the_predictor_fit_of_a_stack_is_each_series_own(rng, horizon):
+    """wake.ahead.fit_predictor on a stack (W, n): each row's coefficients those of its own fit, a series
+    without power zeros, as alone."""
+    from wake.ahead import fit_predictor
+
+    est = rng.standard_normal((5, 480)) * rng.uniform(0.01, 100.0, (5, 1))
+    truth = np.roll(est, -3, axis=1) + 0.1 * rng.standard_normal((5, 480))
+    est[2] = 0.0                                    # no power: zeros
+    together = fit_predictor(est, truth, horizon)
+    assert together.shape == (5, 8) and not together[2].any()
+    for i in range(5):
+        np.testing.assert_array_equal(together[i], fit_predictor(est[i], truth[i], horizon))

@@ -35,8 +35,8 @@ from wake.hpa.sharp import detrended_highpass
 from wake.hpa.spectrum import ar_psd, window_order
 from wake.wavelets import filter_bank_outputs, filter_bank_taps, wavelet_approximations
 
-__all__ = ["HPAUpdate", "WindowAnalysis", "analyse_windows", "finish_hpa", "run_hpa", "tremor_ahead",
-           "voluntary_ahead_weights"]
+__all__ = ["HPAUpdate", "WindowAnalysis", "ahead_fit", "analyse_windows", "finish_hpa", "run_hpa",
+           "tremor_ahead", "voluntary_ahead_weights"]
 
 @dataclass(frozen=True)
 class HPAUpdate:
@@ -97,20 +97,33 @@ def clean_only_below(config: WakeConfig) -> int:
 
 
 def tremor_ahead(x, outputs, weights, tremor_gt, config: WakeConfig, flag: str, previous_ahead=None,
-                 new_samples: int = 0) -> dict:
+                 new_samples: int = 0, fitted=None) -> dict:
     """The tremor-ahead fields of an :class:`HPAUpdate` (docs/studies/design.md, "Tremor ahead").
 
     WAKE's tremor estimate over the window, ``y(k) = x(k) - w . a(k-1)`` for ``k = N .. n-1`` (``a``: the
     filter-bank ``outputs``, ``w``: the weights this HPA installs), against the window's truth ``tremor_gt``: the
     :func:`wake.ahead.fit_predictor` at ``config.horizon``, the :func:`wake.ahead.held_out_gain` of
     ``previous_ahead`` on the ``new_samples`` samples since its HPA, and the :func:`wake.ahead.gate_target`.
+    ``fitted``: :func:`ahead_fit`'s result for these weights, when a batch path has it.
     """
-    N = x.shape[0] - outputs.shape[0] + 1
-    estimate = x[N:] - outputs[:-1] @ np.asarray(weights, dtype=float)
-    truth = tremor_gt[N:]
+    estimate, truth, coefficients = ahead_fit(x, outputs, weights, tremor_gt, config.horizon) if fitted is None \
+        else fitted
     gain = held_out_gain(estimate, truth, previous_ahead, config.horizon, new_samples)
-    return dict(ahead_coefficients=fit_predictor(estimate, truth, config.horizon), ahead_gain=gain,
-                ahead_goal=gate_target(gain, flag))
+    return dict(ahead_coefficients=coefficients, ahead_gain=gain, ahead_goal=gate_target(gain, flag))
+
+
+def ahead_fit(x, outputs, weights, tremor_gt, horizon: int):
+    """``(estimate, truth, coefficients)`` of :func:`tremor_ahead`: WAKE's tremor estimate over the window, its
+    truth and the :func:`wake.ahead.fit_predictor` between them; a stack of windows (W, n) with their outputs
+    (W, m, J) and weights (W, J) gives one row each, bit for bit each window's own."""
+    N = x.shape[-1] - outputs.shape[-2] + 1
+    w = np.asarray(weights, dtype=float)
+    if x.ndim == 1:
+        estimate = x[N:] - outputs[:-1] @ w
+    else:   # (W, m-1, J) @ (W, J, 1): the gemv of each window
+        estimate = x[:, N:] - (outputs[:, :-1] @ w[:, :, None])[:, :, 0]
+    truth = tremor_gt[..., N:]
+    return estimate, truth, fit_predictor(estimate, truth, horizon)
 
 
 def voluntary_ahead_weights(outputs, voluntary_gt, n_taps: int, horizon: int, ridge: float, start_weights,
@@ -206,6 +219,7 @@ class WindowAnalysis:
     fit_error: float = 0.0
     ridge: float = 0.0
     shrink: float = 0.0
+    ahead: tuple | None = None          #: ahead_fit with these weights (None: the window may keep others)
 
 
 def analyse_windows(windows, config: WakeConfig, *, taps=None, start_weights=None) -> list:
@@ -249,9 +263,12 @@ def analyse_windows(windows, config: WakeConfig, *, taps=None, start_weights=Non
     L = config.window_samples
     shrink = WARMUP_SHRINK * (L - n) / L if (start_weights is not None and n < L) else 0.0
     w, err, used = fit_weights(approx, target, ridge, center=start_weights, shrink=shrink)
+    # a window of CLEAN_ONLY_BELOW_S or more installs its fit: the tremor-ahead fit on it is window-only too
+    ahead = ahead_fit(X, outputs, w, tremor_gt, config.horizon) if n >= clean_only_below(config) else None
     for j, i in enumerate(rows):
         out[i] = WindowAnalysis(X[j], False, found[j][0], found[j][1], tremor_gt[j], voluntary_gt[j],
-                                float(noise[j]), outputs[j], w[j].copy(), float(err[j]), float(used[j]), shrink)
+                                float(noise[j]), outputs[j], w[j].copy(), float(err[j]), float(used[j]), shrink,
+                                None if ahead is None else tuple(part[j] for part in ahead))
     return out
 
 
@@ -268,13 +285,14 @@ def finish_hpa(a: WindowAnalysis, config: WakeConfig, *, previous_weights=None, 
         return HPAUpdate(index, float(config.default_cutoff), "silent", w, float(floor), 0.0, float(ridge),
                          ("weights_kept",), ahead_coefficients=kept)
     flags = []
-    w, ahead_weights = a.weights, None
+    w, ahead_weights, fitted = a.weights, None, a.ahead
     if a.ridge > ridge:
         flags.append("regularised")
     if a.x.size < clean_only_below(config) and a.flag not in CLEAN_FLAGS:
         # a short warm-up window without a clean valley: its fit is not installed
         w = np.array(previous_weights, dtype=float) if previous_weights is not None else default_weights(level)
         flags.append("weights_kept")
+        fitted = None
     else:
         # the voluntary motion h samples ahead, fitted by the same rules (None at h = 1 and when kept)
         n_taps = a.x.size - a.outputs.shape[0] + 1   # the filter bank's length (outputs: one per full history)
@@ -282,6 +300,6 @@ def finish_hpa(a: WindowAnalysis, config: WakeConfig, *, previous_weights=None, 
                                                 start_weights, a.shrink)
     # the predictor learns from the estimate these weights will give from now on (docs/studies/design.md, "Tremor
     # ahead": with the weights in use before this HPA, PADS at 100 ms came to 1.008 x zero after 5 s)
-    ahead = tremor_ahead(a.x, a.outputs, w, a.tremor_gt, config, a.flag, previous_ahead, new_samples)
+    ahead = tremor_ahead(a.x, a.outputs, w, a.tremor_gt, config, a.flag, previous_ahead, new_samples, fitted)
     return HPAUpdate(index, a.cutoff, a.flag, w, a.measurement_noise, a.fit_error, a.ridge, tuple(flags),
                      weights_ahead=ahead_weights, **ahead)
