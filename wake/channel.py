@@ -102,11 +102,17 @@ class Channel:
         return partial(hpa, window, self.config, previous_weights=self.weights.copy(), index=count,
                        previous_ahead=previous, new_samples=count - self.ahead_index, **extra)
 
-    def hpa(self, window):
-        """Run the HPA on ``window`` inline and install its result before the next RTP step."""
-        peak = robust_peak(window)   # read by the window's preparation and by the full-scale policy
-        self.apply(self.hpa_job(window, prepared=prepare_window(window, peak))(), window,
-                   first_sample=self.schedule.count, peak=peak)
+    def hpa(self, window, count=None, prepared=None, analysis=None, peak=None):
+        """Run the HPA on ``window`` inline and install its result before the next RTP step.
+
+        ``count``, ``prepared``, ``analysis`` and ``peak``: the point's sample count (default: the schedule's
+        now) and what a batch path has already computed for the window (:meth:`points`).
+        """
+        count = self.schedule.count if count is None else count
+        if prepared is None:
+            peak = robust_peak(window)   # read by the window's preparation and by the full-scale policy
+            prepared = prepare_window(window, peak)
+        self.apply(self.hpa_job(window, count, prepared, analysis)(), window, first_sample=count, peak=peak)
 
     def apply(self, upd: HPAUpdate, window, first_sample: int, peak=None):
         """Install an HPA result between two samples.
@@ -158,8 +164,7 @@ class Channel:
                 y[:, start:stop] = self.rtp.run_outputs(x[start:stop])
                 start = stop
             if window is not None:
-                self.apply(self.hpa_job(window, count, prepared, analysis)(), window, first_sample=count,
-                           peak=peak)
+                self.hpa(window, count, prepared, analysis, peak)
         if start < n:
             y[:, start:] = self.rtp.run_outputs(x[start:])
         return y
