@@ -6,8 +6,9 @@ directly (``python build_ffi.py``) to compile the extension in place.
 The extension is compiled from every C source of the core (``csrc/wake_*.c``,
 the same files a firmware links) with :data:`CONFIGURATION`, the one place its
 build settings are written (docs/reference/packaging.md, "The Python extension's
-configuration"), plus the host-only evaluation loops (``csrc/eval``).  cffi
-reads its declarations from ``csrc/wake_cffi.h``, a file written for cffi (no
+configuration"), plus the host-only evaluation loops (``wake/eval/native``: not
+firmware code, so not in csrc/).  cffi reads its declarations from
+``csrc/wake_cffi.h`` and ``wake/eval/native/wake_eval_cffi.h``, files written for cffi (no
 preprocessor conditionals, no comments to strip): cffi's API mode compiles each
 of them against the headers, so a declaration that no longer matches its
 header fails this build or the extension's import.
@@ -31,8 +32,10 @@ CDEF = "wake_cffi.h"
 #: to 128, every PSD bin.  Everything else keeps the headers' defaults (the firmware's).
 CONFIGURATION = (("WAKE_HPA_AHEAD", "1"), ("WAKE_RTP_VOLUNTARY_AHEAD", "1"), ("WAKE_HPA_MAX_WINDOW", "1024"),
                  ("WAKE_HPA_MAX_ORDER", "128"), ("WAKE_HPA_MAX_PSD_BINS", "512"))
-#: Host-only C beside the core: the evaluation's baseline loops (no firmware build links csrc/eval).
-EVAL_HEADER, EVAL_SOURCE = "eval/wake_eval.h", f"{CSRC}/eval/wake_eval.c"
+#: Host-only C beside the core: the evaluation's baseline loops, kept with the evaluation (wake/eval/native), out of
+#: the firmware tree csrc/; their cffi declarations are read after CDEF's.
+EVAL_DIR = "wake/eval/native"
+EVAL_HEADER, EVAL_SOURCE, EVAL_CDEF = "wake_eval.h", f"{EVAL_DIR}/wake_eval.c", "wake_eval_cffi.h"
 
 
 def sources():
@@ -40,9 +43,12 @@ def sources():
 
 
 def cdef_text() -> str:
-    """The declarations cffi reads (``csrc/wake_cffi.h``)."""
-    with open(os.path.join(HERE, CSRC, CDEF), encoding="utf-8") as fh:
-        return fh.read()
+    """The declarations cffi reads (``csrc/wake_cffi.h``, then the evaluation loops' ``wake_eval_cffi.h``)."""
+    text = []
+    for folder, name in ((CSRC, CDEF), (EVAL_DIR, EVAL_CDEF)):
+        with open(os.path.join(HERE, folder, name), encoding="utf-8") as fh:
+            text.append(fh.read())
+    return "\n".join(text)
 
 
 ffibuilder = FFI()
@@ -52,8 +58,8 @@ ffibuilder.set_source(
     "wake._rtp",
     "\n".join(f'#include "{h}"' for h in (*HEADERS, EVAL_HEADER)),
     sources=[s.replace(os.sep, "/") for s in sources()] + [EVAL_SOURCE],
-    libraries=[] if sys.platform == "win32" else ["m"],  # libm: the baselines' sin, cos, sqrt, fmod (csrc/eval)
-    include_dirs=[CSRC],
+    libraries=[] if sys.platform == "win32" else ["m"],  # libm: the baselines' sin, cos, sqrt, fmod (EVAL_DIR)
+    include_dirs=[CSRC, EVAL_DIR],
     # The HPA's floats must round the same on every machine: no fused multiply-add.
     extra_compile_args=["-ffp-contract=off"],
     define_macros=list(CONFIGURATION),

@@ -4,7 +4,8 @@
  * Written for cffi's cdef, not for a C compiler (no includes, no guards, no conditionals): the
  * types, constants and functions of wake_rtp.h, wake_hpa.h and wake_rate.h that the extension's
  * configuration compiles in (build_ffi.CONFIGURATION: the tremor ahead of the RTP and of the HPA, the
- * voluntary motion ahead, not the split step), and the host-only evaluation loops of eval/wake_eval.h.
+ * voluntary motion ahead, not the split step). The host-only evaluation loops declare themselves beside
+ * their code (wake/eval/native/wake_eval_cffi.h), read after this file.
  * `#define NAME ...` takes the value from the compiled code; `[...]` takes an array's size from it.
  *
  * The build checks this file against the headers: cffi's API mode compiles every declaration
@@ -358,18 +359,3 @@ typedef struct {
 wake_rate_status_t wake_rate_init(wake_rate_t *s, int factor);
 wake_rate_status_t wake_rate_push(wake_rate_t *s, wake_q15_t sample, int present, wake_rate_group_t *group,
                                   wake_q15_t *mean);
-
-/* ---- eval/wake_eval.h (host only) --------------------------------------------------------------- */
-void wake_eval_bmflc(const double *phi, size_t n, size_t m, const double *x, double two_mu, double two_mu_bias,
-                     const long *horizons, size_t n_horizons, double *w, double *vol, double *bank, double *ahead);
-void wake_eval_ebmflc(const double *phi, size_t n, size_t p, size_t nv, const double *x, double rho, double delta,
-                      double leak, const long *horizons, size_t n_horizons, double *g, double *u, double *r,
-                      double *w, double *y, double *vol, double *pred, double *ahead);
-void wake_eval_wflc(const double *x, size_t n, size_t m, double fs, double omega0, double lo, double hi,
-                    double two_mu, double two_mu_bias, double two_mu0, double beta, const long *horizons,
-                    size_t n_horizons, double *a, double *c, double *sn, double *cs, double *vol, double *bank,
-                    double *freq, double *ahead);
-void wake_eval_ehwflc(const double *x, size_t n, size_t m, double fs, double omega0, double lo, double hi,
-                      double two_mu0, double beta, double p0, double q_bias, double q_tremor, const long *horizons,
-                      size_t n_horizons, double *w, double *p, double *phi, double *pphi, double *vol, double *bank,
-                      double *freq, double *ahead);

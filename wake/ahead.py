@@ -85,22 +85,22 @@ def identity(n: int) -> np.ndarray:
 
 
 def lagged(s, taps: int = TAPS):
-    """Rows ``[s[k], s[k-1], ..., s[k-taps+1]]`` for every ``k`` (zeros before the start), newest first."""
+    """Rows ``[s[k], ..., s[k-taps+1]]`` for every ``k`` (zeros before the start), newest first; of each row of (W, n)."""
     s = np.asarray(s, dtype=float)
-    pad = np.concatenate((np.zeros(taps - 1), s))
-    # sliding_window_view(pad, taps), read-only, built directly (the helper's checks cost 7x the view)
-    rows = np.ndarray((s.size, taps), pad.dtype, pad, 0, (pad.itemsize, pad.itemsize))
+    pad = np.concatenate((np.zeros(s.shape[:-1] + (taps - 1,)), s), axis=-1)
+    # sliding_window_view(pad, taps), read-only, built directly (the helper's checks cost 7x the view); a stack (W, n)
+    rows = np.ndarray(s.shape + (taps,), pad.dtype, pad, 0, pad.strides[:-1] + (pad.itemsize, pad.itemsize))
     rows.flags.writeable = False
-    return rows[:, ::-1]
+    return rows[..., ::-1]
 
 
 def fit_pair(estimate, truth, horizon: int):
     """``estimate`` and ``truth`` as float arrays, checked for a fit ``horizon`` samples ahead: both 1-D and of
-    one length, ``horizon`` at least 1 (the rule of every predictor's fit)."""
+    one length (or stacks of them, one series per row), ``horizon`` at least 1 (the rule of every predictor's fit)."""
     y = np.asarray(estimate, dtype=float)
     t = np.asarray(truth, dtype=float)
-    if y.shape != t.shape or y.ndim != 1:
-        raise ValueError(f"estimate and truth must be 1-D and of one length, got shapes {y.shape} and {t.shape}")
+    if y.shape != t.shape or y.ndim not in (1, 2):
+        raise ValueError(f"estimate and truth must be 1-D (or stacks, 2-D) and of one length: {y.shape}, {t.shape}")
     if horizon < 1:
         raise ValueError(f"horizon must be at least 1 sample, got {horizon}")
     return y, t
@@ -111,8 +111,8 @@ def fit_predictor(estimate, truth, horizon: int, taps: int = TAPS, ridge: float 
 
     Parameters
     ----------
-    estimate, truth : array_like, shape (n,)
-        The tremor estimate and the tremor truth of the same samples, oldest first.
+    estimate, truth : array_like, shape (n,) or (W, n)
+        The tremor estimate and the tremor truth of the same samples, oldest first (a stack: one fit per row).
     horizon : int
         Samples ahead, >= 1.
     taps, ridge : int, float
@@ -122,12 +122,11 @@ def fit_predictor(estimate, truth, horizon: int, taps: int = TAPS, ridge: float 
     -------
     numpy.ndarray, shape (taps,)
         ``c``, newest estimate first: ``truth[k + horizon] ~ c . estimate[k], ..., estimate[k - taps + 1]``,
-        fitted on every ``k`` with a full history inside the window, each clipped to
-        +-:data:`COEFFICIENT_LIMIT`.  Zeros when the window has fewer than two
-        such rows, or no power.
+        fitted on every ``k`` with a full history inside the window, each clipped to +-:data:`COEFFICIENT_LIMIT`.
+        Zeros when the window has fewer than two such rows, or no power.  A stack gives shape (W, taps).
     """
     y, t = fit_pair(estimate, truth, horizon)
-    return fit_rows(lagged(y, taps)[taps - 1:y.size - horizon], t[taps - 1 + horizon:], ridge)
+    return fit_rows(lagged(y, taps)[..., taps - 1:y.shape[-1] - horizon, :], t[..., taps - 1 + horizon:], ridge)
 
 
 def fit_rows(rows, target, ridge: float = RIDGE):
@@ -135,9 +134,9 @@ def fit_rows(rows, target, ridge: float = RIDGE):
 
     Parameters
     ----------
-    rows : array_like, shape (m, taps)
-        Lagged estimates, newest first (rows of :func:`lagged`).
-    target : array_like, shape (m,)
+    rows : array_like, shape (m, taps) or (W, m, taps)
+        Lagged estimates, newest first (rows of :func:`lagged`); a stack: one fit per series, shape (W, taps).
+    target : array_like, shape (m,) or (W, m)
         The truth each row predicts.
     ridge : float
         Relative to the Gram matrix's mean diagonal (:data:`RIDGE`).
@@ -145,8 +144,7 @@ def fit_rows(rows, target, ridge: float = RIDGE):
     Returns
     -------
     numpy.ndarray, shape (taps,)
-        The coefficients, each clipped to +-:data:`COEFFICIENT_LIMIT`; zeros with fewer than two rows or no
-        power.
+        The coefficients, each clipped to +-:data:`COEFFICIENT_LIMIT`; zeros with fewer than two rows or no power.
 
     Examples
     --------
@@ -157,16 +155,18 @@ def fit_rows(rows, target, ridge: float = RIDGE):
     >>> bool(np.allclose(c, [2 * np.cos(0.3), -1.0], atol=1e-4))
     True
     """
-    X = np.asarray(rows, dtype=float)
-    target = np.asarray(target, dtype=float)
-    taps = X.shape[1]
-    if X.shape[0] < 2:
-        return np.zeros(taps)
-    G = X.T @ X
-    scale = np.trace(G) / taps
-    if not scale > 0:
-        return np.zeros(taps)
-    c = np.linalg.solve(G + ridge * scale * identity(taps), X.T @ target)
+    X, target = np.asarray(rows, dtype=float), np.asarray(target, dtype=float)
+    if X.ndim == 2:   # one series: a stack of one (the batched calls are BLAS's and LAPACK's per series)
+        return fit_rows(X[None], target[None], ridge)[0]
+    c = np.zeros(X.shape[::2])
+    if X.shape[1] < 2:
+        return c
+    G = (Xt := np.swapaxes(X, 1, 2)) @ X
+    scale = np.trace(G, axis1=1, axis2=2) / X.shape[2]
+    ok = scale > 0   # a series without power: zeros
+    if ok.any():
+        G, rhs = G[ok] + (ridge * scale[ok])[:, None, None] * identity(X.shape[2]), (Xt @ target[:, :, None])[ok]
+        c[ok] = np.linalg.solve(G, rhs)[:, :, 0]
     return np.clip(c, -COEFFICIENT_LIMIT, COEFFICIENT_LIMIT)
 
 

@@ -17,20 +17,27 @@ from __future__ import annotations
 
 import copy
 from collections import deque
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from functools import partial
+from itertools import islice
 
 import numpy as np
 
 from wake.ahead import TAPS, installed_goal
 from wake.config import WakeConfig
 from wake.hpa import HPAUpdate, default_weights, run_hpa
+from wake.hpa.run import analyse_windows, finish_hpa, recorded
 from wake.hpa.c_port import run_hpa_c
 from wake.hpa.prior import prior_weights
 from wake.hpa.schedule import HPASchedule, ScheduleState, prepare_window
 from wake.rtp.adaptive import AdaptiveRTP, AdaptiveRTPState, ClippingWarning
+from wake.rtp.full_scale import robust_peak
 
 __all__ = ["Channel", "ChannelState", "ClippingWarning", "start_weights_for"]
+
+#: The batch path's windows analysed at once (:meth:`Channel.points`): up to this many samples of them (65
+#: windows of 5 s at 100 Hz; one window at a time from L = 2**17 on), so its memory stays that of a few windows.
+BATCH_SAMPLES = 2**15
 
 
 @dataclass
@@ -73,26 +80,41 @@ class Channel:
         return self.config.process_noise_ratio * measurement_noise
 
     # -- HPA ---------------------------------------------------------------
-    def hpa_job(self, window):
+    def hpa_job(self, window, count=None, prepared=None, analysis=None):
         """The HPA call for ``window`` as a function of no arguments, with everything it reads bound
-        (it may run off the sample path)."""
-        window = prepare_window(window)
+        (it may run off the sample path).
+
+        ``count`` is the sample count of its point (default: the schedule's now), ``prepared`` the window as
+        :func:`~wake.hpa.schedule.prepare_window` gave it and ``analysis`` its window-only steps
+        (:func:`~wake.hpa.run.analyse_windows`; Python HPA), when a batch path has them already.
+        """
+        count = self.schedule.count if count is None else count
+        window = prepare_window(window) if prepared is None else prepared
         if self.config.hpa_backend == "c":
             # the C HPA reads the int16 samples the RTP reads (its full scale once on the C path)
-            hpa, extra = run_hpa_c, dict(full_scale=self.rtp.full_scale if self.rtp.on_c else None)
+            hpa, extra = run_hpa_c, dict(taps=self.taps, full_scale=self.rtp.full_scale if self.rtp.on_c else None)
+        elif analysis is None:
+            hpa, extra = run_hpa, dict(taps=self.taps, start_weights=self.start_weights)
         else:
-            hpa, extra = run_hpa, dict(start_weights=self.start_weights)
+            hpa, window, extra = finish_hpa, analysis, dict(start_weights=self.start_weights)
         # both fit the tremor ahead and score the previous HPA's predictor on the samples since it
         previous = None if self.ahead_coefficients is None else self.ahead_coefficients.copy()
-        return partial(hpa, window, self.config, taps=self.taps, previous_weights=self.weights.copy(),
-                       index=self.schedule.count, previous_ahead=previous,
-                       new_samples=self.schedule.count - self.ahead_index, **extra)
+        return partial(hpa, window, self.config, previous_weights=self.weights.copy(), index=count,
+                       previous_ahead=previous, new_samples=count - self.ahead_index, **extra)
 
-    def hpa(self, window):
-        """Run the HPA on ``window`` inline and install its result before the next RTP step."""
-        self.apply(self.hpa_job(window)(), window, first_sample=self.schedule.count)
+    def hpa(self, window, count=None, prepared=None, analysis=None, peak=None):
+        """Run the HPA on ``window`` inline and install its result before the next RTP step.
 
-    def apply(self, upd: HPAUpdate, window, first_sample: int):
+        ``count``, ``prepared``, ``analysis`` and ``peak``: the point's sample count (default: the schedule's
+        now) and what a batch path has already computed for the window (:meth:`points`).
+        """
+        count = self.schedule.count if count is None else count
+        if prepared is None:
+            peak = robust_peak(window)   # read by the window's preparation and by the full-scale policy
+            prepared = prepare_window(window, peak)
+        self.apply(self.hpa_job(window, count, prepared, analysis)(), window, first_sample=count, peak=peak)
+
+    def apply(self, upd: HPAUpdate, window, first_sample: int, peak=None):
         """Install an HPA result between two samples.
 
         ``first_sample`` is the 1-based number of the first sample whose RTP
@@ -102,7 +124,7 @@ class Channel:
         """
         self.weights = upd.weights
         notes = self.rtp.install(self.weights, upd.measurement_noise, self.process_noise(upd.measurement_noise),
-                                 window)
+                                 window, peak)
         self.measurement_noise = self.rtp.measurement_noise if self.rtp.on_c else upd.measurement_noise
         # an HPA without a predictor shuts the gate, and so does a window clipped at the C core's full scale:
         # the C HPA applies that rule itself to the int16 window it read (its goal is final, "clipping" among
@@ -114,7 +136,7 @@ class Channel:
         # w_h, the voluntary motion ahead (horizon > 1); None keeps the one in use
         self.rtp.set_weights_ahead(upd.weights_ahead)
         flags = upd.flags + tuple(note for note in notes if note not in upd.flags)
-        self.updates.append(replace(upd, applied_at=first_sample, flags=flags))
+        self.updates.append(recorded(upd, applied_at=first_sample, flags=flags))
 
     def swap_if_ready(self, wait=False, first_sample=None):
         """Thread mode: install a finished HPA between two samples."""
@@ -136,16 +158,43 @@ class Channel:
         if self.config.hpa_mode == "thread":
             self.swap_if_ready(wait=True, first_sample=self.schedule.count + 1)
         start = 0
-        for stop, window in self.schedule.block(x):
+        for stop, window, count, (prepared, peak), analysis in self.points(x):
             # the HPA at this point runs before the RTP step of x[stop]
             if start < stop:
                 y[:, start:stop] = self.rtp.run_outputs(x[start:stop])
                 start = stop
             if window is not None:
-                self.hpa(window)
+                self.hpa(window, count, prepared, analysis, peak)
         if start < n:
             y[:, start:] = self.rtp.run_outputs(x[start:])
         return y
+
+    def points(self, x):
+        """The HPA points of block ``x`` (:meth:`HPASchedule.block`) as ``(stop, window, count, (prepared, peak),
+        analysis)``: ``count`` the point's sample count, ``prepared`` the window the HPA reads, ``peak`` the
+        window's robust peak (read by the preparation and the full-scale policy) and, for the
+        Python HPA, ``analysis`` its window-only steps, done for up to :data:`BATCH_SAMPLES` samples of windows
+        at once (:func:`~wake.hpa.run.analyse_windows`, windows of one length together: no window's steps
+        read an earlier HPA, so they may run before the RTP reaches the point; bit for bit one at a time)."""
+        points = self.schedule.block(x)
+        size = max(1, BATCH_SAMPLES // self.schedule.window_samples)
+        while chunk := [(stop, window, self.schedule.count) for stop, window in islice(points, size)]:
+            peaks = [None if window is None else robust_peak(window) for _, window, _ in chunk]
+            prepared = [None if window is None else prepare_window(window, peak)
+                        for (_, window, _), peak in zip(chunk, peaks)]
+            analyses = [None] * len(chunk)
+            if self.config.hpa_backend != "c":
+                lengths = {}
+                for i, win in enumerate(prepared):
+                    if win is not None:
+                        lengths.setdefault(win.shape[0], []).append(i)
+                for rows in lengths.values():
+                    done = analyse_windows(np.stack([prepared[i] for i in rows]), self.config, taps=self.taps,
+                                           start_weights=self.start_weights)
+                    for i, analysis in zip(rows, done):
+                        analyses[i] = analysis
+            for (stop, window, count), win, peak, analysis in zip(chunk, prepared, peaks, analyses):
+                yield stop, window, count, (win, peak), analysis
 
     def update(self, sample: float, executor) -> float:
         """One sample of the stream (NaN: missing): the prediction of the voluntary motion at the next one.

@@ -46,7 +46,10 @@ class PredictionTarget:
 
     def fit_pairs(self, outputs, voluntary, n_taps: int):
         """The rows of the causal fit: filter-bank outputs ``a(k)``, ``k = N-1 .. L-1`` (``N = n_taps``),
-        each against the voluntary ground truth ``v(k + horizon)`` of the same window."""
+        each against the voluntary ground truth ``v(k + horizon)`` of the same window (or of each window of a
+        stack: ``outputs`` (W, m, J), ``voluntary`` (W, n))."""
+        if np.ndim(outputs) == 3:
+            return outputs[:, : outputs.shape[1] - self.horizon], voluntary[:, n_taps - 1 + self.horizon:]
         return outputs[: outputs.shape[0] - self.horizon], voluntary[n_taps - 1 + self.horizon:]
 
     def phasor(self, freqs, fs: float):

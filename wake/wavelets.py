@@ -148,7 +148,8 @@ def filter_bank_outputs(x, taps):
 
     Parameters
     ----------
-    x : array_like, shape (n,)
+    x : array_like, shape (n,) or (W, n)
+        One window, or a stack of windows of one length (the outputs of each, ``(W, n - N + 1, J)``).
     taps : array_like, shape (J, N)
 
     Returns
@@ -160,9 +161,9 @@ def filter_bank_outputs(x, taps):
     taps = np.asarray(taps, dtype=float)
     x = np.asarray(x, dtype=float)
     n_taps = taps.shape[1]
-    if x.shape[0] < n_taps:
-        raise ValueError(f"need at least {n_taps} samples for the filter bank, got {x.shape[0]}")
-    windows = np.lib.stride_tricks.sliding_window_view(x, n_taps)
+    if x.shape[-1] < n_taps:
+        raise ValueError(f"need at least {n_taps} samples for the filter bank, got {x.shape[-1]}")
+    windows = np.lib.stride_tricks.sliding_window_view(x, n_taps, axis=-1)
     return windows @ taps.T
 
 

@@ -1,4 +1,4 @@
-"""The baselines' C loops (csrc/eval/wake_eval.c) against their Python loops (the reference kept in
+"""The baselines' C loops (wake/eval/native/wake_eval.c) against their Python loops (the reference kept in
 wake/eval/baselines.py): every output within 1e-12 of the largest, at two sampling rates, on a gyroscope-like
 signal and on accelerometer channels with gravity, with and without extrapolation."""
 

@@ -1,4 +1,4 @@
-"""The baselines' C loops (``csrc/eval/wake_eval.c``, in the compiled core ``wake._rtp``): how ``run`` calls them.
+"""The baselines' C loops (``wake/eval/native/wake_eval.c``, in the compiled core ``wake._rtp``): how ``run`` calls them.
 
 Each function takes the model (:mod:`wake.eval.baselines`, :mod:`wake.eval.ehwflc`), the ``(ffi, lib)`` of :func:`c_loops_for`, the
 signal as ``(n, channels)`` and what its ``run`` prepared, and returns the same :class:`BaselineResult` as the

@@ -40,7 +40,7 @@ LMS step-size bound, and the regressor rows) is in :mod:`wake.eval.baseline_mode
 
 Speed
 -----
-Each ``run`` is one C call per channel (``csrc/eval/wake_eval.c``, built into
+Each ``run`` is one C call per channel (``wake/eval/native/wake_eval.c``, built into
 the compiled core ``wake._rtp``, host-only) when the core is installed; the
 Python loop beside it (``run(..., engine="python")``) is the reference it is
 tested against (``tests/eval/test_baselines_c.py``: within 1e-12 of the

@@ -27,7 +27,7 @@ estimate are the same for a signal in any unit; ``p`` is WFLC's running mean squ
 What here is ours, not the papers' (whose full parameter tables were not available to this implementation):
 the scale-free noise parametrisation, the defaults below (tuned once on synthetic signal 1 as the other
 baselines were; docs/studies/baselines.md, "eHWFLC-KF"), and the frequency range.  The per-sample loop runs in C
-(``csrc/eval/wake_eval.c``, :func:`wake.eval.baseline_c.run_ehwflc`) when the compiled core is built; the numpy loop
+(``wake/eval/native/wake_eval.c``, :func:`wake.eval.baseline_c.run_ehwflc`) when the compiled core is built; the numpy loop
 here, vectorised over channels, is the reference it matches within 1e-12 (tests/eval/test_baselines_c.py).
 
 Examples

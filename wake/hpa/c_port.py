@@ -150,6 +150,9 @@ def quantize_window(x, full_scale: float) -> np.ndarray:
     return np.clip(np.rint(np.asarray(x, dtype=float) * (_Q15 / full_scale)), -32768, 32767).astype(np.int16)
 
 
+#: The cut-off flags by the C HPA's enumerator (its place in the registry)
+_FLAG_NAMES = tuple(CUTOFF_FLAGS)
+
 #: (config, horizon, taps) -> (wake_hpa_config_t, int16 taps) of configurations that passed
 #: check_c_hpa_config: an HPA of a stream checks, fills and quantises them once, not once per window
 _PREPARED: dict = {}
@@ -182,17 +185,18 @@ def _prepared(config: WakeConfig, taps, horizon: int):
     return cfg, taps_q
 
 
-def _instance(config: WakeConfig, taps, weights, name: str, *, horizon: int = 1):
+def _instance(config: WakeConfig, taps, weights, name: str, *, horizon: int = 1, prepared=None):
     """A C HPA instance of ``config`` over ``taps`` with ``weights`` in use (the start-up weights,
     :func:`~wake.wavelets.default_weights`, when None; clipped to the C HPA's weight limit), and the
-    quantised taps it points into: keep them alive as long as the instance."""
+    quantised taps it points into: keep them alive as long as the instance.  ``prepared``: what
+    :func:`_prepared` gave for them (looked up when None)."""
     ffi, lib = _core()
     J = config.level
     w0 = np.clip(np.asarray(default_weights(J) if weights is None else weights, dtype=np.float32),
                  -lib.WAKE_HPA_WEIGHT_LIMIT, lib.WAKE_HPA_WEIGHT_LIMIT)
     if w0.shape != (J,) or not np.isfinite(w0).all():
         raise ValueError(f"{name} must be {J} finite numbers, got {weights!r}")
-    cfg, taps_q = _prepared(config, taps, horizon)
+    cfg, taps_q = _prepared(config, taps, horizon) if prepared is None else prepared
     h = ffi.new("wake_hpa_t *")
     status = lib.wake_hpa_init(h, cfg, ffi.from_buffer("int16_t[]", taps_q), ffi.from_buffer("float[]", w0))
     if status != lib.WAKE_HPA_OK:
@@ -262,7 +266,7 @@ def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index:
     'valley'
     """
     ffi, lib = _core()
-    _prepared(config, taps, config.horizon)   # check_c_hpa_config, once per configuration
+    prepared = _prepared(config, taps, config.horizon)   # check_c_hpa_config, once per configuration
     x = np.asarray(window, dtype=float)
     J, N = config.level, 2**config.level
     if x.ndim != 1 or not N * 2 <= x.size <= config.window_samples:
@@ -273,7 +277,8 @@ def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index:
     if not (np.isfinite(fs_scale) and fs_scale > 0):
         raise ValueError(f"full_scale must be finite and > 0, got {full_scale!r}")
     q = quantize_window(x, fs_scale)
-    h, _taps_q = _instance(config, taps, previous_weights, "previous_weights", horizon=config.horizon)
+    h, _taps_q = _instance(config, taps, previous_weights, "previous_weights", horizon=config.horizon,
+                           prepared=prepared)
     _previous_ahead(h, previous_ahead, index, new_samples)
     q_c = ffi.from_buffer("int16_t[]", q)
     status = lib.wake_hpa_start(h, q_c, q.size, int(index) & 0xFFFFFFFF)
@@ -293,11 +298,11 @@ def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index:
         notes.append("weights_clipped")
     if res.notes & lib.WAKE_HPA_NOTE_FULL_SCALE:
         notes.append("clipping")  # the C HPA has applied wake.ahead.installed_goal's rule: its goal is 0
-    weights = np.array([res.weights[j] for j in range(J)], dtype=float)
-    flag, goal = list(CUTOFF_FLAGS)[res.flag], float(res.ahead_goal)
+    weights = np.array(ffi.unpack(res.weights, J), dtype=float)
+    flag, goal = _FLAG_NAMES[res.flag], float(res.ahead_goal)
     return HPAUpdate(int(index), float(res.cutoff), flag, weights,
                      float(res.measurement_noise) * lsb * lsb, float(np.sqrt(res.fit_mse)) * lsb,
-                     float(res.ridge), tuple(notes), ahead_coefficients=np.array(list(res.ahead), dtype=float),
+                     float(res.ridge), tuple(notes), ahead_coefficients=np.array(ffi.unpack(res.ahead, len(res.ahead)), dtype=float),
                      ahead_gain=goal, ahead_goal=goal)
 
 

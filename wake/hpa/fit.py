@@ -11,13 +11,14 @@ from wake.wavelets import default_weights  # noqa: F401  (re-exported: the weigh
 __all__ = ["fit_weights", "ridge_scale_of", "default_weights"]
 
 
-def ridge_scale_of(A, G, rule: str = "gram") -> float:
+def ridge_scale_of(A, G, rule: str = "gram"):
     """The mean diagonal the weight fit's relative ridge multiplies (``WakeConfig.ridge_scale``).
 
     ``"gram"``: ``trace(A'A) / J``; ``"centred"``: the same of ``A`` with each column's mean taken out,
     ``(trace(A'A) - L |mean(A)|^2) / J``, which a constant offset in the signal (gravity) does not inflate,
     floored at ``1e-6`` of the first (an offset with little or no motion: the ridge still keeps the system
-    solvable in float64).
+    solvable in float64).  ``A`` (L, J) with ``G = A'A`` gives a float; a stack ``A`` (W, L, J) with its
+    ``G`` (W, J, J) gives one per window.
 
     Examples
     --------
@@ -26,14 +27,17 @@ def ridge_scale_of(A, G, rule: str = "gram") -> float:
     >>> ridge_scale_of(A, A.T @ A), ridge_scale_of(A, A.T @ A, "centred")
     (223.0, 2.0)
     """
-    J = A.shape[1]
-    gram = float(np.trace(G) / J)
+    if rule not in RIDGE_SCALES:
+        raise ValueError(f"unknown ridge_scale {rule!r}; valid choices: {', '.join(RIDGE_SCALES)}")
+    A, G = np.asarray(A), np.asarray(G)
+    if A.ndim == 2:
+        return float(ridge_scale_of(A[None], G[None], rule)[0])
+    J = A.shape[2]
+    gram = np.trace(G, axis1=1, axis2=2) / J
     if rule == "gram":
         return gram
-    if rule == "centred":
-        mean = A.mean(axis=0)
-        return max(gram - A.shape[0] * float(mean @ mean) / J, 1e-6 * gram)
-    raise ValueError(f"unknown ridge_scale {rule!r}; valid choices: {', '.join(RIDGE_SCALES)}")
+    mean = A.mean(axis=1)
+    return np.maximum(gram - A.shape[1] * np.einsum("wj,wj->w", mean, mean) / J, 1e-6 * gram)
 
 
 def fit_weights(approximations, target, ridge=1e-6, weight_limit=WEIGHT_LIMIT, *, center=None, shrink=0.0,
@@ -71,22 +75,63 @@ def fit_weights(approximations, target, ridge=1e-6, weight_limit=WEIGHT_LIMIT, *
     """
     A = np.asarray(approximations, dtype=float)
     y = np.asarray(target, dtype=float)
-    if A.ndim != 2 or y.shape != (A.shape[0],):
-        raise ValueError(f"approximations must be (L, J) and target (L,), got {A.shape} and {y.shape}")
-    if A.shape[0] < A.shape[1]:
-        raise ValueError(f"need at least J = {A.shape[1]} rows to fit J weights, got {A.shape[0]}")
-    J = A.shape[1]
-    G = A.T @ A
-    b = A.T @ y
+    if A.ndim not in (2, 3) or y.shape != A.shape[:-1]:
+        raise ValueError(f"approximations must be (L, J) and target (L,) (or stacks of them, (W, L, J) and "
+                         f"(W, L)), got {A.shape} and {y.shape}")
+    if A.shape[-2] < A.shape[-1]:
+        raise ValueError(f"need at least J = {A.shape[-1]} rows to fit J weights, got {A.shape[-2]}")
+    if A.ndim == 3:
+        return _fit_stack(A, y, float(ridge), weight_limit, center, shrink, ridge_scale)
+    w, err, used = _fit_stack(A[None], y[None], float(ridge), weight_limit, center, shrink, ridge_scale)
+    return w[0], float(err[0]), float(used[0])
+
+
+def _fit_stack(A, y, ridge, weight_limit, center, shrink, ridge_scale="gram"):
+    """:func:`fit_weights` of each window of a stack (W, L, J): one Gram matrix and one solve for every window
+    whose first ridge holds (the usual case), the ridge raised window by window where it does not.  Each
+    window's numbers are those of its own fit (the batched matmul and solve run the same BLAS and LAPACK
+    calls per window)."""
+    n, J = A.shape[0], A.shape[2]
+    At = np.swapaxes(A, 1, 2)
+    G = At @ A
+    b = (At @ y[:, :, None])[:, :, 0]
     scale = ridge_scale_of(A, G, ridge_scale)
-    if not np.isfinite(scale) or scale <= 0:
-        return np.zeros(J), float(np.sqrt(np.mean(y**2))), float(ridge)
     eye = identity(J)   # made once per J
     if center is not None and shrink > 0:
         # |A w - y|^2 + s |w - c|^2: the normal equations gain s I on the left and s c on the right
-        G = G + shrink * scale * eye
-        b = b + shrink * scale * np.asarray(center, dtype=float)
-    factor = float(ridge)
+        G = G + (shrink * scale)[:, None, None] * eye
+        b = b + (shrink * scale)[:, None] * np.asarray(center, dtype=float)
+    used = np.full(n, ridge)
+    powered = np.isfinite(scale) & (scale > 0)   # a window without power: w = 0 (its error below)
+    every = bool(powered.all())
+    rows = np.arange(n) if every else np.flatnonzero(powered)
+    todo, w = rows, np.zeros((n, J))
+    if rows.size and (ridge > 0 or shrink > 0):
+        Gp, bp, sp = (G, b, scale) if every else (G[rows], b[rows], scale[rows])
+        try:
+            first = np.linalg.solve(Gp + (ridge * sp)[:, None, None] * eye, bp[:, :, None])[:, :, 0]
+        except np.linalg.LinAlgError:   # one singular window: each solved alone (and refused alone)
+            first = None
+        if first is not None:
+            ok = np.isfinite(first).all(axis=1) & (np.abs(first).max(axis=1) <= weight_limit)
+            if every and ok.all():
+                w, todo = first, ()
+            else:
+                w[rows[ok]] = first[ok]
+                todo = rows[~ok]
+    for i in todo:
+        w[i], used[i] = _raised(A[i], y[i], G[i], b[i], scale[i], eye, ridge, weight_limit, shrink)
+    if every:
+        err = np.sqrt(np.mean(((A @ w[:, :, None])[:, :, 0] - y) ** 2, axis=1))
+    else:
+        err = np.sqrt(np.mean(y**2, axis=1))
+        err[rows] = np.sqrt(np.mean(((A[rows] @ w[rows, :, None])[:, :, 0] - y[rows]) ** 2, axis=1))
+    return w, err, used
+
+
+def _raised(A, y, G, b, scale, eye, ridge, weight_limit, shrink):
+    """One window's fit, the ridge raised tenfold until every weight lies within ``weight_limit``."""
+    factor = ridge
     for _ in range(16):
         if factor > 0 or shrink > 0:
             w = np.linalg.solve(G + factor * scale * eye, b)
@@ -97,7 +142,4 @@ def fit_weights(approximations, target, ridge=1e-6, weight_limit=WEIGHT_LIMIT, *
         factor = max(factor * 10.0, 1e-9)
     else:  # pragma: no cover - a ridge of 1e7 * trace makes w tiny
         w = np.clip(w, -weight_limit, weight_limit)
-    err = float(np.sqrt(np.mean((A @ w - y) ** 2)))
-    return w, err, factor
-
-
+    return w, factor

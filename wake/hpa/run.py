@@ -35,7 +35,8 @@ from wake.hpa.sharp import detrended_highpass
 from wake.hpa.spectrum import ar_psd, window_order
 from wake.wavelets import filter_bank_outputs, filter_bank_taps, wavelet_approximations
 
-__all__ = ["HPAUpdate", "run_hpa", "tremor_ahead", "gate_truth", "voluntary_ahead_weights"]
+__all__ = ["HPAUpdate", "WindowAnalysis", "ahead_fit", "analyse_windows", "finish_hpa", "gate_truth", "run_hpa",
+           "tremor_ahead", "voluntary_ahead_weights"]
 
 @dataclass(frozen=True)
 class HPAUpdate:
@@ -56,6 +57,24 @@ class HPAUpdate:
     #: w_h, the weights of the voluntary motion ``horizon`` samples ahead, shape (J,) (horizon > 1, the fit
     #: installed); None: the RTP keeps the w_h it has (the one-step prediction held before the first)
     weights_ahead: np.ndarray | None = None
+
+
+def recorded(update: HPAUpdate, **changes) -> HPAUpdate:
+    """``dataclasses.replace(update, **changes)`` without its per-call field walk (an HPA's result is recorded
+    once per window on the batch path): a new :class:`HPAUpdate`, ``update`` untouched.
+
+    Examples
+    --------
+    >>> u = HPAUpdate(5, 2.0, "valley", np.ones(2), 1.0, 0.1, 1e-6)
+    >>> recorded(u, applied_at=6).applied_at, u.applied_at
+    (6, -1)
+    """
+    unknown = set(changes) - set(HPAUpdate.__dataclass_fields__)
+    if unknown:
+        raise TypeError(f"HPAUpdate has no field(s) {sorted(unknown)}")
+    new = object.__new__(HPAUpdate)
+    new.__dict__.update(update.__dict__, **changes)
+    return new
 
 
 #: Pull of a warm-up fit towards the start-up weights: shrink = WARMUP_SHRINK * (L - n) / L
@@ -102,22 +121,37 @@ def gate_truth(x, fs: float, cutoff: float, tremor_gt, gate_cutoff):
 
 
 def tremor_ahead(x, outputs, weights, tremor_gt, config: WakeConfig, flag: str, previous_ahead=None,
-                 new_samples: int = 0, cutoff: float = 0.0) -> dict:
+                 new_samples: int = 0, cutoff: float = 0.0, fitted=None) -> dict:
     """The tremor-ahead fields of an :class:`HPAUpdate` (docs/studies/design.md, "Tremor ahead").
 
     WAKE's tremor estimate over the window, ``y(k) = x(k) - w . a(k-1)`` for ``k = N .. n-1`` (``a``: the
     filter-bank ``outputs``, ``w``: the weights this HPA installs), against the window's truth ``tremor_gt``: the
     :func:`wake.ahead.fit_predictor` at ``config.horizon``, the :func:`wake.ahead.held_out_gain` of
     ``previous_ahead`` on the ``new_samples`` samples since its HPA (against :func:`gate_truth` at the
-    window's ``cutoff``), and the :func:`wake.ahead.gate_target`.
+    window's ``cutoff``), and the :func:`wake.ahead.gate_target`.  ``fitted``: :func:`ahead_fit`'s result for
+    these weights, when a batch path has it.
     """
-    N = x.shape[0] - outputs.shape[0] + 1
-    estimate = x[N:] - outputs[:-1] @ np.asarray(weights, dtype=float)
-    truth = tremor_gt[N:]
-    gated = gate_truth(x, config.fs, cutoff, tremor_gt, config.gate_cutoff)[N:]
-    gain = held_out_gain(estimate, gated, previous_ahead, config.horizon, new_samples)
-    return dict(ahead_coefficients=fit_predictor(estimate, truth, config.horizon), ahead_gain=gain,
-                ahead_goal=gate_target(gain, flag))
+    estimate, truth, coefficients = ahead_fit(x, outputs, weights, tremor_gt, config.horizon) if fitted is None \
+        else fitted
+    if config.gate_cutoff is not None:
+        N = x.shape[-1] - outputs.shape[-2] + 1
+        truth = gate_truth(x, config.fs, cutoff, tremor_gt, config.gate_cutoff)[N:]
+    gain = held_out_gain(estimate, truth, previous_ahead, config.horizon, new_samples)
+    return dict(ahead_coefficients=coefficients, ahead_gain=gain, ahead_goal=gate_target(gain, flag))
+
+
+def ahead_fit(x, outputs, weights, tremor_gt, horizon: int):
+    """``(estimate, truth, coefficients)`` of :func:`tremor_ahead`: WAKE's tremor estimate over the window, its
+    truth and the :func:`wake.ahead.fit_predictor` between them; a stack of windows (W, n) with their outputs
+    (W, m, J) and weights (W, J) gives one row each, bit for bit each window's own."""
+    N = x.shape[-1] - outputs.shape[-2] + 1
+    w = np.asarray(weights, dtype=float)
+    if x.ndim == 1:
+        estimate = x[N:] - outputs[:-1] @ w
+    else:   # (W, m-1, J) @ (W, J, 1): the gemv of each window
+        estimate = x[:, N:] - (outputs[:, :-1] @ w[:, :, None])[:, :, 0]
+    truth = tremor_gt[..., N:]
+    return estimate, truth, fit_predictor(estimate, truth, horizon)
 
 
 def voluntary_ahead_weights(outputs, voluntary_gt, n_taps: int, horizon: int, ridge: float, start_weights,
@@ -190,54 +224,111 @@ def run_hpa(window, config: WakeConfig, *, taps=None, previous_weights=None, ind
     >>> upd.cutoff_flag, upd.weights.shape
     ('valley', (5,))
     """
-    fs, level, fit, ridge, default_cutoff = config.fs, config.level, config.fit, config.ridge, config.default_cutoff
-    if taps is None:
-        taps = filter_bank_taps(config.wavelet, level, config.mode)
     x = np.asarray(window, dtype=float)
-    flags = []
-    spread = np.std(x)
-    if not spread > 1e-12 * max(1.0, np.max(np.abs(x))):
-        w = np.array(previous_weights, dtype=float) if previous_weights is not None else default_weights(level)
-        floor = max(1e-12, (1e-6 * np.max(np.abs(x))) ** 2)
-        # a silent window has nothing to predict: the predictor stays, the gate shuts
-        kept = np.zeros(TAPS) if previous_ahead is None else np.array(previous_ahead, dtype=float)
-        return HPAUpdate(index, float(default_cutoff), "silent", w, float(floor), 0.0, float(ridge),
-                         ("weights_kept",), ahead_coefficients=kept)
+    return finish_hpa(analyse_windows(x[None], config, taps=taps, start_weights=start_weights)[0], config,
+                      previous_weights=previous_weights, index=index, start_weights=start_weights,
+                      previous_ahead=previous_ahead, new_samples=new_samples)
+
+
+@dataclass(frozen=True)
+class WindowAnalysis:
+    """What an HPA computes from its window alone (:func:`analyse_windows`): S1 to S4 before the choices that
+    read the previous HPA's results (:func:`finish_hpa`)."""
+
+    x: np.ndarray                #: the window
+    silent: bool                 #: no spread: nothing below is computed
+    cutoff: float = 0.0
+    flag: str = ""
+    tremor_gt: np.ndarray | None = None
+    voluntary_gt: np.ndarray | None = None
+    measurement_noise: float = 0.0
+    outputs: np.ndarray | None = None   #: the filter-bank outputs over the window
+    weights: np.ndarray | None = None   #: the fit (installed unless a short window keeps the weights in use)
+    fit_error: float = 0.0
+    ridge: float = 0.0
+    shrink: float = 0.0
+    ahead: tuple | None = None          #: ahead_fit with these weights (None: the window may keep others)
+
+
+def analyse_windows(windows, config: WakeConfig, *, taps=None, start_weights=None) -> list:
+    """The window-only steps of :func:`run_hpa` for a stack of windows of one length, ``(W, n)``: one
+    :class:`WindowAnalysis` per row, each bit for bit what that window alone gives (the spectra, high-passes,
+    filter-bank outputs and fits of every row at once; the cut-off search row by row).  No row depends on
+    another, nor on an earlier HPA: a batch path analyses every window of a block first, then finishes them
+    in order (:func:`finish_hpa`)."""
+    fs, ridge = config.fs, config.ridge
+    if taps is None:
+        taps = filter_bank_taps(config.wavelet, config.level, config.mode)
+    X = np.asarray(windows, dtype=float)
+    n = X.shape[1]
+    spread = np.std(X, axis=1)
+    live = spread > 1e-12 * np.maximum(1.0, np.max(np.abs(X), axis=1))
+    out = [WindowAnalysis(X[i], True) for i in range(X.shape[0])]
+    rows = np.flatnonzero(live)
+    if not rows.size:
+        return out
+    if rows.size < X.shape[0]:
+        X, spread = X[rows], spread[rows]
     # a warm-up window may be shorter than L: its AR order is capped (window_order)
-    freqs, psd = ar_psd(x, fs, window_order(x.size, config.ar_order))
-    cutoff, flag = find_cutoff(freqs, psd, tremor_band=config.tremor_band, cutoff_range=config.cutoff_range,
-                               default_cutoff=default_cutoff, rule=config.cutoff_rule,
-                               shallow_max=config.shallow_max)
+    freqs, psd = ar_psd(X, fs, window_order(n, config.ar_order))
+    found = [find_cutoff(freqs, row, tremor_band=config.tremor_band, cutoff_range=config.cutoff_range,
+                         default_cutoff=config.default_cutoff, rule=config.cutoff_rule,
+                         shallow_max=config.shallow_max) for row in psd]
     # the window's end-point line is voluntary: taken out first, it leaves no seam in the FFT
-    tremor_gt = detrended_highpass(x, fs, cutoff)
-    voluntary_gt = x - tremor_gt
-    # R: variance of the tremor ground truth, floored at 1e-6 of the window's
-    # variance so that a window with no tremor still gives S = w'Pw + R > 0.
-    measurement_noise = float(max(np.var(tremor_gt), 1e-6 * spread**2))
-    outputs = filter_bank_outputs(x, taps)
-    if fit == "causal":
+    tremor_gt = detrended_highpass(X, fs, [cutoff for cutoff, _ in found])
+    voluntary_gt = X - tremor_gt
+    # R: variance of the tremor ground truth, floored at 1e-6 of the window's variance so that a window
+    # with no tremor still gives S = w'Pw + R > 0 (max(var, floor), row by row)
+    noise, floor = np.var(tremor_gt, axis=1), 1e-6 * spread**2
+    noise = np.where(floor > noise, floor, noise)
+    outputs = filter_bank_outputs(X, taps)
+    if config.fit == "causal":
         # a(k) for k = N-1 .. L-1-h against v_GT(k + h), h = TARGET.horizon (wake.target)
         approx, target = TARGET.fit_pairs(outputs, voluntary_gt, taps.shape[1])
     else:
-        approx = wavelet_approximations(x, config.wavelet, level, config.mode)
+        approx = np.stack([wavelet_approximations(x, config.wavelet, config.level, config.mode) for x in X])
         target = voluntary_gt
     L = config.window_samples
-    shrink = WARMUP_SHRINK * (L - x.size) / L if (start_weights is not None and x.size < L) else 0.0
+    shrink = WARMUP_SHRINK * (L - n) / L if (start_weights is not None and n < L) else 0.0
     w, err, used = fit_weights(approx, target, ridge, center=start_weights, shrink=shrink,
                                ridge_scale=config.ridge_scale)
-    ahead_weights = None
-    if used > ridge:
+    # a window of CLEAN_ONLY_BELOW_S or more installs its fit: the tremor-ahead fit on it is window-only too
+    ahead = ahead_fit(X, outputs, w, tremor_gt, config.horizon) if n >= clean_only_below(config) else None
+    for j, i in enumerate(rows):
+        out[i] = WindowAnalysis(X[j], False, found[j][0], found[j][1], tremor_gt[j], voluntary_gt[j],
+                                float(noise[j]), outputs[j], w[j].copy(), float(err[j]), float(used[j]), shrink,
+                                None if ahead is None else tuple(part[j] for part in ahead))
+    return out
+
+
+def finish_hpa(a: WindowAnalysis, config: WakeConfig, *, previous_weights=None, index: int = 0,
+               start_weights=None, previous_ahead=None, new_samples: int = 0) -> HPAUpdate:
+    """The :class:`HPAUpdate` of an analysed window (:func:`analyse_windows`), given what the previous HPA left
+    (the arguments of :func:`run_hpa`): the weights kept or installed, ``w_h`` and the tremor ahead."""
+    level, ridge = config.level, config.ridge
+    if a.silent:
+        w = np.array(previous_weights, dtype=float) if previous_weights is not None else default_weights(level)
+        floor = max(1e-12, (1e-6 * np.max(np.abs(a.x))) ** 2)
+        # a silent window has nothing to predict: the predictor stays, the gate shuts
+        kept = np.zeros(TAPS) if previous_ahead is None else np.array(previous_ahead, dtype=float)
+        return HPAUpdate(index, float(config.default_cutoff), "silent", w, float(floor), 0.0, float(ridge),
+                         ("weights_kept",), ahead_coefficients=kept)
+    flags = []
+    w, ahead_weights, fitted = a.weights, None, a.ahead
+    if a.ridge > ridge:
         flags.append("regularised")
-    if x.size < clean_only_below(config) and flag not in CLEAN_FLAGS:
+    if a.x.size < clean_only_below(config) and a.flag not in CLEAN_FLAGS:
         # a short warm-up window without a clean valley: its fit is not installed
         w = np.array(previous_weights, dtype=float) if previous_weights is not None else default_weights(level)
         flags.append("weights_kept")
+        fitted = None
     else:
         # the voluntary motion h samples ahead, fitted by the same rules (None at h = 1 and when kept)
-        ahead_weights = voluntary_ahead_weights(outputs, voluntary_gt, taps.shape[1], config.horizon, ridge,
-                                                start_weights, shrink, config.ridge_scale)
+        n_taps = a.x.size - a.outputs.shape[0] + 1   # the filter bank's length (outputs: one per full history)
+        ahead_weights = voluntary_ahead_weights(a.outputs, a.voluntary_gt, n_taps, config.horizon, ridge,
+                                                start_weights, a.shrink, config.ridge_scale)
     # the predictor learns from the estimate these weights will give from now on (docs/studies/design.md, "Tremor
     # ahead": with the weights in use before this HPA, PADS at 100 ms came to 1.008 x zero after 5 s)
-    ahead = tremor_ahead(x, outputs, w, tremor_gt, config, flag, previous_ahead, new_samples, cutoff)
-    return HPAUpdate(index, cutoff, flag, w, measurement_noise, err, used, tuple(flags),
+    ahead = tremor_ahead(a.x, a.outputs, w, a.tremor_gt, config, a.flag, previous_ahead, new_samples, a.cutoff, fitted)
+    return HPAUpdate(index, a.cutoff, a.flag, w, a.measurement_noise, a.fit_error, a.ridge, tuple(flags),
                      weights_ahead=ahead_weights, **ahead)

@@ -202,18 +202,19 @@ def gap_length(config: WakeConfig) -> int:
     return max(1, int(np.ceil(round(GAP_SHARE * config.window_samples, 9))))   # 0.2 * 500 is 100
 
 
-def prepare_window(window) -> np.ndarray:
+def prepare_window(window, peak: float | None = None) -> np.ndarray:
     """What the HPA reads of ``window``: outliers (:data:`OUTLIER_PEAKS`, :data:`OUTLIER_ABS`) and gaps
-    interpolated over (the one door every window goes through)."""
-    window = _drop_outliers(window)
+    interpolated over (the one door every window goes through).  ``peak``: the window's
+    :func:`~wake.rtp.full_scale.robust_peak`, when the caller has it (the full-scale policy reads it too)."""
+    window = _drop_outliers(window, peak)
     if np.isnan(window).any():
         window = _fill_gaps(window)
     return window
 
 
-def _drop_outliers(window):
+def _drop_outliers(window, peak=None):
     """``window`` with samples far beyond its robust peak as NaN (gaps, interpolated for the HPA)."""
-    peak = robust_peak(window)
+    peak = robust_peak(window) if peak is None else peak
     limit = min(OUTLIER_ABS, OUTLIER_PEAKS * peak) if peak > 0 else OUTLIER_ABS
     with np.errstate(invalid="ignore"):
         wild = np.abs(window) > limit

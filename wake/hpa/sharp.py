@@ -42,12 +42,17 @@ def sharp_highpass(x, fs, cutoff):
     cutoff = check_positive("cutoff", cutoff, allow_zero=True)
     if cutoff > fs / 2:
         raise ValueError(f"cutoff must be within [0, fs/2 = {fs / 2}] Hz, got {cutoff}")
-    x = np.asarray(x, dtype=float)
-    n = x.shape[0]
-    spectrum = np.fft.rfft(x, axis=0)
-    keep = np.fft.rfftfreq(n, 1.0 / fs) > cutoff
+    return _zero_below(np.asarray(x, dtype=float), fs, cutoff, axis=0)
+
+
+def _zero_below(x, fs, cutoff, axis):
+    """The sharp high-pass along ``axis``: every FFT bin at or below ``cutoff`` zeroed.  ``cutoff`` is one
+    number, or along the last axis one per row of ``x`` (W, n) (each row's bins those of its own FFT)."""
+    n = x.shape[axis]
+    spectrum = np.fft.rfft(x, axis=axis)
+    keep = np.fft.rfftfreq(n, 1.0 / fs) > (cutoff if np.ndim(cutoff) == 0 else np.asarray(cutoff)[:, None])
     spectrum[~keep] = 0.0
-    return np.fft.irfft(spectrum, n, axis=0)
+    return np.fft.irfft(spectrum, n, axis=axis)
 
 
 def end_point_line(x):
@@ -60,9 +65,12 @@ def end_point_line(x):
     [1.0, 2.0, 3.0, 4.0]
     """
     x = np.asarray(x, dtype=float)
-    if x.ndim != 1 or x.size < 2:
-        raise ValueError(f"need a 1-D window of at least 2 samples, got shape {x.shape}")
-    return x[0] + (x[-1] - x[0]) * (np.arange(x.size) / (x.size - 1))
+    if x.ndim not in (1, 2) or x.shape[-1] < 2:
+        raise ValueError(f"need a 1-D window of at least 2 samples (or a stack of them, one per row), got "
+                         f"shape {x.shape}")
+    n = x.shape[-1]
+    first, last = x[..., :1], x[..., -1:]
+    return first + (last - first) * (np.arange(n) / (n - 1))
 
 
 def detrended_highpass(x, fs, cutoff):
@@ -76,6 +84,9 @@ def detrended_highpass(x, fs, cutoff):
     voluntary by definition; taking it out first removes the jump
     (docs/studies/design.md, "Tremor ground truth of a window").
 
+    ``x`` may be a stack of windows of one length, ``(W, n)``, with ``cutoff`` one per row (``(W,)``, each
+    within ``[0, fs/2]``).
+
     Examples
     --------
     >>> import numpy as np
@@ -88,4 +99,12 @@ def detrended_highpass(x, fs, cutoff):
     True
     """
     x = np.asarray(x, dtype=float)
-    return sharp_highpass(x - end_point_line(x), fs, cutoff)
+    if x.ndim == 1:
+        return sharp_highpass(x - end_point_line(x), fs, cutoff)
+    # a stack of windows (W, n), a cut-off per row: each row bit for bit its own window's truth
+    fs = check_positive("fs", fs)
+    cutoff = np.asarray(cutoff, dtype=float)
+    if cutoff.shape != x.shape[:1] or not np.all((cutoff >= 0) & (cutoff <= fs / 2)):
+        raise ValueError(f"a stack of {x.shape[0]} windows needs {x.shape[0]} cut-offs, each within [0, fs/2 = "
+                         f"{fs / 2}] Hz; got {cutoff!r}")
+    return _zero_below(x - end_point_line(x), fs, cutoff, axis=-1)

@@ -31,14 +31,27 @@ def window_order(n, order):
 
 
 def autocorrelation(x, max_lag):
-    """Biased autocorrelation ``gamma(k) = (1/L) sum x(n) x(n+k)`` for k = 0..max_lag."""
+    """Biased autocorrelation ``gamma(k) = (1/L) sum x(n) x(n+k)`` for k = 0..max_lag.
+
+    ``x`` of shape ``(n,)``, or ``(W, n)``: a stack of windows of one length, each row's lags in its row (the
+    same dot products, one matmul per lag for every window).
+    """
     x = np.asarray(x, dtype=float)
-    n = x.shape[0]
+    n = x.shape[-1]
     if max_lag >= n:
         raise ValueError(f"max_lag must be below the number of samples ({n}), got {max_lag}")
+    rows = x.reshape(-1, 1, n)
     # Only max_lag + 1 lags are needed: p + 1 dot products, O(p L), where the full correlation
-    # (np.correlate mode="full") is O(L^2): 4 s at L = 2e5 and 166 s at L = 5e5.
-    return np.array([np.dot(x[: n - k], x[k:]) for k in range(max_lag + 1)]) / n
+    # (np.correlate mode="full") is O(L^2): 4 s at L = 2e5 and 166 s at L = 5e5.  A (W, 1, m) @ (W, m, 1)
+    # matmul runs BLAS's dot on each window: each lag is np.dot's, bit for bit.
+    if rows.shape[0] == 1:   # one window: np.dot itself (a matmul's dispatch costs more than the dot)
+        s = rows[0, 0]
+        r = np.array([[np.dot(s[: n - k], s[k:]) for k in range(max_lag + 1)]])
+    else:
+        r = np.empty((rows.shape[0], max_lag + 1))
+        for k in range(max_lag + 1):
+            r[:, k] = (rows[:, :, : n - k] @ rows[:, 0, k:, None])[:, 0, 0]
+    return (r / n).reshape(x.shape[:-1] + (max_lag + 1,))
 
 
 def levinson_durbin(r, order):
@@ -69,31 +82,74 @@ def levinson_durbin(r, order):
     ([1.0, -0.5, 0.0], 0.75)
     """
     r = np.asarray(r, dtype=float)
-    if r.shape[0] < order + 1:
-        raise ValueError(f"need {order + 1} autocorrelation lags for order {order}, got {r.shape[0]}")
+    if r.shape[-1] < order + 1:
+        raise ValueError(f"need {order + 1} autocorrelation lags for order {order}, got {r.shape[-1]}")
+    a, err, refl = _levinson_rows(r.reshape(-1, r.shape[-1]), order)
+    if r.ndim == 1:
+        return a[0], float(err[0]), refl[0]
+    return a, err, refl
+
+
+def _levinson_rows(r, order):
+    """:func:`levinson_durbin` of each row of ``r`` (W, >= order + 1): ``a`` (W, order + 1), ``sigma2`` (W,),
+    ``reflection`` (W, order).  The recursion runs once for every row, each row's operations those of the
+    one-row recursion (the same dot, multiplies and adds): a row whose error reached 0 stops there."""
+    n_rows = r.shape[0]
+    if n_rows == 1:
+        return _levinson_one(r[0], order)
+    a = np.zeros((n_rows, order + 1))
+    a[:, 0] = 1.0
+    refl = np.zeros((n_rows, order))
+    err = r[:, 0].copy()
+    back = np.ascontiguousarray(r[:, order - 1 :: -1][:, :order])   # r[order-1], ..., r[0]: r[m-1:0:-1] a tail
+    for m in range(1, order + 1):
+        done = err <= 0   # a perfectly predictable (or silent) window: higher orders add nothing
+        if done.any():
+            if done.all():
+                break
+            live = np.flatnonzero(~done)
+            a[live], e, refl[live] = _levinson_step(r[live], back[live], a[live], err[live], refl[live], m, order)
+            err[live] = e
+        else:
+            a, err, refl = _levinson_step(r, back, a, err, refl, m, order)
+    return a, np.where(0.0 > err, 0.0, err), refl   # max(err, 0.0)
+
+
+def _levinson_step(r, back, a, err, refl, m, order):
+    """Order ``m`` of the recursion on every row given (in place on ``a``, ``refl``; the new error)."""
+    # (W, 1, m-1) @ (W, m-1, 1): BLAS's dot per row, as np.dot of the one-row recursion
+    acc = r[:, m] + (a[:, None, 1:m] @ back[:, order - m : order - 1, None])[:, 0, 0]
+    k = -acc / err
+    a[:, 1 : m + 1] += k[:, None] * a[:, m - 1 :: -1][:, :m]
+    refl[:, m - 1] = k
+    return a, err * (1.0 - k * k), refl
+
+
+def _levinson_one(r, order):
+    """:func:`_levinson_rows` of one row, its operations on Python floats and np.dot (a batched step's array
+    calls cost more than the arithmetic they do on one row): the same numbers (tests/hpa/test_window_stack.py)."""
     a = np.zeros(order + 1)
     a[0] = 1.0
     refl = [0.0] * order
     err = float(r[0])
     r_m = r.tolist()
-    back = np.ascontiguousarray(r[order - 1 :: -1][:order])   # r[order-1], ..., r[0]: r[m-1:0:-1] is a tail
+    back = np.ascontiguousarray(r[order - 1 :: -1][:order])
     dot = np.dot
     for m in range(1, order + 1):
         if err <= 0:
-            break  # a perfectly predictable (or silent) window: higher orders add nothing
-        # np.dot as before (BLAS's summation order), on a contiguous copy of the same values
+            break
         acc = r_m[m] + float(dot(a[1:m], back[order - m : order - 1]))
         k = -acc / err
         a[1 : m + 1] += k * a[m - 1 :: -1][:m]
         refl[m - 1] = k
         err *= 1.0 - k * k
-    return a, float(max(err, 0.0)), np.array(refl)
+    return a[None], np.array([max(err, 0.0)]), np.array([refl])
 
 
 def yule_walker(x, order):
-    """AR(p) coefficients and noise variance of ``x`` (mean removed)."""
+    """AR(p) coefficients and noise variance of ``x`` (mean removed); ``x`` (W, n): of each row."""
     x = np.asarray(x, dtype=float)
-    x = x - x.mean()
+    x = x - x.mean(axis=-1, keepdims=True)
     r = autocorrelation(x, order)
     a, sigma2, _ = levinson_durbin(r, order)
     return a, sigma2
@@ -104,8 +160,9 @@ def ar_psd(x, fs, order=17, n_freqs=512):
 
     Parameters
     ----------
-    x : array_like, shape (L,)
-        HPA window.
+    x : array_like, shape (L,) or (W, L)
+        HPA window, or a stack of windows of one length (a spectrum per row: ``psd`` of shape (W, n_freqs),
+        each row bit for bit that window's own).
     fs : float
         Sampling rate in Hz.
     order : int
@@ -133,13 +190,13 @@ def ar_psd(x, fs, order=17, n_freqs=512):
     except TypeError:   # something unhashable: checked (and refused by name) without the cache
         order, nfft, freqs, pick = _grid.__wrapped__(fs, order, n_freqs)
     x = np.asarray(x, dtype=float)
-    if x.shape[0] <= order:
-        raise ValueError(f"the window has {x.shape[0]} samples; an AR({order}) fit needs more than {order}")
+    if x.shape[-1] <= order:
+        raise ValueError(f"the window has {x.shape[-1]} samples; an AR({order}) fit needs more than {order}")
     a, sigma2 = yule_walker(x, order)
-    denom = np.abs(np.fft.rfft(a, nfft)) ** 2
+    denom = np.abs(np.fft.rfft(a, nfft, axis=-1)) ** 2
     if pick is not None:
-        denom = denom[pick]
-    return freqs.copy(), sigma2 / np.maximum(denom, _TINY)
+        denom = denom[..., pick]
+    return freqs.copy(), np.asarray(sigma2)[..., None] / np.maximum(denom, _TINY)
 
 
 @functools.lru_cache(maxsize=64, typed=True)   # typed: True is not 1 (check_positive refuses a bool)

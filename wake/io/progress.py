@@ -65,9 +65,9 @@ class run_progress:
 def _ticking(ch, hpa, bar, step):
     done = [0]
 
-    def tick(window):
-        hpa(window)
-        count = ch.schedule.count * step
+    def tick(window, count=None, *args):   # count: the point's, when a batch path gives it (Channel.points)
+        hpa(window, count, *args)
+        count = (ch.schedule.count if count is None else count) * step
         bar.update(count - done[0])
         done[0] = count
 

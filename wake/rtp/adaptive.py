@@ -223,14 +223,15 @@ class AdaptiveRTP:
         self.core.reset()
 
     # -- at an HPA --------------------------------------------------------------------
-    def install(self, weights, measurement_noise: float, process_noise: float, window) -> tuple:
-        """New weights, R and q between two samples, after the full-scale policy has seen ``window``.
+    def install(self, weights, measurement_noise: float, process_noise: float, window, peak=None) -> tuple:
+        """New weights, R and q between two samples, after the full-scale policy has seen ``window`` (``peak``:
+        its robust peak, :func:`~wake.rtp.full_scale.robust_peak`, when the caller has it).
 
         On the C core R and q are clamped into its formats (:attr:`measurement_noise` then reads what was
         installed).  Returns the notes for the HPA history (``"clipping"``, ``"full_scale_set"``, ...,
         ``"noise_clamped"``).
         """
-        notes = self._revise(window, measurement_noise, process_noise) if self.backend == "c" else ()
+        notes = self._revise(window, measurement_noise, process_noise, peak) if self.backend == "c" else ()
         if self.on_c:
             if self.core.set_weights_clamped(weights, measurement_noise, process_noise):
                 notes += ("noise_clamped",)
@@ -238,7 +239,7 @@ class AdaptiveRTP:
             self.core.set_weights(weights, measurement_noise, process_noise)
         return notes
 
-    def _revise(self, window, measurement_noise, process_noise) -> tuple:
+    def _revise(self, window, measurement_noise, process_noise, peak=None) -> tuple:
         """Apply the full-scale policy (:mod:`wake.rtp.full_scale`) to the window the HPA saw.
 
         The C path starts at the first window that is not quiet (until then the
@@ -259,7 +260,7 @@ class AdaptiveRTP:
                     ClippingWarning, stacklevel=4)
         if self.fixed_full_scale is not None:
             return notes
-        full_scale, reason = self.policy.decide(self.full_scale if self.on_c else None, window)
+        full_scale, reason = self.policy.decide(self.full_scale if self.on_c else None, window, peak)
         if reason is None:
             return notes
         if not self.on_c:

@@ -105,16 +105,17 @@ class FullScalePolicy:
     lower_after: int = 2
     quiet_windows: int = 0  #: windows in a row whose target lay at or below FS / lower_ratio
 
-    def target(self, window) -> float | None:
-        """The full scale ``window`` asks for, or None for a quiet window."""
-        peak = robust_peak(window)
+    def target(self, window, peak: float | None = None) -> float | None:
+        """The full scale ``window`` asks for, or None for a quiet window (``peak``: its :func:`robust_peak`,
+        when the caller has it)."""
+        peak = robust_peak(window) if peak is None else peak
         if not peak > 0:
             return None
         return power_of_two_at_least(self.headroom * peak)
 
-    def decide(self, current: float | None, window) -> tuple[float | None, str | None]:
-        """``(full scale, reason)`` after ``window``; reason None when FS stays."""
-        want = self.target(window)
+    def decide(self, current: float | None, window, peak: float | None = None) -> tuple[float | None, str | None]:
+        """``(full scale, reason)`` after ``window``; reason None when FS stays (``peak`` as for :meth:`target`)."""
+        want = self.target(window, peak)
         if want is None:
             return current, None
         if current is None:

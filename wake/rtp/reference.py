@@ -366,15 +366,15 @@ class ReferenceRTP:
 def _ahead_block(step: AheadStep, estimates, out) -> None:
     """``out[k] = step.step(estimates[k])`` for a block, bit for bit, with less Python per sample: the delay
     line's states as the rows of one strided view (newest first, as :meth:`AheadStep.step` holds them, each
-    contiguous: the same dot product), the gate's recursion on Python floats (the same operations in the same
+    contiguous: the same dot product, one batched matmul for the block), the gate's recursion on Python floats (the same operations in the same
     order), and the delay line and the gate left as the last step leaves them."""
     c = step.coefficients
     taps, n = c.size, estimates.shape[0]
     newest_first = np.concatenate((estimates[::-1], step.history))   # e[n-1], ..., e[0], then the line
     rows = np.ndarray((n, taps), newest_first.dtype, newest_first, 0,
                       (newest_first.itemsize, newest_first.itemsize))   # rows[j]: the line after e[n-1-j]
-    dot = np.dot
-    out[::-1, 0] = [dot(c, row) for row in rows]
+    # one (n, 1, taps) @ (taps, 1) matmul: BLAS's dot on each row, np.dot's numbers (a gemv would sum otherwise)
+    out[::-1, 0] = (rows[:, None, :] @ c[:, None])[:, 0, 0]
     g, alpha, goal = step.gate, step.alpha, step.goal
     gates = [0.0] * n
     for k in range(n):

@@ -9,9 +9,10 @@
  * rounding (tests/eval/test_baselines_c.py pins 1e-12 of the largest output).
  *
  * Host code in double precision with libm (sin, cos, sqrt, fmod): not part of
- * the real-time path and not linked into any firmware build (csrc/Makefile and
- * csrc/CMakeLists.txt build csrc/wake_*.c only). No allocation: the caller
- * passes every buffer, zeroed where noted.
+ * the real-time path and not linked into any firmware build: it lives with the
+ * evaluation (wake/eval/native), outside the firmware tree csrc/, and only
+ * build_ffi.py compiles it, into the host extension wake._rtp. No allocation:
+ * the caller passes every buffer, zeroed where noted.
  *
  * Arrays are row-major. @p phi holds the regressor rows of samples
  * 0 .. n + max(h) - 1; @p ahead holds one row of n values per horizon.
