@@ -64,6 +64,25 @@ typedef enum {
     WAKE_RTP_E_UNPREPARED = -11
 } wake_rtp_status_t;
 typedef struct {
+    float bin_osc[...];
+    int32_t fir[...];
+    float ring[...];
+    float head[...];
+    float lag[...];
+    float gram[...];
+    float rhs[...];
+    float coef[...];
+    float prev[...];
+    float tp, pp;
+    float goal;
+    float ridge;
+    uint32_t prev_index;
+    uint16_t has_prev;
+    uint16_t pos;
+    uint16_t held;
+    uint16_t rail;
+} wake_hpa_ahead_t;
+typedef struct {
     uint32_t magic;
     uint32_t saturations;
     uint32_t steps;
@@ -297,23 +316,7 @@ typedef struct {
     float cxy[...];
     float wsum[...];
     float vhead[...];
-    float bin_osc[...];
-    int32_t ahead_fir[...];
-    float ahead_ring[...];
-    float ahead_head[...];
-    float ahead_lag[...];
-    float ahead_gram[...];
-    float ahead_rhs[...];
-    float ahead_coef[...];
-    float ahead_prev[...];
-    float ahead_tp, ahead_pp;
-    float ahead_goal;
-    float ahead_ridge;
-    uint32_t ahead_prev_index;
-    uint16_t ahead_has_prev;
-    uint16_t ahead_pos;
-    uint16_t ahead_held;
-    uint16_t ahead_rail;
+    wake_hpa_ahead_t ahead;
     wake_hpa_result_t result;
     wake_q15_t buf[...];
 } wake_hpa_t;

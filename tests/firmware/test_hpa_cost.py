@@ -32,7 +32,7 @@ def test_step_names_follow_the_c_enum():
     from wake.firmware.hpa_cost import STEP_NAMES
     from wake.firmware.sources import csrc_dir
 
-    text = (csrc_dir(None, need=("wake_hpa.c",)) / "wake_hpa.c").read_text()
+    text = (csrc_dir(None, need=("internal/wake_hpa_internal.h",)) / "internal" / "wake_hpa_internal.h").read_text()
     body = re.search(r"enum \{\s*(STEP_IDLE = 0,.*?)\};", text, re.S).group(1)
     steps = re.findall(r"STEP_[A-Z_]+", body)
     assert len(steps) == len(STEP_NAMES)

@@ -31,12 +31,12 @@ AHEAD_PARTS = {
     "ahead_voluntary1": "pass: the low-bin oscillators",
     "ahead_voluntary": "pass: the low-bin oscillators",
     "ahead_rows": "pass: the row sums",
-    "step_ahead_pass": "pass: the truth, the ring, the blocks",
-    "step_ahead_start": "ahead start: the FIR's taps, the sums cleared",
+    "wake_hpa_step_ahead_pass": "pass: the truth, the ring, the blocks",
+    "wake_hpa_step_ahead_start": "ahead start: the FIR's taps, the sums cleared",
     "ahead_assemble": "ahead solve: G's rows, the ridge, the held-out sums",
     "ahead_factor": "ahead solve: L D L'",
     "ahead_substitute": "ahead solve: the substitution, the clip",
-    "step_ahead_solve": "ahead solve: the gain, the goal, publish",
+    "wake_hpa_step_ahead_solve": "ahead solve: the gain, the goal, publish",
 }
 
 
