@@ -307,7 +307,7 @@ static void ahead_voluntary1(float *osc, unsigned bins, float *v)
 
 /**
  * @p count <= AHEAD_BLOCK samples: eight at once, or in runs of four, two and one (below eight, at most one of
- * each: a value analysis sees the offsets 0, 4 and 6 without relating them to the count).
+ * each: the offsets 0, 4 and 6 need no relation to the count; analyser).
  */
 static void ahead_voluntary(float *osc, unsigned bins, unsigned count, float *v)
 {
@@ -331,9 +331,8 @@ static void ahead_voluntary(float *osc, unsigned bins, unsigned count, float *v)
 
 /**
  * The ring index of y(t - 1) at the pass's sample t (ahead_clear starts the ring at its last index for t = 2^J): a
- * chunk of the pass takes its ring position from its start, and hands on the one of its end, so that its ring
- * indices depend on t alone, not on a field carried between chunks (a value analysis of a chunk from any t sees
- * them; in a run the two are the same).
+ * chunk of the pass takes its ring position from its start, and hands on the one of its end: its ring indices
+ * depend on t alone, not on a field carried between chunks (analyser; in a run the two are the same).
  */
 static inline unsigned ahead_ring_pos(unsigned t, unsigned N)
 {
@@ -407,8 +406,7 @@ static inline unsigned ahead_items(const wake_hpa_t *h, int32_t budget)
 /**
  * One block of the pass: samples t .. t + count - 1 (count <= AHEAD_BLOCK), @p pos the ring index of y(t - 1):
  * the block's truth T(t) = x_c(t) - slope r(t) - sum_m v_m(t) and estimates y(t) (into the ring), then its rows.
- * A function of its own (inlined: one call) so that a value analysis keeps a block's states apart by its count
- * inside it and joins them between blocks.
+ * A function of its own (inlined: one call): a block's states kept apart by its count inside it (analyser).
  */
 static void ahead_block(const wake_hpa_t *h, wake_hpa_ahead_t *a, unsigned t, unsigned count, unsigned pos)
 {
@@ -418,8 +416,7 @@ static void ahead_block(const wake_hpa_t *h, wake_hpa_ahead_t *a, unsigned t, un
     float *ring = a->ring;
     float vol[AHEAD_BLOCK], y[AHEAD_BLOCK];
     unsigned q;
-    /* the block reads only the elements it writes; zeroed so that a value analysis, which joins blocks of
-       different counts, sees every element it reads initialised and bounded (stores, not a call) */
+    /* the block reads only the elements it writes; zeroed all the same (stores, not a call: analyser) */
     for (q = 0; q < AHEAD_BLOCK; q += 2u) { /* wcet-loop: AHEAD_BLOCK / 2 */
         vol[q] = 0.0f;
         vol[q + 1u] = 0.0f;
@@ -446,16 +443,16 @@ static void ahead_block(const wake_hpa_t *h, wake_hpa_ahead_t *a, unsigned t, un
 
 /**
  * The pass's samples start .. end - 1, a block of up to AHEAD_BLOCK samples at a time (ahead_block).  A function of its
- * own (inlined: one call) so that a value analysis can join the states of its blocks without joining the chunk's ends.
+ * own (inlined: one call): its blocks' states joined, not the chunk's ends (analyser).
  */
 static void ahead_blocks(const wake_hpa_t *h, wake_hpa_ahead_t *a, unsigned start, unsigned end)
 {
     unsigned t = start, pos = ahead_ring_pos(start, 1u << h->cfg.level);
     while (t < end) { /* wcet-loop: WAKE_HPA_SLICE_BUDGET / COST_AHEAD / (AHEAD_BLOCK / 2) */
-        const unsigned left = end - t;   /* named once: a value analysis bounds the count by the comparison */
+        const unsigned left = end - t;   /* named once (analyser) */
         const unsigned count = left < AHEAD_BLOCK ? left : AHEAD_BLOCK;
         ahead_block(h, a, t, count, pos);
-        pos += count;   /* < RING + AHEAD_BLOCK; the wrap tests pos itself, which a value analysis bounds */
+        pos += count;   /* < RING + AHEAD_BLOCK; the wrap tests pos itself (analyser) */
         pos = pos < WAKE_HPA_AHEAD_RING ? pos : pos - WAKE_HPA_AHEAD_RING;
         t += count;
     }
@@ -468,7 +465,7 @@ int32_t wake_hpa_step_ahead_pass(wake_hpa_t *h, wake_hpa_ahead_t *a, int32_t bud
     const unsigned start = h->t, k = chunk_count(start, ahead_items(h, budget), n), end = chunk_end(start, k, n);
     ahead_blocks(h, a, start, end);
     if (end == n) {
-        a->pos = (uint16_t)ahead_ring_pos(n, N);   /* of n, not end: a value analysis relates it to n */
+        a->pos = (uint16_t)ahead_ring_pos(n, N);   /* of n, not end (analyser) */
         h->t = 0;
         h->d = 0;
         h->phase = STEP_AHEAD_SOLVE;

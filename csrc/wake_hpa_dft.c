@@ -86,10 +86,9 @@ void wake_hpa_start_pass(wake_hpa_t *h)
  * clamped after each.  A block is read as x[base + k] for k0 <= k < top <= REINSCH_BLOCK: a full block at
  * base = b, the last, shorter one as the last samples of the REINSCH_BLOCK samples before t1 (base = t1 -
  * REINSCH_BLOCK, k0 = b - base; base = 0 when t1 < REINSCH_BLOCK).  The same samples in the same order as
- * blocks of x[t], b <= t < min(b + REINSCH_BLOCK, t1); written so that every index is bounded by t1 alone
- * (base <= t1 - REINSCH_BLOCK, k < REINSCH_BLOCK), which a value analysis sees for a run that starts at any
- * t0 (a chunk of a sliced pass, Frama-C Eva's step_dft_chunk entry), where the relation between b and t1 is
- * lost.  The next block starts at next: b + REINSCH_BLOCK, or t1 after the last.
+ * blocks of x[t], b <= t < min(b + REINSCH_BLOCK, t1); every index bounded by t1 alone (base <= t1 -
+ * REINSCH_BLOCK, k < REINSCH_BLOCK: analyser).  The next block starts at next: b + REINSCH_BLOCK, or t1 after
+ * the last.
  */
 typedef struct {
     unsigned base;
@@ -310,7 +309,7 @@ int32_t wake_hpa_step_bin_end(wake_hpa_t *h, int32_t budget)
     h->ph[4] = rc;
     h->ph[5] = rs;
     h->t = (uint16_t)end;
-    if (step >= rest) {   /* end == N, tested on what a value analysis keeps of the chunk's start */
+    if (step >= rest) {   /* end == N (analyser) */
         next_bin(h);
     }
     return (int32_t)count * COST_SLIDE;

@@ -32,9 +32,7 @@ static void sin_cos_octant(float x, float *s, float *c)
  * cos and sin of pi num / den for 0 <= num <= den (an angle in [0, pi]).
  * The reflections to [0, pi/4] are done on the integers, so the only
  * rounding before the polynomial is one division and one product.  Their
- * tests compare a itself (a > floor(b / 2) is 2a > b for integers), so that a
- * value analysis of an angle known as an interval reduces a by them and sees
- * b - a and b - 2a stay in [0, b] (Frama-C Eva's step_psd_chunk entry).
+ * tests compare a itself (a > floor(b / 2) is 2a > b for integers: analyser).
  */
 void wake_hpa_unit_phasor(uint32_t num, uint32_t den, float *c, float *s)
 {
@@ -221,7 +219,7 @@ static inline int64_t clamp_abs_i64(int64_t v, int64_t top)
  *
  * @par Scaling and overflow
  * |y| < 2^26 (n <= 1024) fits an int32, y y' an int64; diag is loaded through the clamp to DIAG_MAX, which
- * never fires (above), and a chunk of at most 2^J rows moves it by at most 2^J 2^53 more: within int64.
+ * never fires (internal/wake_bounds.h), and a chunk of at most 2^J rows moves it by at most 2^J 2^53 more: within int64.
  * Rxx = diag / n^2 as a float: |Rxx| < n 2^32 <= 2^42.
  */
 int32_t wake_hpa_step_diag(wake_hpa_t *h, int32_t budget)
@@ -258,7 +256,7 @@ int32_t wake_hpa_step_diag(wake_hpa_t *h, int32_t budget)
     }
     h->diag = z;
     h->t = (uint16_t)end;
-    if (step >= rest) {   /* end == N - d, tested on what a value analysis keeps of the chunk's start */
+    if (step >= rest) {   /* end == N - d (analyser) */
         next_lag(h);
     }
     return (int32_t)count * COST_DIAG;
