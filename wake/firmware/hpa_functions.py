@@ -1,6 +1,6 @@
 """Where the on-device HPA's instructions go, per function and per part of the tremor-ahead fit.
 
-Every instruction a Cortex-M4F image of csrc/wake_hpa.c executes (built and run as
+Every instruction a Cortex-M4F image of the C HPA (csrc/wake_hpa*.c) executes (built and run as
 :mod:`wake.firmware.hpa_cost` does, counted with a block hook and a disassembler so that
 condition-failed instructions of an IT block count) is attributed to the innermost function of its
 inline chain (``addr2line -i``) and, with the tremor-ahead fit built in, to a part of that fit

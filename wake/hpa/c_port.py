@@ -66,7 +66,7 @@ def c_mirror_problems(lib) -> list:
         have = getattr(lib, rule.c_name, None)
         if have is None:
             problems.append(f"cut-off rule {rule.name!r}: {rule.c_name} is not in wake_hpa_rule_t "
-                            "(add it to csrc/wake_hpa.h and its case to csrc/wake_hpa.c)")
+                            "(add it to csrc/wake_hpa.h and its case to csrc/wake_hpa_spectrum.c)")
         elif int(have) != number:
             problems.append(f"cut-off rule {rule.name!r}: {rule.c_name} = {int(have)}, but it is rule number "
                             f"{number} in wake.registry (register the rules in the enumerators' order)")
