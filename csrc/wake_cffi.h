@@ -64,25 +64,6 @@ typedef enum {
     WAKE_RTP_E_UNPREPARED = -11
 } wake_rtp_status_t;
 typedef struct {
-    float bin_osc[...];
-    int32_t fir[...];
-    float ring[...];
-    float head[...];
-    float lag[...];
-    float gram[...];
-    float rhs[...];
-    float coef[...];
-    float prev[...];
-    float tp, pp;
-    float goal;
-    float ridge;
-    uint32_t prev_index;
-    uint16_t has_prev;
-    uint16_t pos;
-    uint16_t held;
-    uint16_t rail;
-} wake_hpa_ahead_t;
-typedef struct {
     uint32_t magic;
     uint32_t saturations;
     uint32_t steps;
@@ -235,6 +216,25 @@ typedef struct {
     float ahead[...];
     float ahead_goal;
 } wake_hpa_result_t;
+typedef struct {
+    float bin_osc[...];
+    int32_t fir[...];
+    float ring[...];
+    float head[...];
+    float lag[...];
+    float gram[...];
+    float rhs[...];
+    float coef[...];
+    float prev[...];
+    float tp, pp;
+    float goal;
+    float ridge;
+    uint32_t prev_index;
+    uint16_t has_prev;
+    uint16_t pos;
+    uint16_t held;
+    uint16_t rail;
+} wake_hpa_ahead_t;
 typedef struct {
     uint32_t magic;
     uint32_t seal;

@@ -117,10 +117,11 @@ extern "C" {
  *  (wake.target.PredictionTarget.horizon); the fit rows pair a(t) with v(t + WAKE_HPA_HORIZON). */
 #define WAKE_HPA_HORIZON 1u
 /**
- * 1: the HPA also fits the tremor-ahead predictor and its gate's goal (issue 32; needs WAKE_RTP_AHEAD) and
- * wake_hpa_apply() installs them; 0 (default): it does not (the result's ahead fields are zero) and its
- * code, RAM and cost are those without it.  Off by default because of its cost: docs/studies/hpa_c.md, "The tremor
- * ahead".
+ * 1: the instance holds the tremor-ahead fit's state (wake_hpa_ahead_t) and a run also fits the predictor and
+ * its gate's goal (wake_hpa_ahead.c; issue 32; needs WAKE_RTP_AHEAD), which wake_hpa_apply() installs; 0
+ * (default): it does not (the result's ahead fields are zero), nothing calls wake_hpa_ahead.c (a firmware need
+ * not link it), and its code, RAM and cost are those without it.  Off by default because of its cost:
+ * docs/studies/hpa_c.md, "The tremor ahead".
  */
 #ifndef WAKE_HPA_AHEAD
 #define WAKE_HPA_AHEAD 0
