@@ -1,13 +1,13 @@
 /**
  * @file eva_hpa_ahead_steps.c
- * @brief Frama-C Eva entries for the tremor-ahead steps of one HPA run (csrc/wake_hpa.c built with
+ * @brief Frama-C Eva entries for the tremor-ahead steps of one HPA run (csrc/wake_hpa*.c built with
  *        WAKE_HPA_AHEAD 1), each from a state whose fields are ranged as the step's precondition, each
  *        checking (`//@ assert`) the postcondition the next step assumes (docs/studies/verification.md, "The
  *        tremor-ahead build").
  *
  * As tests/prove/eva_hpa_steps.c (which is the default build's: its solve ends in STEP_IDLE, here in
- * STEP_AHEAD_START), this file includes wake_hpa.c (the steps are `static`; it is only ever given to
- * Frama-C) and starts every entry from an instance wake_hpa_init accepted with the default configuration
+ * STEP_AHEAD_START), this file reaches the steps through csrc/internal/wake_hpa_internal.h (it is only ever
+ * given to Frama-C) and starts every entry from an instance wake_hpa_init accepted with the default configuration
  * (J = 5, p = 17, L = 500, horizon 1) and any filter bank, and a run begun on a window of any int16
  * samples of each length the default schedule starts (100 .. 500, one Eva state each).  eva_check.py
  * adds WAKE_HPA_AHEAD 1 (and WAKE_RTP_AHEAD 1, which it needs).
@@ -53,7 +53,7 @@
 #define LAG_MAX 0x1p83f
 #define RHS_MAX 0x1p112f
 #define HELD_MAX 0x1p118f
-/** The oscillators' clamp bounds (AHEAD_V_MAX, AHEAD_E_MAX in wake_hpa.c): the pass's invariant between blocks */
+/** The oscillators' clamp bounds (AHEAD_V_MAX, AHEAD_E_MAX in internal/wake_bounds.h): the pass's invariant between blocks */
 #define OSC_V_MAX 0x1p35f
 #define OSC_E_MAX 0x1p36f
 /** the predictor's clip (wake.ahead.COEFFICIENT_LIMIT) */

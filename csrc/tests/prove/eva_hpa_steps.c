@@ -1,11 +1,11 @@
 /**
  * @file eva_hpa_steps.c
- * @brief Frama-C Eva entries for the steps of one HPA run (csrc/wake_hpa.c), each from a state whose
+ * @brief Frama-C Eva entries for the steps of one HPA run (csrc/wake_hpa*.c), each from a state whose
  *        fields are ranged as the step's precondition, each checking (`//@ assert`) the postcondition
  *        the next step assumes (make -C csrc prove; docs/studies/verification.md, "A whole HPA run").
  *
- * The steps are `static`, so this file includes wake_hpa.c (it is only ever given to Frama-C, never
- * compiled into the library).  Every entry starts from an instance wake_hpa_init accepted with the
+ * The steps are the HPA's internal functions: this file reaches them through csrc/internal/wake_hpa_internal.h
+ * (it is only ever given to Frama-C, with the HPA's sources, never compiled into the library).  Every entry starts from an instance wake_hpa_init accepted with the
  * default configuration (J = 5, p = 17, L = 500) and any filter bank, and a run begun on a window of
  * any int16 samples of each length the default schedule starts (the warm-up windows of 100, 200, 300
  * and 400 samples and the full window of 500), then
@@ -60,9 +60,9 @@
 #define DEN_MAX_R 1267650600228229401496703205376.0
 
 /**
- * The DFT pass's Reinsch states (STEP_DFT's postcondition, shown by eva_step_dft below): the bounds wake_hpa.c
+ * The DFT pass's Reinsch states (STEP_DFT's postcondition, shown by eva_step_dft below): the bounds internal/wake_bounds.h
  * clamps them to every REINSCH_BLOCK samples, 2^33 for s and 2^34 for d in this build (WAKE_HPA_MAX_WINDOW <= 512).
- * The clamp never fires on a window of int16 samples (wake_hpa.c, above reinsch_run1; docs/studies/verification.md).
+ * The clamp never fires on a window of int16 samples (docs/reference/verification.md#bound-reinsch).
  */
 #define DFT_S_MAX REINSCH_S_MAX
 #define DFT_D_MAX REINSCH_D_MAX
@@ -270,7 +270,7 @@ void eva_step_diag(void)
 /**
  * A chunk of lag d's diagonal (STEP_DIAG) as a sliced run gives it: from any row t < 2^J - d (an interval on either
  * side of the row from which the chunk ends the lag, one state each) of every lag d < 2^J (one Eva state each), diag
- * any int64 (wake_hpa.c clamps it to DIAG_MAX, its bound at every row, when a chunk loads it, so no interval of it
+ * any int64 (wake_hpa_spectrum.c clamps it to DIAG_MAX, its bound at every row, when a chunk loads it, so no interval of it
  * need be an invariant), Rxx B' within its envelope, the prefix sums of lag d, the sums as STEP_SUMS leaves them, each
  * window length of the schedule (one state each), any budget (budget_range).  Postcondition: Rxx B' within its envelope; t < 2^J - d (STEP_DIAG) or the lag done (next_lag:
  * t = 0, the prefix sums of d + 1, STEP_LAGS or STEP_LEVINSON); 0 < r <= max(budget, cost).

@@ -3,7 +3,7 @@
     python tests/prove/wp_check.py              (from csrc/)
     python tests/prove/wp_check.py --timeout 60 --prover cvc4
 
-Proves, with ``frama-c -wp -wp-rte`` on tests/prove/eva_hpa_steps.c (which includes wake_hpa.c and gives run_step
+Proves, with ``frama-c -wp -wp-rte`` on tests/prove/eva_hpa_steps.c and the HPA's sources (the driver gives run_step
 and run_pieces their contracts), every goal of ``run_pieces``: its loop invariants, its loop variant ``left``
 (positive where an iteration goes on, strictly lower after it), its loop assigns, run_step's and piece_cost's
 preconditions at their calls, no signed overflow, and its postcondition; from run_step's and piece_cost's
