@@ -91,7 +91,7 @@ def test_the_cost_header_is_the_cost_table():
     every COST_ constant the C sources read is defined there and nowhere else."""
     import re
 
-    from wake.firmware.hpa_cost import COSTS, COSTS_HEADER, check_costs_header
+    from wake.firmware.hpa_costs import COSTS, COSTS_HEADER, check_costs_header
     from wake.firmware.sources import csrc_dir
 
     assert check_costs_header() == []
@@ -111,19 +111,19 @@ def test_a_cost_changed_in_one_place_only_is_stale(tmp_path, monkeypatch):
     """--calibrate --check fails when the header and the table disagree: a value edited in the header, or in COSTS."""
     import shutil
 
-    from wake.firmware import hpa_cost
+    from wake.firmware import hpa_cost, hpa_costs
     from wake.firmware.sources import csrc_dir
 
     src = csrc_dir(None)
     copy = tmp_path / "csrc"
     shutil.copytree(src, copy, ignore=shutil.ignore_patterns("build"))
-    assert hpa_cost.check_costs_header(csrc=copy) == []
-    header = copy / hpa_cost.COSTS_HEADER
+    assert hpa_costs.check_costs_header(csrc=copy) == []
+    header = copy / hpa_costs.COSTS_HEADER
     text = header.read_text()
     header.write_text(text.replace("#define COST_SLIDE 90 ", "#define COST_SLIDE 91 "))
-    assert any("COST_SLIDE" in p for p in hpa_cost.check_costs_header(csrc=copy))
+    assert any("COST_SLIDE" in p for p in hpa_costs.check_costs_header(csrc=copy))
     header.write_text(text)
-    table = tuple((n, v + 1 if n == "COST_LAG" else v, s, w) for n, v, s, w in hpa_cost.COSTS)
-    monkeypatch.setattr(hpa_cost, "COSTS", table)
-    assert any("COST_LAG" in p for p in hpa_cost.check_costs_header(csrc=copy))
+    table = tuple((n, v + 1 if n == "COST_LAG" else v, s, w) for n, v, s, w in hpa_costs.COSTS)
+    monkeypatch.setattr(hpa_costs, "COSTS", table)
+    assert any("COST_LAG" in p for p in hpa_costs.check_costs_header(csrc=copy))
     assert hpa_cost.main(["--calibrate", "--check"]) == 1
