@@ -89,7 +89,8 @@ def build(csrc: Path, defs: list, out: Path) -> ctypes.CDLL:
     shim = out.with_suffix(".c")
     shim.write_text(SHIM)
     subprocess.run(["gcc", "-O2", "-std=c99", "-ffp-contract=off", "-fPIC", "-shared", f"-I{csrc}",
-                    "-DWAKE_HPA_AHEAD=1", "-DWAKE_RTP_AHEAD=1", *defs, str(shim), str(csrc / "wake_hpa.c"),
+                    "-DWAKE_HPA_AHEAD=1", "-DWAKE_RTP_AHEAD=1", *defs, str(shim),
+                    *(str(p) for p in sorted(csrc.glob("wake_hpa*.c"))),   # the HPA's files, one or split by concern
                     str(csrc / "wake_rtp.c"), "-o", str(out)], check=True)
     lib = ctypes.CDLL(str(out))
     lib.shim_size.restype = lib.shim_result_size.restype = ctypes.c_size_t

@@ -117,10 +117,11 @@ extern "C" {
  *  (wake.target.PredictionTarget.horizon); the fit rows pair a(t) with v(t + WAKE_HPA_HORIZON). */
 #define WAKE_HPA_HORIZON 1u
 /**
- * 1: the HPA also fits the tremor-ahead predictor and its gate's goal (issue 32; needs WAKE_RTP_AHEAD) and
- * wake_hpa_apply() installs them; 0 (default): it does not (the result's ahead fields are zero) and its
- * code, RAM and cost are those without it.  Off by default because of its cost: docs/studies/hpa_c.md, "The tremor
- * ahead".
+ * 1: the instance holds the tremor-ahead fit's state (wake_hpa_ahead_t) and a run also fits the predictor and
+ * its gate's goal (wake_hpa_ahead.c; issue 32; needs WAKE_RTP_AHEAD), which wake_hpa_apply() installs; 0
+ * (default): it does not (the result's ahead fields are zero), nothing calls wake_hpa_ahead.c (a firmware need
+ * not link it), and its code, RAM and cost are those without it.  Off by default because of its cost:
+ * docs/studies/hpa_c.md, "The tremor ahead".
  */
 #ifndef WAKE_HPA_AHEAD
 #define WAKE_HPA_AHEAD 0
@@ -246,6 +247,32 @@ typedef struct {
 } wake_hpa_result_t;
 
 /**
+ * The tremor-ahead fit's state (csrc/wake_hpa_ahead.c): the truth's low bins and the estimate's lags.  An
+ * instance holds one when it is configured with the tremor ahead (WAKE_HPA_AHEAD 1).
+ */
+typedef struct {
+    float bin_osc[3 * WAKE_HPA_MAX_BINS];       /**< per voluntary-truth bin: v_m(t) = (2/n) Re X'_m e^{j w t},
+                                                     v_m(t) - v_m(t-1), and Reinsch's lambda = -4 sin^2(w/2) */
+    int32_t fir[WAKE_HPA_MAX_TAPS];             /**< w' B in Q20: the estimate's voluntary prediction as one FIR,
+                                                     oldest first */
+    float ring[WAKE_HPA_AHEAD_RING];            /**< the estimate y(t) at ring[(t - 2^J) mod RING] */
+    float head[WAKE_HPA_AHEAD_TAPS];            /**< y(2^J) .. y(2^J + 7): the Gram's first edge terms */
+    float lag[WAKE_HPA_AHEAD_TAPS];             /**< sum_k y(k) y(k - d) over the fit rows, d = 0..7 */
+    float gram[WAKE_HPA_AHEAD_TAPS * WAKE_HPA_AHEAD_TAPS]; /**< Y'Y (upper triangle), then L D L' */
+    float rhs[WAKE_HPA_AHEAD_TAPS];             /**< Y'T(+h) */
+    float coef[WAKE_HPA_AHEAD_TAPS];            /**< this run's predictor */
+    float prev[WAKE_HPA_AHEAD_TAPS];            /**< the previous HPA's predictor */
+    float tp, pp;                               /**< <T, P>, <P, P> of the previous predictor over the new targets */
+    float goal;                                 /**< this run's gate goal */
+    float ridge;                                /**< the predictor's ridge 1e-3 trace(G) / 8 (-1: nothing to fit) */
+    uint32_t prev_index;                        /**< the previous HPA's index (samples received) */
+    uint16_t has_prev;                          /**< 1 once an HPA has produced a predictor */
+    uint16_t pos;                               /**< ring index of the newest estimate */
+    uint16_t held;                              /**< first window index scored by the held-out gain (n: none) */
+    uint16_t rail;                              /**< samples of the window at full scale (STEP_SUMS counts them) */
+} wake_hpa_ahead_t;
+
+/**
  * One channel's HPA: configuration, both window buffers and every work array.
  * Treat the fields as read-only.
  */
@@ -337,26 +364,7 @@ typedef struct {
     float wsum[WAKE_HPA_MAX_TAPS];              /**< sum x_c(t + i) over the fit rows */
     float vhead[WAKE_HPA_MAX_TAPS];             /**< v_c(t), t < 2^J */
 #if WAKE_HPA_AHEAD
-    /* the tremor ahead (STEP_AHEAD_*): the truth's low bins and the estimate's lags */
-    float bin_osc[3 * WAKE_HPA_MAX_BINS];       /**< per voluntary-truth bin: v_m(t) = (2/n) Re X'_m e^{j w t},
-                                                     v_m(t) - v_m(t-1), and Reinsch's lambda = -4 sin^2(w/2) */
-    int32_t ahead_fir[WAKE_HPA_MAX_TAPS];       /**< w' B in Q20: the estimate's voluntary prediction as one FIR,
-                                                     oldest first */
-    float ahead_ring[WAKE_HPA_AHEAD_RING];      /**< the estimate y(t) at ring[(t - 2^J) mod RING] */
-    float ahead_head[WAKE_HPA_AHEAD_TAPS];      /**< y(2^J) .. y(2^J + 7): the Gram's first edge terms */
-    float ahead_lag[WAKE_HPA_AHEAD_TAPS];       /**< sum_k y(k) y(k - d) over the fit rows, d = 0..7 */
-    float ahead_gram[WAKE_HPA_AHEAD_TAPS * WAKE_HPA_AHEAD_TAPS]; /**< Y'Y (upper triangle), then L D L' */
-    float ahead_rhs[WAKE_HPA_AHEAD_TAPS];       /**< Y'T(+h) */
-    float ahead_coef[WAKE_HPA_AHEAD_TAPS];      /**< this run's predictor */
-    float ahead_prev[WAKE_HPA_AHEAD_TAPS];      /**< the previous HPA's predictor */
-    float ahead_tp, ahead_pp;                   /**< <T, P>, <P, P> of the previous predictor over the new targets */
-    float ahead_goal;                           /**< this run's gate goal */
-    float ahead_ridge;                          /**< the predictor's ridge 1e-3 trace(G) / 8 (-1: nothing to fit) */
-    uint32_t ahead_prev_index;                  /**< the previous HPA's index (samples received) */
-    uint16_t ahead_has_prev;                    /**< 1 once an HPA has produced a predictor */
-    uint16_t ahead_pos;                         /**< ring index of the newest estimate */
-    uint16_t ahead_held;                        /**< first window index scored by the held-out gain (n: none) */
-    uint16_t ahead_rail;                        /**< samples of the window at full scale (STEP_SUMS counts them) */
+    wake_hpa_ahead_t ahead;                     /**< the tremor-ahead fit's state (wake_hpa_ahead.c) */
 #endif
     wake_hpa_result_t result;                   /**< the newest result */
     wake_q15_t buf[2 * WAKE_HPA_MAX_WINDOW];    /**< the two window buffers */

@@ -35,7 +35,9 @@ def copy(tmp_path):
 def test_the_hashed_sources_are_the_analysed_ones_found_by_their_includes(copy):
     _, tier = copy
     sources = tier.analysed_sources()
-    for name in ("wake_rtp.c", "wake_rtp.h", "wake_hpa.c", "wake_hpa.h", "tests/prove/eva_builtins.h",
+    for name in ("wake_rtp.c", "wake_rtp.h", "wake_hpa.c", "wake_hpa_dft.c", "wake_hpa_ahead.c", "wake_hpa.h",
+                 "internal/wake_hpa_internal.h", "internal/wake_bounds.h", "internal/wake_hpa_costs.h",
+                 "tests/prove/eva_builtins.h",
                  "tests/prove/eva_rtp.c", "tests/prove/eva_hpa.c", "tests/prove/eva_hpa_steps.c",
                  "tests/prove/eva_hpa_ahead_steps.c"):
         assert name in sources, name

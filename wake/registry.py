@@ -9,7 +9,7 @@ csrc/wake_hpa.h) and docs/studies/design.md's list (checked by a test).
 
 Adding a rule is one Python function, decorated with
 :func:`register_cutoff_rule` (the registry line), and one C function
-(``wake_hpa_rule_t`` enumerator and its case in csrc/wake_hpa.c).  The
+(``wake_hpa_rule_t`` enumerator and its case in csrc/wake_hpa_spectrum.c).  The
 built-in rules are registered by :mod:`wake.hpa.cutoff`, in the order of
 their C enumerators.
 

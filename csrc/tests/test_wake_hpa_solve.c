@@ -1,7 +1,7 @@
 /*
  * The C HPA's ridge solve (STEP_SOLVE) against its guards (issue 34, docs/studies/verification.md "The solve").
  *
- * The file includes wake_hpa.c: solve_ridge and step_solve are static.  Three properties:
+ * It reaches the solve through the internal header (wake_hpa_solve_ridge, wake_hpa_step_solve).  Three properties:
  *  1. On positive semi-definite systems (Gram matrices of random regressors, from well-conditioned to
  *     nearly collinear, scales from 1e-3 to 1e12 LSB^2) no guard fires: solve_ridge accepts and refuses
  *     exactly the attempts the unguarded L D L' solve (reference_solve, the code before the guards)
@@ -16,7 +16,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "wake_hpa.c"
+#include "internal/wake_hpa_internal.h"
 #include "check.h"
 
 enum { LEVEL = 5, TAPS = 32, WINDOW = 500 };
@@ -58,7 +58,7 @@ static void at_solve(void)
         bank[i] = (wake_q15_t)(i % 7u == 0u ? 1000 : -200);
     }
     CHECK(wake_hpa_init(&hpa, &cfg, bank, w0) == WAKE_HPA_OK, "init");
-    begin(&hpa, window, WINDOW, 0u);
+    wake_hpa_begin(&hpa, window, WINDOW, 0u);
     hpa.flag = WAKE_HPA_VALLEY;
     hpa.factor = hpa.cfg.ridge;
     hpa.attempts = 0;
@@ -159,7 +159,7 @@ static void test_psd_systems_unchanged(void)
         factor = hpa.cfg.ridge;
         for (a = 0; a < WAKE_HPA_RIDGE_STEPS; ++a) {
             float w[WAKE_HPA_MAX_LEVEL], ref[WAKE_HPA_MAX_LEVEL];
-            const int ok = solve_ridge(&hpa, factor, w);
+            const int ok = wake_hpa_solve_ridge(&hpa, factor, w);
             const int ref_ok = reference_solve(&hpa, factor * hpa.scale, ref);
             differ += (unsigned)(ok != ref_ok || (ok && memcmp(w, ref, sizeof(float) * LEVEL) != 0));
             if (ok) {
@@ -197,7 +197,7 @@ static void test_any_system_finite(void)
         hpa.noise = log_uniform(-10.0f, 10.0f);
         hpa.scale = t % 5u == 0u ? uniform() * mag : mag * log_uniform(-8.0f, 1.0f);
         while (hpa.phase == STEP_SOLVE) {
-            step_solve(&hpa);
+            wake_hpa_step_solve(&hpa);
         }
         published += (hpa.result.notes & WAKE_HPA_NOTE_CLIPPED) == 0u;
         gave_up += (hpa.result.notes & WAKE_HPA_NOTE_CLIPPED) != 0u;
@@ -226,17 +226,17 @@ static void test_guards_refuse(void)
         hpa.rhs[l] = 0.5f;
     }
     hpa.scale = 1.0f;
-    CHECK(solve_ridge(&hpa, 1e-6f, w) == 1, "the identity is solved");
+    CHECK(wake_hpa_solve_ridge(&hpa, 1e-6f, w) == 1, "the identity is solved");
     CHECK(fabsf(w[0] - 0.5f) < 1e-5f, "w = b / (1 + 1e-6): %g", (double)w[0]);
     /* |G_10| above 2 trace(G) = 10: refused (a positive semi-definite G has |G_ij| <= trace(G)) */
     hpa.gram[1 * LEVEL + 0] = 10.5f;
     hpa.gram[0 * LEVEL + 1] = 10.5f;
-    CHECK(solve_ridge(&hpa, 1e-6f, w) == 0, "|G_ij| > 2 J scale is refused");
+    CHECK(wake_hpa_solve_ridge(&hpa, 1e-6f, w) == 0, "|G_ij| > 2 J scale is refused");
     /* the same G with its off-diagonal at 1 - 1e-7 relative: pivot d_1 = 2e-7 + lambda, above lambda / 2 */
     hpa.gram[1 * LEVEL + 0] = 0.9999999f;
     hpa.gram[0 * LEVEL + 1] = 0.9999999f;
     hpa.rhs[1] = 0.5f;
-    CHECK(solve_ridge(&hpa, 1e-6f, w) == 1, "a nearly singular but positive definite system is solved");
+    CHECK(wake_hpa_solve_ridge(&hpa, 1e-6f, w) == 1, "a nearly singular but positive definite system is solved");
     /* an indefinite G (G_11 = G_10^2 - 0.015) whose pivot d_1 = 1 - 0.015 + 0.01 - 1 / 1.01 = 0.0049 lies in
        (0, lambda / 2) at lambda = 0.01: the unguarded solve takes it, the pivot floor refuses it (a positive
        semi-definite G has d_1 >= lambda) */
@@ -246,13 +246,13 @@ static void test_guards_refuse(void)
     hpa.rhs[0] = 0.0f;
     hpa.rhs[1] = 0.0f;
     CHECK(reference_solve(&hpa, 1e-2f, w) == 1, "the unguarded solve takes the small pivot");
-    CHECK(solve_ridge(&hpa, 1e-2f, w) == 0, "a pivot below lambda / 2 is refused");
-    CHECK(solve_ridge(&hpa, 1e-1f, w) == 1, "a ridge of 0.1 makes it positive definite (d_1 = 0.18)");
+    CHECK(wake_hpa_solve_ridge(&hpa, 1e-2f, w) == 0, "a pivot below lambda / 2 is refused");
+    CHECK(wake_hpa_solve_ridge(&hpa, 1e-1f, w) == 1, "a ridge of 0.1 makes it positive definite (d_1 = 0.18)");
     /* a scale below SOLVE_MIN_SCALE: zero weights at once */
     at_solve();
     hpa.scale = SOLVE_MIN_SCALE * 0.5f;
     hpa.yy = 1.0f;
-    step_solve(&hpa);
+    wake_hpa_step_solve(&hpa);
     CHECK(hpa.phase != STEP_SOLVE && hpa.result.weights[0] == 0.0f && hpa.result.weights[4] == 0.0f,
           "zero weights below the smallest scale");
 }

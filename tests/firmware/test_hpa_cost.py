@@ -32,7 +32,7 @@ def test_step_names_follow_the_c_enum():
     from wake.firmware.hpa_cost import STEP_NAMES
     from wake.firmware.sources import csrc_dir
 
-    text = (csrc_dir(None, need=("wake_hpa.c",)) / "wake_hpa.c").read_text()
+    text = (csrc_dir(None, need=("internal/wake_hpa_internal.h",)) / "internal" / "wake_hpa_internal.h").read_text()
     body = re.search(r"enum \{\s*(STEP_IDLE = 0,.*?)\};", text, re.S).group(1)
     steps = re.findall(r"STEP_[A-Z_]+", body)
     assert len(steps) == len(STEP_NAMES)
@@ -84,3 +84,46 @@ def test_the_per_function_profile_accounts_for_every_instruction_of_the_tremor_a
     # the report's totals are the same run's
     lines = function_report(defs=["-DWAKE_HPA_AHEAD=1"], windows=window, build_dir=tmp_path)
     assert f"| all | {row['whole']:,} | {row['whole']:,} |" in lines
+
+
+def test_the_cost_header_is_the_cost_table():
+    """csrc/internal/wake_hpa_costs.h is what wake.firmware.hpa_cost.COSTS gives (--calibrate --check), and
+    every COST_ constant the C sources read is defined there and nowhere else."""
+    import re
+
+    from wake.firmware.hpa_costs import COSTS, COSTS_HEADER, check_costs_header
+    from wake.firmware.sources import csrc_dir
+
+    assert check_costs_header() == []
+    src = csrc_dir(None, need=(COSTS_HEADER,))
+    names = {c[0] for c in COSTS}
+    files = [*src.glob("wake_hpa*.c"), *(src / "internal").glob("*.h")]
+    defined = {m for f in files if f.name != "wake_hpa_costs.h"
+               for m in re.findall(r"^#define (COST_[A-Z0-9_]+) \d", f.read_text(), re.M)}
+    assert not defined, f"a cost constant written outside the cost table: {sorted(defined)}"
+    code = [re.sub(r"/\*.*?\*/", "", f.read_text(), flags=re.S) for f in files]   # the loops' notes name costs too
+    used = {m for text in code for m in re.findall(r"\bCOST_[A-Z0-9_]+\b", text)}
+    derived = {"COST_SUM", "COST_DIAG", "COST_AHEAD_TAP"}     # formulas of the table's constants (internal header)
+    assert used - derived <= names and names <= used
+
+
+def test_a_cost_changed_in_one_place_only_is_stale(tmp_path, monkeypatch):
+    """--calibrate --check fails when the header and the table disagree: a value edited in the header, or in COSTS."""
+    import shutil
+
+    from wake.firmware import hpa_cost, hpa_costs
+    from wake.firmware.sources import csrc_dir
+
+    src = csrc_dir(None)
+    copy = tmp_path / "csrc"
+    shutil.copytree(src, copy, ignore=shutil.ignore_patterns("build"))
+    assert hpa_costs.check_costs_header(csrc=copy) == []
+    header = copy / hpa_costs.COSTS_HEADER
+    text = header.read_text()
+    header.write_text(text.replace("#define COST_SLIDE 90 ", "#define COST_SLIDE 91 "))
+    assert any("COST_SLIDE" in p for p in hpa_costs.check_costs_header(csrc=copy))
+    header.write_text(text)
+    table = tuple((n, v + 1 if n == "COST_LAG" else v, s, w) for n, v, s, w in hpa_costs.COSTS)
+    monkeypatch.setattr(hpa_costs, "COSTS", table)
+    assert any("COST_LAG" in p for p in hpa_costs.check_costs_header(csrc=copy))
+    assert hpa_cost.main(["--calibrate", "--check"]) == 1

@@ -1,7 +1,7 @@
 """The bound the C HPA clamps its DFT pass's Reinsch states to never changes a state (issue 34).
 
-csrc/wake_hpa.c clamps the states s and d of Reinsch's recursion (``d += x_c + lambda s; s += d``) to
-REINSCH_S_MAX and REINSCH_D_MAX every REINSCH_BLOCK samples, so that Frama-C Eva can bound them
+csrc/wake_hpa_dft.c clamps the states s and d of Reinsch's recursion (``d += x_c + lambda s; s += d``) to
+REINSCH_S_MAX and REINSCH_D_MAX (csrc/internal/wake_bounds.h) every REINSCH_BLOCK samples, so that Frama-C Eva can bound them
 (docs/studies/verification.md, "The DFT pass").  The clamp is only invisible if every state of every window of int16
 samples stays below those bounds, roundings included: shown here for every window length the default build
 allows (n <= WAKE_HPA_MAX_WINDOW = 512; and n <= 1024 with the larger bounds of a larger build) and every bin
@@ -23,11 +23,11 @@ U = 2.0**-24
 def c_bounds(large=False):
     """REINSCH_S_MAX, REINSCH_D_MAX of a build with WAKE_HPA_MAX_WINDOW <= 512 (the default) or above it
     (``large``), and REINSCH_BLOCK."""
-    src = (CSRC / "wake_hpa.c").read_text()
+    src = (CSRC / "internal" / "wake_bounds.h").read_text()
     pairs = re.findall(r"#define REINSCH_S_MAX ([\d.]+)f.*\n#define REINSCH_D_MAX ([\d.]+)f", src)
     k = re.search(r"#define REINSCH_BLOCK (\d+)u", src)
     assert "#if WAKE_HPA_MAX_WINDOW <= 512\n#define REINSCH_S_MAX" in src and len(pairs) == 2 and k, \
-        "the Reinsch bounds are not where this test looks for them (csrc/wake_hpa.c)"
+        "the Reinsch bounds are not where this test looks for them (csrc/internal/wake_bounds.h)"
     s_max, d_max = pairs[1 if large else 0]
     return float(s_max), float(d_max), int(k.group(1))
 

@@ -1,4 +1,4 @@
-"""What the on-device HPA (csrc/wake_hpa.c) costs on a Cortex-M: instructions, RAM, stack.
+"""What the on-device HPA (csrc/wake_hpa*.c) costs on a Cortex-M: instructions, RAM, stack.
 
 The HPA and a small harness (``csrc/profile/hpa_harness.c``) are built for
 a Cortex-M4F (hard float, ``-mfpu=fpv4-sp-d16``) and a Cortex-M0+ (soft
@@ -13,6 +13,12 @@ every instruction of a whole HPA to its function and with ``--ahead`` to the
 parts of the tremor-ahead fit (:mod:`wake.firmware.hpa_functions`).
 
     python -m wake.firmware.hpa_cost [--json OUT] [--ahead] [--functions]
+    python -m wake.firmware.hpa_cost --calibrate [--write | --check]
+
+The slice cost model's constants live in one table, :data:`wake.firmware.hpa_costs.COSTS`;
+``--calibrate --write`` measures one piece of every step (budget-1 builds, with and without the tremor-ahead fit) and writes the table, each value
+with that measurement beside it, as ``csrc/internal/wake_hpa_costs.h``; ``--calibrate --check`` fails when the
+header is not what the table gives (a value edited in one place only).
 """
 
 from __future__ import annotations
@@ -36,17 +42,25 @@ HPA_DEFS = ["-DWAKE_HPA_MAX_WINDOW=500", "-DWAKE_HPA_MAX_LEVEL=5", "-DWAKE_HPA_M
             "-DWAKE_HPA_MAX_PSD_BINS=64", "-DWAKE_RTP_MAX_LEVEL=5"]
 #: Targets of the issue at L = 500, p = 17, J = 5 (Cortex-M4F): one whole HPA, RTP step + largest slice, RAM.
 HPA_GOALS = {"whole": 400_000, "step_plus_slice": 3_000, "ram": 6 * 1024}
-#: The steps of csrc/wake_hpa.c, in the order of its enum (wake_hpa_t::phase indexes this).
+#: The steps of the C HPA (csrc/internal/wake_hpa_internal.h), in the order of its enum (wake_hpa_t::phase indexes this).
 STEP_NAMES = ("idle", "sums", "lags", "lag end", "Rxx diagonal", "Levinson", "AR spectrum", "cut-off",
               "bin count", "DFT passes", "bin start", "bin slide", "ramp", "Gram", "solve", "ahead start",
               "ahead pass", "ahead solve")
 #: The tremor-ahead fit's steps (built with -DWAKE_HPA_AHEAD=1).
 AHEAD_STEPS = ("ahead start", "ahead pass", "ahead solve")
+#: The HPA's C sources, by concern (csrc/internal/wake_hpa_internal.h); the tremor-ahead fit's module is linked
+#: only into a build that uses it (-DWAKE_HPA_AHEAD=1).
+HPA_AHEAD_SOURCE = "wake_hpa_ahead.c"
+
+def hpa_sources(src, defs=()) -> tuple:
+    """The HPA's sources in ``src`` (every ``wake_hpa*.c``) that a build with the ``-D`` options ``defs`` links."""
+    ahead = "-DWAKE_HPA_AHEAD=1" in defs
+    return tuple(sorted(p.name for p in Path(src).glob("wake_hpa*.c") if ahead or p.name != HPA_AHEAD_SOURCE))
 
 
 
 def build_hpa_image(target="m4f-O2", *, build_dir=None, csrc=None, defs=()):
-    """Cross-compile wake_hpa.c, wake_rtp.c and the harness; an :class:`~wake.firmware.profile.build.Image`.
+    """Cross-compile the HPA's sources (one relocatable object), wake_rtp.c and the harness; an :class:`~wake.firmware.profile.build.Image`.
 
     ``defs`` are extra ``-D`` options (the calibration builds with a slice budget of 1).
     """
@@ -66,8 +80,14 @@ def build_hpa_image(target="m4f-O2", *, build_dir=None, csrc=None, defs=()):
     def run(cmd):
         run_tool(cmd, out)
 
-    run([gcc, *WARN_FLAGS, "-Wdouble-promotion", "-ffp-contract=off", *flags, "-fstack-usage",
-         "-c", str(src / "wake_hpa.c"), "-o", "wake_hpa.o"])
+    objects = []
+    for name in hpa_sources(src, flags):
+        obj = name.replace(".c", ".o").replace("wake_hpa", "part_hpa", 1)
+        run([gcc, *WARN_FLAGS, "-Wdouble-promotion", "-ffp-contract=off", *flags, "-fstack-usage",
+             "-c", str(src / name), "-o", obj])
+        objects.append(obj)
+    # the HPA as one object (its code size is this object's .text + .rodata)
+    run([gcc, *HPA_TARGETS[target][1], "-nostdlib", "-r", *objects, "-o", "wake_hpa.o"])
     run([gcc, *WARN_FLAGS, *flags, "-c", str(src / "wake_rtp.c"), "-o", "wake_rtp.o"])
     hflags = ["-std=c99", "-Wall", "-Wextra", *flags, "-I", str(src)]
     run([gcc, *hflags, "-c", str(prof / "hpa_harness.c"), "-o", "harness.o"])
@@ -216,11 +236,15 @@ def report(results: dict, rtp_step_bound: int | None = None) -> list[str]:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description="Cortex-M cost of the on-device HPA")
     ap.add_argument("--json", help="write the figures here (with --functions: every window's counts)")
-    ap.add_argument("--check", action="store_true", help="exit 1 when a Cortex-M4F target is missed")
+    ap.add_argument("--check", action="store_true", help="exit 1 when a Cortex-M4F target is missed (with "
+                    "--calibrate: when csrc/internal/wake_hpa_costs.h is not what COSTS gives)")
     ap.add_argument("--breakdown", metavar="WINDOW", nargs="?", const="synthetic 1",
                     help="print where one sliced HPA goes, per step, on Cortex-M4F (default window: synthetic 1)")
     ap.add_argument("--calibrate", action="store_true",
-                    help="print the instructions of single pieces of work per step (budget-1 build), Cortex-M4F")
+                    help="print the instructions of single pieces of work per step (budget-1 build), Cortex-M4F; "
+                         "with --write: write them and the cost table (COSTS) as csrc/internal/wake_hpa_costs.h; "
+                         "with --check: exit 1 when that header is not the table's")
+    ap.add_argument("--write", action="store_true", help="with --calibrate: write csrc/internal/wake_hpa_costs.h")
     ap.add_argument("--ahead", action="store_true",
                     help="build the HPA with its tremor-ahead fit (-DWAKE_HPA_AHEAD=1)")
     ap.add_argument("--functions", action="store_true",
@@ -238,6 +262,16 @@ def main(argv=None) -> int:
         if args.json:
             Path(args.json).write_text(json.dumps(raw, indent=1))
         return 0
+    if args.calibrate and (args.check or args.write):
+        from wake.firmware.hpa_costs import COSTS, COSTS_HEADER, check_costs_header, write_costs_header
+
+        if args.write:
+            print(f"wrote {write_costs_header()}")
+        problems = check_costs_header()
+        for p in problems:
+            print(f"stale: {p}")
+        print(f"{COSTS_HEADER}: {'stale' if problems else 'the cost table COSTS'} ({len(COSTS)} constants)")
+        return 1 if problems else 0
     if args.breakdown or args.calibrate:
         if args.breakdown:
             rows = step_breakdown(window=args.breakdown, defs=defs)

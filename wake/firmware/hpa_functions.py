@@ -1,6 +1,6 @@
 """Where the on-device HPA's instructions go, per function and per part of the tremor-ahead fit.
 
-Every instruction a Cortex-M4F image of csrc/wake_hpa.c executes (built and run as
+Every instruction a Cortex-M4F image of the C HPA (csrc/wake_hpa*.c) executes (built and run as
 :mod:`wake.firmware.hpa_cost` does, counted with a block hook and a disassembler so that
 condition-failed instructions of an IT block count) is attributed to the innermost function of its
 inline chain (``addr2line -i``) and, with the tremor-ahead fit built in, to a part of that fit
@@ -31,12 +31,12 @@ AHEAD_PARTS = {
     "ahead_voluntary1": "pass: the low-bin oscillators",
     "ahead_voluntary": "pass: the low-bin oscillators",
     "ahead_rows": "pass: the row sums",
-    "step_ahead_pass": "pass: the truth, the ring, the blocks",
-    "step_ahead_start": "ahead start: the FIR's taps, the sums cleared",
+    "wake_hpa_step_ahead_pass": "pass: the truth, the ring, the blocks",
+    "wake_hpa_step_ahead_start": "ahead start: the FIR's taps, the sums cleared",
     "ahead_assemble": "ahead solve: G's rows, the ridge, the held-out sums",
     "ahead_factor": "ahead solve: L D L'",
     "ahead_substitute": "ahead solve: the substitution, the clip",
-    "step_ahead_solve": "ahead solve: the gain, the goal, publish",
+    "wake_hpa_step_ahead_solve": "ahead solve: the gain, the goal, publish",
 }
 
 

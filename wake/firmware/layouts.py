@@ -30,6 +30,7 @@ import json
 from pathlib import Path
 
 from wake import __version__
+from wake.firmware.sources import HPA_SOURCES
 
 __all__ = ["LAYOUTS", "layout_files", "library_json", "library_properties", "zephyr_files"]
 
@@ -55,7 +56,7 @@ def library_json(src_dir: str | None = None) -> str:
     build = {"flags": [HPA_FLAG]}
     if src_dir is not None:
         build.update(srcDir=src_dir, includeDir=src_dir,
-                     srcFilter=["-<*>", "+<wake_rtp.c>", "+<wake_hpa.c>", "+<wake_rate.c>"])
+                     srcFilter=["-<*>", "+<wake_rtp.c>", *(f"+<{c}>" for c in HPA_SOURCES), "+<wake_rate.c>"])
     manifest = {
         "name": NAME,
         "version": VERSION,
@@ -95,7 +96,8 @@ def zephyr_files(src_dir: str = ".") -> dict[str, str]:
     cmake = f"""# Zephyr glue for the WAKE C core (module.yml: build.cmake). Enabled by CONFIG_WAKE.
 if(CONFIG_WAKE)
   zephyr_library()
-  zephyr_library_sources({base}/wake_rtp.c {base}/wake_hpa.c {base}/wake_rate.c)
+  zephyr_library_sources({base}/wake_rtp.c {base}/wake_rate.c)
+  zephyr_library_sources({" ".join(f"{base}/{c}" for c in HPA_SOURCES)})
   zephyr_include_directories({base})
   # the HPA's fixed evaluation order (docs/studies/hpa_c.md)
   zephyr_library_compile_options({HPA_FLAG})
@@ -104,7 +106,7 @@ endif()
     kconfig = """config WAKE
 \tbool "WAKE real-time tremor extraction (fixed-point RTP, single-precision HPA)"
 \thelp
-\t  Builds the WAKE C core: wake_rtp.c (fixed-point predictor), wake_hpa.c
+\t  Builds the WAKE C core: wake_rtp.c (fixed-point predictor), wake_hpa*.c
 \t  (hyper-parameter adjustment, single precision) and wake_rate.c (the
 \t  front end for input rates above 150 Hz).
 """

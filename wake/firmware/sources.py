@@ -11,10 +11,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-__all__ = ["SourcesUnavailable", "csrc_dir"]
+__all__ = ["HPA_SOURCES", "HPA_INTERNAL_HEADERS", "SourcesUnavailable", "csrc_dir"]
 
 #: Files every use of the sources needs.
 _REQUIRED = ("wake_rtp.c", "wake_rtp.h", "wake_fixed.h")
+#: The on-device HPA's sources, a file per concern (csrc/internal/wake_hpa_internal.h describes each), and the
+#: internal headers they share (not part of the API; a build compiles them, a user never includes them).
+HPA_SOURCES = ("wake_hpa.c", "wake_hpa_spectrum.c", "wake_hpa_dft.c", "wake_hpa_fit.c", "wake_hpa_solve.c",
+               "wake_hpa_ahead.c", "wake_hpa_pieces.c", "wake_hpa_slice.c")
+HPA_INTERNAL_HEADERS = ("internal/wake_hpa_internal.h", "internal/wake_bounds.h", "internal/wake_hpa_costs.h")
 
 
 class SourcesUnavailable(FileNotFoundError):

@@ -66,7 +66,7 @@ def c_mirror_problems(lib) -> list:
         have = getattr(lib, rule.c_name, None)
         if have is None:
             problems.append(f"cut-off rule {rule.name!r}: {rule.c_name} is not in wake_hpa_rule_t "
-                            "(add it to csrc/wake_hpa.h and its case to csrc/wake_hpa.c)")
+                            "(add it to csrc/wake_hpa.h and its case to csrc/wake_hpa_spectrum.c)")
         elif int(have) != number:
             problems.append(f"cut-off rule {rule.name!r}: {rule.c_name} = {int(have)}, but it is rule number "
                             f"{number} in wake.registry (register the rules in the enumerators' order)")
@@ -210,13 +210,13 @@ def _previous_ahead(h, previous_ahead, index: int, new_samples: int):
     if previous_ahead is None:
         return
     c = np.asarray(previous_ahead, dtype=np.float32)
-    if c.shape != (len(h.ahead_prev),) or not np.isfinite(c).all():
-        raise ValueError(f"previous_ahead must be {len(h.ahead_prev)} finite coefficients, got {previous_ahead!r}")
+    if c.shape != (len(h.ahead.prev),) or not np.isfinite(c).all():
+        raise ValueError(f"previous_ahead must be {len(h.ahead.prev)} finite coefficients, got {previous_ahead!r}")
     if isinstance(new_samples, bool) or not 0 <= int(new_samples) <= int(index):
         raise ValueError(f"new_samples must be an integer in 0..index = {index}, got {new_samples!r}")
-    h.ahead_prev[0 : c.size] = c.tolist()   # one slice assignment (float32 values: exact in the C floats)
-    h.ahead_prev_index = (int(index) - int(new_samples)) & 0xFFFFFFFF
-    h.ahead_has_prev = 1
+    h.ahead.prev[0 : c.size] = c.tolist()   # one slice assignment (float32 values: exact in the C floats)
+    h.ahead.prev_index = (int(index) - int(new_samples)) & 0xFFFFFFFF
+    h.ahead.has_prev = 1
 
 
 def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index: int = 0,

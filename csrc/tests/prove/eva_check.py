@@ -75,8 +75,8 @@ HPA_ALL_CONFIG_ENTRIES = {"wake_hpa_apply"}
 #: that exists only there; the same configurations as above
 AHEAD_DEFS = " -DWAKE_HPA_AHEAD=1 -DWAKE_RTP_AHEAD=1"
 AHEAD_HPA_ENTRIES = HPA_ENTRIES + ["wake_hpa_ahead_to_rtp"]
-#: the steps of one HPA run, each from its precondition (tests/prove/eva_hpa_steps.c, which includes wake_hpa.c:
-#: the steps are static), each checking the postcondition the next assumes (docs/studies/verification.md, "A whole HPA
+#: the steps of one HPA run, each from its precondition (tests/prove/eva_hpa_steps.c, through the internal header:
+#: the steps are internal functions), each checking the postcondition the next assumes (docs/studies/verification.md, "A whole HPA
 #: run"); the HPA's own code, so one configuration
 STEP_ENTRIES = ["step_sums", "step_lags", "step_lag_end", "step_diag", "step_levinson", "step_psd", "step_psd_chunk",
                 "step_cutoff", "step_bins", "step_dft", "step_dft_chunk", "step_bin", "step_ramp", "step_ramp_chunk",
@@ -106,12 +106,12 @@ RAW_FLOAT_ENTRIES = {"wake_hpa_init", "wake_hpa_to_rtp", "wake_hpa_apply", "wake
 #: extra Eva options per entry of the tremor-ahead build, after ENTRY_OPTIONS'. apply: its driver ranges the RTP's
 #: predictor and goal (docs/studies/verification.md, "The tremor-ahead build"), so more states pass the RTP's check, and
 #: with the default 100 states per statement the refusal path of wake_hpa_to_rtp (outputs unset) is joined with
-#: the others again (a false "uninitialized" at wake_rtp_set_weights, as without round_clamp:0)
+#: the others again (a false "uninitialized" at wake_rtp_set_weights, as without wake_hpa_round_clamp:0)
 AHEAD_ENTRY_OPTIONS = {"wake_hpa_apply": ("-eva-slevel", "300")}
-#: extra Eva options per entry. apply: round_clamp's three branches, per weight, would exceed the slevel
+#: extra Eva options per entry. apply: wake_hpa_round_clamp's three branches, per weight, would exceed the slevel
 #: inside wake_hpa_to_rtp's loop and merge states where fewer weights are written (a false "uninitialized"
-#: at wake_rtp_set_weights); joining inside round_clamp (slevel 0 there) keeps one state per call
-ENTRY_OPTIONS = {"wake_hpa_apply": ("-eva-slevel-function", "round_clamp:0"),
+#: at wake_rtp_set_weights); joining inside wake_hpa_round_clamp (slevel 0 there) keeps one state per call
+ENTRY_OPTIONS = {"wake_hpa_apply": ("-eva-slevel-function", "wake_hpa_round_clamp:0"),
                  # lag_run's four-at-a-time loop (t + 4 <= t1) is not unrolled automatically: at most 125 turns
                  "step_lags": STEP_OPTIONS + ("-eva-min-loop-unroll", "130"),
                  # err (1 - k k): k k of k in [-1, 1] is [0, 1] only when Eva subdivides k
@@ -124,27 +124,27 @@ ENTRY_OPTIONS = {"wake_hpa_apply": ("-eva-slevel-function", "round_clamp:0"),
                  # in the entry and the step for one state per budget range and outcome (about 15,000)
                  "step_dft_chunk": STEP_OPTIONS + ("-eva-slevel-function",
                                                    "reinsch_run1:0,reinsch_run2:0,clamp_abs:0,reinsch_block:0,"
-                                                   "eva_step_dft_chunk:20000,step_dft:20000"),
+                                                   "eva_step_dft_chunk:20000,wake_hpa_step_dft:20000"),
                  # chunks of the spectrum and of the ramp: room for one state per budget range, item and outcome
-                 "step_psd_chunk": STEP_OPTIONS + ("-eva-slevel-function", "eva_step_psd_chunk:20000,step_psd:20000"),
-                 "step_ramp_chunk": STEP_OPTIONS + ("-eva-slevel-function", "eva_step_ramp_chunk:20000,step_ramp:20000"),
+                 "step_psd_chunk": STEP_OPTIONS + ("-eva-slevel-function", "eva_step_psd_chunk:20000,wake_hpa_step_psd:20000"),
+                 "step_ramp_chunk": STEP_OPTIONS + ("-eva-slevel-function", "eva_step_ramp_chunk:20000,wake_hpa_step_ramp:20000"),
                  # a chunk of a lag's diagonal from any row: room in the entry for one state per window length, lag,
                  # budget range and side of the lag's end; the step's states joined (the clamp where a chunk loads
                  # diag bounds it whatever the join; with 20,000 there, the lag d = 0 alone ran past 12 minutes)
-                 "step_diag_chunk": STEP_OPTIONS + ("-eva-slevel-function", "eva_step_diag_chunk:20000,step_diag:0"),
+                 "step_diag_chunk": STEP_OPTIONS + ("-eva-slevel-function", "eva_step_diag_chunk:20000,wake_hpa_step_diag:0"),
                  # a chunk of a bin's slide from any row: room in the entry for one state per window length, pair, bin
                  # of the pass, budget range and side of the slide's end; the step's states joined (its clamps bound
                  # the carried state whatever the join; the block's loop of SLIDE_BLOCK rows is unrolled)
                  "step_bin_end_chunk": STEP_OPTIONS + ("-eva-slevel-function",
-                                                       "eva_step_bin_end_chunk:20000,step_bin_end:0,clamp_abs:0"),
+                                                       "eva_step_bin_end_chunk:20000,wake_hpa_step_bin_end:0,clamp_abs:0"),
                  # the chunk entries keep one Eva state per start index, lag and budget class (up to 20,000):
                  # the slevel and the split limit must not merge them
                  "step_sums_chunk": STEP_OPTIONS + CHUNK_OPTIONS,
                  "step_lags_chunk": STEP_OPTIONS + CHUNK_OPTIONS + ("-eva-min-loop-unroll", "130"),
                  # the dispatch with run_step's contract (eva_hpa_steps.c) instead of its body: the steps are shown
                  # by the step and chunk entries
-                 "dispatch_slice": STEP_OPTIONS + ("-eva-use-spec", "run_step"),
-                 "dispatch_run": STEP_OPTIONS + ("-eva-use-spec", "run_step"),
+                 "dispatch_slice": STEP_OPTIONS + ("-eva-use-spec", "wake_hpa_run_step"),
+                 "dispatch_run": STEP_OPTIONS + ("-eva-use-spec", "wake_hpa_run_step"),
                  # a chunk of the tremor-ahead pass from any sample: each block's states kept apart inside
                  # ahead_block and joined between blocks (ahead_blocks: its loop reaches its invariant), the
                  # oscillators' clamped stores joined (the clamps' branches would multiply the states per bin)
@@ -159,13 +159,17 @@ CONFIGS = {
     "m0split K0": "-DWAKE_RTP_KALMAN=0 -DWAKE_RTP_NO_LONG_MULTIPLY=1",
     "Os K1": "-DWAKE_RTP_KALMAN=1 -D__OPTIMIZE_SIZE__=1",
 }
-#: analysis unit -> (its entries' file in tests/prove, whether wake_hpa.c is added to the sources (eva_hpa_steps.c
+#: the HPA's sources (by concern, csrc/internal/wake_hpa_internal.h); the tremor-ahead fit's module is added to the
+#: units built with it (AHEAD_DEFS), the only ones that run it
+HPA_AHEAD_SOURCE = "wake_hpa_ahead.c"
+HPA_SOURCES = sorted(p.name for p in CSRC.glob("wake_hpa*.c") if p.name != HPA_AHEAD_SOURCE)
+#: analysis unit -> (its entries' file in tests/prove, whether the HPA's sources are added to the sources (eva_hpa_steps.c
 #: includes it: the steps are static), definitions added to every configuration's)
 UNITS = {"rtp": ("eva_rtp.c", False, ""),
          "hpa": ("eva_hpa.c", True, ""),
          "hpa_ahead": ("eva_hpa.c", True, AHEAD_DEFS),
-         "hpa_steps": ("eva_hpa_steps.c", False, ""),
-         "hpa_ahead_steps": ("eva_hpa_ahead_steps.c", False, AHEAD_DEFS),
+         "hpa_steps": ("eva_hpa_steps.c", True, ""),
+         "hpa_ahead_steps": ("eva_hpa_ahead_steps.c", True, AHEAD_DEFS),
          "rtp_voluntary": ("eva_rtp.c", False, VOLUNTARY_DEFS)}
 #: an alarm: Eva's assertion on the lines below the warning, or, when the warning fits on one line (a driver's
 #: `//@ assert` not proven in a file of a short name, e.g. "[eva:alarm] tests/prove/eva_hpa.c:189: Warning: assertion
@@ -202,7 +206,8 @@ def listed_alarms() -> set:
 
 def analyse(unit: str, entry: str, defs: str, timeout: int, slevel: int, extra=()) -> dict:
     driver, with_hpa, unit_defs = UNITS[unit]
-    sources = ["wake_rtp.c", f"tests/prove/{driver}"] + (["wake_hpa.c"] if with_hpa else [])
+    hpa = HPA_SOURCES + ([HPA_AHEAD_SOURCE] if "-DWAKE_HPA_AHEAD=1" in unit_defs else [])
+    sources = ["wake_rtp.c", f"tests/prove/{driver}"] + (hpa if with_hpa else [])
     cmd = ["frama-c", "-machdep", "gcc_x86_32",
            "-cpp-extra-args=-I. -include tests/prove/eva_builtins.h " + defs + unit_defs, *sources,
            "-eva", "-main", f"eva_{entry}", "-eva-slevel", str(slevel), "-eva-auto-loop-unroll", "400",

@@ -85,11 +85,11 @@ static int any_checked_fields(void)
     unknown(&hpa.count, offsetof(wake_hpa_t, lo) - offsetof(wake_hpa_t, count));
 #if WAKE_HPA_AHEAD
     /* the tremor ahead's counters, which check_instance and the next run read: any content too */
-    unknown(&hpa.ahead_prev_index, sizeof hpa.ahead_prev_index);
-    unknown(&hpa.ahead_has_prev, sizeof hpa.ahead_has_prev);
-    unknown(&hpa.ahead_pos, sizeof hpa.ahead_pos);
-    unknown(&hpa.ahead_held, sizeof hpa.ahead_held);
-    unknown(&hpa.ahead_rail, sizeof hpa.ahead_rail);
+    unknown(&hpa.ahead.prev_index, sizeof hpa.ahead.prev_index);
+    unknown(&hpa.ahead.has_prev, sizeof hpa.ahead.has_prev);
+    unknown(&hpa.ahead.pos, sizeof hpa.ahead.pos);
+    unknown(&hpa.ahead.held, sizeof hpa.ahead.held);
+    unknown(&hpa.ahead.rail, sizeof hpa.ahead.rail);
 #endif
     hpa.work = Frama_C_nondet(0, 1) ? window : hpa.buf;
     return 1;

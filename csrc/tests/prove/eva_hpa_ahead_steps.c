@@ -1,13 +1,13 @@
 /**
  * @file eva_hpa_ahead_steps.c
- * @brief Frama-C Eva entries for the tremor-ahead steps of one HPA run (csrc/wake_hpa.c built with
+ * @brief Frama-C Eva entries for the tremor-ahead steps of one HPA run (csrc/wake_hpa*.c built with
  *        WAKE_HPA_AHEAD 1), each from a state whose fields are ranged as the step's precondition, each
  *        checking (`//@ assert`) the postcondition the next step assumes (docs/studies/verification.md, "The
  *        tremor-ahead build").
  *
  * As tests/prove/eva_hpa_steps.c (which is the default build's: its solve ends in STEP_IDLE, here in
- * STEP_AHEAD_START), this file includes wake_hpa.c (the steps are `static`; it is only ever given to
- * Frama-C) and starts every entry from an instance wake_hpa_init accepted with the default configuration
+ * STEP_AHEAD_START), this file reaches the steps through csrc/internal/wake_hpa_internal.h (it is only ever
+ * given to Frama-C) and starts every entry from an instance wake_hpa_init accepted with the default configuration
  * (J = 5, p = 17, L = 500, horizon 1) and any filter bank, and a run begun on a window of any int16
  * samples of each length the default schedule starts (100 .. 500, one Eva state each).  eva_check.py
  * adds WAKE_HPA_AHEAD 1 (and WAKE_RTP_AHEAD 1, which it needs).
@@ -17,7 +17,7 @@
 #include <stdint.h>
 #include <string.h>
 #include "__fc_builtin.h"
-#include "wake_hpa.c"
+#include "internal/wake_hpa_internal.h"
 
 #if !WAKE_HPA_AHEAD
 #error "eva_hpa_ahead_steps.c analyses the tremor-ahead build: -DWAKE_HPA_AHEAD=1"
@@ -53,7 +53,7 @@
 #define LAG_MAX 0x1p83f
 #define RHS_MAX 0x1p112f
 #define HELD_MAX 0x1p118f
-/** The oscillators' clamp bounds (AHEAD_V_MAX, AHEAD_E_MAX in wake_hpa.c): the pass's invariant between blocks */
+/** The oscillators' clamp bounds (AHEAD_V_MAX, AHEAD_E_MAX in internal/wake_bounds.h): the pass's invariant between blocks */
 #define OSC_V_MAX 0x1p35f
 #define OSC_E_MAX 0x1p36f
 /** the predictor's clip (wake.ahead.COEFFICIENT_LIMIT) */
@@ -86,7 +86,7 @@ static int initialised(void)
 /** A run begun on a window of any int16 samples of each length of the default schedule (one Eva state each). */
 static void begun(void)
 {
-    begin(&hpa, window, (uint16_t)(100 * Frama_C_interval_split(1, 5)), Frama_C_unsigned_int_interval(0u, UINT32_MAX));
+    wake_hpa_begin(&hpa, window, (uint16_t)(100 * Frama_C_interval_split(1, 5)), Frama_C_unsigned_int_interval(0u, UINT32_MAX));
 }
 
 /**
@@ -96,10 +96,10 @@ static void begun(void)
 static void any_previous(void)
 {
     unsigned i;
-    hpa.ahead_has_prev = (uint16_t)Frama_C_interval(0, 1);
-    hpa.ahead_prev_index = Frama_C_unsigned_int_interval(0u, UINT32_MAX);
+    hpa.ahead.has_prev = (uint16_t)Frama_C_interval(0, 1);
+    hpa.ahead.prev_index = Frama_C_unsigned_int_interval(0u, UINT32_MAX);
     for (i = 0; i < WAKE_HPA_AHEAD_TAPS; ++i) {
-        hpa.ahead_prev[i] = anyf(-C_MAX, C_MAX);
+        hpa.ahead.prev[i] = anyf(-C_MAX, C_MAX);
     }
 }
 
@@ -116,26 +116,26 @@ void eva_step_sums_ahead(void)
     }
     begun();
     any_previous();
-    (void)step_sums(&hpa, INT32_MAX / 2);
+    (void)wake_hpa_step_sums(&hpa, INT32_MAX / 2);
     /*@ assert hpa.phase == STEP_LAGS || hpa.phase == STEP_IDLE; */
     if (hpa.phase == STEP_IDLE) {
         /*@ assert hpa.ready == 1 && hpa.result.flag == WAKE_HPA_SILENT && hpa.result.ahead_goal == 0.0; */
         /*@ assert \forall integer i; 0 <= i < WAKE_HPA_AHEAD_TAPS ==>
-                   -8.0 <= hpa.result.ahead[i] <= 8.0 && -8.0 <= hpa.ahead_prev[i] <= 8.0; */
+                   -8.0 <= hpa.result.ahead[i] <= 8.0 && -8.0 <= hpa.ahead.prev[i] <= 8.0; */
     }
 }
 
 /** The ahead step's state at the start of the pass (STEP_AHEAD_START's postcondition). */
 static void post_ahead_start(void)
 {
-    /*@ assert hpa.phase == STEP_AHEAD_PASS && hpa.t == N_TAPS && hpa.ahead_pos == WAKE_HPA_AHEAD_RING - 1; */
-    /*@ assert \forall integer i; 0 <= i < N_TAPS ==> -FIR_MAX <= hpa.ahead_fir[i] <= FIR_MAX; */
-    /*@ assert \forall integer i; 0 <= i < WAKE_HPA_AHEAD_RING ==> hpa.ahead_ring[i] == 0.0; */
+    /*@ assert hpa.phase == STEP_AHEAD_PASS && hpa.t == N_TAPS && hpa.ahead.pos == WAKE_HPA_AHEAD_RING - 1; */
+    /*@ assert \forall integer i; 0 <= i < N_TAPS ==> -FIR_MAX <= hpa.ahead.fir[i] <= FIR_MAX; */
+    /*@ assert \forall integer i; 0 <= i < WAKE_HPA_AHEAD_RING ==> hpa.ahead.ring[i] == 0.0; */
     /*@ assert \forall integer i; 0 <= i < WAKE_HPA_AHEAD_TAPS ==>
-               hpa.ahead_lag[i] == 0.0 && hpa.ahead_rhs[i] == 0.0; */
-    /*@ assert hpa.ahead_tp == 0.0 && hpa.ahead_pp == 0.0; */
+               hpa.ahead.lag[i] == 0.0 && hpa.ahead.rhs[i] == 0.0; */
+    /*@ assert hpa.ahead.tp == 0.0 && hpa.ahead.pp == 0.0; */
     /* the held-out targets start after the first row's history, 2^J + 7 + h, or there are none (n) */
-    /*@ assert N_TAPS + WAKE_HPA_AHEAD_TAPS - 1 + HORIZON <= hpa.ahead_held <= hpa.n; */
+    /*@ assert N_TAPS + WAKE_HPA_AHEAD_TAPS - 1 + HORIZON <= hpa.ahead.held <= hpa.n; */
 }
 
 /**
@@ -161,7 +161,7 @@ void eva_step_ahead_start(void)
     hpa.t = 0;
     hpa.d = 0;
     hpa.phase = STEP_AHEAD_START;
-    (void)step_ahead_start(&hpa, INT32_MAX / 2);
+    (void)wake_hpa_step_ahead_start(&hpa, &hpa.ahead, INT32_MAX / 2);
     post_ahead_start();
 }
 
@@ -191,44 +191,44 @@ void eva_step_ahead_pass_chunk(void)
     hpa.slope = anyf(-SLOPE_MAX, SLOPE_MAX);
     hpa.bins = (uint16_t)Frama_C_interval(0, (int)(6u * hpa.n / 100u));
     for (i = 0; i < WAKE_HPA_MAX_BINS; ++i) {
-        hpa.bin_osc[3u * i] = anyf(-OSC_V_MAX, OSC_V_MAX);
-        hpa.bin_osc[3u * i + 1u] = anyf(-OSC_E_MAX, OSC_E_MAX);
-        hpa.bin_osc[3u * i + 2u] = anyf(-4.0f, 0.0f);
+        hpa.ahead.bin_osc[3u * i] = anyf(-OSC_V_MAX, OSC_V_MAX);
+        hpa.ahead.bin_osc[3u * i + 1u] = anyf(-OSC_E_MAX, OSC_E_MAX);
+        hpa.ahead.bin_osc[3u * i + 2u] = anyf(-4.0f, 0.0f);
     }
     for (i = 0; i < N_TAPS; ++i) {
-        hpa.ahead_fir[i] = Frama_C_interval(-FIR_MAX, FIR_MAX);
+        hpa.ahead.fir[i] = Frama_C_interval(-FIR_MAX, FIR_MAX);
     }
     any_previous();
     for (i = 0; i < WAKE_HPA_AHEAD_RING; ++i) {
-        hpa.ahead_ring[i] = anyf(-Y_MAX, Y_MAX);
+        hpa.ahead.ring[i] = anyf(-Y_MAX, Y_MAX);
     }
     for (i = 0; i < WAKE_HPA_AHEAD_TAPS; ++i) {
-        hpa.ahead_head[i] = anyf(-Y_MAX, Y_MAX);
-        hpa.ahead_lag[i] = anyf(-LAG_MAX, LAG_MAX);
-        hpa.ahead_rhs[i] = anyf(-RHS_MAX, RHS_MAX);
+        hpa.ahead.head[i] = anyf(-Y_MAX, Y_MAX);
+        hpa.ahead.lag[i] = anyf(-LAG_MAX, LAG_MAX);
+        hpa.ahead.rhs[i] = anyf(-RHS_MAX, RHS_MAX);
     }
-    hpa.ahead_tp = anyf(-HELD_MAX, HELD_MAX);
-    hpa.ahead_pp = anyf(-HELD_MAX, HELD_MAX);
-    hpa.ahead_pos = (uint16_t)Frama_C_interval(0, WAKE_HPA_AHEAD_RING - 1);
-    hpa.ahead_held = (uint16_t)Frama_C_interval(N_TAPS + WAKE_HPA_AHEAD_TAPS - 1u + HORIZON, hpa.n);
+    hpa.ahead.tp = anyf(-HELD_MAX, HELD_MAX);
+    hpa.ahead.pp = anyf(-HELD_MAX, HELD_MAX);
+    hpa.ahead.pos = (uint16_t)Frama_C_interval(0, WAKE_HPA_AHEAD_RING - 1);
+    hpa.ahead.held = (uint16_t)Frama_C_interval(N_TAPS + WAKE_HPA_AHEAD_TAPS - 1u + HORIZON, hpa.n);
     hpa.t = (uint16_t)Frama_C_unsigned_int_interval(N_TAPS, hpa.n - 1u);
     hpa.phase = STEP_AHEAD_PASS;
-    r = step_ahead_pass(&hpa, Frama_C_int_interval(1, INT32_MAX / 2));
+    r = wake_hpa_step_ahead_pass(&hpa, &hpa.ahead, Frama_C_int_interval(1, INT32_MAX / 2));
     /*@ assert hpa.phase == STEP_AHEAD_PASS || hpa.phase == STEP_AHEAD_SOLVE; */
-    /*@ assert hpa.ahead_pos < WAKE_HPA_AHEAD_RING; */
+    /*@ assert hpa.ahead.pos < WAKE_HPA_AHEAD_RING; */
     /*@ assert hpa.phase == STEP_AHEAD_PASS ==> N_TAPS <= hpa.t; */
     /*@ assert hpa.phase == STEP_AHEAD_PASS ==> hpa.t < hpa.n; */
     /*@ assert hpa.phase == STEP_AHEAD_SOLVE ==> hpa.t == 0 && hpa.d == 0; */
     /*@ assert hpa.phase == STEP_AHEAD_SOLVE ==>
-               hpa.ahead_pos == (WAKE_HPA_AHEAD_RING - 1 + hpa.n - N_TAPS) % WAKE_HPA_AHEAD_RING; */
+               hpa.ahead.pos == (WAKE_HPA_AHEAD_RING - 1 + hpa.n - N_TAPS) % WAKE_HPA_AHEAD_RING; */
     /*@ assert \forall integer i; 0 <= i < WAKE_HPA_MAX_BINS ==>
-               -OSC_V_MAX <= hpa.bin_osc[3 * i] <= OSC_V_MAX && -OSC_E_MAX <= hpa.bin_osc[3 * i + 1] <= OSC_E_MAX &&
-               -4.0 <= hpa.bin_osc[3 * i + 2] <= 0.0; */
-    /*@ assert \forall integer i; 0 <= i < WAKE_HPA_AHEAD_RING ==> -Y_MAX <= hpa.ahead_ring[i] <= Y_MAX; */
-    /*@ assert \forall integer i; 0 <= i < WAKE_HPA_AHEAD_TAPS ==> -Y_MAX <= hpa.ahead_head[i] <= Y_MAX; */
-    /*@ assert \forall integer i; 0 <= i < WAKE_HPA_AHEAD_TAPS ==> -LAG_MAX <= hpa.ahead_lag[i] <= LAG_MAX; */
-    /*@ assert \forall integer i; 0 <= i < WAKE_HPA_AHEAD_TAPS ==> -RHS_MAX <= hpa.ahead_rhs[i] <= RHS_MAX; */
-    /*@ assert -HELD_MAX <= hpa.ahead_tp <= HELD_MAX && -HELD_MAX <= hpa.ahead_pp <= HELD_MAX; */
+               -OSC_V_MAX <= hpa.ahead.bin_osc[3 * i] <= OSC_V_MAX && -OSC_E_MAX <= hpa.ahead.bin_osc[3 * i + 1] <= OSC_E_MAX &&
+               -4.0 <= hpa.ahead.bin_osc[3 * i + 2] <= 0.0; */
+    /*@ assert \forall integer i; 0 <= i < WAKE_HPA_AHEAD_RING ==> -Y_MAX <= hpa.ahead.ring[i] <= Y_MAX; */
+    /*@ assert \forall integer i; 0 <= i < WAKE_HPA_AHEAD_TAPS ==> -Y_MAX <= hpa.ahead.head[i] <= Y_MAX; */
+    /*@ assert \forall integer i; 0 <= i < WAKE_HPA_AHEAD_TAPS ==> -LAG_MAX <= hpa.ahead.lag[i] <= LAG_MAX; */
+    /*@ assert \forall integer i; 0 <= i < WAKE_HPA_AHEAD_TAPS ==> -RHS_MAX <= hpa.ahead.rhs[i] <= RHS_MAX; */
+    /*@ assert -HELD_MAX <= hpa.ahead.tp <= HELD_MAX && -HELD_MAX <= hpa.ahead.pp <= HELD_MAX; */
     /*@ assert r > 0; */
 }
 
@@ -239,12 +239,12 @@ void eva_step_ahead_pass_chunk(void)
  */
 static void last_piece(void)
 {
-    hpa.ahead_rail = (uint16_t)(Frama_C_interval_split(0, 1) ? Frama_C_interval(0, hpa.n / WAKE_HPA_GLITCH_DIVISOR)
+    hpa.ahead.rail = (uint16_t)(Frama_C_interval_split(0, 1) ? Frama_C_interval(0, hpa.n / WAKE_HPA_GLITCH_DIVISOR)
                                                                : Frama_C_interval(hpa.n / WAKE_HPA_GLITCH_DIVISOR + 1,
                                                                                   UINT16_MAX));
     hpa.flag = (uint16_t)Frama_C_interval_split(WAKE_HPA_VALLEY, WAKE_HPA_FLOOR_VALLEY);
     hpa.result.notes = (uint16_t)Frama_C_interval(0, WAKE_HPA_NOTE_FULL_SCALE - 1);
-    step_ahead_solve(&hpa);
+    wake_hpa_step_ahead_solve(&hpa, &hpa.ahead);
     /*@ assert (hpa.flag == WAKE_HPA_NO_TREMOR_PEAK || hpa.flag == WAKE_HPA_SILENT ||
                 (hpa.result.notes & WAKE_HPA_NOTE_FULL_SCALE) != 0) ==> hpa.result.ahead_goal == 0.0; */
 }
@@ -270,29 +270,29 @@ void eva_step_ahead_solve(void)
     begun();
     any_previous();
     for (i = 0; i < WAKE_HPA_AHEAD_RING; ++i) {
-        hpa.ahead_ring[i] = anyf(-Y_MAX, Y_MAX);
+        hpa.ahead.ring[i] = anyf(-Y_MAX, Y_MAX);
     }
     for (i = 0; i < WAKE_HPA_AHEAD_TAPS; ++i) {
-        hpa.ahead_head[i] = anyf(-Y_MAX, Y_MAX);
-        hpa.ahead_lag[i] = anyf(-LAG_MAX, LAG_MAX);
-        hpa.ahead_rhs[i] = anyf(-RHS_MAX, RHS_MAX);
+        hpa.ahead.head[i] = anyf(-Y_MAX, Y_MAX);
+        hpa.ahead.lag[i] = anyf(-LAG_MAX, LAG_MAX);
+        hpa.ahead.rhs[i] = anyf(-RHS_MAX, RHS_MAX);
     }
-    hpa.ahead_tp = anyf(-HELD_MAX, HELD_MAX);
-    hpa.ahead_pp = anyf(-HELD_MAX, HELD_MAX);
+    hpa.ahead.tp = anyf(-HELD_MAX, HELD_MAX);
+    hpa.ahead.pp = anyf(-HELD_MAX, HELD_MAX);
     /* the pass starts at the ring's last index and moves on by one per sample t = N .. n-1 */
-    hpa.ahead_pos = (uint16_t)((WAKE_HPA_AHEAD_RING - 1u + hpa.n - N_TAPS) % WAKE_HPA_AHEAD_RING);
-    hpa.ahead_held = (uint16_t)Frama_C_interval(N_TAPS + WAKE_HPA_AHEAD_TAPS - 1u + HORIZON, hpa.n);
+    hpa.ahead.pos = (uint16_t)((WAKE_HPA_AHEAD_RING - 1u + hpa.n - N_TAPS) % WAKE_HPA_AHEAD_RING);
+    hpa.ahead.held = (uint16_t)Frama_C_interval(N_TAPS + WAKE_HPA_AHEAD_TAPS - 1u + HORIZON, hpa.n);
     hpa.d = 0;
     hpa.phase = STEP_AHEAD_SOLVE;
     /* the pieces before the last read neither the flag nor the full-scale count: those are split for the last */
     /*@ loop unroll 16; */
     while (hpa.d < AHEAD_SOLVE_LAST) {
-        step_ahead_solve(&hpa);
+        wake_hpa_step_ahead_solve(&hpa, &hpa.ahead);
     }
     /*@ assert hpa.phase == STEP_AHEAD_SOLVE && hpa.d == AHEAD_SOLVE_LAST; */
     last_piece();
     /*@ assert hpa.phase == STEP_IDLE && hpa.ready == 1; */
     /*@ assert \forall integer i; 0 <= i < WAKE_HPA_AHEAD_TAPS ==>
-               -8.0 <= hpa.result.ahead[i] <= 8.0 && -8.0 <= hpa.ahead_prev[i] <= 8.0; */
+               -8.0 <= hpa.result.ahead[i] <= 8.0 && -8.0 <= hpa.ahead.prev[i] <= 8.0; */
     /*@ assert 0.0 <= hpa.result.ahead_goal <= 1.0; */
 }

@@ -1,11 +1,11 @@
 /**
  * @file eva_hpa_steps.c
- * @brief Frama-C Eva entries for the steps of one HPA run (csrc/wake_hpa.c), each from a state whose
+ * @brief Frama-C Eva entries for the steps of one HPA run (csrc/wake_hpa*.c), each from a state whose
  *        fields are ranged as the step's precondition, each checking (`//@ assert`) the postcondition
  *        the next step assumes (make -C csrc prove; docs/studies/verification.md, "A whole HPA run").
  *
- * The steps are `static`, so this file includes wake_hpa.c (it is only ever given to Frama-C, never
- * compiled into the library).  Every entry starts from an instance wake_hpa_init accepted with the
+ * The steps are the HPA's internal functions: this file reaches them through csrc/internal/wake_hpa_internal.h
+ * (it is only ever given to Frama-C, with the HPA's sources, never compiled into the library).  Every entry starts from an instance wake_hpa_init accepted with the
  * default configuration (J = 5, p = 17, L = 500) and any filter bank, and a run begun on a window of
  * any int16 samples of each length the default schedule starts (the warm-up windows of 100, 200, 300
  * and 400 samples and the full window of 500), then
@@ -26,7 +26,7 @@
 #include <stdint.h>
 #include <string.h>
 #include "__fc_builtin.h"
-#include "wake_hpa.c"
+#include "internal/wake_hpa_internal.h"
 
 /* ---- the ranges: each is a postcondition of one step and a precondition of the next ---------------- */
 /** |x| <= 2^15 */
@@ -60,9 +60,9 @@
 #define DEN_MAX_R 1267650600228229401496703205376.0
 
 /**
- * The DFT pass's Reinsch states (STEP_DFT's postcondition, shown by eva_step_dft below): the bounds wake_hpa.c
+ * The DFT pass's Reinsch states (STEP_DFT's postcondition, shown by eva_step_dft below): the bounds internal/wake_bounds.h
  * clamps them to every REINSCH_BLOCK samples, 2^33 for s and 2^34 for d in this build (WAKE_HPA_MAX_WINDOW <= 512).
- * The clamp never fires on a window of int16 samples (wake_hpa.c, above reinsch_run1; docs/studies/verification.md).
+ * The clamp never fires on a window of int16 samples (docs/reference/verification.md#bound-reinsch).
  */
 #define DFT_S_MAX REINSCH_S_MAX
 #define DFT_D_MAX REINSCH_D_MAX
@@ -149,7 +149,7 @@ static int initialised(void)
  */
 static void begun(void)
 {
-    begin(&hpa, window, (uint16_t)(100 * Frama_C_interval_split(1, 5)), 0u);
+    wake_hpa_begin(&hpa, window, (uint16_t)(100 * Frama_C_interval_split(1, 5)), 0u);
 }
 
 static int started(void)
@@ -207,7 +207,7 @@ void eva_step_sums(void)
     if (!started()) {
         return;
     }
-    (void)step_sums(&hpa, INT32_MAX / 2);
+    (void)wake_hpa_step_sums(&hpa, INT32_MAX / 2);
     if (hpa.phase == STEP_LAGS) {
         post_sums();
     } else {
@@ -222,7 +222,7 @@ void eva_step_lags(void)
     }
     any_lag_state((unsigned)Frama_C_interval_split(0, (int)hpa.lags - 1));
     hpa.phase = STEP_LAGS;
-    (void)step_lags(&hpa, INT32_MAX / 2);
+    (void)wake_hpa_step_lags(&hpa, INT32_MAX / 2);
     /*@ assert -ACC_MAX <= hpa.acc_head <= ACC_MAX && -ACC_MAX <= hpa.acc_tail <= ACC_MAX; */
     /*@ assert hpa.phase == STEP_LAG_END; */
 }
@@ -236,7 +236,7 @@ void eva_step_lag_end(void)
     hpa.phase = STEP_LAG_END;
     hpa.acc_head = any64(-ACC_MAX, ACC_MAX);
     hpa.acc_tail = any64(-ACC_MAX, ACC_MAX);
-    step_lag_end(&hpa);
+    wake_hpa_step_lag_end(&hpa);
     /*@ assert -R_MAX <= hpa.diag <= R_MAX; */
     /*@ assert \forall integer i; 0 <= i <= 17 ==> -R_MAX <= hpa.r[i] <= R_MAX; */
     /*@ assert \forall integer i; 0 <= i < 32 ==> -WSUM_MAX <= hpa.wsum[i] <= WSUM_MAX; */
@@ -261,7 +261,7 @@ void eva_step_diag(void)
     any_lag_state((unsigned)Frama_C_interval_split(0, (int)N_TAPS - 1));
     hpa.phase = STEP_DIAG;
     hpa.diag = any64(-R_MAX, R_MAX);
-    (void)step_diag(&hpa, INT32_MAX / 2);
+    (void)wake_hpa_step_diag(&hpa, INT32_MAX / 2);
     /*@ assert \forall integer i; 0 <= i < WAKE_HPA_MAX_TAPS * WAKE_HPA_MAX_LEVEL ==>
                -BANK_MAX_R <= hpa.bank_rxx[i] <= BANK_MAX_R; */
     post_lag_state();
@@ -270,7 +270,7 @@ void eva_step_diag(void)
 /**
  * A chunk of lag d's diagonal (STEP_DIAG) as a sliced run gives it: from any row t < 2^J - d (an interval on either
  * side of the row from which the chunk ends the lag, one state each) of every lag d < 2^J (one Eva state each), diag
- * any int64 (wake_hpa.c clamps it to DIAG_MAX, its bound at every row, when a chunk loads it, so no interval of it
+ * any int64 (wake_hpa_spectrum.c clamps it to DIAG_MAX, its bound at every row, when a chunk loads it, so no interval of it
  * need be an invariant), Rxx B' within its envelope, the prefix sums of lag d, the sums as STEP_SUMS leaves them, each
  * window length of the schedule (one state each), any budget (budget_range).  Postcondition: Rxx B' within its envelope; t < 2^J - d (STEP_DIAG) or the lag done (next_lag:
  * t = 0, the prefix sums of d + 1, STEP_LAGS or STEP_LEVINSON); 0 < r <= max(budget, cost).
@@ -305,7 +305,7 @@ void eva_step_diag_chunk(void)
             hpa.t = Frama_C_unsigned_short_interval((uint16_t)edge, (uint16_t)(N_TAPS - 1u - d));
         }
     }
-    r = step_diag(&hpa, budget);
+    r = wake_hpa_step_diag(&hpa, budget);
     /*@ assert \forall integer i; 0 <= i < WAKE_HPA_MAX_TAPS * WAKE_HPA_MAX_LEVEL ==>
                -BANK_MAX_R <= hpa.bank_rxx[i] <= BANK_MAX_R; */
     if (hpa.phase == STEP_DIAG) {
@@ -330,7 +330,7 @@ void eva_step_levinson(void)
         return;
     }
     /* the step reads no field of n but the order, p = 17 for every window of the schedule: the full one */
-    begin(&hpa, window, hpa.cfg.window, 0u);
+    wake_hpa_begin(&hpa, window, hpa.cfg.window, 0u);
     /*@ loop unroll WAKE_HPA_MAX_ORDER; */
     for (t = 0; t < hpa.order; ++t) {
         const float before = (float)(1u << (t == 0u ? 0u : t - 1u)), after = (float)(1u << t);
@@ -350,7 +350,7 @@ void eva_step_levinson(void)
         hpa.psd_end = 0;
         hpa.phase = STEP_LEVINSON;
         hpa.t = (uint16_t)t;
-        step_levinson(&hpa);
+        wake_hpa_step_levinson(&hpa);
         /*@ assert hpa.phase == STEP_LEVINSON || hpa.phase == STEP_PSD || hpa.phase == STEP_CUTOFF; */
         /*@ assert hpa.phase == STEP_LEVINSON ==> hpa.t == t + 1; */
         /*@ assert hpa.a[0] == 1.0f; */
@@ -394,7 +394,7 @@ void eva_step_psd(void)
     hpa.den_peak = anyf(-DEN_MAX, DEN_MAX);
     hpa.psd_end = (uint16_t)psd_last(&hpa);
     hpa.phase = STEP_PSD;
-    (void)step_psd(&hpa, INT32_MAX / 2);
+    (void)wake_hpa_step_psd(&hpa, INT32_MAX / 2);
     /*@ assert hpa.phase == STEP_CUTOFF; */
     post_den();
 }
@@ -414,7 +414,7 @@ void eva_step_psd_chunk(void)
     if (!initialised()) {
         return;
     }
-    begin(&hpa, window, hpa.cfg.window, 0u);
+    wake_hpa_begin(&hpa, window, hpa.cfg.window, 0u);
     any_den();
     hpa.a[0] = 1.0f;
     for (i = 1; i <= WAKE_HPA_MAX_ORDER; ++i) {
@@ -431,7 +431,7 @@ void eva_step_psd_chunk(void)
     cost = cost_psd_bin(&hpa);
     q = Frama_C_interval_split(0, (int)hpa.psd_end + 1);
     budget = budget_range(q, hpa.psd_end + 1u, cost);
-    r = step_psd(&hpa, budget);
+    r = wake_hpa_step_psd(&hpa, budget);
     /*@ assert (hpa.phase == STEP_PSD && 0 < hpa.t <= hpa.psd_end) || (hpa.phase == STEP_CUTOFF && hpa.t == 0); */
     post_den();
     /*@ assert -DEN_MAX_R <= hpa.prev1 <= DEN_MAX_R && -DEN_MAX_R <= hpa.prev2 <= DEN_MAX_R; */
@@ -454,7 +454,7 @@ void eva_step_cutoff(void)
         hpa.cutoff = hpa.cfg.default_cutoff;
     }
     hpa.phase = STEP_CUTOFF;
-    step_cutoff(&hpa);
+    wake_hpa_step_cutoff(&hpa);
     /*@ assert hpa.phase == STEP_BINS; */
     /*@ assert 0.0 <= hpa.cutoff <= hpa.cfg.cutoff_high; */
 }
@@ -467,7 +467,7 @@ void eva_step_bins(void)
     }
     hpa.cutoff = anyf(0.0f, hpa.cfg.cutoff_high);
     hpa.phase = STEP_BINS;
-    step_bins(&hpa);
+    wake_hpa_step_bins(&hpa);
     /*@ assert hpa.bins <= 6 * hpa.n / 100 && hpa.m == 1; */
     /*@ assert hpa.phase == STEP_DFT || (hpa.phase == STEP_RAMP && hpa.bins == 0); */
     /*@ assert -4.0 <= hpa.lam[0] <= 0.0 && -4.0 <= hpa.lam[1] <= 0.0; */
@@ -555,7 +555,7 @@ void eva_step_dft(void)
     }
     hpa.t = 0;
     hpa.phase = STEP_DFT;
-    (void)step_dft(&hpa, INT32_MAX / 2);
+    (void)wake_hpa_step_dft(&hpa, INT32_MAX / 2);
     /*@ assert hpa.phase == STEP_BIN_START && hpa.t == 0 && hpa.d == 0; */
     post_dft_states();
 }
@@ -581,7 +581,7 @@ void eva_step_dft_chunk(void)
     cost = hpa.pair == 2u ? COST_DFT2 : COST_DFT1;
     q = Frama_C_interval_split(0, (int)hpa.n);
     budget = budget_range(q, hpa.n, cost);
-    r = step_dft(&hpa, budget);
+    r = wake_hpa_step_dft(&hpa, budget);
     /*@ assert (hpa.phase == STEP_DFT && 0 < hpa.t < hpa.n) || (hpa.phase == STEP_BIN_START && hpa.t == 0 && hpa.d == 0); */
     post_dft_states();
     /*@ assert 0 < r <= (budget > cost ? budget : cost); */
@@ -605,7 +605,7 @@ void eva_step_bin(void)
     /* m fs / n <= cutoff_high = 6 Hz: m <= 6 n / 100 */
     hpa.m = (uint16_t)Frama_C_interval_split(1, (int)(6u * hpa.n / 100u));
     hpa.bins = (uint16_t)(6u * hpa.n / 100u);
-    start_pass(&hpa);
+    wake_hpa_start_pass(&hpa);
     for (b = 0; b < 2u; ++b) {
         hpa.gs[b] = anyf(-DFT_S_MAX, DFT_S_MAX);
         hpa.hs[b] = anyf(-DFT_S_MAX, DFT_S_MAX);
@@ -614,11 +614,11 @@ void eva_step_bin(void)
     }
     hpa.d = (uint16_t)Frama_C_interval_split(0, (int)hpa.pair - 1);
     hpa.phase = STEP_BIN_START;
-    step_bin_start(&hpa);
+    wake_hpa_step_bin_start(&hpa);
     /*@ assert -XQ_MAX_R <= hpa.xr <= XQ_MAX_R && -XQ_MAX_R <= hpa.xi <= XQ_MAX_R; */
     /*@ assert -XQ_MAX_R <= hpa.qr <= XQ_MAX_R && -XQ_MAX_R <= hpa.qi <= XQ_MAX_R; */
     /*@ assert hpa.phase == STEP_BIN_END && hpa.t == 0; */
-    (void)step_bin_end(&hpa, INT32_MAX / 2);
+    (void)wake_hpa_step_bin_end(&hpa, INT32_MAX / 2);
     /*@ assert hpa.phase == STEP_BIN_START || hpa.phase == STEP_DFT || hpa.phase == STEP_RAMP; */
     /*@ assert -4.0 <= hpa.lam[0] <= 0.0 && -4.0 <= hpa.lam[1] <= 0.0; */
     /*@ assert 1 <= hpa.pair <= 2 && hpa.d < hpa.pair; */
@@ -698,7 +698,7 @@ void eva_step_bin_end_chunk(void)
             hpa.t = Frama_C_unsigned_short_interval((uint16_t)edge, (uint16_t)(N_TAPS - 1u));
         }
     }
-    r = step_bin_end(&hpa, budget);
+    r = wake_hpa_step_bin_end(&hpa, budget);
     post_bin_sums();
     if (hpa.phase == STEP_BIN_END) {
         /*@ assert 0 < hpa.t < N_TAPS; */
@@ -724,7 +724,7 @@ void eva_step_ramp(void)
     any_sums();
     hpa.t = 0;
     hpa.phase = STEP_RAMP;
-    (void)step_ramp(&hpa, INT32_MAX / 2);
+    (void)wake_hpa_step_ramp(&hpa, INT32_MAX / 2);
     /*@ assert hpa.phase == STEP_GRAM && hpa.d == 0 && hpa.t == 0; */
     post_bin_sums();
 }
@@ -757,7 +757,7 @@ void eva_step_ramp_chunk(void)
     hpa.phase = STEP_RAMP;
     q = Frama_C_interval_split(0, (int)N_TAPS);
     budget = budget_range(q, N_TAPS, COST_RAMP);
-    r = step_ramp(&hpa, budget);
+    r = wake_hpa_step_ramp(&hpa, budget);
     /*@ assert (hpa.phase == STEP_RAMP && 0 < hpa.t < N_TAPS) || (hpa.phase == STEP_GRAM && hpa.t == 0 && hpa.d == 0); */
     /*@ assert -RAMP_U_MAX_R <= hpa.ramp_u <= RAMP_U_MAX_R; */
     post_bin_sums();
@@ -787,7 +787,7 @@ void eva_step_gram(void)
     hpa.phase = STEP_GRAM;
     /*@ loop unroll 15; */
     while (hpa.phase == STEP_GRAM) {
-        step_gram(&hpa);
+        wake_hpa_step_gram(&hpa);
     }
     /*@ assert hpa.phase == STEP_SOLVE && hpa.d <= hpa.lags; */
     /*@ assert \forall integer i; 0 <= i < 25 ==> \is_finite(hpa.gram[i]); */
@@ -861,7 +861,7 @@ static void solve_attempt(unsigned a, float factor, float next)
     hpa.factor = factor;
     hpa.attempts = (uint16_t)a;
     hpa.phase = STEP_SOLVE;
-    step_solve(&hpa);
+    wake_hpa_step_solve(&hpa);
     /* refused (the ridge rises: the next attempt's factor) or the result published */
     /*@ assert hpa.phase == STEP_SOLVE || hpa.phase == STEP_IDLE; */
     /*@ assert a <= hpa.attempts <= a + 1 && factor <= hpa.factor <= next; */
@@ -884,7 +884,7 @@ void eva_step_solve(void)
     }
     /* the solve reads n only through rows (e_L^2 and R over rows >= 68) and the warm-up test of install:
        the schedule's five window lengths in one state */
-    begin(&hpa, window, (uint16_t)(100 * Frama_C_interval(1, 5)), 0u);
+    wake_hpa_begin(&hpa, window, (uint16_t)(100 * Frama_C_interval(1, 5)), 0u);
     factor = hpa.cfg.ridge;
     /*@ loop unroll WAKE_HPA_RIDGE_STEPS; */
     for (a = 0; a < WAKE_HPA_RIDGE_STEPS; ++a) {
@@ -933,7 +933,7 @@ void eva_step_sums_chunk(void)
         hpa.hi = (int16_t)Frama_C_short_interval(INT16_MIN, INT16_MAX);
     }
     budget = budget_range(Frama_C_interval_split(0, CHUNK_ITEMS), CHUNK_ITEMS + 1u, COST_SUM);
-    r = step_sums(&hpa, budget);
+    r = wake_hpa_step_sums(&hpa, budget);
     /*@ assert 0 < r && (r <= budget || r == COST_SUM); */
     if (hpa.phase == STEP_SUMS) {
         /*@ assert t0 < hpa.t < hpa.n; */
@@ -988,7 +988,7 @@ void eva_step_lags_chunk(void)
     hpa.acc_tail = any64(-PRODUCT_MAX * (int64_t)tail, PRODUCT_MAX * (int64_t)tail);
     hpa.phase = STEP_LAGS;
     budget = budget_range(Frama_C_interval_split(0, CHUNK_ITEMS), CHUNK_ITEMS + 1u, COST_LAG);
-    r = step_lags(&hpa, budget);
+    r = wake_hpa_step_lags(&hpa, budget);
     /*@ assert 0 < r && (r <= budget || r == COST_LAG); */
     /*@ assert t0 < hpa.t <= hpa.n - hpa.d; */
     /*@ assert hpa.t <= hpa.rows ==> -PRODUCT_MAX * hpa.t <= hpa.acc_head <= PRODUCT_MAX * hpa.t; */
@@ -1035,7 +1035,7 @@ void eva_step_lags_chunk(void)
     ensures h->d <= h->lags && h->pair <= 2;
     ensures 0 < \result <= (budget >= fixed ? budget : fixed);
 */
-static int32_t run_step(wake_hpa_t *h, int32_t budget, int32_t fixed);
+int32_t wake_hpa_run_step(wake_hpa_t *h, int32_t budget, int32_t fixed);
 
 /**
  * run_pieces as its callers use it (wake_hpa_slice: WAKE_HPA_SLICE_BUDGET, wake_hpa_run: INT32_MAX / 2), from a
@@ -1051,7 +1051,7 @@ static int32_t run_step(wake_hpa_t *h, int32_t budget, int32_t fixed);
     ensures STEP_IDLE <= h->phase <= STEP_SOLVE;
     ensures h->d <= h->lags && h->pair <= 2;
 */
-static void run_pieces(wake_hpa_t *h, int32_t budget);
+void wake_hpa_run_pieces(wake_hpa_t *h, int32_t budget);
 
 /**
  * A run in any phase: an instance init accepted (the default configuration, any bank), a run begun on a window of
@@ -1096,7 +1096,7 @@ void eva_dispatch_slice(void)
 }
 
 /**
- * wake_hpa_run on a run in any phase (after slices): one run_pieces(INT32_MAX / 2).  run_step's contract bounds
+ * wake_hpa_run on a run in any phase (after slices): one wake_hpa_run_pieces(INT32_MAX / 2).  run_step's contract bounds
  * what a piece spends by the budget, not what a whole run spends, so from the contract the run may stop short
  * (running); that it never does is measured (docs/studies/verification.md, "Termination").
  */

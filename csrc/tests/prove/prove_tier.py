@@ -61,10 +61,10 @@ def analysed_sources() -> list:
     """Every source and header the analyses read, as paths relative to csrc/ (sorted).
 
     The roots are the drivers in tests/prove (eva_*.c, eva_builtins.h) and the sources the check scripts pass to
-    frama-c (wake_rtp.c, wake_hpa.c); each ``#include "..."`` is followed, looked up beside the including file and
+    frama-c (wake_rtp.c, the HPA's wake_hpa*.c); each ``#include "..."`` is followed, looked up beside the including file and
     then in csrc/ (the analyses' ``-I.``). Frama-C's own headers (``__fc_builtin.h``, the libc) are covered by its
     version string."""
-    roots = sorted(PROVE.glob("eva_*.c")) + sorted(PROVE.glob("eva_*.h")) + [CSRC / "wake_rtp.c", CSRC / "wake_hpa.c"]
+    roots = sorted(PROVE.glob("eva_*.c")) + sorted(PROVE.glob("eva_*.h")) + [CSRC / "wake_rtp.c"] + sorted(CSRC.glob("wake_hpa*.c"))
     seen, todo = set(), list(roots)
     while todo:
         path = todo.pop()
