@@ -55,6 +55,7 @@ class Batch:
         self.channel, self.x, self.start = channel, x, start
         self.full_scale = channel.rtp.full_scale
         self.follows = channel.rtp.fixed_full_scale is None   # the policy decides at each HPA
+        self.level, self.window = channel.config.level, channel.config.window_samples
         self.points, self.quiet = [], []
         self.stop = start
         # samples from start on looked at (a chunk at a time), and the first a stretch may not hold: NaN (a
@@ -68,8 +69,7 @@ class Batch:
         stop, window, _count, (prepared, peak), _analysis = point
         if window is None or prepared is None:
             return False
-        config = self.channel.config
-        if prepared.ndim != 1 or not 2 * 2**config.level <= prepared.shape[0] <= config.window_samples:
+        if prepared.ndim != 1 or not 2 * 2**self.level <= prepared.shape[0] <= self.window:   # run_hpa_c's check
             return False
         if not self._inside(stop):
             return False
