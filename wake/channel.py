@@ -172,6 +172,7 @@ class Channel:
                     start = self._point(x, y, start, refused)
             start = self._point(x, y, start, point)
         if batch is not None:
+            batch.finish()
             start, rest = batch.flush(y)
             for refused in rest:
                 start = self._point(x, y, start, refused)

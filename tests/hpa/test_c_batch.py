@@ -130,7 +130,7 @@ def test_a_point_the_driver_refuses_runs_on_the_channel(monkeypatch, taken):
 
         def wake_batch_run(self, *args):
             args = list(args)
-            args[5] = min(args[5], 1)
+            args[5], args[6] = args[7][0], min(args[6], 1)   # up to the first point, no tail: as a refusal leaves it
             lib.wake_batch_run(*args)
             return lib.WAKE_BATCH_HPA_REFUSED
 

@@ -117,7 +117,7 @@ static int hpa_point(wake_rtp_t *rtp, wake_hpa_t *hpa, const wake_hpa_config_t *
 }
 
 int wake_batch_run(wake_rtp_t *rtp, wake_hpa_t *hpa, const wake_hpa_config_t *cfg, const wake_q15_t *hpa_taps,
-                   const wake_q15_t *x, size_t n_points, const uint32_t *stops, const uint32_t *counts,
+                   const wake_q15_t *x, size_t n_samples, size_t n_points, const uint32_t *stops, const uint32_t *counts,
                    const wake_q15_t *windows, const uint32_t *offsets, const uint16_t *lengths,
                    double full_scale, double process_noise_ratio, wake_batch_carry_t *carry,
                    wake_q15_t *voluntary, wake_q23_t *tremor_ahead, wake_ratio_t *gate, wake_q23_t *command,
@@ -141,6 +141,12 @@ int wake_batch_run(wake_rtp_t *rtp, wake_hpa_t *hpa, const wake_hpa_config_t *cf
                            process_noise_ratio, carry, &results[k], &clamped[k]);
         if (status != WAKE_BATCH_DONE) {
             break;
+        }
+    }
+    if (status == WAKE_BATCH_DONE && start < n_samples) {   /* the stretch after the last point */
+        if (wake_rtp_run_outputs(rtp, x + start, NULL, n_samples - start, voluntary + start, tremor_ahead + start,
+                                 gate + start, command + start, NULL) == WAKE_RTP_OK) {
+            start = n_samples;
         }
     }
     *points_done = k;

@@ -42,6 +42,8 @@ typedef struct {
  * installed: the weights, R and q = process_noise_ratio R in physical units clamped into the RTP's formats
  * and rounded half to even as wake.rtp.qformat does (float64), then the tremor-ahead predictor and goal.
  *
+ * After the last point the RTP steps on to x[n_samples - 1] (nothing more when stops[n_points - 1] = n_samples).
+ *
  * @param x         the block's samples as int16 Q15 of @p full_scale (finite, none clipped: the caller checks)
  * @param results   per point: the HPA's result
  * @param clamped   per point: 1 when R or q was clamped into the RTP's formats (the history's "noise_clamped")
@@ -51,7 +53,7 @@ typedef struct {
  *         installed), so the caller can run it its own way
  */
 int wake_batch_run(wake_rtp_t *rtp, wake_hpa_t *hpa, const wake_hpa_config_t *cfg, const wake_q15_t *hpa_taps,
-                   const wake_q15_t *x, size_t n_points, const uint32_t *stops, const uint32_t *counts,
+                   const wake_q15_t *x, size_t n_samples, size_t n_points, const uint32_t *stops, const uint32_t *counts,
                    const wake_q15_t *windows, const uint32_t *offsets, const uint16_t *lengths,
                    double full_scale, double process_noise_ratio, wake_batch_carry_t *carry,
                    wake_q15_t *voluntary, wake_q23_t *tremor_ahead, wake_ratio_t *gate, wake_q23_t *command,
