@@ -64,7 +64,8 @@ ffibuilder.set_source(
     "wake._rtp",
     "\n".join(f'#include "{h}"' for h in (*HEADERS, EVAL_HEADER, NATIVE_HEADER)),
     sources=[s.replace(os.sep, "/") for s in sources()] + [EVAL_SOURCE, NATIVE_SOURCE],
-    libraries=[] if sys.platform == "win32" else ["m"],  # libm: the baselines' sin, cos, sqrt, fmod (EVAL_DIR), the batch driver's rint and pow
+    # libm: the baselines' sin, cos, sqrt, fmod (EVAL_DIR), the batch driver's rint and pow (NATIVE_DIR)
+    libraries=[] if sys.platform == "win32" else ["m"],
     include_dirs=[CSRC, EVAL_DIR, NATIVE_DIR],
     # The HPA's floats must round the same on every machine: no fused multiply-add.
     extra_compile_args=["-ffp-contract=off"],

@@ -110,7 +110,8 @@ def test_gaps_clipping_and_a_jump_fall_back_point_by_point(fs, monkeypatch, take
     assert_same_run(x, monkeypatch, taken, fs=fs, full_scale=4.0)   # clipped at a fixed full scale
 
 
-@pytest.mark.parametrize("settings", [dict(horizon=5), dict(horizon=20, gate_cutoff=None), dict(initial_weights="prior")])
+@pytest.mark.parametrize("settings", [dict(horizon=5), dict(horizon=20, gate_cutoff=None),
+                                      dict(initial_weights="prior")])
 def test_tremor_ahead_options(settings, monkeypatch, taken):
     x = motion(100.0, "gyro", seconds=40.0, seed=4)[0]
     try:
@@ -130,7 +131,7 @@ def test_a_point_the_driver_refuses_runs_on_the_channel(monkeypatch, taken):
 
         def wake_batch_run(self, *args):
             args = list(args)
-            args[5], args[6] = args[7][0], min(args[6], 1)   # up to the first point, no tail: as a refusal leaves it
+            args[5], args[6] = args[7][0], min(args[6], 1)   # to the first point, no tail: as a refusal leaves it
             lib.wake_batch_run(*args)
             return lib.WAKE_BATCH_HPA_REFUSED
 

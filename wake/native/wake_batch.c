@@ -4,7 +4,7 @@
  * Python side computes them, the steps wake.channel.Channel.apply takes to install an HPA's result: R and q
  * in physical units (wake.hpa.c_port.run_hpa_c), clamped into the RTP's formats
  * (wake.rtp.qformat.representable_noise) and rounded half to even (quantize_weights, quantize_variance,
- * quantize_ahead).  tests/test_native_batch.py checks it against that path bit for bit.
+ * quantize_ahead).  tests/hpa/test_c_batch.py checks it against that path bit for bit.
  */
 #include "wake_batch.h"
 
@@ -117,7 +117,8 @@ static int hpa_point(wake_rtp_t *rtp, wake_hpa_t *hpa, const wake_hpa_config_t *
 }
 
 int wake_batch_run(wake_rtp_t *rtp, wake_hpa_t *hpa, const wake_hpa_config_t *cfg, const wake_q15_t *hpa_taps,
-                   const wake_q15_t *x, size_t n_samples, size_t n_points, const uint32_t *stops, const uint32_t *counts,
+                   const wake_q15_t *x, size_t n_samples, size_t n_points, const uint32_t *stops,
+                   const uint32_t *counts,
                    const wake_q15_t *windows, const uint32_t *offsets, const uint16_t *lengths,
                    double full_scale, double process_noise_ratio, wake_batch_carry_t *carry,
                    wake_q15_t *voluntary, wake_q23_t *tremor_ahead, wake_ratio_t *gate, wake_q23_t *command,

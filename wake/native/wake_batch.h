@@ -19,9 +19,11 @@
 /** Why wake_batch_run stopped before its last point (0: it ran them all). */
 typedef enum {
     WAKE_BATCH_DONE = 0,
-    WAKE_BATCH_RTP_REFUSED = 1,     /**< wake_rtp_run_outputs, wake_rtp_set_weights or wake_rtp_set_ahead refused */
+    WAKE_BATCH_RTP_REFUSED = 1,     /**< wake_rtp_run_outputs, wake_rtp_set_weights or wake_rtp_set_ahead
+                                         refused */
     WAKE_BATCH_HPA_REFUSED = 2,     /**< wake_hpa_init, wake_hpa_start, wake_hpa_run or wake_hpa_take refused */
-    WAKE_BATCH_NOT_INSTALLABLE = 3  /**< the HPA's result is not what the Python install accepts (non-finite, out of range) */
+    WAKE_BATCH_NOT_INSTALLABLE = 3  /**< the HPA's result is not what the Python install accepts (non-finite,
+                                         out of range) */
 } wake_batch_status_t;
 
 /** What the Python side holds between two HPAs and the driver carries from point to point. */
@@ -53,7 +55,8 @@ typedef struct {
  *         installed), so the caller can run it its own way
  */
 int wake_batch_run(wake_rtp_t *rtp, wake_hpa_t *hpa, const wake_hpa_config_t *cfg, const wake_q15_t *hpa_taps,
-                   const wake_q15_t *x, size_t n_samples, size_t n_points, const uint32_t *stops, const uint32_t *counts,
+                   const wake_q15_t *x, size_t n_samples, size_t n_points, const uint32_t *stops,
+                   const uint32_t *counts,
                    const wake_q15_t *windows, const uint32_t *offsets, const uint16_t *lengths,
                    double full_scale, double process_noise_ratio, wake_batch_carry_t *carry,
                    wake_q15_t *voluntary, wake_q23_t *tremor_ahead, wake_ratio_t *gate, wake_q23_t *command,

@@ -14,7 +14,8 @@ typedef struct {
     uint16_t reserved;
 } wake_batch_carry_t;
 int wake_batch_run(wake_rtp_t *rtp, wake_hpa_t *hpa, const wake_hpa_config_t *cfg, const wake_q15_t *hpa_taps,
-                   const wake_q15_t *x, size_t n_samples, size_t n_points, const uint32_t *stops, const uint32_t *counts,
+                   const wake_q15_t *x, size_t n_samples, size_t n_points, const uint32_t *stops,
+                   const uint32_t *counts,
                    const wake_q15_t *windows, const uint32_t *offsets, const uint16_t *lengths,
                    double full_scale, double process_noise_ratio, wake_batch_carry_t *carry,
                    wake_q15_t *voluntary, wake_q23_t *tremor_ahead, wake_ratio_t *gate, wake_q23_t *command,
