@@ -23,10 +23,13 @@ from pathlib import Path
 
 CSRC = Path(__file__).resolve().parents[1]
 TABLE = CSRC.parent / "docs" / "studies" / "verification.md"
-SOURCES = ["wake_rtp.c", "wake_hpa.c", "wake_rate.c"]  # wake_rate: no deviation listed, so none allowed
+#: the RTP's modules (wake_rtp*.c), the HPA and the rate adapter (wake_rate: no deviation listed, so none allowed)
+SOURCES = sorted(p.name for p in CSRC.glob("wake_rtp*.c")) + ["wake_hpa.c", "wake_rate.c"]
 UNITS = ["wake_rtp", "wake_hpa"]
-#: files whose findings count in another file's unit (the RTP's integer helpers, moved out of wake_rtp.c)
-UNIT_OF = {"wake_fixed": "wake_rtp"}
+#: files whose findings count in another file's unit (the RTP's integer helpers, moved out of wake_rtp.c, its
+#: internal headers); every wake_rtp_*.c module counts in wake_rtp
+UNIT_OF = {"wake_fixed": "wake_rtp", "wake_rtp_internal": "wake_rtp", "wake_rtp_sample": "wake_rtp",
+           "wake_bounds": "wake_rtp"}
 FINDING = re.compile(r"^(?P<file>[^:]+):(?P<line>\d+):\w+:misra-c2012-(?P<rule>\d+\.\d+):")
 # | 10.4 | Required | 7 | 34 | reason |
 ROW = re.compile(r"^\|\s*(?P<rule>\d+\.\d+)\s*\|\s*(?P<cat>\w+)\s*\|\s*(?P<rtp>\d+)\s*\|\s*(?P<hpa>\d+)\s*\|")
@@ -50,7 +53,8 @@ def findings(output: str) -> collections.Counter:
         m = FINDING.match(line)
         if m:
             stem = Path(m["file"]).stem
-            found[(UNIT_OF.get(stem, stem), m["rule"])] += 1
+            unit = "wake_rtp" if stem.startswith("wake_rtp_") else UNIT_OF.get(stem, stem)
+            found[(unit, m["rule"])] += 1
     return found
 
 

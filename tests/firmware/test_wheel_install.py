@@ -19,6 +19,8 @@ from pathlib import Path
 
 import pytest
 
+from wake.firmware.sources import RTP_INTERNAL, RTP_SOURCES  # noqa: E402
+
 ROOT = Path(__file__).resolve().parents[2]
 ARM_CC = shutil.which("arm-none-eabi-gcc")
 HOST_CC = shutil.which("cc") or shutil.which("gcc")
@@ -138,13 +140,14 @@ def test_export_c_from_the_wheel_compiles_for_cortex_m4_and_the_host(installed):
     env_dir, py, work = installed
     _run([env_dir / "bin" / "wake", "export-c", "fw", "--level", "5", "--wavelet", "sym3"], cwd=work)
     fw = work / "fw"
-    assert sorted(p.name for p in fw.iterdir()) == ["README.md", "wake_config.h", "wake_fixed.h", "wake_hpa.c",
-                                                    "wake_hpa.h", "wake_rate.c", "wake_rate.h", "wake_rtp.c", "wake_rtp.h"]
+    assert sorted(p.relative_to(fw).as_posix() for p in fw.rglob("*") if p.is_file()) == sorted(
+        ["README.md", "wake_config.h", "wake_fixed.h", "wake_hpa.c", "wake_hpa.h", "wake_rate.c", "wake_rate.h",
+         "wake_rtp.h", *RTP_SOURCES, *RTP_INTERNAL])
     (fw / "use_config.c").write_text('#include "wake_hpa.h"\n#include "wake_config.h"\n'
                                      "int start(void) { static wake_rtp_t r; static wake_hpa_t h;\n"
                                      "  return wake_config_init(&r) + (int)wake_config_hpa_init(&h); }\n")
     for cc, extra in ((ARM_CC, ["-mcpu=cortex-m4", "-mthumb"]), (HOST_CC, [])):
-        for src in ("wake_rtp.c", "wake_hpa.c", "use_config.c"):
+        for src in (*RTP_SOURCES, "wake_hpa.c", "use_config.c"):
             _run([cc, "-std=c99", "-Wall", "-Wextra", "-Werror", *extra, "-c", src, "-o", f"{src}.{Path(cc).name}.o"],
                  cwd=fw)
 

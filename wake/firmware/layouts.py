@@ -30,6 +30,7 @@ import json
 from pathlib import Path
 
 from wake import __version__
+from wake.firmware.sources import RTP_SOURCES
 
 __all__ = ["LAYOUTS", "layout_files", "library_json", "library_properties", "zephyr_files"]
 
@@ -55,7 +56,7 @@ def library_json(src_dir: str | None = None) -> str:
     build = {"flags": [HPA_FLAG]}
     if src_dir is not None:
         build.update(srcDir=src_dir, includeDir=src_dir,
-                     srcFilter=["-<*>", "+<wake_rtp.c>", "+<wake_hpa.c>", "+<wake_rate.c>"])
+                     srcFilter=["-<*>", *(f"+<{m}>" for m in RTP_SOURCES), "+<wake_hpa.c>", "+<wake_rate.c>"])
     manifest = {
         "name": NAME,
         "version": VERSION,
@@ -95,7 +96,7 @@ def zephyr_files(src_dir: str = ".") -> dict[str, str]:
     cmake = f"""# Zephyr glue for the WAKE C core (module.yml: build.cmake). Enabled by CONFIG_WAKE.
 if(CONFIG_WAKE)
   zephyr_library()
-  zephyr_library_sources({base}/wake_rtp.c {base}/wake_hpa.c {base}/wake_rate.c)
+  zephyr_library_sources({" ".join(f"{base}/{m}" for m in RTP_SOURCES)} {base}/wake_hpa.c {base}/wake_rate.c)
   zephyr_include_directories({base})
   # the HPA's fixed evaluation order (docs/studies/hpa_c.md)
   zephyr_library_compile_options({HPA_FLAG})

@@ -189,6 +189,12 @@ def clang_command():
     return shutil.which("clang") or shutil.which("clang-14")
 
 
+def rtp_sources(src):
+    """The RTP's modules in ``src`` (csrc/wake_rtp*.c), the core step's first; a module a build does not use
+    compiles to nothing."""
+    return sorted(Path(src).glob("wake_rtp*.c"), key=lambda p: (p.name != "wake_rtp.c", p.name))
+
+
 def build_image(target="m4-O2", *, board="generic", build_dir=None, csrc=None, defs=(), debug=True,
                 compiler="gcc") -> Image:
     """Cross-compile the core and the harness for ``target`` and link an ELF image.
@@ -213,18 +219,24 @@ def build_image(target="m4-O2", *, board="generic", build_dir=None, csrc=None, d
     out = out / (f"{target}-{board}" if compiler == "gcc" else f"{compiler}-{target}-{board}")
     out.mkdir(parents=True, exist_ok=True)
     flags = _core_flags(target) + list(defs) + (["-g"] if debug else [])
-    core_o = out / "wake_rtp.o"
+    core_o = out / "wake_rtp_modules.o"
 
     def run(cmd):
         run_tool(cmd, out)
 
-    # The core alone, with the Makefile's warnings (gcc: stack usage and call graph too).
-    if compiler == "gcc":
-        run([tools["gcc"], *WARN_FLAGS, *flags, "-fstack-usage", "-fcallgraph-info=su",
-             "-c", str(src / "wake_rtp.c"), "-o", str(core_o)])
-    else:
-        run([clang_command() or "clang", "--target=arm-none-eabi", *WARN_FLAGS, *flags, "-isystem", NEWLIB_INCLUDE,
-             "-c", str(src / "wake_rtp.c"), "-o", str(core_o)])
+    # The core alone (every RTP module, csrc/wake_rtp*.c, one object each, linked into one relocatable object),
+    # with the Makefile's warnings (gcc: stack usage and call graph too).
+    module_objects = []
+    for module in rtp_sources(src):
+        obj = out / (module.stem + ".o")
+        if compiler == "gcc":
+            run([tools["gcc"], *WARN_FLAGS, *flags, "-fstack-usage", "-fcallgraph-info=su",
+                 "-c", str(module), "-o", str(obj)])
+        else:
+            run([clang_command() or "clang", "--target=arm-none-eabi", *WARN_FLAGS, *flags, "-isystem",
+                 NEWLIB_INCLUDE, "-c", str(module), "-o", str(obj)])
+        module_objects.append(str(obj))
+    run([tools["gcc"], *TARGETS[target][1], "-nostdlib", "-r", *module_objects, "-o", str(core_o)])
     objects = [str(core_o)]
     if (src / "wake_rate.c").is_file():  # the decimating front end (input rates above 150 Hz)
         run([tools["gcc"], *WARN_FLAGS, *flags, "-c", str(src / "wake_rate.c"), "-o", "wake_rate.o"])
