@@ -75,6 +75,59 @@ wake_rtp_status_t wake_rtpi_check_structure(const wake_rtp_t *s)
     return WAKE_RTP_OK;
 }
 
+/**
+ * The first sample fills the whole window (both copies); runs once per stream.
+ * Two samples per aligned 32-bit store (the ring is 4-byte aligned and 2N is
+ * a multiple of 4 samples for J >= 1), four stores per iteration.
+ */
+WAKE_RTP_NOINLINE void wake_rtpi_prime_window(wake_rtp_t *s, wake_q15_t sample)
+{
+    unsigned i, N = s->n_taps;
+#if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
+    uint32_t pair = (uint32_t)(uint16_t)sample * UINT32_C(0x10001);
+    unsigned char *ring = (unsigned char *)__builtin_assume_aligned(s->ring, 4);
+    if (N == 2u) {                                /* J = 1: 2N = 4 samples, two words */
+        __builtin_memcpy(ring, &pair, 4);
+        __builtin_memcpy(ring + 4u, &pair, 4);
+    } else {
+        for (i = 0; i < 4u * N; i += 16u) {                               /* wcet-loop: N / 4 */
+            __builtin_memcpy(ring + i, &pair, 4);
+            __builtin_memcpy(ring + i + 4u, &pair, 4);
+            __builtin_memcpy(ring + i + 8u, &pair, 4);
+            __builtin_memcpy(ring + i + 12u, &pair, 4);
+        }
+    }
+#else
+    for (i = 0; i < 2u * N; ++i) {                                        /* wcet-loop: 2 * N */
+        s->ring[i] = sample;
+    }
+#endif
+    s->last_output = (int32_t)sample * (INT32_C(1) << SIGNAL_GUARD_BITS);
+    s->primed = 1u;
+}
+
+#if WAKE_RTP_KALMAN
+/**
+ * Kalman measurement and time update along w, for the innovation e (Q23).
+ * Constant time: one reciprocal, four 32 x 32 -> 64-bit products.
+ */
+WAKE_RTP_NOINLINE uint32_t wake_rtpi_kalman_update(wake_rtp_t *s, wake_q23_t e)
+{
+    uint32_t ev = 0u;
+    const kalman_gain_t g = gain_of(s, &ev);
+    s->z = kalman_corrected(s, g.rho, e, &ev);
+    s->s = kalman_covariance(s, &g, &ev);
+    return ev;
+}
+
+/** A sample without a measurement update (the first of a stream, or a missing one): P = P + q I only.
+ * Kept out of line, like wake_rtpi_kalman_update, so that `wake profile` bounds the inert step without it. */
+WAKE_RTP_NOINLINE void wake_rtpi_time_update(wake_rtp_t *s, uint32_t *events)
+{
+    s->s = time_updated(s, events);
+}
+#endif
+
 /** sample_flow of a whole step. */
 static wake_q15_t step_validated(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev)
 {

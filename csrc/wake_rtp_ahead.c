@@ -6,11 +6,37 @@
  * Its per-sample step (ahead_step, fed by the core step's tremor estimate e(n) = m(n) - y(n-1)) is part of
  * the step's flow (internal/wake_rtp_sample.h); the float twin is wake/ahead.py (AheadStep).
  */
-#include "internal/wake_rtp_internal.h"
+#include "internal/wake_rtp_sample.h"
 
 #include <string.h>
 
 #if WAKE_RTP_AHEAD
+/**
+ * The tremor ahead of one sample (wake.ahead.AheadStep.step), @p tremor the estimate e(n) in Q23:
+ *
+ *   line  <- e(n), rounded to Q15 of FS (saturated)         newest first
+ *   P(n)   = c . line                                       Q27 x Q15, exact, rounded once to Q23
+ *   g(n)   = g(n-1) + (goal - g(n-1)) alpha                 Q30 x Q30, rounded once to Q30
+ *   cmd(n) = g(n) P(n)                                      Q30 x Q23, rounded once to Q23
+ *
+ * P and the command keep 8 guard bits (Q23, as y(n)): a tremor far below the full scale
+ * (which has headroom for the voluntary motion) would lose a percent to a Q15 rounding.
+ *
+ * Every narrowing saturates and is counted in ahead_saturations; any value of the
+ * ahead fields but ahead_head (checked by every step) is safe.
+ */
+void wake_rtpi_ahead_step(wake_rtp_t *s, wake_q23_t tremor)
+{
+    uint32_t ev = 0u;
+    const unsigned head = ahead_next_head(s);
+    const wake_q15_t e = ahead_estimate(tremor, &ev);
+    ahead_line_store(s, head, e);
+    /* P = c . line, |P| <= 64 FS for |c| <= 8 */
+    const wake_q23_t predicted = ahead_predicted(ahead_dot(s->ahead_coef, &s->ahead_line[head]));
+    ahead_output(s, predicted, ahead_gate_next(s, s->ahead_goal));
+    count_events(&s->ahead_saturations, ev);
+}
+
 WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_ahead(wake_rtp_t *s, const int32_t *coefficients, wake_ratio_t goal)
 {
     wake_rtp_status_t st = wake_rtpi_check_instance(s);

@@ -42,6 +42,9 @@ wake_rtp_status_t wake_rtp_run_outputs(wake_rtp_t *s, const wake_q15_t *in, cons
     }
     for (k = 0u; k < count; ++k) {
         wake_q15_t y = 0;
+        wake_q23_t predicted;
+        wake_ratio_t gated;
+        wake_q23_t commanded;
         int measured = 1;
         if ((missing != NULL) && (missing[k] != 0u)) {
             measured = 0;
@@ -54,27 +57,16 @@ wake_rtp_status_t wake_rtp_run_outputs(wake_rtp_t *s, const wake_q15_t *in, cons
         if (voluntary != NULL) {
             voluntary[k] = y;
         }
-#if WAKE_RTP_AHEAD
+        wake_rtpi_ahead_outputs(s, &predicted, &gated, &commanded);
         if (tremor_ahead != NULL) {
-            tremor_ahead[k] = s->ahead_predicted;
+            tremor_ahead[k] = predicted;
         }
         if (gate != NULL) {
-            gate[k] = s->ahead_gate;
+            gate[k] = gated;
         }
         if (command != NULL) {
-            command[k] = s->ahead_command;
+            command[k] = commanded;
         }
-#else
-        if (tremor_ahead != NULL) {
-            tremor_ahead[k] = 0;
-        }
-        if (gate != NULL) {
-            gate[k] = 0;
-        }
-        if (command != NULL) {
-            command[k] = 0;
-        }
-#endif
         if (voluntary_ahead != NULL) {
             voluntary_ahead[k] = s->vol_output;
         }

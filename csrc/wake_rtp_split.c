@@ -10,6 +10,29 @@
 #include "internal/wake_rtp_sample.h"
 
 #if WAKE_RTP_SPLIT
+#if WAKE_RTP_KALMAN && WAKE_RTP_NO_LONG_MULTIPLY
+kalman_gain_t wake_rtpi_kalman_gain(const wake_rtp_t *s, uint32_t *events)
+{
+    return kalman_gain(s, events);
+}
+#endif
+
+#if WAKE_RTP_AHEAD
+/** wake_rtpi_ahead_step with the older seven products and the gate @p gate prepared. */
+void wake_rtpi_ahead_finish(wake_rtp_t *s, wake_q23_t tremor, wake_ratio_t gate)
+{
+    uint32_t ev = 0u;
+    const unsigned head = ahead_next_head(s);
+    const wake_q15_t e = ahead_estimate(tremor, &ev);
+    /* P = prepared + c_0 e(n): Q42, the prepared sum clamped to its range so that a corrupted one cannot
+     * overflow; the gate read through the 31-bit mask of ahead_gate_next */
+    const int64_t dot = clamp_quiet(s->split_ahead, WAKE_BOUND_RTP_PREPARED_AHEAD_BITS) + multiply_wide(s->ahead_coef[0], e);
+    ahead_line_store(s, head, e);
+    ahead_output(s, ahead_predicted(dot), (int32_t)((uint32_t)gate & UINT32_C(0x7FFFFFFF)));
+    count_events(&s->ahead_saturations, ev);
+}
+#endif
+
 /**
  * wake_rtp_prepare on a checked instance.  Everything below is what sample_flow computes before it
  * needs the sample, stored for its prepared case:
@@ -36,7 +59,7 @@ static void prepare_validated(wake_rtp_t *s)
     s->split_s = s->s;
 #if WAKE_RTP_KALMAN
     if (!s->inert) {
-        const kalman_gain_t g = kalman_gain(s, &ev);
+        const kalman_gain_t g = gain_of(s, &ev);
         s->split_rho = g.rho;
         s->split_s = kalman_covariance(s, &g, &ev);
     }
@@ -64,13 +87,13 @@ void wake_rtpi_split_refresh(wake_rtp_t *s)
 }
 
 /** sample_flow of a prepared step. */
-static wake_q15_t finish_validated(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev)
+WAKE_RTP_NOINLINE static wake_q15_t finish_validated(wake_rtp_t *s, wake_q15_t sample, int measured, uint32_t ev)
 {
     return sample_flow(s, sample, measured, ev, 1);
 }
 
 /** wake_rtp_finish (@p measured 1) and wake_rtp_finish_missing (0): the checks, then the prepared step. */
-static wake_rtp_status_t finish_checked(wake_rtp_t *s, wake_q15_t sample, int measured, wake_q15_t *prediction)
+static WAKE_RTP_ALWAYS_INLINE wake_rtp_status_t finish_checked(wake_rtp_t *s, wake_q15_t sample, int measured, wake_q15_t *prediction)
 {
     uint32_t ev = 0u;
     wake_rtp_status_t st = WAKE_RTP_OK;

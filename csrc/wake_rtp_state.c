@@ -53,6 +53,17 @@ WAKE_RTP_COLD static wake_rtp_status_t check_weights(const wake_q24_t *weights, 
 /* ---------------------------------------------------------------------- */
 
 #if WAKE_RTP_KALMAN /* the covariance code: left out of WAKE_RTP_KALMAN 0 builds */
+/** w'x for x in Q23 (d) or Q(P) (a row of P): sum of J products Q(f + 24) rounded once to Q(f); |.| < 2^41. */
+int64_t wake_rtpi_weighted_sum(const wake_q24_t *w, const int32_t *x, unsigned J)
+{
+    unsigned j;
+    int64_t acc = 0;
+    for (j = 0; j < J; ++j) {
+        acc += shift_right_floor(multiply_wide(x[j], w[j]), 3u);       /* 8 terms < 2^60 each: < 2^63 */
+    }
+    return shift_right_round(acc, 21u);
+}
+
 /** q |w|^2 or lambda |w|^2 for a Q(P) value c and |w|^2 in Q24 (< 2^40): Q(P) in int64, |.| < 2^47. */
 static WAKE_RTP_OUTLINE_AT_OS int64_t scale_by_norm(wake_cov_t c, uint64_t omega)
 {
@@ -90,7 +101,7 @@ WAKE_RTP_COLD static void materialise(const wake_rtp_t *s, wake_q23_t *d, wake_c
     int64_t c_z = 0, c_ww = 0;                             /* Q(23 + XF), Q(P + XF) */
     if (omega != 0u) {
         /* c_z = (z - z_s) / |w|^2, z_s = w'd_s as the restart computed it   (|w|^2 in Q24) */
-        c_z = divide_wide(s->z - weighted_sum(w, s->correction, J), omega, 24 + XF, events);
+        c_z = divide_wide(s->z - wake_rtpi_weighted_sum(w, s->correction, J), omega, 24 + XF, events);
         if (P != NULL) {
             /* c = (Lambda - s / |w|^2) / |w|^2 */
             c_ww = (int64_t)lambda * (INT64_C(1) << XF) - divide_wide(s->s, omega, 24 + XF, events);
@@ -155,7 +166,7 @@ WAKE_RTP_COLD static void restart(wake_rtp_t *s, const wake_q23_t *d, wake_cov_t
         uint64_t omega = weight_norm2(w, J);
         s->s = scale_by_norm(lambda, omega);                              /* w' (lambda I) w */
         s->q_omega = scale_by_norm(s->q, omega);
-        s->z = weighted_sum(w, s->correction, J);                        /* z_s, recomputed by materialise */
+        s->z = wake_rtpi_weighted_sum(w, s->correction, J);                        /* z_s, recomputed by materialise */
     }
 #else
     /* no Kalman: d = 0 and lambda = 0 (init and load_state see to it), so s = z = 0 */
@@ -327,7 +338,7 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q1
         int64_t w_p_w = 0;
         for (i = 0; i < J; ++i) {
             /* w'Pw = sum_i (P w)_i w_i, Q(P): |(P w)_i| < 2^41, each term < 2^50 (J <= 8 terms) */
-            w_p_w += multiply_wide_by32(weighted_sum(s->weights, covariance + i * J, J), s->weights[i], 24u);
+            w_p_w += multiply_wide_by32(wake_rtpi_weighted_sum(s->weights, covariance + i * J, J), s->weights[i], 24u);
         }
         lambda = observed_variance(s, w_p_w, top, &s->saturations);
     }

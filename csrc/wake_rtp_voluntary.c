@@ -5,7 +5,7 @@
  * Its per-sample step (voluntary_ahead_step) is part of the step's flow (internal/wake_rtp_sample.h).
  * The float twin is wake/rtp/reference.py (ReferenceRTP.last_voluntary_ahead).
  */
-#include "internal/wake_rtp_internal.h"
+#include "internal/wake_rtp_sample.h"
 
 #include <string.h>
 
@@ -44,8 +44,8 @@ WAKE_RTP_COLD void wake_rtpi_voluntary_restart(wake_rtp_t *s)
         int64_t dot = 0;
         unsigned j;
         /* z_s = w' d_s and w_h' d_s                                                     Q23 */
-        s->vol_z_start = weighted_sum(s->weights, s->correction, J);
-        s->vol_start = weighted_sum(s->vol_weights, s->correction, J);
+        s->vol_z_start = wake_rtpi_weighted_sum(s->weights, s->correction, J);
+        s->vol_start = wake_rtpi_weighted_sum(s->vol_weights, s->correction, J);
         /* w_h' w: J products Q48 < 2^60, floor-shifted by 3 (Q45, |.| < 2^60) */
         for (j = 0; j < J; ++j) {
             dot += shift_right_floor(multiply_wide(s->vol_weights[j], s->weights[j]), 3u);
@@ -61,6 +61,43 @@ WAKE_RTP_COLD void wake_rtpi_voluntary_restart(wake_rtp_t *s)
     s->vol_start = 0;
     s->vol_gain = 0;
 #endif
+}
+
+/**
+ * The voluntary motion ahead after the prediction of a step (ReferenceRTP._predict), from the window and
+ * z of that prediction:
+ *
+ *   v_h(n) = w_h' (a + d) = h_h' window + w_h' d_s + k (z - z_s)      (y(n) while no w_h is installed)
+ *
+ * h_h' window exact in int64 (< 2^47, as y's), rounded once to Q23; z - z_s clamped to +-2^41, times k (Q24)
+ * from two 32 x 32 -> 64-bit products, rounded once to Q23; the sum (< 2^49) narrowed once to int32 with
+ * saturation, counted in vol_saturations.  No data-dependent branch: vol_set is configuration.
+ */
+void wake_rtpi_voluntary_step(wake_rtp_t *s)
+{
+    uint32_t ev = 0u;
+    if (s->vol_set == 0u) {
+        s->vol_output = s->last_output;                                   /* the one-step prediction held */
+        return;
+    }
+    {
+        const int64_t fir = shift_right_round(fir_window(s->vol_fir, s->ring + s->head, s->n_taps),
+                                              FIR_TO_SIGNAL_SHIFT);                       /* Q23, < 2^40 */
+        int64_t along = 0;
+#if WAKE_RTP_KALMAN
+        /* w_h' (d - d_s) = k (z - z_s): Q24 x Q23 -> Q23, |.| < 2^49.  z and z_s are read clamped to +-2^41
+         * (what they hold unless the state was corrupted), so that the difference cannot overflow */
+        const int64_t moved = clamp_symmetric(s->z, WAKE_BOUND_RTP_VOLUNTARY_Z_BITS, &ev)
+                              - clamp_symmetric(s->vol_z_start, WAKE_BOUND_RTP_VOLUNTARY_Z_BITS, &ev);
+        along = multiply_wide_by32(moved, s->vol_gain, 24u);
+        /* w_h' d_s read within +-2^41 as well: the sum below stays < 2^50 */
+        along += clamp_symmetric(s->vol_start, WAKE_BOUND_RTP_VOLUNTARY_Z_BITS, &ev);
+#else
+        (void)ev;   /* no Kalman: d = d_s = 0 */
+#endif
+        s->vol_output = narrow_saturate(fir + along, &ev);
+    }
+    count_events(&s->vol_saturations, ev);
 }
 
 int wake_rtpi_voluntary_consistent(const wake_rtp_t *s)

@@ -72,14 +72,6 @@ typedef char wake_rtp_ring_is_aligned[(offsetof(wake_rtp_t, ring) % 4u == 0u) ? 
 #define WAKE_RTP_ALWAYS_INLINE inline
 #endif
 
-/* A static function of a shared header that a module may not call (it is not `inline`: its code and cost are
- * those of a static function of the module that calls it). */
-#if defined(__GNUC__)
-#define WAKE_RTP_MAYBE_UNUSED __attribute__((unused))
-#else
-#define WAKE_RTP_MAYBE_UNUSED
-#endif
-
 #if WAKE_RTP_KALMAN /* the ranges of the Kalman's scalars */
 /** v clamped to +-2^40 (the range of z = w'd); adds 1 to *events when it clamps. */
 static inline int64_t clamp_wide(int64_t v, uint32_t *events)
@@ -88,7 +80,7 @@ static inline int64_t clamp_wide(int64_t v, uint32_t *events)
 }
 
 /** v clamped to +-2^50 (the range of s); adds 1 to *events when it clamps. */
-WAKE_RTP_INLINE_UNLESS_OS int64_t clamp_cov_wide(int64_t v, uint32_t *events)
+static inline int64_t clamp_cov_wide(int64_t v, uint32_t *events)
 {
     return clamp_symmetric(v, 50u, events);
 }
@@ -121,7 +113,7 @@ static inline int wake_rtpi_ahead_structure_ok(const wake_rtp_t *s)
 #endif
 
 /** 1 when every one of the @p level weights lies within +-64 (Q24). */
-static WAKE_RTP_MAYBE_UNUSED int weights_in_range(const wake_q24_t *weights, unsigned level)
+static inline int weights_in_range(const wake_q24_t *weights, unsigned level)
 {
     unsigned j;
     for (j = 0; j < level; ++j) {
@@ -154,7 +146,7 @@ WAKE_RTP_INLINE_UNLESS_OS wake_fir_t fir_tap(int32_t h)
  * (one rounding), a fixed number of turns; it runs in the restart and in
  * get_state only, never per sample.
  */
-WAKE_RTP_COLD static WAKE_RTP_MAYBE_UNUSED int64_t divide_wide(int64_t a, uint64_t x, unsigned frac, uint32_t *events)
+WAKE_RTP_COLD static inline int64_t divide_wide(int64_t a, uint64_t x, unsigned frac, uint32_t *events)
 {
     const uint64_t cap = UINT64_C(1) << 52;                 /* twice 2^50 and more: clamps below */
     uint64_t mag = (uint64_t)(a < 0 ? -a : a), rem = 0, q = 0;
@@ -174,7 +166,7 @@ WAKE_RTP_COLD static WAKE_RTP_MAYBE_UNUSED int64_t divide_wide(int64_t a, uint64
 }
 
 /** |w|^2 in Q24 (exact sum of Q48 squares, rounded once): < 2^40. */
-static WAKE_RTP_MAYBE_UNUSED uint64_t weight_norm2(const wake_q24_t *w, unsigned J)
+static inline uint64_t weight_norm2(const wake_q24_t *w, unsigned J)
 {
     unsigned j;
     uint64_t acc = 0;
@@ -184,16 +176,9 @@ static WAKE_RTP_MAYBE_UNUSED uint64_t weight_norm2(const wake_q24_t *w, unsigned
     return (acc + (UINT64_C(1) << 23)) >> 24;
 }
 
-/** w'x for x in Q23 (d) or Q(P) (a row of P): sum of J products Q(f + 24) rounded once to Q(f); |.| < 2^41. */
-static WAKE_RTP_MAYBE_UNUSED int64_t weighted_sum(const wake_q24_t *w, const int32_t *x, unsigned J)
-{
-    unsigned j;
-    int64_t acc = 0;
-    for (j = 0; j < J; ++j) {
-        acc += shift_right_floor(multiply_wide(x[j], w[j]), 3u);       /* 8 terms < 2^60 each: < 2^63 */
-    }
-    return shift_right_round(acc, 21u);
-}
+/** w'x for x in Q23 (d) or Q(P) (a row of P): J products Q(f + 24) rounded once to Q(f); |.| < 2^41
+ * (wake_rtp_state.c). */
+int64_t wake_rtpi_weighted_sum(const wake_q24_t *w, const int32_t *x, unsigned J);
 #endif
 
 /* ---------------------------------------------------------------------- */
@@ -243,7 +228,24 @@ static inline void wake_rtpi_ahead_reset(wake_rtp_t *s)
     s->ahead_command = 0;
     s->ahead_saturations = 0u;
 }
+
+/** The tremor ahead's outputs of the last step: P(n), g(n) and g(n) P(n). */
+static inline void wake_rtpi_ahead_outputs(const wake_rtp_t *s, wake_q23_t *predicted, wake_ratio_t *gate,
+                                           wake_q23_t *command)
+{
+    *predicted = s->ahead_predicted;
+    *gate = s->ahead_gate;
+    *command = s->ahead_command;
+}
 #else
+static inline void wake_rtpi_ahead_outputs(const wake_rtp_t *s, wake_q23_t *predicted, wake_ratio_t *gate,
+                                           wake_q23_t *command)
+{
+    (void)s;
+    *predicted = 0;                 /* nothing predicted, the gate shut */
+    *gate = 0;
+    *command = 0;
+}
 static inline int wake_rtpi_ahead_consistent(const wake_rtp_t *s)
 {
     (void)s;

@@ -18,41 +18,39 @@
 #include "wake_bounds.h"
 #include "wake_rtp_internal.h"
 
+/* ---------------------------------------------------------------------- */
+/* The out-of-line parts of a sample, each defined once                    */
+/* ---------------------------------------------------------------------- */
+
+/* Kept out of line so that `wake profile` can bound the step with and without them (the Kalman update is
+ * skipped while inert; the window fill runs on the first sample only). */
+
+/** The first sample fills the whole window (both copies); runs once per stream (wake_rtp.c). */
+void wake_rtpi_prime_window(wake_rtp_t *s, wake_q15_t sample);
+#if WAKE_RTP_KALMAN
+/** Kalman measurement and time update along w for the innovation e (Q23); returns its saturations (wake_rtp.c). */
+uint32_t wake_rtpi_kalman_update(wake_rtp_t *s, wake_q23_t e);
+/** A sample without a measurement update: P = P + q I only (wake_rtp.c). */
+void wake_rtpi_time_update(wake_rtp_t *s, uint32_t *events);
+#endif
+#if WAKE_RTP_AHEAD
+/** The tremor ahead of one sample, fed the core's tremor estimate e(n) in Q23 (wake_rtp_ahead.c). */
+void wake_rtpi_ahead_step(wake_rtp_t *s, wake_q23_t tremor);
+#endif
+#if WAKE_RTP_AHEAD && WAKE_RTP_SPLIT
+/** wake_rtpi_ahead_step with the older seven products and the gate prepared (wake_rtp_split.c). */
+void wake_rtpi_ahead_finish(wake_rtp_t *s, wake_q23_t tremor, wake_ratio_t gate);
+#endif
+#if WAKE_RTP_VOLUNTARY_AHEAD
+/** The voluntary motion ahead after the prediction of a step (wake_rtp_voluntary.c). */
+void wake_rtpi_voluntary_step(wake_rtp_t *s);
+#endif
+
 
 /* ---------------------------------------------------------------------- */
 /* Per-sample recursion                                                    */
 /* ---------------------------------------------------------------------- */
 
-/**
- * The first sample fills the whole window (both copies); runs once per stream.
- * Two samples per aligned 32-bit store (the ring is 4-byte aligned and 2N is
- * a multiple of 4 samples for J >= 1), four stores per iteration.
- */
-static WAKE_RTP_MAYBE_UNUSED WAKE_RTP_NOINLINE void prime_window(wake_rtp_t *s, wake_q15_t sample)
-{
-    unsigned i, N = s->n_taps;
-#if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
-    uint32_t pair = (uint32_t)(uint16_t)sample * UINT32_C(0x10001);
-    unsigned char *ring = (unsigned char *)__builtin_assume_aligned(s->ring, 4);
-    if (N == 2u) {                                /* J = 1: 2N = 4 samples, two words */
-        __builtin_memcpy(ring, &pair, 4);
-        __builtin_memcpy(ring + 4u, &pair, 4);
-    } else {
-        for (i = 0; i < 4u * N; i += 16u) {                               /* wcet-loop: N / 4 */
-            __builtin_memcpy(ring + i, &pair, 4);
-            __builtin_memcpy(ring + i + 4u, &pair, 4);
-            __builtin_memcpy(ring + i + 8u, &pair, 4);
-            __builtin_memcpy(ring + i + 12u, &pair, 4);
-        }
-    }
-#else
-    for (i = 0; i < 2u * N; ++i) {                                        /* wcet-loop: 2 * N */
-        s->ring[i] = sample;
-    }
-#endif
-    s->last_output = (int32_t)sample * (INT32_C(1) << SIGNAL_GUARD_BITS);
-    s->primed = 1u;
-}
 
 /** The newest sample into a primed ring (stored twice). */
 static inline void ring_store(wake_rtp_t *s, wake_q15_t sample)
@@ -66,7 +64,7 @@ static inline void ring_store(wake_rtp_t *s, wake_q15_t sample)
 static inline void push(wake_rtp_t *s, wake_q15_t sample)
 {
     if (!s->primed) {
-        prime_window(s, sample);
+        wake_rtpi_prime_window(s, sample);
     }
     ring_store(s, sample);
 }
@@ -163,6 +161,22 @@ static inline kalman_gain_t kalman_gain(const wake_rtp_t *s, uint32_t *events)
     return g;
 }
 
+#if WAKE_RTP_SPLIT && WAKE_RTP_NO_LONG_MULTIPLY
+/* Without the long multiply the gain's 64-bit products are long code: the step's update and the split step's
+ * prepare share one out-of-line copy (wake_rtp_split.c), as one translation unit compiled them before. */
+kalman_gain_t wake_rtpi_kalman_gain(const wake_rtp_t *s, uint32_t *events);
+#endif
+
+/** The gain of a step's update or a split step's prepare: kalman_gain, or its shared copy. */
+static inline kalman_gain_t gain_of(const wake_rtp_t *s, uint32_t *events)
+{
+#if WAKE_RTP_SPLIT && WAKE_RTP_NO_LONG_MULTIPLY
+    return wake_rtpi_kalman_gain(s, events);
+#else
+    return kalman_gain(s, events);
+#endif
+}
+
 /** P = P - u u'/S + q I, seen along w:  s = w'Pw = tau s + q |w|^2 (Q(P)), clamped to +-2^50. */
 static inline int64_t kalman_covariance(const wake_rtp_t *s, const kalman_gain_t *g, uint32_t *events)
 {
@@ -175,18 +189,6 @@ static inline int64_t kalman_corrected(const wake_rtp_t *s, wake_ratio_t rho, wa
     return clamp_wide(s->z + shift_right_round(multiply_wide(rho, e), 30u), events);
 }
 
-/**
- * Kalman measurement and time update along w, for the innovation e (Q23).
- * Constant time: one reciprocal, four 32 x 32 -> 64-bit products.
- */
-static WAKE_RTP_MAYBE_UNUSED WAKE_RTP_NOINLINE uint32_t kalman_update(wake_rtp_t *s, wake_q23_t e)
-{
-    uint32_t ev = 0u;
-    const kalman_gain_t g = kalman_gain(s, &ev);
-    s->z = kalman_corrected(s, g.rho, e, &ev);
-    s->s = kalman_covariance(s, &g, &ev);
-    return ev;
-}
 #endif
 
 /** y(n) = acc + z for acc = h' window (Q(FIR + 15), |.| < 2^62), rounded to Q23 (stored) and to Q15 (returned). */
@@ -212,12 +214,6 @@ static inline int64_t time_updated(const wake_rtp_t *s, uint32_t *events)
     return clamp_cov_wide(s->s + s->q_omega, events);
 }
 
-/** A sample without a measurement update (the first of a stream, or a missing one): P = P + q I only.
- * Kept out of line, like kalman_update, so that `wake profile` bounds the inert step without it. */
-static WAKE_RTP_MAYBE_UNUSED WAKE_RTP_NOINLINE void time_update(wake_rtp_t *s, uint32_t *events)
-{
-    s->s = time_updated(s, events);
-}
 #endif
 
 /** The time update of a sample without a measurement update, unless the Kalman is inert. */
@@ -225,7 +221,7 @@ static inline void time_update_only(wake_rtp_t *s, uint32_t *events)
 {
 #if WAKE_RTP_KALMAN
     if (!s->inert) {
-        time_update(s, events);
+        wake_rtpi_time_update(s, events);
     }
 #else
     (void)s;
@@ -322,71 +318,8 @@ static inline void ahead_output(wake_rtp_t *s, wake_q23_t predicted, int32_t gat
     s->ahead_command = (int32_t)shift_right_round(multiply_wide(gate, predicted), WAKE_RTP_GATE_FRAC);
 }
 
-/**
- * The tremor ahead of one sample (wake.ahead.AheadStep.step), @p tremor the estimate e(n) in Q23:
- *
- *   line  <- e(n), rounded to Q15 of FS (saturated)         newest first
- *   P(n)   = c . line                                       Q27 x Q15, exact, rounded once to Q23
- *   g(n)   = g(n-1) + (goal - g(n-1)) alpha                 Q30 x Q30, rounded once to Q30
- *   cmd(n) = g(n) P(n)                                      Q30 x Q23, rounded once to Q23
- *
- * P and the command keep 8 guard bits (Q23, as y(n)): a tremor far below the full scale
- * (which has headroom for the voluntary motion) would lose a percent to a Q15 rounding.
- *
- * Every narrowing saturates and is counted in ahead_saturations; any value of the
- * ahead fields but ahead_head (checked by every step) is safe.
- */
-static WAKE_RTP_MAYBE_UNUSED void ahead_step(wake_rtp_t *s, wake_q23_t tremor)
-{
-    uint32_t ev = 0u;
-    const unsigned head = ahead_next_head(s);
-    const wake_q15_t e = ahead_estimate(tremor, &ev);
-    ahead_line_store(s, head, e);
-    /* P = c . line, |P| <= 64 FS for |c| <= 8 */
-    const wake_q23_t predicted = ahead_predicted(ahead_dot(s->ahead_coef, &s->ahead_line[head]));
-    ahead_output(s, predicted, ahead_gate_next(s, s->ahead_goal));
-    count_events(&s->ahead_saturations, ev);
-}
 #endif
 
-#if WAKE_RTP_VOLUNTARY_AHEAD
-/**
- * The voluntary motion ahead after the prediction of a step (ReferenceRTP._predict), from the window and
- * z of that prediction:
- *
- *   v_h(n) = w_h' (a + d) = h_h' window + w_h' d_s + k (z - z_s)      (y(n) while no w_h is installed)
- *
- * h_h' window exact in int64 (< 2^47, as y's), rounded once to Q23; z - z_s clamped to +-2^41, times k (Q24)
- * from two 32 x 32 -> 64-bit products, rounded once to Q23; the sum (< 2^49) narrowed once to int32 with
- * saturation, counted in vol_saturations.  No data-dependent branch: vol_set is configuration.
- */
-static WAKE_RTP_MAYBE_UNUSED void voluntary_ahead_step(wake_rtp_t *s)
-{
-    uint32_t ev = 0u;
-    if (s->vol_set == 0u) {
-        s->vol_output = s->last_output;                                   /* the one-step prediction held */
-        return;
-    }
-    {
-        const int64_t fir = shift_right_round(fir_window(s->vol_fir, s->ring + s->head, s->n_taps),
-                                              FIR_TO_SIGNAL_SHIFT);                       /* Q23, < 2^40 */
-        int64_t along = 0;
-#if WAKE_RTP_KALMAN
-        /* w_h' (d - d_s) = k (z - z_s): Q24 x Q23 -> Q23, |.| < 2^49.  z and z_s are read clamped to +-2^41
-         * (what they hold unless the state was corrupted), so that the difference cannot overflow */
-        const int64_t moved = clamp_symmetric(s->z, WAKE_BOUND_RTP_VOLUNTARY_Z_BITS, &ev)
-                              - clamp_symmetric(s->vol_z_start, WAKE_BOUND_RTP_VOLUNTARY_Z_BITS, &ev);
-        along = multiply_wide_by32(moved, s->vol_gain, 24u);
-        /* w_h' d_s read within +-2^41 as well: the sum below stays < 2^50 */
-        along += clamp_symmetric(s->vol_start, WAKE_BOUND_RTP_VOLUNTARY_Z_BITS, &ev);
-#else
-        (void)ev;   /* no Kalman: d = d_s = 0 */
-#endif
-        s->vol_output = narrow_saturate(fir + along, &ev);
-    }
-    count_events(&s->vol_saturations, ev);
-}
-#endif
 
 
 /** One more sample since the restart (sticks at UINT32_MAX): P gains q I per sample. */
@@ -467,21 +400,6 @@ static inline int64_t times_sample(int64_t a, int32_t x)
     return ((int64_t)p_hi * 16777216) + ((int64_t)p_mid * 4096) + (int64_t)p_lo;
 }
 
-#if WAKE_RTP_AHEAD
-/** ahead_step with the older seven products and the gate @p gate prepared. */
-static WAKE_RTP_MAYBE_UNUSED void ahead_finish(wake_rtp_t *s, wake_q23_t tremor, wake_ratio_t gate)
-{
-    uint32_t ev = 0u;
-    const unsigned head = ahead_next_head(s);
-    const wake_q15_t e = ahead_estimate(tremor, &ev);
-    /* P = prepared + c_0 e(n): Q42, the prepared sum clamped to its range so that a corrupted one cannot
-     * overflow; the gate read through the 31-bit mask of ahead_gate_next */
-    const int64_t dot = clamp_quiet(s->split_ahead, WAKE_BOUND_RTP_PREPARED_AHEAD_BITS) + multiply_wide(s->ahead_coef[0], e);
-    ahead_line_store(s, head, e);
-    ahead_output(s, ahead_predicted(dot), (int32_t)((uint32_t)gate & UINT32_C(0x7FFFFFFF)));
-    count_events(&s->ahead_saturations, ev);
-}
-#endif
 
 /** The sample into a prepared window: h' window from the prepared sum (the first sample fills the window). */
 static WAKE_RTP_ALWAYS_INLINE int64_t take_prepared(wake_rtp_t *s, wake_q15_t sample)
@@ -494,7 +412,7 @@ static WAKE_RTP_ALWAYS_INLINE int64_t take_prepared(wake_rtp_t *s, wake_q15_t sa
     } else {
         /* the first sample fills the window with itself: h' window = (sum of h) m(n), exact (the prepared
          * sum clamped to its range, |.| <= 2^39) */
-        prime_window(s, sample);
+        wake_rtpi_prime_window(s, sample);
         ring_store(s, sample);
         acc = times_sample(clamp_quiet(s->split_fir, WAKE_BOUND_RTP_PREPARED_TAP_SUM_BITS), sample);
     }
@@ -544,11 +462,11 @@ static WAKE_RTP_ALWAYS_INLINE uint32_t kalman_measured(wake_rtp_t *s, wake_q23_t
     if (prepared != 0) {
         ev = kalman_finish(s, e);
     } else {
-        ev = kalman_update(s, e);
+        ev = wake_rtpi_kalman_update(s, e);
     }
 #else
     (void)prepared;
-    ev = kalman_update(s, e);
+    ev = wake_rtpi_kalman_update(s, e);
 #endif
     return ev;
 }
@@ -585,14 +503,14 @@ static WAKE_RTP_ALWAYS_INLINE void ahead_of_sample(wake_rtp_t *s, wake_q23_t tre
 {
 #if WAKE_RTP_SPLIT
     if (prepared != 0) {
-        ahead_finish(s, tremor, (measured != 0) ? s->split_gate : ahead_gate_next(s, 0));
+        wake_rtpi_ahead_finish(s, tremor, (measured != 0) ? s->split_gate : ahead_gate_next(s, 0));
     } else {
-        ahead_step(s, tremor);
+        wake_rtpi_ahead_step(s, tremor);
     }
 #else
     (void)prepared;
     (void)measured;
-    ahead_step(s, tremor);
+    wake_rtpi_ahead_step(s, tremor);
 #endif
 }
 #endif
@@ -639,7 +557,7 @@ static WAKE_RTP_ALWAYS_INLINE wake_q15_t sample_flow(wake_rtp_t *s, wake_q15_t s
     y = sample_output(s, acc, prepared, &ev);
     count_events(&s->saturations, ev);
 #if WAKE_RTP_VOLUNTARY_AHEAD
-    voluntary_ahead_step(s);               /* not with WAKE_RTP_SPLIT (wake_rtp.h) */
+    wake_rtpi_voluntary_step(s);               /* not with WAKE_RTP_SPLIT (wake_rtp.h) */
 #endif
 #if WAKE_RTP_AHEAD
     ahead_of_sample(s, tremor, measured, prepared);

@@ -16,7 +16,7 @@ __all__ = ["RTP_INTERNAL", "RTP_SOURCES", "SourcesUnavailable", "csrc_dir"]
 #: The RTP's modules (docs/reference/architecture.md, "The C core's files"): the core step first; a module a
 #: build does not use compiles to nothing.
 RTP_SOURCES = ("wake_rtp.c", "wake_rtp_state.c", "wake_rtp_split.c", "wake_rtp_ahead.c", "wake_rtp_voluntary.c",
-               "wake_rtp_block.c")
+               "wake_rtp_block.c", "wake_rtp_fixed.c")
 #: The RTP's internal headers, which its modules include by their relative path.
 RTP_INTERNAL = ("internal/wake_rtp_internal.h", "internal/wake_rtp_sample.h", "internal/wake_bounds.h")
 

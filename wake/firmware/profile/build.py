@@ -116,6 +116,8 @@ class Image:
     sections: list = field(default_factory=list)  #: (name, addr, size, flags, offset)
     segments: list = field(default_factory=list)  #: (vaddr, data, memsz)
     symbols: dict = field(default_factory=dict)  #: name -> (addr, size, type)
+    #: every function symbol (addr, size, name): two modules' static functions may share a name
+    function_symbols: list = field(default_factory=list)
 
     @classmethod
     def read(cls, elf, core_object, target, callgraph=None):
@@ -150,6 +152,8 @@ class Image:
                 kind = info & 0xF
                 if kind == 2:  # STT_FUNC: clear the Thumb bit
                     value &= ~1
+                    if size:
+                        img.function_symbols.append((value, size, name))
                 if name not in img.symbols or kind in (1, 2):
                     img.symbols[name] = (value, size, kind)
         return img
@@ -162,7 +166,7 @@ class Image:
 
     def functions(self):
         """Sorted (start, end, name) of the function symbols."""
-        return sorted((a, a + s, n) for n, (a, s, k) in self.symbols.items() if k == 2 and s)
+        return sorted({(a, a + s, n) for a, s, n in self.function_symbols})
 
 
 def _core_flags(target):
