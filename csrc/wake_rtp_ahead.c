@@ -37,6 +37,22 @@ void wake_rtpi_ahead_step(wake_rtp_t *s, wake_q23_t tremor)
     count_events(&s->ahead_saturations, ev);
 }
 
+#if WAKE_RTP_SPLIT
+/** wake_rtpi_ahead_step with the older seven products and the gate @p gate prepared. */
+void wake_rtpi_ahead_finish(wake_rtp_t *s, wake_q23_t tremor, wake_ratio_t gate)
+{
+    uint32_t ev = 0u;
+    const unsigned head = ahead_next_head(s);
+    const wake_q15_t e = ahead_estimate(tremor, &ev);
+    /* P = prepared + c_0 e(n): Q42, the prepared sum clamped to its range so that a corrupted one cannot
+     * overflow; the gate read through the 31-bit mask of ahead_gate_next */
+    const int64_t dot = clamp_quiet(s->split_ahead, WAKE_BOUND_RTP_PREPARED_AHEAD_BITS) + multiply_wide(s->ahead_coef[0], e);
+    ahead_line_store(s, head, e);
+    ahead_output(s, ahead_predicted(dot), (int32_t)((uint32_t)gate & UINT32_C(0x7FFFFFFF)));
+    count_events(&s->ahead_saturations, ev);
+}
+#endif
+
 WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_ahead(wake_rtp_t *s, const int32_t *coefficients, wake_ratio_t goal)
 {
     wake_rtp_status_t st = wake_rtpi_check_instance(s);

@@ -17,22 +17,6 @@ kalman_gain_t wake_rtpi_kalman_gain(const wake_rtp_t *s, uint32_t *events)
 }
 #endif
 
-#if WAKE_RTP_AHEAD
-/** wake_rtpi_ahead_step with the older seven products and the gate @p gate prepared. */
-void wake_rtpi_ahead_finish(wake_rtp_t *s, wake_q23_t tremor, wake_ratio_t gate)
-{
-    uint32_t ev = 0u;
-    const unsigned head = ahead_next_head(s);
-    const wake_q15_t e = ahead_estimate(tremor, &ev);
-    /* P = prepared + c_0 e(n): Q42, the prepared sum clamped to its range so that a corrupted one cannot
-     * overflow; the gate read through the 31-bit mask of ahead_gate_next */
-    const int64_t dot = clamp_quiet(s->split_ahead, WAKE_BOUND_RTP_PREPARED_AHEAD_BITS) + multiply_wide(s->ahead_coef[0], e);
-    ahead_line_store(s, head, e);
-    ahead_output(s, ahead_predicted(dot), (int32_t)((uint32_t)gate & UINT32_C(0x7FFFFFFF)));
-    count_events(&s->ahead_saturations, ev);
-}
-#endif
-
 /**
  * wake_rtp_prepare on a checked instance.  Everything below is what sample_flow computes before it
  * needs the sample, stored for its prepared case:
@@ -65,16 +49,7 @@ static void prepare_validated(wake_rtp_t *s)
     }
 #endif
     s->split_events = ev;
-#if WAKE_RTP_AHEAD
-    {
-        /* the slot the next estimate takes holds the oldest one, which it drops: c . line from there,
-         * less c_0 times it, is the sum of the seven products that stay (exact, |.| < 2^49) */
-        const unsigned head = ahead_next_head(s);
-        s->split_ahead = ahead_dot(s->ahead_coef, &s->ahead_line[head])
-                         - multiply_wide(s->ahead_coef[0], s->ahead_line[head]);
-        s->split_gate = ahead_gate_next(s, s->ahead_goal);   /* a missing sample's finish computes its own */
-    }
-#endif
+    ahead_prepare(s);
     s->split_ready = 1u;
 }
 

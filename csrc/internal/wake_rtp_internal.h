@@ -5,15 +5,17 @@
  *
  * The RTP by concern (docs/reference/architecture.md, "The C core's files"):
  *
- * | file                  | concern                                                                 |
- * |-----------------------|-------------------------------------------------------------------------|
- * | wake_rtp.c            | the core step: bank + Kalman + one-step prediction (wake_rtp_step)       |
- * | wake_rtp_state.c      | init, reset, weights, state load/save; the covariance form              |
- * | wake_rtp_split.c      | the split step (prepare / finish): the same per-sample flow, scheduled  |
- * | wake_rtp_ahead.c      | the tremor ahead's configuration and outputs (predictor + gate)         |
- * | wake_rtp_voluntary.c  | the voluntary motion ahead (w_h)                                        |
- * | wake_rtp_block.c      | the block entries (wake_rtp_run, wake_rtp_run_outputs)                  |
- * | internal/wake_rtp_sample.h | the per-sample pieces and their control flow, written once          |
+ * | file                       | concern                                                              |
+ * |----------------------------|----------------------------------------------------------------------|
+ * | wake_rtp.c                 | the core step: bank + Kalman + one-step prediction (wake_rtp_step)    |
+ * | wake_rtp_state.c           | init, reset, weights, state load/save; the covariance form           |
+ * | wake_rtp_split.c           | the split step (prepare / finish): the same per-sample flow, scheduled |
+ * | wake_rtp_ahead.c           | the tremor ahead (predictor + gate): its step, fed the core's tremor estimate, and its setters |
+ * | wake_rtp_voluntary.c       | the voluntary motion ahead (w_h): its restart, its step, its setter  |
+ * | wake_rtp_block.c           | the block entries (wake_rtp_run, wake_rtp_run_outputs)               |
+ * | wake_rtp_fixed.c           | at -Os, the one copy of the integer helpers (wake_fixed.h)           |
+ * | internal/wake_rtp_sample.h | the per-sample pieces and their control flow, written once           |
+ * | internal/wake_bounds.h     | the bounds that exist for a corrupted state                          |
  *
  * A feature module's hook is its function when the feature's switch is on and a `static inline`
  * no-op when it is off, so that the modules that call it carry no feature switch.
@@ -53,7 +55,7 @@
 #define WAKE_RTP_COLD
 #endif
 
-/* The ring is 4-byte aligned inside the struct (prime_window stores words). */
+/* The ring is 4-byte aligned inside the struct (wake_rtpi_prime_window stores words). */
 typedef char wake_rtp_ring_is_aligned[(offsetof(wake_rtp_t, ring) % 4u == 0u) ? 1 : -1];
 
 #define P_FRAC WAKE_RTP_P_FRAC

@@ -38,7 +38,7 @@ void wake_rtpi_time_update(wake_rtp_t *s, uint32_t *events);
 void wake_rtpi_ahead_step(wake_rtp_t *s, wake_q23_t tremor);
 #endif
 #if WAKE_RTP_AHEAD && WAKE_RTP_SPLIT
-/** wake_rtpi_ahead_step with the older seven products and the gate prepared (wake_rtp_split.c). */
+/** wake_rtpi_ahead_step with the older seven products and the gate prepared (wake_rtp_ahead.c). */
 void wake_rtpi_ahead_finish(wake_rtp_t *s, wake_q23_t tremor, wake_ratio_t gate);
 #endif
 #if WAKE_RTP_VOLUNTARY_AHEAD
@@ -400,6 +400,24 @@ static inline int64_t times_sample(int64_t a, int32_t x)
     return ((int64_t)p_hi * 16777216) + ((int64_t)p_mid * 4096) + (int64_t)p_lo;
 }
 
+
+#if WAKE_RTP_AHEAD
+/** The tremor ahead's part of a prepare: the slot the next estimate takes holds the oldest one, which it
+ * drops: c . line from there, less c_0 times it, is the sum of the seven products that stay (exact,
+ * |.| < 2^49); the gate towards the goal (a missing sample's finish computes its own). */
+static inline void ahead_prepare(wake_rtp_t *s)
+{
+    const unsigned head = ahead_next_head(s);
+    s->split_ahead = ahead_dot(s->ahead_coef, &s->ahead_line[head])
+                     - multiply_wide(s->ahead_coef[0], s->ahead_line[head]);
+    s->split_gate = ahead_gate_next(s, s->ahead_goal);
+}
+#else
+static inline void ahead_prepare(wake_rtp_t *s)
+{
+    (void)s;
+}
+#endif
 
 /** The sample into a prepared window: h' window from the prepared sum (the first sample fills the window). */
 static WAKE_RTP_ALWAYS_INLINE int64_t take_prepared(wake_rtp_t *s, wake_q15_t sample)
