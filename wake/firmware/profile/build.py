@@ -252,7 +252,12 @@ def build_image(target="m4-O2", *, board="generic", build_dir=None, csrc=None, d
     run([tools["gcc"], *TARGETS[target][1], "-nostdlib", "-ffreestanding", "-T", str(prof / scripts[board]),
          "-L", str(prof), "-Wl,-Map=profile.map",
          "startup.o", "harness.o", *objects, "-lgcc", "-o", str(elf)])
-    ci = out / "wake_rtp.ci"
-    img = Image.read(elf, core_o, target, ci if ci.is_file() else None)
+    # the modules' call graphs as one (gcc writes one per module): a step's callee in another module counts
+    ci = None
+    if compiler == "gcc":
+        ci = out / "wake_rtp_modules.ci"
+        ci.write_text("".join(Path(o).with_suffix(".ci").read_text() for o in module_objects
+                              if Path(o).with_suffix(".ci").is_file()))
+    img = Image.read(elf, core_o, target, ci)
     img.source = src / "wake_rtp.c"
     return img
