@@ -4,10 +4,12 @@
  * the Kalman update along w, the one-step prediction, the tremor ahead's and the voluntary ahead's step, and
  * the parts a prepared step (wake_rtp_split.c) computes apart.
  *
- * Included by the two modules that schedule a sample: wake_rtp.c (the step, @p prepared 0) and
- * wake_rtp_split.c (the finish of a prepared step, @p prepared 1).  Every function is `static`: each module
- * compiles the cases it calls, and the parts inlined into the flow (WAKE_RTP_ALWAYS_INLINE) are instantiated
- * for a constant @p prepared.
+ * Included by the modules of the per-sample path: the two that schedule a sample, wake_rtp.c (the step,
+ * @p prepared 0) and wake_rtp_split.c (the finish of a prepared step, @p prepared 1), and the two whose step
+ * the flow calls (wake_rtp_ahead.c, wake_rtp_voluntary.c).  Every function defined here is `static inline`:
+ * each module compiles the cases it calls, and the parts inlined into the flow (WAKE_RTP_ALWAYS_INLINE) are
+ * instantiated for a constant @p prepared.  The out-of-line parts are declared here and defined once, in
+ * the module named beside each.
  *
  * Loops of the per-sample path carry a `wcet-loop:` annotation with their largest trip count (N = 2^J);
  * `wake profile` reads it to bound the worst-case execution time from the compiled image.
