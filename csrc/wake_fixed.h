@@ -40,17 +40,23 @@
 #if defined(__GNUC__) && defined(__OPTIMIZE_SIZE__)
 #define WAKE_RTP_OUTLINE_AT_OS __attribute__((noinline))
 #define WAKE_RTP_INLINE_UNLESS_OS static __attribute__((noinline, unused))
-#define WAKE_FIXED_OUTLINE 1
 #else
 #define WAKE_RTP_OUTLINE_AT_OS
 #define WAKE_RTP_INLINE_UNLESS_OS static inline
-#define WAKE_FIXED_OUTLINE 0
 #endif
 
 /* The helpers every RTP module calls (shift_right_round to clamp_symmetric below): `static inline` at every
  * level but -Os, where each is compiled once, in wake_rtp_fixed.c (WAKE_FIXED_DEFINE), and every module calls
  * that copy (a copy per module would cost more code than the modules' split saves), under a prefixed
- * symbol.  The body of each is written once, here. */
+ * symbol; a module that defines WAKE_FIXED_LOCAL_COPIES (the split step, for its cost) keeps its own,
+ * out of line.  The body of each is written once, here. */
+#if defined(WAKE_FIXED_LOCAL_COPIES) && (WAKE_FIXED_LOCAL_COPIES == 1)
+#define WAKE_FIXED_OUTLINE 0            /* this module's own copies */
+#elif defined(__GNUC__) && defined(__OPTIMIZE_SIZE__)
+#define WAKE_FIXED_OUTLINE 1
+#else
+#define WAKE_FIXED_OUTLINE 0
+#endif
 #if WAKE_FIXED_OUTLINE
 int64_t shift_right_round(int64_t v, unsigned sh) __asm__("wake_fixed_shift_right_round");
 int32_t narrow_saturate(int64_t v, uint32_t *events) __asm__("wake_fixed_narrow_saturate");
@@ -58,7 +64,7 @@ int16_t narrow_saturate16(int32_t v, uint32_t *events) __asm__("wake_fixed_narro
 int64_t clamp_symmetric(int64_t v, unsigned bits, uint32_t *events) __asm__("wake_fixed_clamp_symmetric");
 #endif
 #if !WAKE_FIXED_OUTLINE
-#define WAKE_FIXED_HELPER static inline
+#define WAKE_FIXED_HELPER WAKE_RTP_INLINE_UNLESS_OS
 #elif defined(WAKE_FIXED_DEFINE) && (WAKE_FIXED_DEFINE == 1)
 #define WAKE_FIXED_HELPER               /* wake_rtp_fixed.c at -Os: the one external copy of each */
 #endif

@@ -7,6 +7,10 @@
  * A scheduling of the core's per-sample pieces (internal/wake_rtp_sample.h): the finish is the step's own
  * control flow (sample_flow) instantiated for a prepared step.
  */
+/* At -Os the split step keeps its own copies of the integer helpers (wake_fixed.h): its finish calls them
+ * about ten times on its longest path, and calls within a module cost fewer instructions (the compiler
+ * knows which registers they use) than calls of wake_rtp_fixed.c's copies; a split build pays their code. */
+#define WAKE_FIXED_LOCAL_COPIES 1
 #include "internal/wake_rtp_sample.h"
 
 #if WAKE_RTP_SPLIT
