@@ -26,7 +26,8 @@ def test_new_files_follow_the_umask(tmp_path, umask_027, recording):
     assert out.stat().st_mode & 0o777 == 0o640
     folder = tmp_path / "fw"
     assert main(["export-c", str(folder)]) == 0
-    assert {p.stat().st_mode & 0o777 for p in folder.iterdir()} == {0o640}
+    assert {p.stat().st_mode & 0o777 for p in folder.rglob("*") if p.is_file()} == {0o640}
+    assert {p.stat().st_mode & 0o777 for p in folder.rglob("*") if p.is_dir()} == {0o750}   # internal/
 
 
 def test_an_existing_file_keeps_its_mode(tmp_path):

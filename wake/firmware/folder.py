@@ -175,8 +175,11 @@ def export_folder(directory, *, force: bool = False, sources=None, layout: str =
     >>> import tempfile
     >>> from wake.firmware.folder import export_folder
     >>> out = tempfile.mkdtemp()
-    >>> [p.name for p in export_folder(out, wavelet="sym3", level=5, measurement_noise=1e-3, full_scale=4.0)]
+    >>> files = export_folder(out, wavelet="sym3", level=5, measurement_noise=1e-3, full_scale=4.0)
+    >>> [p.name for p in files if p.parent.name != "internal" and not p.name.startswith("wake_rtp_")]
     ['wake_rtp.c', 'wake_rtp.h', 'wake_fixed.h', 'wake_hpa.c', 'wake_hpa.h', 'wake_rate.c', 'wake_rate.h', 'wake_config.h', 'README.md']
+    >>> sorted(p.name for p in files if p.name.startswith("wake_rtp_"))
+    ['wake_rtp_ahead.c', 'wake_rtp_block.c', 'wake_rtp_fixed.c', 'wake_rtp_internal.h', 'wake_rtp_sample.h', 'wake_rtp_split.c', 'wake_rtp_state.c', 'wake_rtp_voluntary.c']
     """
     name = config.get("name", "wake_config")
     # validates every value (ValueError) before the directory is touched
