@@ -72,7 +72,15 @@ ffibuilder.set_source(
     define_macros=list(CONFIGURATION),
 )
 
-if __name__ == "__main__":
+def defines() -> str:
+    """:data:`CONFIGURATION` as compiler options (``python build_ffi.py --defines``): the standalone firmware's
+    build takes them (``csrc/Makefile``), so that the extension's configuration is one a firmware is built with."""
+    return " ".join(f"-D{name}={value}" for name, value in CONFIGURATION)
+
+
+if __name__ == "__main__" and sys.argv[1:] == ["--defines"]:
+    print(defines())
+elif __name__ == "__main__":
     os.chdir(HERE)
     ffibuilder.compile(verbose=False)
     # ffibuilder.compile() writes wake/_rtp*.so relative to the cwd: the repo top.

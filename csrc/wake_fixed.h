@@ -45,6 +45,30 @@
 #define WAKE_RTP_INLINE_UNLESS_OS static inline
 #endif
 
+/* The helpers every RTP module calls (shift_right_round to clamp_symmetric below): `static inline` at every
+ * level but -Os, where each is compiled once, in wake_rtp_fixed.c (WAKE_FIXED_DEFINE), and every module calls
+ * that copy (a copy per module would cost more code than the modules' split saves), under a prefixed
+ * symbol; a module that defines WAKE_FIXED_LOCAL_COPIES (the split step, for its cost) keeps its own,
+ * out of line.  The body of each is written once, here. */
+#if defined(WAKE_FIXED_LOCAL_COPIES) && (WAKE_FIXED_LOCAL_COPIES == 1)
+#define WAKE_FIXED_OUTLINE 0            /* this module's own copies */
+#elif defined(__GNUC__) && defined(__OPTIMIZE_SIZE__)
+#define WAKE_FIXED_OUTLINE 1
+#else
+#define WAKE_FIXED_OUTLINE 0
+#endif
+#if WAKE_FIXED_OUTLINE
+int64_t shift_right_round(int64_t v, unsigned sh) __asm__("wake_fixed_shift_right_round");
+int32_t narrow_saturate(int64_t v, uint32_t *events) __asm__("wake_fixed_narrow_saturate");
+int16_t narrow_saturate16(int32_t v, uint32_t *events) __asm__("wake_fixed_narrow_saturate16");
+int64_t clamp_symmetric(int64_t v, unsigned bits, uint32_t *events) __asm__("wake_fixed_clamp_symmetric");
+#endif
+#if !WAKE_FIXED_OUTLINE
+#define WAKE_FIXED_HELPER WAKE_RTP_INLINE_UNLESS_OS
+#elif defined(WAKE_FIXED_DEFINE) && (WAKE_FIXED_DEFINE == 1)
+#define WAKE_FIXED_HELPER               /* wake_rtp_fixed.c at -Os: the one external copy of each */
+#endif
+
 /** Add n events to a counter that sticks at UINT32_MAX (no branch on the data). */
 static inline void count_events(uint32_t *counter, uint32_t n)
 {
@@ -68,14 +92,15 @@ static inline int32_t shift_right_floor32(int32_t v, unsigned sh)
     return (v >= 0) ? (v >> sh) : (-1 - ((-1 - v) >> sh));
 }
 
+#if defined(WAKE_FIXED_HELPER)
 /** round(v / 2^sh), halves up, for 1 <= sh <= 62 and |v| <= 2^62 (cannot overflow). */
-WAKE_RTP_INLINE_UNLESS_OS int64_t shift_right_round(int64_t v, unsigned sh)
+WAKE_FIXED_HELPER int64_t shift_right_round(int64_t v, unsigned sh)
 {
     return shift_right_floor(v + (INT64_C(1) << (sh - 1u)), sh);
 }
 
 /** Narrow int64 to int32, saturating; adds 1 to *events when it saturates. */
-static inline int32_t narrow_saturate(int64_t v, uint32_t *events)
+WAKE_FIXED_HELPER int32_t narrow_saturate(int64_t v, uint32_t *events)
 {
     /* v + 2^31 in [0, 2^32) exactly when v fits: one 64-bit add and a test of the top word */
     const uint32_t over = (uint32_t)(((uint64_t)v + UINT64_C(0x80000000)) >> 32) != 0u;
@@ -84,19 +109,22 @@ static inline int32_t narrow_saturate(int64_t v, uint32_t *events)
 }
 
 /** Narrow int32 to int16, saturating; adds 1 to *events when it saturates. */
-WAKE_RTP_INLINE_UNLESS_OS int16_t narrow_saturate16(int32_t v, uint32_t *events)
+WAKE_FIXED_HELPER int16_t narrow_saturate16(int32_t v, uint32_t *events)
 {
     *events += (uint32_t)((v > INT16_MAX) | (v < INT16_MIN));
     return (int16_t)((v > INT16_MAX) ? INT16_MAX : (v < INT16_MIN) ? INT16_MIN : v);
 }
 
+#if !(defined(WAKE_FIXED_DEFINE) && (WAKE_FIXED_DEFINE == 1) && defined(WAKE_RTP_KALMAN) && !WAKE_RTP_KALMAN)   /* only the Kalman clamps */
 /** v clamped to +-2^bits, 1 <= bits <= 62; adds 1 to *events when it clamps. */
-WAKE_RTP_INLINE_UNLESS_OS int64_t clamp_symmetric(int64_t v, unsigned bits, uint32_t *events)
+WAKE_FIXED_HELPER int64_t clamp_symmetric(int64_t v, unsigned bits, uint32_t *events)
 {
     const int64_t top = INT64_C(1) << bits;
     *events += (uint32_t)((v > top) | (v < -top));
     return (v > top) ? top : (v < -top) ? -top : v;
 }
+#endif
+#endif
 
 /** a * b exactly, for int32 operands (a 32 x 32 -> 64-bit multiply). */
 static inline int64_t multiply_wide(int32_t a, int32_t b)

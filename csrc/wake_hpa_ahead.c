@@ -206,7 +206,7 @@ static inline void ahead_estimate2(const int32_t *fir, const wake_q15_t *x, unsi
 }
 
 /** y(t) of one sample (a block's odd last one): as ahead_estimate2. */
-static inline float ahead_estimate(const int32_t *fir, const wake_q15_t *x, unsigned t, unsigned N)
+static inline float ahead_estimate1(const int32_t *fir, const wake_q15_t *x, unsigned t, unsigned N)
 {
     const unsigned first = t - N;
     int64_t acc = 0;
@@ -428,7 +428,7 @@ static void ahead_block(const wake_hpa_t *h, wake_hpa_ahead_t *a, unsigned t, un
         ahead_estimate2(a->fir, x, t + q, N, &y[q]);
     }
     if (q < count) {
-        y[q] = ahead_estimate(a->fir, x, t + q, N);
+        y[q] = ahead_estimate1(a->fir, x, t + q, N);
     }
     for (q = 0; q < count; ++q) { /* wcet-loop: AHEAD_BLOCK */
         const unsigned s = t + q, at = pos + 1u + q;

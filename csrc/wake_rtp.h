@@ -134,8 +134,9 @@ extern "C" {
  * Until a w_h is installed the output is y(n), the one-step prediction held.
  * The struct grows by w_h, the second FIR and four scalars; the one-step
  * prediction and every other output are the same, bit for bit, in both builds.
- * The host extension (build_ffi.py) builds with 1; firmware leaves it 0, so its
- * code, cost and static bounds do not move.  Not with WAKE_RTP_SPLIT 1 (the
+ * The host extension (build_ffi.py) and the standalone firmware build with 1; a
+ * firmware that does not use it leaves it 0, so its code, cost and static bounds
+ * do not move (its module, wake_rtp_voluntary.c, compiles to nothing).  Not with WAKE_RTP_SPLIT 1 (the
  * split step has no second FIR): that combination does not compile.
  */
 #ifndef WAKE_RTP_VOLUNTARY_AHEAD

@@ -652,6 +652,12 @@ def check_extension_configuration():
         assert default == m[1], (name, default, m[1])
         assert extension == config.get(name, m[1]), (name, extension, config.get(name, m[1]))
     assert f"windows longer than `{rows['WAKE_HPA_MAX_WINDOW'][1]}` samples" in tagged("extension-configuration")
+    # the standalone firmware is built with the extension's definitions, as build_ffi.py --defines prints them
+    assert build_ffi.defines().split() == [f"-D{k}={v}" for k, v in build_ffi.CONFIGURATION]
+    makefile = (ROOT / "csrc" / "Makefile").read_text()
+    assert "EXT_DEFS = $(shell cd .. && $(PYTHON) build_ffi.py --defines)" in makefile
+    assert "$(BUILD)/standalone_host $(BUILD)/standalone_m4f.elf: DEFS += $(EXT_DEFS)" in makefile
+    assert "python build_ffi.py --defines" in " ".join(tagged("extension-configuration").split())
 
 
 @pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in SLOW_CLAIMS else n

@@ -1,11 +1,30 @@
 /**
  * @file wake_bounds.h
- * @brief Bounds that exist for the analyser (Frama-C Eva): clamps that never change a value of a real input,
- *        so that a value analysis sees an invariant it cannot derive.  One line each; the argument that a clamp
- *        never fires is written once, in docs/reference/verification.md ("The analyser's bounds").
+ * @brief Bounds that exist for the analyser (Frama-C Eva) and the fuzzer, which give a struct any contents:
+ *        clamps that never change a value of a real input or a state the code itself computed, so that a value
+ *        analysis sees an invariant it cannot derive and a corrupted value cannot overflow what follows.  One line
+ *        each; the argument that a bound never fires is written once: the HPA's in docs/reference/verification.md
+ *        ("The analyser's bounds"), the RTP's in docs/studies/verification.md ("Corrupted state").
  */
 #ifndef WAKE_BOUNDS_H
 #define WAKE_BOUNDS_H
+
+/* ---- RTP ---------------------------------------------------------------------------------------- */
+
+/** The split step's prepared FIR sum (h' window less its newest product), read within +-2^52. */
+#define WAKE_BOUND_RTP_PREPARED_FIR_BITS 52u
+/** The split step's prepared sum of the taps (before the first sample), read within +-2^39. */
+#define WAKE_BOUND_RTP_PREPARED_TAP_SUM_BITS 39u
+/** The split step's prepared seven products of the tremor ahead, read within +-2^49. */
+#define WAKE_BOUND_RTP_PREPARED_AHEAD_BITS 49u
+/** z, z_s and w_h' d_s as the voluntary ahead reads them, within +-2^41 (z itself is kept within +-2^40). */
+#define WAKE_BOUND_RTP_VOLUNTARY_Z_BITS 41u
+
+#endif /* WAKE_BOUNDS_H */
+
+/* The HPA's bounds depend on its sizes: defined in a unit that has included wake_hpa.h first (its internal header
+ * does); a second inclusion defines them again with the same replacement lists, which C allows. */
+#if defined(WAKE_HPA_MAX_WINDOW)
 
 /* ---- the HPA (csrc/wake_hpa_*.c) ------------------------------------------------------------------------------
  * Analyser shapes: besides these clamps, a few expressions are written so that an interval analysis keeps a
@@ -46,4 +65,4 @@
 #define AHEAD_V_MAX 34359738368.0f      /* 2^35 */
 #define AHEAD_E_MAX 68719476736.0f      /* 2^36 */
 
-#endif /* WAKE_BOUNDS_H */
+#endif /* WAKE_HPA_MAX_WINDOW */

@@ -10,7 +10,7 @@ from support import CSRC
 
 from wake.cli import main
 from wake.firmware.folder import export_folder
-from wake.firmware.sources import HPA_INTERNAL_HEADERS, HPA_SOURCES
+from wake.firmware.sources import HPA_INTERNAL_HEADERS, HPA_SOURCES, INTERNAL_HEADERS, RTP_SOURCES
 
 CONFIG = dict(wavelet="sym3", level=5, measurement_noise=1e-3, full_scale=4.0)
 HOST_CC = shutil.which("cc") or shutil.which("gcc")
@@ -43,7 +43,7 @@ def compile_folder(cc, folder, extra):
     use.write_text('#include "wake_hpa.h"\n#include "wake_config.h"\n'
                    "int start(void) { static wake_rtp_t r; static wake_hpa_t h;\n"
                    "  return wake_config_init(&r) == WAKE_RTP_OK && wake_config_hpa_init(&h) == WAKE_HPA_OK; }\n")
-    for src in ("wake_rtp.c", *HPA_SOURCES, "use_config.c"):
+    for src in (*RTP_SOURCES, *HPA_SOURCES, "use_config.c"):
         subprocess.run([cc, "-std=c99", "-Wall", "-Wextra", "-Werror", "-Wdouble-promotion", "-ffp-contract=off",
                         *extra, "-c", str(folder / src),
                         "-o", str(folder / (src + ".o"))], check=True, capture_output=True, text=True)
@@ -52,9 +52,9 @@ def compile_folder(cc, folder, extra):
 def test_folder_holds_the_core_unchanged_and_the_configuration(tmp_path):
     files = export_folder(tmp_path / "fw", sources=CSRC, **CONFIG)
     assert [f.relative_to(tmp_path / "fw").as_posix() for f in files] == [
-        "wake_rtp.c", "wake_rtp.h", "wake_fixed.h", *HPA_SOURCES, "wake_hpa.h", *HPA_INTERNAL_HEADERS,
+        "wake_rtp.c", "wake_rtp.h", "wake_fixed.h", *RTP_SOURCES[1:], *HPA_SOURCES, "wake_hpa.h", *INTERNAL_HEADERS,
         "wake_rate.c", "wake_rate.h", "wake_config.h", "README.md"]
-    for name in ("wake_rtp.c", "wake_rtp.h", "wake_fixed.h", *HPA_SOURCES, "wake_hpa.h", *HPA_INTERNAL_HEADERS,
+    for name in ("wake_rtp.h", "wake_fixed.h", *RTP_SOURCES, *HPA_SOURCES, "wake_hpa.h", *INTERNAL_HEADERS,
                  "wake_rate.c", "wake_rate.h"):
         assert (tmp_path / "fw" / name).read_bytes() == (CSRC / name).read_bytes()
     header = (tmp_path / "fw" / "wake_config.h").read_text()
@@ -93,7 +93,7 @@ def test_exported_folder_builds_and_runs_on_the_host_like_the_python_core(tmp_pa
     (out / "driver.c").write_text(DRIVER)
     exe = out / "driver"
     subprocess.run([HOST_CC, "-std=c99", "-Wall", "-Wextra", "-Werror", "-I", str(out), str(out / "driver.c"),
-                    str(out / "wake_rtp.c"), "-o", str(exe)], check=True, capture_output=True, text=True)
+                    *(str(out / m) for m in RTP_SOURCES), "-o", str(exe)], check=True, capture_output=True, text=True)
     run = subprocess.run([str(exe)], capture_output=True, text=True)
     assert run.returncode == 0, run.returncode
     got = np.array(run.stdout.split(), dtype=int)

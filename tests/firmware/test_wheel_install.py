@@ -19,7 +19,7 @@ from pathlib import Path
 
 import pytest
 
-from wake.firmware.sources import HPA_INTERNAL_HEADERS, HPA_SOURCES
+from wake.firmware.sources import HPA_SOURCES, INTERNAL_HEADERS, RTP_SOURCES  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 ARM_CC = shutil.which("arm-none-eabi-gcc")
@@ -141,13 +141,13 @@ def test_export_c_from_the_wheel_compiles_for_cortex_m4_and_the_host(installed):
     _run([env_dir / "bin" / "wake", "export-c", "fw", "--level", "5", "--wavelet", "sym3"], cwd=work)
     fw = work / "fw"
     assert sorted(p.relative_to(fw).as_posix() for p in fw.rglob("*") if p.is_file()) == sorted(
-        ["README.md", "wake_config.h", "wake_fixed.h", *HPA_SOURCES, "wake_hpa.h", *HPA_INTERNAL_HEADERS,
-         "wake_rate.c", "wake_rate.h", "wake_rtp.c", "wake_rtp.h"])
+        ["README.md", "wake_config.h", "wake_fixed.h", *HPA_SOURCES, "wake_hpa.h", *INTERNAL_HEADERS,
+         "wake_rate.c", "wake_rate.h", "wake_rtp.h", *RTP_SOURCES])
     (fw / "use_config.c").write_text('#include "wake_hpa.h"\n#include "wake_config.h"\n'
                                      "int start(void) { static wake_rtp_t r; static wake_hpa_t h;\n"
                                      "  return wake_config_init(&r) + (int)wake_config_hpa_init(&h); }\n")
     for cc, extra in ((ARM_CC, ["-mcpu=cortex-m4", "-mthumb"]), (HOST_CC, [])):
-        for src in ("wake_rtp.c", *HPA_SOURCES, "use_config.c"):
+        for src in (*RTP_SOURCES, *HPA_SOURCES, "use_config.c"):
             _run([cc, "-std=c99", "-Wall", "-Wextra", "-Werror", *extra, "-c", src, "-o", f"{src}.{Path(cc).name}.o"],
                  cwd=fw)
 

@@ -5,6 +5,7 @@ The reference is always given the *quantised* configuration the C core holds
 measures the core's arithmetic error, which docs/studies/fixed_point.md bounds.
 """
 
+import glob
 import os
 import shutil
 import subprocess
@@ -394,7 +395,7 @@ int main(void) {
     )
     exe = tmp_path / "main"
     subprocess.run([cc, "-std=c99", "-Wall", "-Wextra", "-Werror", "-I", str(tmp_path), "-I", CSRC,
-                    str(prog), os.path.join(CSRC, "wake_rtp.c"), "-o", str(exe)], check=True)
+                    str(prog), *sorted(glob.glob(os.path.join(CSRC, "wake_rtp*.c"))), "-o", str(exe)], check=True)
     out = subprocess.run([str(exe)], check=True, capture_output=True, text=True).stdout.splitlines()
     head = [int(v) for v in out[0].split()]
     assert head[:2] == [level, 2**level]

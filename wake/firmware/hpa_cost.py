@@ -88,7 +88,7 @@ def build_hpa_image(target="m4f-O2", *, build_dir=None, csrc=None, defs=()):
         objects.append(obj)
     # the HPA as one object (its code size is this object's .text + .rodata)
     run([gcc, *HPA_TARGETS[target][1], "-nostdlib", "-r", *objects, "-o", "wake_hpa.o"])
-    run([gcc, *WARN_FLAGS, *flags, "-c", str(src / "wake_rtp.c"), "-o", "wake_rtp.o"])
+    run([gcc, *WARN_FLAGS, *flags, "-nostdlib", "-r", *map(str, sorted(src.glob("wake_rtp*.c"))), "-o", "wake_rtp.o"])
     hflags = ["-std=c99", "-Wall", "-Wextra", *flags, "-I", str(src)]
     run([gcc, *hflags, "-c", str(prof / "hpa_harness.c"), "-o", "harness.o"])
     run([gcc, *hflags, "-c", str(prof / "startup.c"), "-o", "startup.o"])

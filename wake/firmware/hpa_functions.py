@@ -24,7 +24,7 @@ __all__ = ["AHEAD_PARTS", "function_profile", "function_report"]
 #: the instance check); the rest is "the HPA's other steps".
 AHEAD_PARTS = {
     "ahead_estimate2": "pass: the estimate's 2^J-tap FIR",
-    "ahead_estimate": "pass: the estimate's 2^J-tap FIR",
+    "ahead_estimate1": "pass: the estimate's 2^J-tap FIR",
     "ahead_voluntary8": "pass: the low-bin oscillators",
     "ahead_voluntary4": "pass: the low-bin oscillators",
     "ahead_voluntary2": "pass: the low-bin oscillators",

@@ -30,7 +30,7 @@ import json
 from pathlib import Path
 
 from wake import __version__
-from wake.firmware.sources import HPA_SOURCES
+from wake.firmware.sources import HPA_SOURCES, RTP_SOURCES
 
 __all__ = ["LAYOUTS", "layout_files", "library_json", "library_properties", "zephyr_files"]
 
@@ -56,7 +56,8 @@ def library_json(src_dir: str | None = None) -> str:
     build = {"flags": [HPA_FLAG]}
     if src_dir is not None:
         build.update(srcDir=src_dir, includeDir=src_dir,
-                     srcFilter=["-<*>", "+<wake_rtp.c>", *(f"+<{c}>" for c in HPA_SOURCES), "+<wake_rate.c>"])
+                     srcFilter=["-<*>", *(f"+<{m}>" for m in RTP_SOURCES), *(f"+<{c}>" for c in HPA_SOURCES),
+                                "+<wake_rate.c>"])
     manifest = {
         "name": NAME,
         "version": VERSION,
@@ -96,7 +97,7 @@ def zephyr_files(src_dir: str = ".") -> dict[str, str]:
     cmake = f"""# Zephyr glue for the WAKE C core (module.yml: build.cmake). Enabled by CONFIG_WAKE.
 if(CONFIG_WAKE)
   zephyr_library()
-  zephyr_library_sources({base}/wake_rtp.c {base}/wake_rate.c)
+  zephyr_library_sources({" ".join(f"{base}/{m}" for m in RTP_SOURCES)} {base}/wake_rate.c)
   zephyr_library_sources({" ".join(f"{base}/{c}" for c in HPA_SOURCES)})
   zephyr_include_directories({base})
   # the HPA's fixed evaluation order (docs/studies/hpa_c.md)

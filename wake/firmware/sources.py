@@ -11,7 +11,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-__all__ = ["HPA_SOURCES", "HPA_INTERNAL_HEADERS", "SourcesUnavailable", "csrc_dir"]
+__all__ = ["HPA_INTERNAL_HEADERS", "HPA_SOURCES", "INTERNAL_HEADERS", "RTP_INTERNAL", "RTP_SOURCES", "SourcesUnavailable",
+           "csrc_dir"]
+
+#: The RTP's modules (docs/reference/architecture.md, "The C core's files"): the core step first; a module a
+#: build does not use compiles to nothing.
+RTP_SOURCES = ("wake_rtp.c", "wake_rtp_state.c", "wake_rtp_split.c", "wake_rtp_ahead.c", "wake_rtp_voluntary.c",
+               "wake_rtp_block.c", "wake_rtp_fixed.c")
+#: The RTP's internal headers, which its modules include by their relative path.
+RTP_INTERNAL = ("internal/wake_rtp_internal.h", "internal/wake_rtp_sample.h", "internal/wake_bounds.h")
 
 #: Files every use of the sources needs.
 _REQUIRED = ("wake_rtp.c", "wake_rtp.h", "wake_fixed.h")
@@ -20,6 +28,8 @@ _REQUIRED = ("wake_rtp.c", "wake_rtp.h", "wake_fixed.h")
 HPA_SOURCES = ("wake_hpa.c", "wake_hpa_spectrum.c", "wake_hpa_dft.c", "wake_hpa_fit.c", "wake_hpa_solve.c",
                "wake_hpa_ahead.c", "wake_hpa_pieces.c", "wake_hpa_slice.c")
 HPA_INTERNAL_HEADERS = ("internal/wake_hpa_internal.h", "internal/wake_bounds.h", "internal/wake_hpa_costs.h")
+#: Every internal header once (the analyser's bounds, internal/wake_bounds.h, serve the RTP and the HPA).
+INTERNAL_HEADERS = tuple(dict.fromkeys(RTP_INTERNAL + HPA_INTERNAL_HEADERS))
 
 
 class SourcesUnavailable(FileNotFoundError):

@@ -25,7 +25,7 @@ How it works (``docs/studies/profiling.md`` has the details and the tables):
 3. Instructions inside an IT block whose condition fails are counted (the
    core issues them); the measured counts are taken the same way.
 4. ``exclude`` names functions whose calls cost nothing: the inert bound
-   excludes ``kalman_update`` (skipped while the Kalman filter is inert).
+   excludes ``wake_rtpi_kalman_update`` (skipped while the Kalman filter is inert).
 
 Cycle models (zero wait states, from the Arm Technical Reference Manuals of
 the Cortex-M4 and Cortex-M0+) assign each instruction its worst cycle count;
@@ -369,7 +369,7 @@ class _Analyser:
 def static_bound(image: Image, level: int, *, function="wake_rtp_step", exclude=(), model=None) -> Bound:
     """Longest path through ``function`` of ``image`` for filter-bank level ``level``.
 
-    ``exclude``: functions whose calls cost nothing (e.g. ``("kalman_update",)``
+    ``exclude``: functions whose calls cost nothing (e.g. ``("wake_rtpi_kalman_update",)``
     for the inert Kalman filter).  ``model``: a :class:`CycleModel`
     (default: by the image's target).
     """

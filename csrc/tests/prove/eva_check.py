@@ -36,6 +36,8 @@ from pathlib import Path
 
 CSRC = Path(__file__).resolve().parents[2]
 DOC = CSRC.parent / "docs" / "studies" / "verification.md"
+#: the RTP's modules (csrc/wake_rtp*.c), the core step first: every analysis links them all
+RTP_SOURCES = sorted((p.name for p in CSRC.glob("wake_rtp*.c")), key=lambda n: (n != "wake_rtp.c", n))
 RTP_ENTRIES = ["wake_rtp_init", "wake_rtp_set_weights", "wake_rtp_reset", "wake_rtp_step",
                "wake_rtp_step_missing", "wake_rtp_run", "wake_rtp_load_state", "wake_rtp_get_state",
                "wake_rtp_reciprocal", "wake_rtp_set_ahead", "wake_rtp_set_ahead_ramp", "wake_rtp_ahead_output",
@@ -56,7 +58,7 @@ VOLUNTARY_BUILD_ENTRIES = ["wake_rtp_set_weights", "wake_rtp_load_state"]
 #: division for k about 14 times, each of those 66 turns of up to 100 states: 90 % of the analysis (-eva-show-perf).
 #: Joining inside the voluntary restart and the division (one state per call; the division's quotient is clamped
 #: to +-2^50 whatever the states) gives the same result (no alarm) in a tenth of the time or less
-VOLUNTARY_ENTRY_OPTIONS = {e: ("-eva-slevel-function", "divide_wide:0,voluntary_ahead_restart:0")
+VOLUNTARY_ENTRY_OPTIONS = {e: ("-eva-slevel-function", "divide_wide:0,wake_rtpi_voluntary_restart:0")
                            for e in VOLUNTARY_BUILD_ENTRIES}
 #: seconds per entry in that build whatever --timeout says: 9 to 33 s per configuration at a load average of 1 to 2
 #: on a 2-core machine, beyond EVA_TIMEOUT's 120 s on a busier one
@@ -188,7 +190,7 @@ def unproven_in_summary(out: str) -> int:
     generated = sum(int(m[1]) for m in GENERATED.finditer(out))
     return generated + sum(int(m[1]) + int(m[2]) for m in PROPERTIES.finditer(out))
 # | wake_rtp.c | invalid RHS operand for shift | `0 ≤ up < 64` | justification |
-ROW = re.compile(r"^\|\s*(?P<file>wake_\w+\.c)\s*\|\s*(?P<kind>[^|]+?)\s*\|\s*`(?P<assert>[^`]+)`\s*\|")
+ROW = re.compile(r"^\|\s*(?P<file>wake_\w+\.[ch])\s*\|\s*(?P<kind>[^|]+?)\s*\|\s*`(?P<assert>[^`]+)`\s*\|")
 
 
 def normalise(text: str) -> str:
@@ -207,7 +209,7 @@ def listed_alarms() -> set:
 def analyse(unit: str, entry: str, defs: str, timeout: int, slevel: int, extra=()) -> dict:
     driver, with_hpa, unit_defs = UNITS[unit]
     hpa = HPA_SOURCES + ([HPA_AHEAD_SOURCE] if "-DWAKE_HPA_AHEAD=1" in unit_defs else [])
-    sources = ["wake_rtp.c", f"tests/prove/{driver}"] + (hpa if with_hpa else [])
+    sources = RTP_SOURCES + [f"tests/prove/{driver}"] + (hpa if with_hpa else [])
     cmd = ["frama-c", "-machdep", "gcc_x86_32",
            "-cpp-extra-args=-I. -include tests/prove/eva_builtins.h " + defs + unit_defs, *sources,
            "-eva", "-main", f"eva_{entry}", "-eva-slevel", str(slevel), "-eva-auto-loop-unroll", "400",

@@ -64,7 +64,8 @@ def analysed_sources() -> list:
     frama-c (wake_rtp.c, the HPA's wake_hpa*.c); each ``#include "..."`` is followed, looked up beside the including file and
     then in csrc/ (the analyses' ``-I.``). Frama-C's own headers (``__fc_builtin.h``, the libc) are covered by its
     version string."""
-    roots = sorted(PROVE.glob("eva_*.c")) + sorted(PROVE.glob("eva_*.h")) + [CSRC / "wake_rtp.c"] + sorted(CSRC.glob("wake_hpa*.c"))
+    roots = (sorted(PROVE.glob("eva_*.c")) + sorted(PROVE.glob("eva_*.h")) + sorted(CSRC.glob("wake_rtp*.c"))
+             + sorted(CSRC.glob("wake_hpa*.c")))
     seen, todo = set(), list(roots)
     while todo:
         path = todo.pop()

@@ -87,7 +87,8 @@ def main(argv=None) -> int:
             return 3
         cmd = ["frama-c", "-machdep", "gcc_x86_32",
                "-cpp-extra-args=-I. -include tests/prove/eva_builtins.h -DWAKE_RTP_KALMAN=1",
-               "wake_rtp.c", "tests/prove/eva_hpa_steps.c", *HPA_SOURCES, "-wp", "-wp-fct", ",".join(FUNCTIONS), "-wp-rte",
+               *sorted(p.name for p in CSRC.glob("wake_rtp*.c")), "tests/prove/eva_hpa_steps.c", *HPA_SOURCES,
+               "-wp", "-wp-fct", ",".join(FUNCTIONS), "-wp-rte",
                "-wp-prover", prover, "-wp-timeout", str(args.timeout)]
         start = time.monotonic()
         proc = subprocess.run(cmd, cwd=CSRC, capture_output=True, text=True, env=env)

@@ -116,6 +116,8 @@ class Image:
     sections: list = field(default_factory=list)  #: (name, addr, size, flags, offset)
     segments: list = field(default_factory=list)  #: (vaddr, data, memsz)
     symbols: dict = field(default_factory=dict)  #: name -> (addr, size, type)
+    #: every function symbol (addr, size, name): two modules' static functions may share a name
+    function_symbols: list = field(default_factory=list)
 
     @classmethod
     def read(cls, elf, core_object, target, callgraph=None):
@@ -150,6 +152,8 @@ class Image:
                 kind = info & 0xF
                 if kind == 2:  # STT_FUNC: clear the Thumb bit
                     value &= ~1
+                    if size:
+                        img.function_symbols.append((value, size, name))
                 if name not in img.symbols or kind in (1, 2):
                     img.symbols[name] = (value, size, kind)
         return img
@@ -162,7 +166,7 @@ class Image:
 
     def functions(self):
         """Sorted (start, end, name) of the function symbols."""
-        return sorted((a, a + s, n) for n, (a, s, k) in self.symbols.items() if k == 2 and s)
+        return sorted({(a, a + s, n) for a, s, n in self.function_symbols})
 
 
 def _core_flags(target):
@@ -189,6 +193,12 @@ def clang_command():
     return shutil.which("clang") or shutil.which("clang-14")
 
 
+def rtp_sources(src):
+    """The RTP's modules in ``src`` (csrc/wake_rtp*.c), the core step's first; a module a build does not use
+    compiles to nothing."""
+    return sorted(Path(src).glob("wake_rtp*.c"), key=lambda p: (p.name != "wake_rtp.c", p.name))
+
+
 def build_image(target="m4-O2", *, board="generic", build_dir=None, csrc=None, defs=(), debug=True,
                 compiler="gcc") -> Image:
     """Cross-compile the core and the harness for ``target`` and link an ELF image.
@@ -213,18 +223,24 @@ def build_image(target="m4-O2", *, board="generic", build_dir=None, csrc=None, d
     out = out / (f"{target}-{board}" if compiler == "gcc" else f"{compiler}-{target}-{board}")
     out.mkdir(parents=True, exist_ok=True)
     flags = _core_flags(target) + list(defs) + (["-g"] if debug else [])
-    core_o = out / "wake_rtp.o"
+    core_o = out / "wake_rtp_modules.o"
 
     def run(cmd):
         run_tool(cmd, out)
 
-    # The core alone, with the Makefile's warnings (gcc: stack usage and call graph too).
-    if compiler == "gcc":
-        run([tools["gcc"], *WARN_FLAGS, *flags, "-fstack-usage", "-fcallgraph-info=su",
-             "-c", str(src / "wake_rtp.c"), "-o", str(core_o)])
-    else:
-        run([clang_command() or "clang", "--target=arm-none-eabi", *WARN_FLAGS, *flags, "-isystem", NEWLIB_INCLUDE,
-             "-c", str(src / "wake_rtp.c"), "-o", str(core_o)])
+    # The core alone (every RTP module, csrc/wake_rtp*.c, one object each, linked into one relocatable object),
+    # with the Makefile's warnings (gcc: stack usage and call graph too).
+    module_objects = []
+    for module in rtp_sources(src):
+        obj = out / (module.stem + ".o")
+        if compiler == "gcc":
+            run([tools["gcc"], *WARN_FLAGS, *flags, "-fstack-usage", "-fcallgraph-info=su",
+                 "-c", str(module), "-o", str(obj)])
+        else:
+            run([clang_command() or "clang", "--target=arm-none-eabi", *WARN_FLAGS, *flags, "-isystem",
+                 NEWLIB_INCLUDE, "-c", str(module), "-o", str(obj)])
+        module_objects.append(str(obj))
+    run([tools["gcc"], *TARGETS[target][1], "-nostdlib", "-r", *module_objects, "-o", str(core_o)])
     objects = [str(core_o)]
     if (src / "wake_rate.c").is_file():  # the decimating front end (input rates above 150 Hz)
         run([tools["gcc"], *WARN_FLAGS, *flags, "-c", str(src / "wake_rate.c"), "-o", "wake_rate.o"])
@@ -236,7 +252,12 @@ def build_image(target="m4-O2", *, board="generic", build_dir=None, csrc=None, d
     run([tools["gcc"], *TARGETS[target][1], "-nostdlib", "-ffreestanding", "-T", str(prof / scripts[board]),
          "-L", str(prof), "-Wl,-Map=profile.map",
          "startup.o", "harness.o", *objects, "-lgcc", "-o", str(elf)])
-    ci = out / "wake_rtp.ci"
-    img = Image.read(elf, core_o, target, ci if ci.is_file() else None)
+    # the modules' call graphs as one (gcc writes one per module): a step's callee in another module counts
+    ci = None
+    if compiler == "gcc":
+        ci = out / "wake_rtp_modules.ci"
+        ci.write_text("".join(Path(o).with_suffix(".ci").read_text() for o in module_objects
+                              if Path(o).with_suffix(".ci").is_file()))
+    img = Image.read(elf, core_o, target, ci)
     img.source = src / "wake_rtp.c"
     return img

@@ -195,7 +195,7 @@ def _report(profiles, footprints, hot, qemu, hpa):
         "'steady max' leaves out the first (priming) sample of a stream.",
         "static bound: longest path through wake_rtp_step's control-flow graph and its callees, built from the "
         "image's disassembly, with loop trip counts from the source's `wcet-loop:` annotations (N = 2^J); "
-        "inert = the Kalman update (kalman_update) not called. Valid for instances of level J.",
+        "inert = the Kalman update (wake_rtpi_kalman_update) not called. Valid for instances of level J.",
         f"cycles: per-instruction Cortex-M4 / Cortex-M0+ timing model, zero wait states (docs/studies/profiling.md), "
         f"applied to the bound's path and to every measured step; µs = bound cycles at {clocks}; the budget is "
         f"one sample period at {SAMPLE_RATE_HZ:g} Hz.",

@@ -77,7 +77,8 @@ def stack_depth(ci_path, root):
     for m in re.finditer(r'node: \{ title: "([^"]+)" label: "([^"]*)"', text):
         name = short(m.group(1))
         sz = re.search(r"\\n(\d+) bytes", m.group(2))
-        frames[name] = int(sz.group(1)) if sz else None
+        if sz or name not in frames:       # a module's definition wins over another's external declaration
+            frames[name] = int(sz.group(1)) if sz else None
     for m in re.finditer(r'edge: \{ sourcename: "([^"]+)" targetname: "([^"]+)"', text):
         edges.setdefault(short(m.group(1)), set()).add(short(m.group(2)))
     externals = set()

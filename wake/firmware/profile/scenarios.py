@@ -210,8 +210,8 @@ class StepProfile:
         }
 
 
-#: What an inert Kalman never calls (both behind ``if (!s->inert)`` in wake_rtp.c): the inert bound leaves them out.
-INERT_EXCLUDED = ("kalman_update", "time_update")
+#: What an inert Kalman never calls (both behind ``if (!s->inert)`` in internal/wake_rtp_sample.h): the inert bound leaves them out.
+INERT_EXCLUDED = ("wake_rtpi_kalman_update", "wake_rtpi_time_update")
 
 
 def profile_configuration(emu: Emulator, wavelet="sym3", level=5, *, kalman=True, n=None, kinds=None,
@@ -251,7 +251,7 @@ def profile_configuration(emu: Emulator, wavelet="sym3", level=5, *, kalman=True
                        cycles, bound)
 
 
-PHASES = ("check_structure", "push", "kalman_update", "time_update", "predict")
+PHASES = ("wake_rtpi_check_structure", "push", "wake_rtpi_kalman_update", "wake_rtpi_time_update", "predict")
 
 
 def hotspots(emu: Emulator, wavelet="sym3", level=5, *, kalman=True, n=None):
