@@ -7,7 +7,8 @@ The extension is compiled from every C source of the core (``csrc/wake_*.c``,
 the same files a firmware links) with :data:`CONFIGURATION`, the one place its
 build settings are written (docs/reference/packaging.md, "The Python extension's
 configuration"), plus the host-only evaluation loops (``wake/eval/native``: not
-firmware code, so not in csrc/).  cffi reads its declarations from
+firmware code, so not in csrc/) and the host-only batch driver of the C HPA
+path (``wake/native``).  cffi reads its declarations from
 ``csrc/wake_cffi.h`` and ``wake/eval/native/wake_eval_cffi.h``, files written for cffi (no
 preprocessor conditionals, no comments to strip): cffi's API mode compiles each
 of them against the headers, so a declaration that no longer matches its
@@ -36,6 +37,10 @@ CONFIGURATION = (("WAKE_HPA_AHEAD", "1"), ("WAKE_RTP_VOLUNTARY_AHEAD", "1"), ("W
 #: the firmware tree csrc/; their cffi declarations are read after CDEF's.
 EVAL_DIR = "wake/eval/native"
 EVAL_HEADER, EVAL_SOURCE, EVAL_CDEF = "wake_eval.h", f"{EVAL_DIR}/wake_eval.c", "wake_eval_cffi.h"
+#: Host-only C beside the core: the batch driver of run(hpa_backend="c") (wake/native), which reaches the core
+#: through its public headers only; its cffi declarations are read last.
+NATIVE_DIR = "wake/native"
+NATIVE_HEADER, NATIVE_SOURCE, NATIVE_CDEF = "wake_batch.h", f"{NATIVE_DIR}/wake_batch.c", "wake_batch_cffi.h"
 
 
 def sources():
@@ -43,9 +48,10 @@ def sources():
 
 
 def cdef_text() -> str:
-    """The declarations cffi reads (``csrc/wake_cffi.h``, then the evaluation loops' ``wake_eval_cffi.h``)."""
+    """The declarations cffi reads (``csrc/wake_cffi.h``, the evaluation loops' ``wake_eval_cffi.h``, then the
+    batch driver's ``wake_batch_cffi.h``)."""
     text = []
-    for folder, name in ((CSRC, CDEF), (EVAL_DIR, EVAL_CDEF)):
+    for folder, name in ((CSRC, CDEF), (EVAL_DIR, EVAL_CDEF), (NATIVE_DIR, NATIVE_CDEF)):
         with open(os.path.join(HERE, folder, name), encoding="utf-8") as fh:
             text.append(fh.read())
     return "\n".join(text)
@@ -56,10 +62,11 @@ ffibuilder.cdef(cdef_text())
 
 ffibuilder.set_source(
     "wake._rtp",
-    "\n".join(f'#include "{h}"' for h in (*HEADERS, EVAL_HEADER)),
-    sources=[s.replace(os.sep, "/") for s in sources()] + [EVAL_SOURCE],
-    libraries=[] if sys.platform == "win32" else ["m"],  # libm: the baselines' sin, cos, sqrt, fmod (EVAL_DIR)
-    include_dirs=[CSRC, EVAL_DIR],
+    "\n".join(f'#include "{h}"' for h in (*HEADERS, EVAL_HEADER, NATIVE_HEADER)),
+    sources=[s.replace(os.sep, "/") for s in sources()] + [EVAL_SOURCE, NATIVE_SOURCE],
+    # libm: the baselines' sin, cos, sqrt, fmod (EVAL_DIR), the batch driver's rint and pow (NATIVE_DIR)
+    libraries=[] if sys.platform == "win32" else ["m"],
+    include_dirs=[CSRC, EVAL_DIR, NATIVE_DIR],
     # The HPA's floats must round the same on every machine: no fused multiply-add.
     extra_compile_args=["-ffp-contract=off"],
     define_macros=list(CONFIGURATION),

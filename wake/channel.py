@@ -27,6 +27,7 @@ from wake.ahead import TAPS, installed_goal
 from wake.config import WakeConfig
 from wake.hpa import HPAUpdate, default_weights, run_hpa
 from wake.hpa.run import analyse_windows, finish_hpa, recorded
+from wake.hpa import c_batch
 from wake.hpa.c_port import run_hpa_c
 from wake.hpa.prior import prior_weights
 from wake.hpa.schedule import HPASchedule, ScheduleState, prepare_window
@@ -157,17 +158,38 @@ class Channel:
         y = np.empty((5, n))
         if self.config.hpa_mode == "thread":
             self.swap_if_ready(wait=True, first_sample=self.schedule.count + 1)
-        start = 0
-        for stop, window, count, (prepared, peak), analysis in self.points(x):
-            # the HPA at this point runs before the RTP step of x[stop]
-            if start < stop:
-                y[:, start:stop] = self.rtp.run_outputs(x[start:stop])
-                start = stop
-            if window is not None:
-                self.hpa(window, count, prepared, analysis, peak)
+        start, batch = 0, None
+        for point in self.points(x):
+            # the C HPA on the C core: runs of points go to the batch driver in one call (wake.hpa.c_batch)
+            if batch is None and c_batch.covers(self):
+                batch = c_batch.Batch(self, x, start)
+            if batch is not None:
+                if batch.take(point):
+                    continue
+                start, rest = batch.flush(y)
+                batch = None
+                for refused in rest:   # from a point the driver refused: this path, as before
+                    start = self._point(x, y, start, refused)
+            start = self._point(x, y, start, point)
+        if batch is not None:
+            batch.finish()
+            start, rest = batch.flush(y)
+            for refused in rest:
+                start = self._point(x, y, start, refused)
         if start < n:
             y[:, start:] = self.rtp.run_outputs(x[start:])
         return y
+
+    def _point(self, x, y, start: int, point) -> int:
+        """The RTP up to one HPA point of :meth:`points` (outputs into ``y``), then its HPA; the next start."""
+        stop, window, count, (prepared, peak), analysis = point
+        # the HPA at this point runs before the RTP step of x[stop]
+        if start < stop:
+            y[:, start:stop] = self.rtp.run_outputs(x[start:stop])
+            start = stop
+        if window is not None:
+            self.hpa(window, count, prepared, analysis, peak)
+        return start
 
     def points(self, x):
         """The HPA points of block ``x`` (:meth:`HPASchedule.block`) as ``(stop, window, count, (prepared, peak),

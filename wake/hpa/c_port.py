@@ -20,7 +20,7 @@ from wake.target import TARGET
 from wake.wavelets import default_weights
 
 __all__ = ["c_flag_name", "c_mirror_problems", "hpa_config", "hpa_config_fields", "quantize_window", "run_hpa_c",
-           "check_c_hpa_config", "window_full_scale"]
+           "check_c_hpa_config", "update_from_result", "window_full_scale"]
 
 #: 10^(-MIN_DEPTH_DB / 10): the valley depth of :func:`wake.hpa.find_cutoff` as a ratio of PSD values
 MIN_DEPTH_RATIO = 10.0 ** (-MIN_DEPTH_DB / 10.0)
@@ -288,7 +288,14 @@ def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index:
     res = ffi.new("wake_hpa_result_t *")
     if status != lib.WAKE_HPA_DONE or lib.wake_hpa_take(h, res) != lib.WAKE_HPA_OK:
         raise RuntimeError(f"the C HPA did not finish (status {status})")
-    lsb = fs_scale / _Q15
+    return update_from_result(res, index, fs_scale, J)
+
+
+def update_from_result(res, index: int, full_scale: float, level: int) -> HPAUpdate:
+    """The :class:`~wake.hpa.HPAUpdate` of a ``wake_hpa_result_t`` of a window quantised at ``full_scale``
+    (R and e_L in physical units; :func:`run_hpa_c` and the batch driver, :mod:`wake.hpa.c_batch`)."""
+    ffi, lib = _core()
+    J, lsb = level, full_scale / _Q15
     notes = []
     if res.notes & lib.WAKE_HPA_NOTE_REGULARISED:
         notes.append("regularised")
