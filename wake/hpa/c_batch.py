@@ -134,8 +134,7 @@ class Batch:
         counts = np.array([p[2] & 0xFFFFFFFF for p in self.points], dtype=np.uint32)
         stacked = quantize_window(windows, fs)   # elementwise: each window as run_hpa_c quantises it
         span = self.stop - first
-        with np.errstate(over="ignore"):
-            x_q = np.rint(np.divide(self.x[first:self.stop], fs / _Q15)).astype(np.int16)
+        x_q = core._quantize_samples(self.x[first:self.stop])   # every sample inside the full scale: none clips
         vol_q = np.empty(span, dtype=np.int16)
         rows = np.empty((3, span), dtype=np.int32)
         carry = ffi.new("wake_batch_carry_t *")
@@ -156,14 +155,8 @@ class Batch:
                            carry, buf("int16_t[]", vol_q), buf("int32_t[]", rows[0]), buf("int32_t[]", rows[1]),
                            buf("int32_t[]", rows[2]), results, buf("uint8_t[]", clamped), done, samples)
         done, ran = int(done[0]), int(samples[0])
-        if ran:   # the rows as FixedPointRTP._run_block scales them
-            out = y[:, first:first + ran]
-            core._to_physical(vol_q[:ran], out=out[0])
-            lsb = fs / 2.0**23
-            np.multiply(rows[0, :ran], lsb, out=out[1])
-            np.divide(rows[1, :ran], 2.0**30, out=out[2])
-            np.multiply(rows[2, :ran], lsb, out=out[3])
-            out[4] = out[0]                        # no w_h: the one-step prediction, held
+        if ran:   # the rows as FixedPointRTP._run_block scales them (no w_h: the one-step prediction, held)
+            out = core._scale_rows(vol_q[:ran], rows[:, :ran], y[:, first:first + ran], with_ahead=False)
             rtp.last_prediction = float(out[0, -1])
             rtp.over_run, rtp.over_peak = 0, 0.0   # every sample inside the full scale
         for i in range(done):   # what Channel.apply records and keeps, point by point

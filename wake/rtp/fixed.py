@@ -300,7 +300,13 @@ class FixedPointRTP(AheadMixin, VoluntaryAheadMixin):
                                         ffi.from_buffer("int16_t[]", vol_q), buf(rows[0]), buf(rows[1]),
                                         buf(rows[2]), buf(rows[3]) if with_ahead else ffi.NULL),
                "wake_rtp_run_outputs")
-        out = np.empty((5, n))                             # the rows of run_outputs, each written in place
+        return self._scale_rows(vol_q, rows, np.empty((5, n)), with_ahead)
+
+    def _scale_rows(self, vol_q, rows, out, with_ahead):
+        """The C core's integer outputs of a block (``vol_q``, and ``rows``: predicted, gate, command and, with
+        ``with_ahead``, voluntary ahead) as the five rows of :meth:`run_outputs`, written into ``out`` (5, n)
+        in place, each by one multiply or divide (bit for bit what :meth:`step` and the ``last_*`` attributes
+        give); ``out``."""
         self._to_physical(vol_q, out=out[0])
         lsb = self.full_scale / 2.0**STATE_FRAC            # P, the command and v_h: Q23 of the full scale
         np.multiply(rows[0], lsb, out=out[1])
