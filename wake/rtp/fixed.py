@@ -277,8 +277,8 @@ class FixedPointRTP(AheadMixin, VoluntaryAheadMixin):
 
     def _run_block(self, samples, all_outputs):
         """The block through ``wake_rtp_run_outputs``: the predictions, or with ``all_outputs`` the five rows
-        of :meth:`run_outputs` as one ``(5, n)`` array (the C core writes them as integers; each is scaled by one multiply, as
-        :meth:`step`, :attr:`last_ahead` and :attr:`last_voluntary_ahead` scale them: bit for bit)."""
+        of :meth:`run_outputs` as one ``(5, n)`` array (the C core writes integers; :meth:`_scale_rows` scales each
+        by one multiply, as :meth:`step`, :attr:`last_ahead` and :attr:`last_voluntary_ahead` do: bit for bit)."""
         x = np.asarray(samples, dtype=float).reshape(-1)
         n = x.shape[0]
         x_q, nan_idx = self._quantize_samples(x, nan_positions=True)   # NaN -> 0, flagged missing
@@ -288,25 +288,18 @@ class FixedPointRTP(AheadMixin, VoluntaryAheadMixin):
             flags[nan_idx] = 1
             missing = ffi.from_buffer("uint8_t[]", flags)
         vol_q = np.empty(n, dtype=np.int16)                # every entry is written by the C core
-        if not all_outputs:
-            _check(lib.wake_rtp_run_outputs(self._state, ffi.from_buffer("int16_t[]", x_q), missing, n,
-                                            ffi.from_buffer("int16_t[]", vol_q), ffi.NULL, ffi.NULL, ffi.NULL,
-                                            ffi.NULL), "wake_rtp_run_outputs")
-            return self._to_physical(vol_q)
-        rows = np.empty((4, n), dtype=np.int32)           # predicted, gate, command, voluntary ahead
-        with_ahead = bool(self._state.vol_set)            # constant within a block (installed between blocks)
-        buf = lambda a: ffi.from_buffer("int32_t[]", a)   # noqa: E731
+        rows = np.empty((4, n if all_outputs else 0), dtype=np.int32)   # P, gate, command, voluntary ahead
+        with_ahead = all_outputs and bool(self._state.vol_set)   # constant within a block (installed between blocks)
+        ptrs = [ffi.from_buffer("int32_t[]", rows[i]) if all_outputs and (i < 3 or with_ahead) else ffi.NULL
+                for i in range(4)]                        # a NULL row is not computed
         _check(lib.wake_rtp_run_outputs(self._state, ffi.from_buffer("int16_t[]", x_q), missing, n,
-                                        ffi.from_buffer("int16_t[]", vol_q), buf(rows[0]), buf(rows[1]),
-                                        buf(rows[2]), buf(rows[3]) if with_ahead else ffi.NULL),
-               "wake_rtp_run_outputs")
+                                        ffi.from_buffer("int16_t[]", vol_q), *ptrs), "wake_rtp_run_outputs")
+        if not all_outputs:
+            return self._to_physical(vol_q)
         return self._scale_rows(vol_q, rows, np.empty((5, n)), with_ahead)
 
     def _scale_rows(self, vol_q, rows, out, with_ahead):
-        """The C core's integer outputs of a block (``vol_q``, and ``rows``: predicted, gate, command and, with
-        ``with_ahead``, voluntary ahead) as the five rows of :meth:`run_outputs`, written into ``out`` (5, n)
-        in place, each by one multiply or divide (bit for bit what :meth:`step` and the ``last_*`` attributes
-        give); ``out``."""
+        """``vol_q`` and the integer ``rows`` (P, gate, command[, v_h]) as :meth:`run_outputs`' rows, into ``out``."""
         self._to_physical(vol_q, out=out[0])
         lsb = self.full_scale / 2.0**STATE_FRAC            # P, the command and v_h: Q23 of the full scale
         np.multiply(rows[0], lsb, out=out[1])
@@ -314,8 +307,8 @@ class FixedPointRTP(AheadMixin, VoluntaryAheadMixin):
         np.multiply(rows[2], lsb, out=out[3])
         if with_ahead:
             np.multiply(rows[3], lsb, out=out[4])
-        else:
-            out[4] = out[0]                                # no w_h yet: the one-step prediction, held
+        else:                                              # no w_h yet: the one-step prediction, held
+            np.copyto(out[4], out[0])
         return out
 
     # -- hand-over and representability ---------------------------------------
