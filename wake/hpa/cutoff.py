@@ -164,21 +164,48 @@ def _settings(tremor_band, cutoff_range, default_cutoff, min_depth_db, shallow_m
 def _analyse(freqs, psd, settings) -> "Spectrum":
     """The tremor peak and the valley below it, or the fallback flag that says why there is none."""
     lo, hi = settings["cutoff_range"]
-    tremor_band = settings["tremor_band"]
-    if not np.isfinite(psd).all() or psd.max() <= 0:
+    inner, _, ascending = _bins(freqs, settings["tremor_band"])
+    top, bottom = psd.max(), psd.min()   # both finite exactly when every bin is (a NaN propagates into max)
+    if not (np.isfinite(top) and np.isfinite(bottom)) or top <= 0:
         return Spectrum(freqs, None, None, None, None, fallback="silent", **settings)
-    db = 10 * np.log10(np.maximum(psd, psd.max() * 1e-30))
-    inner = np.flatnonzero((freqs >= tremor_band[0]) & (freqs <= tremor_band[1]))
-    inner = inner[(inner > 0) & (inner < freqs.size - 1)]
+    db = 10 * np.log10(np.maximum(psd, top * 1e-30))
     local_max = inner[(db[inner] >= db[inner - 1]) & (db[inner] >= db[inner + 1])]
     if local_max.size == 0:
         return Spectrum(freqs, db, None, None, None, fallback="no_tremor_peak", **settings)
     peak = local_max[np.argmax(db[local_max])]
-    search = np.flatnonzero((freqs >= lo) & (freqs <= min(hi, freqs[peak])))
+    top_search = min(hi, freqs[peak])
+    if ascending:   # the bins in [lo, top_search]: one run of them, found by bisection
+        first = int(np.searchsorted(freqs, lo, side="left"))
+        search = np.arange(first, max(first, int(np.searchsorted(freqs, top_search, side="right"))))
+    else:
+        search = np.flatnonzero((freqs >= lo) & (freqs <= top_search))
     if search.size < 3:
         return Spectrum(freqs, db, peak, None, None, fallback="no_valley", **settings)
     valley = search[np.argmin(db[search])]
     return Spectrum(freqs, db, peak, valley, db[: valley + 1].max(), **settings)
+
+
+#: :func:`_bins` of the grids seen last (a stream's windows share one grid: ar_psd's), by their bytes
+_BINS: dict = {}
+
+
+def _bins(freqs, tremor_band) -> tuple:
+    """``(inner, above, ascending)`` of a frequency grid: the bins inside ``tremor_band`` that have a neighbour on
+    both sides (where a tremor peak may lie), the noise floor's bins (:meth:`Spectrum.noise_floor`) and whether
+    the grid rises strictly (then a band of it is one run of bins).  Made once per grid and band."""
+    key = (freqs.tobytes(), tuple(tremor_band))
+    found = _BINS.get(key)
+    if found is None:
+        inner = np.flatnonzero((freqs >= tremor_band[0]) & (freqs <= tremor_band[1]))
+        inner = inner[(inner > 0) & (inner < freqs.size - 1)]
+        above = np.flatnonzero(freqs > tremor_band[1])[::-1][::FLOOR_STRIDE]
+        ascending = bool(freqs.size and np.isfinite(freqs).all() and (np.diff(freqs) > 0).all())
+        for part in (inner, above):
+            part.flags.writeable = False
+        if len(_BINS) >= 16:
+            _BINS.clear()
+        found = _BINS[key] = (inner, above, ascending)
+    return found
 
 
 @dataclass(frozen=True)
@@ -213,7 +240,7 @@ class Spectrum:
     def noise_floor(self) -> float:
         """The lowest PSD above the tremor band, over fs/2 and every FLOOR_STRIDE-th bin below it (dB;
         -inf without bins there)."""
-        above = np.flatnonzero(self.freqs > self.tremor_band[1])[::-1][::FLOOR_STRIDE]
+        above = _bins(self.freqs, self.tremor_band)[1]
         return self.db[above].min() if above.size else -np.inf
 
 
