@@ -160,9 +160,12 @@ class Channel:
             self.swap_if_ready(wait=True, first_sample=self.schedule.count + 1)
         start, batch = 0, None
         for point in self.points(x):
-            # the C HPA on the C core: runs of points go to the batch driver in one call (wake.hpa.c_batch)
+            # on the C core runs of points go to the batch driver in one call (wake.hpa.c_batch): with the C HPA
+            # the HPAs too, with the Python HPA the RTP stretches and installs of the windows it finishes
             if batch is None and c_batch.covers(self):
                 batch = c_batch.Batch(self, x, start)
+            elif batch is None and c_batch.covers_installs(self):
+                batch = c_batch.InstallBatch(self, x, start)
             if batch is not None:
                 if batch.take(point):
                     continue
