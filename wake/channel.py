@@ -30,7 +30,7 @@ from wake.hpa.run import analyse_windows, finish_hpa, recorded
 from wake.hpa import c_batch
 from wake.hpa.c_port import run_hpa_c
 from wake.hpa.prior import prior_weights
-from wake.hpa.schedule import HPASchedule, ScheduleState, prepare_window
+from wake.hpa.schedule import HPASchedule, ScheduleState, prepare_window, prepare_windows
 from wake.rtp.adaptive import AdaptiveRTP, AdaptiveRTPState, ClippingWarning
 from wake.rtp.full_scale import robust_peak
 
@@ -204,9 +204,8 @@ class Channel:
         points = self.schedule.block(x)
         size = max(1, BATCH_SAMPLES // self.schedule.window_samples)
         while chunk := [(stop, window, self.schedule.count) for stop, window in islice(points, size)]:
-            peaks = [None if window is None else robust_peak(window) for _, window, _ in chunk]
-            prepared = [None if window is None else prepare_window(window, peak)
-                        for (_, window, _), peak in zip(chunk, peaks)]
+            prepared, peaks = zip(*[(None, None) if done is None else done
+                                    for done in prepare_windows([window for _, window, _ in chunk])])
             analyses = [None] * len(chunk)
             if self.config.hpa_backend != "c":
                 lengths = {}

@@ -271,9 +271,8 @@ def analyse_windows(windows, config: WakeConfig, *, taps=None, start_weights=Non
         X, spread = X[rows], spread[rows]
     # a warm-up window may be shorter than L: its AR order is capped (window_order)
     freqs, psd = ar_psd(X, fs, window_order(n, config.ar_order))
-    found = [find_cutoff(freqs, row, tremor_band=config.tremor_band, cutoff_range=config.cutoff_range,
-                         default_cutoff=config.default_cutoff, rule=config.cutoff_rule,
-                         shallow_max=config.shallow_max) for row in psd]
+    found = find_cutoff(freqs, psd, tremor_band=config.tremor_band, cutoff_range=config.cutoff_range,
+                        default_cutoff=config.default_cutoff, rule=config.cutoff_rule, shallow_max=config.shallow_max)
     # the window's end-point line is voluntary: taken out first, it leaves no seam in the FFT
     tremor_gt = detrended_highpass(X, fs, [cutoff for cutoff, _ in found])
     voluntary_gt = X - tremor_gt

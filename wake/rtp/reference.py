@@ -53,15 +53,13 @@ __all__ = ["ReferenceRTP"]
 # agree to the bit; a BLAS product would sum in an order that depends on the
 # shapes.
 
-#: Windows per multiply-and-reduce of :func:`_filter_bank` (its products: 33 x 2048 x J floats, 1.35 MB at J = 5)
-_BANK_ROWS = 2048
+_BANK_ROWS = 2048   # windows per multiply-and-reduce of _filter_bank (its products: 1.35 MB at J = 5)
 
 
 def _filter_bank(windows, taps):
-    """a_j = sum_i B[j, i] m(n - N + 1 + i), oldest sample first; one row per window.  Every tap's product at
-    once, below a row of zeros, reduced along that outer axis of a C-contiguous array: numpy adds one row at a
-    time there (pairwise summation is for the innermost axis only), ((0 + p_0) + p_1) + ..., the order that
-    keeps step() and run() equal to the bit, in two numpy calls per _BANK_ROWS windows instead of one per tap."""
+    """a_j = sum_i B[j, i] m(n - N + 1 + i), oldest sample first; one row per window: every tap's product below a
+    row of zeros, reduced along that outer axis (numpy adds one row at a time there, ((0 + p_0) + p_1) + ...:
+    the order that keeps step() and run() equal to the bit), two numpy calls per _BANK_ROWS windows."""
     n = windows.shape[0]
     acc = np.empty((n, taps.shape[0]))
     prod = np.zeros((taps.shape[1] + 1, min(n, _BANK_ROWS), taps.shape[0]))
@@ -388,11 +386,15 @@ def _ahead_block(step: AheadStep, estimates, out) -> None:
     # one (n, 1, taps) @ (taps, 1) matmul: BLAS's dot on each row, np.dot's numbers (a gemv would sum otherwise)
     out[::-1, 0] = (rows[:, None, :] @ c[:, None])[:, 0, 0]
     g, alpha, goal = step.gate, step.alpha, step.goal
-    gates = [0.0] * n
-    for k in range(n):
-        g += alpha * (goal - g)
-        gates[k] = g
-    out[:, 1] = gates
+    first = g + alpha * (goal - g)
+    if first.hex() == g.hex():   # the gate at its goal (shut before an HPA): each step gives it back, bit for bit
+        out[:, 1], g = g, first
+    else:
+        gates = [0.0] * n
+        for k in range(n):
+            g += alpha * (goal - g)
+            gates[k] = g
+        out[:, 1] = gates
     np.multiply(out[:, 1], out[:, 0], out=out[:, 2])
     step.history[:] = rows[0]
     step.gate = g
