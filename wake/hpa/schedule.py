@@ -222,6 +222,10 @@ def prepare_windows(windows) -> list:
         if window is not None:
             lengths.setdefault(window.shape[0], []).append(i)
     for rows in lengths.values():
+        if len(rows) == 1:   # one window of its length: its own calls cost less than a stack's
+            peak = robust_peak(windows[rows[0]])
+            out[rows[0]] = (prepare_window(windows[rows[0]], peak), peak)
+            continue
         X = np.stack([windows[i] for i in rows])
         peaks = robust_peak(X)
         limits = np.array([_outlier_limit(float(peak)) for peak in peaks])
