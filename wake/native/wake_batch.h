@@ -1,5 +1,6 @@
 /*
- * wake_batch.h: the host-only batch driver of WakeFilter(backend="c", hpa_backend="c") (issue 44).
+ * wake_batch.h: the host-only batch driver of WakeFilter(backend="c") (issue 44): wake_batch_run runs the C HPA's
+ * points (hpa_backend="c"), wake_batch_install the RTP stretches and installs of the Python HPA's finished windows.
  *
  * Not firmware: it lives beside the Python package, is compiled into the extension wake._rtp by build_ffi.py
  * and reaches the C core through its public headers only (wake_rtp.h, wake_hpa.h).  wake/native/batch.py
