@@ -27,11 +27,19 @@ the highest of three runs at a load average of 7.5 on 2 cores (run 22.5-24.3, wi
 HPA's glue cut, the float reference's tremor ahead one matmul per block). The C HPA's ceiling was then set again
 from what its batch driver reached (wake/native/wake_batch.c: the HPA windows of a block in one C call), 6.6-7.5
 at a load average of 1.5, plus a third: 10 (the code before the driver measured 10.3-13.1, so the ceiling fails
-on it). Before those changes the same script
+on it). Issue 44's fourth pass (the Python HPA's stretches and installs in one C call, wake_batch_install; the
+cut-off search, robust peaks and outlier tests of a block's windows at once; the float warm-up's filter bank in
+two numpy calls) measured, in three runs at a load average of 4.4 on 2 cores, run 17.4-18.5, with the C HPA
+7.0-7.8, update 7.8-8.4, between HPA windows 3.1-3.2 and the cohort task 424-431: the ceilings of run and update
+follow (24 and 11), the others stay. With a per-sample Python loop put back into the block path
+(``AdaptiveRTP.run_outputs`` stepping ``step()`` sample by sample, the batch paths off) the gate measured run
+62.5, with the C HPA 56.8 and the cohort task 797, and failed. Before those changes the same script
 measured run 81.5, with the C HPA 57.0, update 11.1 and a cohort task 1,478 (the per-sample Python loop of the C
 backend's block path), and at the previous ceilings run 33-39, with the C HPA 14-16: the run ceilings fail on
-either. Issue 44's targets (12, 5, 4 and 175) are met only between HPA windows (4);
-docs/studies/profiling.md, "Host speed", says where the rest of the time goes.
+either. The unit here (a 32-tap ``firwin`` FIR over this recording) measures 0.28-0.33 ms where
+bench/run_ratio.py's (a Hann FIR over its own recording, the figures issue 44's targets were set with) measures
+0.36-0.42 ms, so the same run is a larger ratio here; docs/studies/profiling.md, "Host speed", gives both and says
+where the time goes.
 
 Exit status: 0 every ratio within its ceiling, 1 one above it, 2 a usage error, 3 the C core not built.
 """
@@ -58,9 +66,9 @@ DURATION_S = 50.0
 FIR_TAPS = 32
 #: measure -> (unit, ceiling of the ratio, what it times); the one place the ceilings live
 CEILINGS = {
-    "run": ("lfilter x5", 32.0, 'WakeFilter(backend="c").run, 50 s at 100 Hz, HPA included'),
+    "run": ("lfilter x5", 24.0, 'WakeFilter(backend="c").run, 50 s at 100 Hz, HPA included'),
     'run, hpa_backend="c"': ("lfilter x5", 10.0, 'the same with hpa_backend="c"'),
-    "update": ("step", 15.0, "WakeFilter(backend=\"c\").update per sample, HPA included"),
+    "update": ("step", 11.0, "WakeFilter(backend=\"c\").update per sample, HPA included"),
     "update, between HPA windows": ("step", 4.5, "the same, the median 100-sample chunk (no HPA in it)"),
     "cohort task": ("lfilter x5", 570.0, "one task of wake evaluate --synthetic 1 --synthetic-only --jobs 1"),
 }

@@ -30,7 +30,7 @@ from wake.hpa.run import analyse_windows, finish_hpa, recorded
 from wake.hpa import c_batch
 from wake.hpa.c_port import run_hpa_c
 from wake.hpa.prior import prior_weights
-from wake.hpa.schedule import HPASchedule, ScheduleState, prepare_window
+from wake.hpa.schedule import HPASchedule, ScheduleState, prepare_window, prepare_windows
 from wake.rtp.adaptive import AdaptiveRTP, AdaptiveRTPState, ClippingWarning
 from wake.rtp.full_scale import robust_peak
 
@@ -160,9 +160,12 @@ class Channel:
             self.swap_if_ready(wait=True, first_sample=self.schedule.count + 1)
         start, batch = 0, None
         for point in self.points(x):
-            # the C HPA on the C core: runs of points go to the batch driver in one call (wake.hpa.c_batch)
+            # on the C core runs of points go to the batch driver in one call (wake.hpa.c_batch): with the C HPA
+            # the HPAs too, with the Python HPA the RTP stretches and installs of the windows it finishes
             if batch is None and c_batch.covers(self):
                 batch = c_batch.Batch(self, x, start)
+            elif batch is None and c_batch.covers_installs(self):
+                batch = c_batch.InstallBatch(self, x, start)
             if batch is not None:
                 if batch.take(point):
                     continue
@@ -201,9 +204,8 @@ class Channel:
         points = self.schedule.block(x)
         size = max(1, BATCH_SAMPLES // self.schedule.window_samples)
         while chunk := [(stop, window, self.schedule.count) for stop, window in islice(points, size)]:
-            peaks = [None if window is None else robust_peak(window) for _, window, _ in chunk]
-            prepared = [None if window is None else prepare_window(window, peak)
-                        for (_, window, _), peak in zip(chunk, peaks)]
+            prepared, peaks = zip(*[(None, None) if done is None else done
+                                    for done in prepare_windows([window for _, window, _ in chunk])])
             analyses = [None] * len(chunk)
             if self.config.hpa_backend != "c":
                 lengths = {}

@@ -19,7 +19,7 @@ from wake._core import CoreMissingWarning, default_backend as _default_backend
 from wake._validation import check_level, check_mode, check_number, check_pair, check_wavelet
 from wake.ahead import MAX_HORIZON, bank_horizon, check_horizon
 from wake.limits import MAX_LEVEL
-from wake.sampling import TUNED_RATES, RateWarning, decimation_for, warn_if_far_from_tuned_rate  # noqa: F401
+from wake.sampling import TUNED_RATES, RateWarning, decimation_for, sample_counts, warn_if_far_from_tuned_rate  # noqa: F401
 from wake.registry import cutoff_rule_names
 
 __all__ = ["CoreMissingWarning", "RateWarning", "TUNED_RATES", "WakeConfig", "MAX_LEVEL",
@@ -348,7 +348,7 @@ class WakeConfig:
 
     def hpa_points(self) -> tuple:
         """Sample counts of the warm-up HPA runs (before the first full window)."""
-        return tuple(int(round(t * self.fs)) for t in self.warmup_hpa_s)
+        return sample_counts(self.warmup_hpa_s, self.fs)   # made once per setting (asked at every point)
 
     def next_hpa(self, count: int) -> int:
         """The sample count of the first HPA after ``count`` samples."""

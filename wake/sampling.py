@@ -7,9 +7,11 @@ end it implies; docs/studies/design.md, "Sampling rates other than 100 Hz", has 
 
 from __future__ import annotations
 
+import functools
 import math
 
-__all__ = ["BANK_RATE", "TUNED_RATES", "RateWarning", "decimation_for", "rate_note", "warn_if_far_from_tuned_rate"]
+__all__ = ["BANK_RATE", "TUNED_RATES", "RateWarning", "decimation_for", "rate_note", "sample_counts",
+           "warn_if_far_from_tuned_rate"]
 
 #: The filter bank's own rate (Hz) that :func:`decimation_for` aims at: the rate level 5,
 #: ``ar_order`` 17 and the 5 s window were designed and measured at.
@@ -85,3 +87,15 @@ def rate_note(fs: float) -> str:
                 f"per second {fs:g} adds and {bank:g} RTP steps")
         how = f"decimation {D}"
     return f"rate {fs:g} Hz: filter bank, HPA and RTP at {bank:g} Hz ({how}): {work} (Cortex-M instructions: wake profile --fs {fs:g})"
+
+
+@functools.lru_cache(maxsize=64)
+def sample_counts(times_s: tuple, fs: float) -> tuple:
+    """The sample count ``round(t * fs)`` of each time ``t`` of ``times_s`` (seconds), made once per setting.
+
+    Examples
+    --------
+    >>> sample_counts((1.0, 2.5), 100.0)
+    (100, 250)
+    """
+    return tuple(int(round(t * fs)) for t in times_s)

@@ -28,6 +28,7 @@ __all__ = [
     "default_weights",
     "wavelet_approximations",
     "filter_bank_taps",
+    "sliding_rows",
     "filter_bank_outputs",
     "DEFAULT_MODE",
 ]
@@ -163,8 +164,28 @@ def filter_bank_outputs(x, taps):
     n_taps = taps.shape[1]
     if x.shape[-1] < n_taps:
         raise ValueError(f"need at least {n_taps} samples for the filter bank, got {x.shape[-1]}")
-    windows = np.lib.stride_tricks.sliding_window_view(x, n_taps, axis=-1)
-    return windows @ taps.T
+    return sliding_rows(x, n_taps) @ taps.T
+
+
+def sliding_rows(x, n: int) -> np.ndarray:
+    """``numpy.lib.stride_tricks.sliding_window_view(x, n, axis=-1)``, read-only, built directly: the same view
+    (shape, strides, values) without the helper's argument handling, which costs several times the view on
+    the per-window paths (the filter bank over an HPA window, the float RTP's block).
+
+    Examples
+    --------
+    >>> sliding_rows(np.arange(5.0), 3).tolist()
+    [[0.0, 1.0, 2.0], [1.0, 2.0, 3.0], [2.0, 3.0, 4.0]]
+    """
+    x = np.asarray(x)
+    if not 1 <= n <= x.shape[-1]:
+        raise ValueError(f"need a window length n in [1, {x.shape[-1]}] (the last axis's length), got {n}")
+    shape, strides = x.shape[:-1] + (x.shape[-1] - n + 1, n), x.strides + (x.strides[-1],)
+    if not x.flags.c_contiguous:
+        return np.lib.stride_tricks.as_strided(x, shape, strides, writeable=False)
+    rows = np.ndarray(shape, x.dtype, x, 0, strides)
+    rows.flags.writeable = False
+    return rows
 
 
 def default_weights(level):

@@ -18,10 +18,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from wake.ahead import TAPS, installed_goal
 from wake.hpa.c_port import _core, _prepared, quantize_window, update_from_result
-from wake.hpa.run import recorded
+from wake.hpa.run import finish_hpa, recorded
+from wake.rtp.qformat import clamped_words, quantize_ahead
 
-__all__ = ["Batch", "covers"]
+__all__ = ["Batch", "InstallBatch", "covers", "covers_installs"]
 
 _Q15 = 32768.0
 #: |x| / full scale * 2^15 below this rounds inside int16 on both sides: no sample of a taken stretch clips
@@ -36,6 +38,16 @@ def covers(channel) -> bool:
     config, rtp = channel.config, channel.rtp
     return (config.hpa_backend == "c" and config.backend == "c" and rtp.on_c and "hpa" not in channel.__dict__
             and not rtp.core._state.vol_set and rtp.core.clipped == rtp.clipped_before)
+
+
+def covers_installs(channel) -> bool:
+    """Whether :class:`InstallBatch` may take the next points of ``channel``: the Python HPA (its windows analysed
+    by :meth:`Channel.points`) on the C core at the default horizon (no voluntary motion ahead to install), nothing
+    wrapping the channel's HPA, no clip since the last HPA."""
+    config, rtp = channel.config, channel.rtp
+    return (config.hpa_backend != "c" and config.backend == "c" and config.horizon == 1 and rtp.on_c
+            and "hpa" not in channel.__dict__ and not rtp.core._state.vol_set
+            and rtp.core.clipped == rtp.clipped_before)
 
 
 class Batch:
@@ -171,3 +183,76 @@ class Batch:
         if done < k:
             rtp.policy.quiet_windows = self.quiet[done]
         return first + ran, self.points[done:]
+
+
+class InstallBatch(Batch):
+    """The Python HPA's points of one block, their RTP stretches and installs in one C call (``wake_batch_install``).
+
+    Python finishes each window in order (:func:`~wake.hpa.run.finish_hpa`, from the weights and predictor the
+    previous point left, as :meth:`Channel.hpa` does) and quantises what :meth:`Channel.apply` would install with
+    the install's own code (:func:`~wake.rtp.qformat.clamped_words`, :func:`~wake.rtp.qformat.quantize_ahead`);
+    the driver runs the stretches and installs those words.  The points it takes are those :class:`Batch` takes
+    (stretch finite and inside the full scale, the full scale kept), so installing notes nothing but a clamped R
+    or q, as there.  A point whose finish or quantisation raises, and every point after it, run on
+    :meth:`Channel.hpa` instead (which raises there, after the stretch, as before).
+    """
+
+    def take(self, point) -> bool:
+        return point[4] is not None and super().take(point)
+
+    def flush(self, y) -> tuple:
+        if not self.points:
+            return self.start, []
+        ch = self.channel
+        ffi, lib = _core()
+        config, rtp = ch.config, ch.rtp
+        core, first, k, level = rtp.core, self.start, len(self.points), config.level
+        w_q, c_q = np.empty((k, level), dtype=np.int32), np.empty((k, TAPS), dtype=np.int32)
+        r_q, q_q, goal_q = (np.empty(k, dtype=np.int32) for _ in range(3))
+        weights, coefficients, index, finished = ch.weights, ch.ahead_coefficients, ch.ahead_index, []
+        for i, (_stop, _window, count, _prepared_peak, analysis) in enumerate(self.points):
+            try:   # as Channel.hpa_job binds it, then Channel.apply's quantisation
+                upd = finish_hpa(analysis, config, previous_weights=weights.copy(), index=count,
+                                 start_weights=ch.start_weights, new_samples=count - index,
+                                 previous_ahead=None if coefficients is None else coefficients.copy())
+                (w_q[i], r_q[i], q_q[i]), clamped = clamped_words(
+                    upd.weights, level, upd.measurement_noise, ch.process_noise(upd.measurement_noise), core.full_scale)
+                c_q[i], goal_q[i] = quantize_ahead(np.zeros(TAPS) if upd.ahead_coefficients is None
+                                                   else upd.ahead_coefficients, installed_goal(upd.ahead_goal, ()))
+            except (ValueError, ArithmeticError):
+                break
+            finished.append((upd, clamped))
+            weights, coefficients, index = upd.weights, upd.ahead_coefficients, upd.index
+        if len(finished) < k:   # the rest run on Channel.hpa, the policy's state put back to before them
+            rtp.policy.quiet_windows = self.quiet[len(finished)]
+            rest, self.points = self.points[len(finished):], self.points[:len(finished)]
+            self.stop = self.points[-1][0] if self.points else first
+        else:
+            rest = []
+        span = self.stop - first
+        x_q = core._quantize_samples(self.x[first:self.stop])   # every sample inside the full scale: none clips
+        vol_q = np.empty(span, dtype=np.int16)
+        rows = np.empty((3, span), dtype=np.int32)
+        stops = np.array([p[0] - first for p in self.points], dtype=np.uint32)
+        done, samples = ffi.new("size_t *"), ffi.new("size_t *")
+        buf = ffi.from_buffer
+        lib.wake_batch_install(core._state, buf("int16_t[]", x_q), span, len(self.points), buf("uint32_t[]", stops),
+                               level, buf("int32_t[]", w_q), buf("int32_t[]", r_q), buf("int32_t[]", q_q),
+                               buf("int32_t[]", c_q), buf("int32_t[]", goal_q), buf("int16_t[]", vol_q),
+                               buf("int32_t[]", rows[0]), buf("int32_t[]", rows[1]), buf("int32_t[]", rows[2]),
+                               done, samples)
+        done, ran = int(done[0]), int(samples[0])
+        if ran:   # the rows as FixedPointRTP._run_block scales them (no w_h: the one-step prediction, held)
+            out = core._scale_rows(vol_q[:ran], rows[:, :ran], y[:, first:first + ran], with_ahead=False)
+            rtp.last_prediction = float(out[0, -1])
+            rtp.over_run, rtp.over_peak = 0, 0.0   # every sample inside the full scale
+        for (upd, clamped), point in zip(finished[:done], self.points):   # what Channel.apply records and keeps
+            flags = upd.flags + (("noise_clamped",) if clamped and "noise_clamped" not in upd.flags else ())
+            ch.weights = upd.weights
+            ch.ahead_coefficients, ch.ahead_index = upd.ahead_coefficients, upd.index
+            ch.updates.append(recorded(upd, applied_at=point[2], flags=flags))
+        if done:
+            ch.measurement_noise = rtp.measurement_noise
+        if done < len(self.points):
+            rtp.policy.quiet_windows = self.quiet[done]
+        return first + ran, self.points[done:] + rest

@@ -71,7 +71,8 @@ def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
     Parameters
     ----------
     freqs, psd : array_like
-        A spectrum from :func:`wake.hpa.spectrum.ar_psd`.
+        A spectrum from :func:`wake.hpa.spectrum.ar_psd`; ``psd`` may be a stack of spectra on that grid,
+        shape (W, n), each row's answer its own (a list of them).
     tremor_band : (float, float)
         Where the tremor peak is searched, Hz.
     cutoff_range : (float, float)
@@ -117,7 +118,7 @@ def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
     -------
     cutoff : float
     flag : str
-        A key of :data:`CUTOFF_FLAGS`.
+        A key of :data:`CUTOFF_FLAGS`.  A stack of spectra gives a list of ``(cutoff, flag)``, one per row.
 
     Examples
     --------
@@ -135,7 +136,10 @@ def find_cutoff(freqs, psd, *, tremor_band=(2.5, 15.0), cutoff_range=(0.5, 6.0),
     except TypeError:   # something unhashable (a list): checked, and refused by name, without the cache
         settings = _settings.__wrapped__(*args)
     decide = get_cutoff_rule(rule).function
-    return decide(_analyse(np.asarray(freqs, dtype=float), np.asarray(psd, dtype=float), settings))
+    psd = np.asarray(psd, dtype=float)
+    found = [decide(s) for s in _analyse_rows(np.asarray(freqs, dtype=float), psd.reshape(-1, psd.shape[-1]),
+                                               settings)]
+    return found[0] if psd.ndim == 1 else found
 
 
 @functools.lru_cache(maxsize=64, typed=True)   # typed: True is not 1 (check_positive refuses a bool)
@@ -161,24 +165,88 @@ def _settings(tremor_band, cutoff_range, default_cutoff, min_depth_db, shallow_m
                                  floor_margin_db=floor_margin_db, edge_db=edge_db))
 
 
-def _analyse(freqs, psd, settings) -> "Spectrum":
-    """The tremor peak and the valley below it, or the fallback flag that says why there is none."""
+def _analyse_rows(freqs, P, settings) -> list:
+    """:func:`_analyse` of each row of ``P`` (W, n), one :class:`Spectrum` each: on a rising grid the dB spectra,
+    local maxima, peaks, valleys and their left maxima of every row at once (the same elementwise operations,
+    first-occurrence argmax and argmin over the same bins, so each row's numbers are its own), else row by row."""
+    inner, _, ascending = _bins(freqs, settings["tremor_band"])
+    if not ascending or not inner.size or P.shape[0] == 1:   # one row: its own calls cost less than the stack's
+        return [_analyse(freqs, row, settings) for row in P]
     lo, hi = settings["cutoff_range"]
-    tremor_band = settings["tremor_band"]
-    if not np.isfinite(psd).all() or psd.max() <= 0:
+    top, bottom = P.max(axis=1), P.min(axis=1)   # both finite exactly when every bin is (a NaN propagates into max)
+    live = np.isfinite(top) & np.isfinite(bottom) & (top > 0)
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        db = 10 * np.log10(np.maximum(P, top[:, None] * 1e-30))
+    middle = db[:, inner]
+    peaked = (middle >= db[:, inner - 1]) & (middle >= db[:, inner + 1])
+    masked = np.where(peaked, middle, -np.inf)
+    peaks = inner[np.argmax(masked, axis=1)]
+    first = int(np.searchsorted(freqs, lo, side="left"))
+    stops = np.searchsorted(freqs, np.minimum(hi, freqs[peaks]), side="right")
+    span = np.arange(first, freqs.size)
+    valleys = first + np.argmin(np.where(span < stops[:, None], db[:, first:], np.inf), axis=1)
+    left = np.maximum.accumulate(db, axis=1)[np.arange(P.shape[0]), valleys]
+    out = []
+    for i in range(P.shape[0]):
+        if not live[i]:
+            out.append(Spectrum(freqs, None, None, None, None, fallback="silent", **settings))
+        elif not peaked[i].any():
+            out.append(Spectrum(freqs, db[i], None, None, None, fallback="no_tremor_peak", **settings))
+        elif masked[i].max() == -np.inf:   # every local maximum at -inf dB (an underflowed floor): as one row
+            out.append(_analyse(freqs, P[i], settings))
+        elif stops[i] - first < 3:
+            out.append(Spectrum(freqs, db[i], peaks[i], None, None, fallback="no_valley", **settings))
+        else:
+            out.append(Spectrum(freqs, db[i], peaks[i], valleys[i], left[i], **settings))
+    return out
+
+
+def _analyse(freqs, psd, settings) -> "Spectrum":
+    """The tremor peak and the valley below it, or the fallback flag that says why there is none (one row, any
+    grid: what :func:`_analyse_rows` computes for a stack on a rising grid)."""
+    lo, hi = settings["cutoff_range"]
+    inner, _, ascending = _bins(freqs, settings["tremor_band"])
+    top, bottom = psd.max(), psd.min()   # both finite exactly when every bin is (a NaN propagates into max)
+    if not (np.isfinite(top) and np.isfinite(bottom)) or top <= 0:
         return Spectrum(freqs, None, None, None, None, fallback="silent", **settings)
-    db = 10 * np.log10(np.maximum(psd, psd.max() * 1e-30))
-    inner = np.flatnonzero((freqs >= tremor_band[0]) & (freqs <= tremor_band[1]))
-    inner = inner[(inner > 0) & (inner < freqs.size - 1)]
+    db = 10 * np.log10(np.maximum(psd, top * 1e-30))
     local_max = inner[(db[inner] >= db[inner - 1]) & (db[inner] >= db[inner + 1])]
     if local_max.size == 0:
         return Spectrum(freqs, db, None, None, None, fallback="no_tremor_peak", **settings)
     peak = local_max[np.argmax(db[local_max])]
-    search = np.flatnonzero((freqs >= lo) & (freqs <= min(hi, freqs[peak])))
+    top_search = min(hi, freqs[peak])
+    if ascending:   # the bins in [lo, top_search]: one run of them, found by bisection
+        first = int(np.searchsorted(freqs, lo, side="left"))
+        search = np.arange(first, max(first, int(np.searchsorted(freqs, top_search, side="right"))))
+    else:
+        search = np.flatnonzero((freqs >= lo) & (freqs <= top_search))
     if search.size < 3:
         return Spectrum(freqs, db, peak, None, None, fallback="no_valley", **settings)
     valley = search[np.argmin(db[search])]
     return Spectrum(freqs, db, peak, valley, db[: valley + 1].max(), **settings)
+
+
+#: :func:`_bins` of the grids seen last (a stream's windows share one grid: ar_psd's), by their bytes
+_BINS: dict = {}
+
+
+def _bins(freqs, tremor_band) -> tuple:
+    """``(inner, above, ascending)`` of a frequency grid: the bins inside ``tremor_band`` that have a neighbour on
+    both sides (where a tremor peak may lie), the noise floor's bins (:meth:`Spectrum.noise_floor`) and whether
+    the grid rises strictly (then a band of it is one run of bins).  Made once per grid and band."""
+    key = (freqs.tobytes(), tuple(tremor_band))
+    found = _BINS.get(key)
+    if found is None:
+        inner = np.flatnonzero((freqs >= tremor_band[0]) & (freqs <= tremor_band[1]))
+        inner = inner[(inner > 0) & (inner < freqs.size - 1)]
+        above = np.flatnonzero(freqs > tremor_band[1])[::-1][::FLOOR_STRIDE]
+        ascending = bool(freqs.size and np.isfinite(freqs).all() and (np.diff(freqs) > 0).all())
+        for part in (inner, above):
+            part.flags.writeable = False
+        if len(_BINS) >= 16:
+            _BINS.clear()
+        found = _BINS[key] = (inner, above, ascending)
+    return found
 
 
 @dataclass(frozen=True)
@@ -213,7 +281,7 @@ class Spectrum:
     def noise_floor(self) -> float:
         """The lowest PSD above the tremor band, over fs/2 and every FLOOR_STRIDE-th bin below it (dB;
         -inf without bins there)."""
-        above = np.flatnonzero(self.freqs > self.tremor_band[1])[::-1][::FLOOR_STRIDE]
+        above = _bins(self.freqs, self.tremor_band)[1]
         return self.db[above].min() if above.size else -np.inf
 
 

@@ -6,6 +6,7 @@ import numpy as np
 
 from wake.ahead import identity
 from wake.config import RIDGE_SCALES, WEIGHT_LIMIT
+from wake.hpa.spectrum import row_mean
 from wake.wavelets import default_weights  # noqa: F401  (re-exported: the weights before any fit)
 
 __all__ = ["fit_weights", "ridge_scale_of", "default_weights"]
@@ -121,11 +122,11 @@ def _fit_stack(A, y, ridge, weight_limit, center, shrink, ridge_scale="gram"):
                 todo = rows[~ok]
     for i in todo:
         w[i], used[i] = _raised(A[i], y[i], G[i], b[i], scale[i], eye, ridge, weight_limit, shrink)
-    if every:
-        err = np.sqrt(np.mean(((A @ w[:, :, None])[:, :, 0] - y) ** 2, axis=1))
+    if every:   # row_mean: np.mean(..., axis=1)'s numbers
+        err = np.sqrt(row_mean(((A @ w[:, :, None])[:, :, 0] - y) ** 2))
     else:
-        err = np.sqrt(np.mean(y**2, axis=1))
-        err[rows] = np.sqrt(np.mean(((A[rows] @ w[rows, :, None])[:, :, 0] - y[rows]) ** 2, axis=1))
+        err = np.sqrt(row_mean(y**2))
+        err[rows] = np.sqrt(row_mean(((A[rows] @ w[rows, :, None])[:, :, 0] - y[rows]) ** 2))
     return w, err, used
 
 

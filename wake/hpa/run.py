@@ -32,7 +32,7 @@ from wake.hpa.cutoff import find_cutoff
 from wake.target import TARGET, PredictionTarget
 from wake.hpa.fit import default_weights, fit_weights
 from wake.hpa.sharp import detrended_highpass
-from wake.hpa.spectrum import ar_psd, window_order
+from wake.hpa.spectrum import ar_psd, row_var, window_order
 from wake.wavelets import filter_bank_outputs, filter_bank_taps, wavelet_approximations
 
 __all__ = ["HPAUpdate", "WindowAnalysis", "ahead_fit", "analyse_windows", "finish_hpa", "gate_truth", "run_hpa",
@@ -261,7 +261,7 @@ def analyse_windows(windows, config: WakeConfig, *, taps=None, start_weights=Non
         taps = filter_bank_taps(config.wavelet, config.level, config.mode)
     X = np.asarray(windows, dtype=float)
     n = X.shape[1]
-    spread = np.std(X, axis=1)
+    spread = np.sqrt(row_var(X))   # np.std(X, axis=1)
     live = spread > 1e-12 * np.maximum(1.0, np.max(np.abs(X), axis=1))
     out = [WindowAnalysis(X[i], True) for i in range(X.shape[0])]
     rows = np.flatnonzero(live)
@@ -271,15 +271,14 @@ def analyse_windows(windows, config: WakeConfig, *, taps=None, start_weights=Non
         X, spread = X[rows], spread[rows]
     # a warm-up window may be shorter than L: its AR order is capped (window_order)
     freqs, psd = ar_psd(X, fs, window_order(n, config.ar_order))
-    found = [find_cutoff(freqs, row, tremor_band=config.tremor_band, cutoff_range=config.cutoff_range,
-                         default_cutoff=config.default_cutoff, rule=config.cutoff_rule,
-                         shallow_max=config.shallow_max) for row in psd]
+    found = find_cutoff(freqs, psd, tremor_band=config.tremor_band, cutoff_range=config.cutoff_range,
+                        default_cutoff=config.default_cutoff, rule=config.cutoff_rule, shallow_max=config.shallow_max)
     # the window's end-point line is voluntary: taken out first, it leaves no seam in the FFT
     tremor_gt = detrended_highpass(X, fs, [cutoff for cutoff, _ in found])
     voluntary_gt = X - tremor_gt
     # R: variance of the tremor ground truth, floored at 1e-6 of the window's variance so that a window
     # with no tremor still gives S = w'Pw + R > 0 (max(var, floor), row by row)
-    noise, floor = np.var(tremor_gt, axis=1), 1e-6 * spread**2
+    noise, floor = row_var(tremor_gt), 1e-6 * spread**2
     noise = np.where(floor > noise, floor, noise)
     outputs = filter_bank_outputs(X, taps)
     if config.fit == "causal":

@@ -36,7 +36,7 @@ from wake.config import WakeConfig
 from wake.hpa.run import clean_only_below
 from wake.rtp.full_scale import robust_peak
 
-__all__ = ["GAP_SHARE", "HPASchedule", "ScheduleState", "prepare_window"]
+__all__ = ["GAP_SHARE", "HPASchedule", "ScheduleState", "prepare_window", "prepare_windows"]
 
 #: A run of missing samples at least this share of the HPA window long is a long gap: the HPA schedule
 #: starts again at its end, warm-up first, as after ``reset()``, and no window reaches back into it
@@ -212,10 +212,41 @@ def prepare_window(window, peak: float | None = None) -> np.ndarray:
     return window
 
 
+def prepare_windows(windows) -> list:
+    """``(prepare_window(w, peak), peak)`` of each window of a list (None for None), ``peak`` its robust peak:
+    the windows of one length at once (one partition and one outlier test for all; a window with something to
+    drop or fill goes through :func:`prepare_window`, a clean one is returned as it is, as there)."""
+    out = [None] * len(windows)
+    lengths = {}
+    for i, window in enumerate(windows):
+        if window is not None:
+            lengths.setdefault(window.shape[0], []).append(i)
+    for rows in lengths.values():
+        if len(rows) == 1:   # one window of its length: its own calls cost less than a stack's
+            peak = robust_peak(windows[rows[0]])
+            out[rows[0]] = (prepare_window(windows[rows[0]], peak), peak)
+            continue
+        X = np.stack([windows[i] for i in rows])
+        peaks = robust_peak(X)
+        limits = np.array([_outlier_limit(float(peak)) for peak in peaks])
+        with np.errstate(invalid="ignore"):
+            clean = ~(np.abs(X) > limits[:, None]).any(axis=1) & ~np.isnan(X).any(axis=1)
+        for j, i in enumerate(rows):
+            peak = float(peaks[j])
+            out[i] = (windows[i] if clean[j] else prepare_window(windows[i], peak), peak)
+    return out
+
+
+def _outlier_limit(peak: float) -> float:
+    """Magnitudes above this are outliers in a window of robust peak ``peak`` (:data:`OUTLIER_PEAKS`,
+    :data:`OUTLIER_ABS`)."""
+    return min(OUTLIER_ABS, OUTLIER_PEAKS * peak) if peak > 0 else OUTLIER_ABS
+
+
 def _drop_outliers(window, peak=None):
     """``window`` with samples far beyond its robust peak as NaN (gaps, interpolated for the HPA)."""
     peak = robust_peak(window) if peak is None else peak
-    limit = min(OUTLIER_ABS, OUTLIER_PEAKS * peak) if peak > 0 else OUTLIER_ABS
+    limit = _outlier_limit(peak)
     with np.errstate(invalid="ignore"):
         wild = np.abs(window) > limit
     if not wild.any():

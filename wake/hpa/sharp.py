@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from wake._validation import check_positive
@@ -50,9 +52,17 @@ def _zero_below(x, fs, cutoff, axis):
     number, or along the last axis one per row of ``x`` (W, n) (each row's bins those of its own FFT)."""
     n = x.shape[axis]
     spectrum = np.fft.rfft(x, axis=axis)
-    keep = np.fft.rfftfreq(n, 1.0 / fs) > (cutoff if np.ndim(cutoff) == 0 else np.asarray(cutoff)[:, None])
+    keep = _bin_freqs(n, fs) > (cutoff if np.ndim(cutoff) == 0 else np.asarray(cutoff)[:, None])
     spectrum[~keep] = 0.0
     return np.fft.irfft(spectrum, n, axis=axis)
+
+
+@functools.lru_cache(maxsize=64)
+def _bin_freqs(n: int, fs: float) -> np.ndarray:
+    """``np.fft.rfftfreq(n, 1 / fs)``, read-only, made once per window length and rate."""
+    freqs = np.fft.rfftfreq(n, 1.0 / fs)
+    freqs.flags.writeable = False
+    return freqs
 
 
 def end_point_line(x):
@@ -104,7 +114,7 @@ def detrended_highpass(x, fs, cutoff):
     # a stack of windows (W, n), a cut-off per row: each row bit for bit its own window's truth
     fs = check_positive("fs", fs)
     cutoff = np.asarray(cutoff, dtype=float)
-    if cutoff.shape != x.shape[:1] or not np.all((cutoff >= 0) & (cutoff <= fs / 2)):
+    if cutoff.shape != x.shape[:1] or not (cutoff.size == 0 or (cutoff.min() >= 0 and cutoff.max() <= fs / 2)):
         raise ValueError(f"a stack of {x.shape[0]} windows needs {x.shape[0]} cut-offs, each within [0, fs/2 = "
                          f"{fs / 2}] Hz; got {cutoff!r}")
     return _zero_below(x - end_point_line(x), fs, cutoff, axis=-1)

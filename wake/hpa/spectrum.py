@@ -8,10 +8,36 @@ import numpy as np
 
 from wake._validation import check_positive
 
-__all__ = ["autocorrelation", "levinson_durbin", "yule_walker", "ar_psd", "window_order"]
+__all__ = ["autocorrelation", "levinson_durbin", "yule_walker", "ar_psd", "window_order", "row_mean", "row_var"]
 
 #: The smallest normal float64: the floor of the spectrum's denominator (read once; np.finfo is not free).
 _TINY = float(np.finfo(float).tiny)
+
+
+def row_mean(x, keepdims=False):
+    """``np.mean(x, axis=-1)``, the same reduce and division without its wrappers (a few microseconds per call on
+    the per-window path); each row's mean bit for bit numpy's.
+
+    Examples
+    --------
+    >>> row_mean(np.array([[1.0, 2.0], [3.0, 5.0]])).tolist()
+    [1.5, 4.0]
+    """
+    m = np.add.reduce(x, axis=-1, keepdims=keepdims)
+    return np.true_divide(m, x.shape[-1], out=m) if isinstance(m, np.ndarray) else m / x.shape[-1]
+
+
+def row_var(x):
+    """``np.var(x, axis=-1)`` as numpy computes it (the mean, the squared deviations, their mean), without its
+    wrappers; ``np.sqrt`` of it is ``np.std``'s, bit for bit.
+
+    Examples
+    --------
+    >>> row_var(np.array([[1.0, 3.0], [2.0, 2.0]])).tolist()
+    [1.0, 0.0]
+    """
+    d = x - row_mean(x, keepdims=True)
+    return row_mean(np.multiply(d, d, out=d))
 
 
 def window_order(n, order):
@@ -149,7 +175,7 @@ def _levinson_one(r, order):
 def yule_walker(x, order):
     """AR(p) coefficients and noise variance of ``x`` (mean removed); ``x`` (W, n): of each row."""
     x = np.asarray(x, dtype=float)
-    x = x - x.mean(axis=-1, keepdims=True)
+    x = x - row_mean(x, keepdims=True)
     r = autocorrelation(x, order)
     a, sigma2, _ = levinson_durbin(r, order)
     return a, sigma2

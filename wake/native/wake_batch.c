@@ -154,3 +154,41 @@ int wake_batch_run(wake_rtp_t *rtp, wake_hpa_t *hpa, const wake_hpa_config_t *cf
     *samples_done = start;
     return status;
 }
+
+int wake_batch_install(wake_rtp_t *rtp, const wake_q15_t *x, size_t n_samples, size_t n_points,
+                       const uint32_t *stops, size_t level, const wake_q24_t *weights, const wake_cov_t *r,
+                       const wake_cov_t *q, const int32_t *ahead, const wake_ratio_t *goals, wake_q15_t *voluntary,
+                       wake_q23_t *tremor_ahead, wake_ratio_t *gate, wake_q23_t *command, size_t *points_done,
+                       size_t *samples_done)
+{
+    size_t k;
+    size_t start = 0;
+    int status = WAKE_BATCH_DONE;
+
+    for (k = 0; k < n_points; k++) {
+        size_t stop = stops[k];
+        if (start < stop) {
+            if (wake_rtp_run_outputs(rtp, x + start, NULL, stop - start, voluntary + start, tremor_ahead + start,
+                                     gate + start, command + start, NULL) != WAKE_RTP_OK) {
+                status = WAKE_BATCH_RTP_REFUSED;
+                break;
+            }
+            start = stop;
+        }
+        /* Channel.apply's order: the weights, R and q, then the tremor-ahead predictor and goal */
+        if (wake_rtp_set_weights(rtp, weights + k * level, r[k], q[k]) != WAKE_RTP_OK
+            || wake_rtp_set_ahead(rtp, ahead + k * WAKE_HPA_AHEAD_TAPS, goals[k]) != WAKE_RTP_OK) {
+            status = WAKE_BATCH_RTP_REFUSED;
+            break;
+        }
+    }
+    if (status == WAKE_BATCH_DONE && start < n_samples) {   /* the stretch after the last point */
+        if (wake_rtp_run_outputs(rtp, x + start, NULL, n_samples - start, voluntary + start, tremor_ahead + start,
+                                 gate + start, command + start, NULL) == WAKE_RTP_OK) {
+            start = n_samples;
+        }
+    }
+    *points_done = k;
+    *samples_done = start;
+    return status;
+}

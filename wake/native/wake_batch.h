@@ -1,5 +1,6 @@
 /*
- * wake_batch.h: the host-only batch driver of WakeFilter(backend="c", hpa_backend="c") (issue 44).
+ * wake_batch.h: the host-only batch driver of WakeFilter(backend="c") (issue 44): wake_batch_run runs the C HPA's
+ * points (hpa_backend="c"), wake_batch_install the RTP stretches and installs of the Python HPA's finished windows.
  *
  * Not firmware: it lives beside the Python package, is compiled into the extension wake._rtp by build_ffi.py
  * and reaches the C core through its public headers only (wake_rtp.h, wake_hpa.h).  wake/native/batch.py
@@ -61,5 +62,25 @@ int wake_batch_run(wake_rtp_t *rtp, wake_hpa_t *hpa, const wake_hpa_config_t *cf
                    double full_scale, double process_noise_ratio, wake_batch_carry_t *carry,
                    wake_q15_t *voluntary, wake_q23_t *tremor_ahead, wake_ratio_t *gate, wake_q23_t *command,
                    wake_hpa_result_t *results, uint8_t *clamped, size_t *points_done, size_t *samples_done);
+
+/**
+ * Run @p n_points HPA points of one channel's block on the C core with their results given: the batch path of the
+ * Python HPA (wake.hpa.c_batch.InstallBatch), whose windows Python analyses and finishes.
+ *
+ * For point k: the RTP steps x[stops[k-1] .. stops[k]) (wake_rtp_run_outputs, the four output rows written at the
+ * samples' places), then installs weights[k * level .. (k + 1) * level), r[k] and q[k] (wake_rtp_set_weights) and
+ * the tremor-ahead predictor ahead[k * WAKE_HPA_AHEAD_TAPS ..] with goals[k] (wake_rtp_set_ahead): every word
+ * quantised by the Python install's own code (wake.rtp.fixed, wake.rtp.qformat).  After the last point the RTP
+ * steps on to x[n_samples - 1].
+ *
+ * @return WAKE_BATCH_DONE, or WAKE_BATCH_RTP_REFUSED when the core refused a stretch or an install: the point
+ *         points_done was not installed (its stretch ran when samples_done = stops[points_done]), so the caller
+ *         can run it its own way
+ */
+int wake_batch_install(wake_rtp_t *rtp, const wake_q15_t *x, size_t n_samples, size_t n_points,
+                       const uint32_t *stops, size_t level, const wake_q24_t *weights, const wake_cov_t *r,
+                       const wake_cov_t *q, const int32_t *ahead, const wake_ratio_t *goals, wake_q15_t *voluntary,
+                       wake_q23_t *tremor_ahead, wake_ratio_t *gate, wake_q23_t *command, size_t *points_done,
+                       size_t *samples_done);
 
 #endif

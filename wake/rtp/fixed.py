@@ -19,8 +19,8 @@ from wake.rtp.fixed_voluntary import VoluntaryAheadMixin
 from wake.rtp.status import check_status as _check
 from wake.rtp.qformat import (  # noqa: F401  (re-exported: the formats of this core)
     _INT32_MAX, _INT32_MIN, FIR_FRAC, GATE_FRAC, MAX_LEVEL, P_FRAC, SAMPLE_FRAC, STATE_FRAC, TAP_FRAC, TAP_ROW_ABS_MAX,
-    WEIGHT_FRAC, WEIGHT_MAX, format_mismatches, quantize_taps, quantize_variance, quantize_weights,
-    representable_noise)
+    WEIGHT_FRAC, WEIGHT_MAX, clamped_words, format_mismatches, quantize_taps, quantize_variance, quantize_weights,
+    representable_noise, weight_words)
 
 __all__ = ["FixedPointRTP", "P_FRAC", "quantize_taps", "quantize_weights", "quantize_variance", "representable_noise"]
 
@@ -152,12 +152,10 @@ class FixedPointRTP(AheadMixin, VoluntaryAheadMixin):
     # -- configuration ------------------------------------------------------
     def set_weights(self, weights, measurement_noise, process_noise=None):
         """Install new HPA output between two samples (no state is touched)."""
-        w_q = quantize_weights(weights, self.level)
-        r_q = quantize_variance(measurement_noise, self.full_scale, "measurement_noise R", positive=True)
-        if process_noise is None:
-            q_q = int(self._state.q)
-        else:
-            q_q = quantize_variance(process_noise, self.full_scale, "process_noise Q", positive=False)
+        self._set_words(*weight_words(weights, self.level, measurement_noise, process_noise, self.full_scale))
+
+    def _set_words(self, w_q, r_q, q_q):
+        q_q = int(self._state.q) if q_q is None else q_q   # None: keep the q in use
         _check(lib.wake_rtp_set_weights(self._state, ffi.from_buffer("int32_t[]", w_q), r_q, q_q), "wake_rtp_set_weights")
 
     def reset(self):
@@ -370,8 +368,8 @@ class FixedPointRTP(AheadMixin, VoluntaryAheadMixin):
 
     def set_weights_clamped(self, weights, measurement_noise, process_noise):
         """:meth:`set_weights` after clamping R and q into the C formats; returns whether it clamped."""
-        r, q, clamped = representable_noise(measurement_noise, process_noise, self.full_scale)
-        self.set_weights(weights, r, q)
+        words, clamped = clamped_words(weights, self.level, measurement_noise, process_noise, self.full_scale)
+        self._set_words(*words)
         return clamped
 
     # -- pickling: the struct is plain data but for the taps pointer ----------

@@ -47,7 +47,8 @@ TOP = 2.0**332  # ≈ 8.7e99, below 1e100
 
 
 def robust_peak(window) -> float:
-    """99th percentile of ``|x|`` over the finite samples of ``window`` (0 when none).
+    """99th percentile of ``|x|`` over the finite samples of ``window`` (0 when none); of each row of a stack
+    of windows of one length (W, n), as an array.
 
     Examples
     --------
@@ -56,14 +57,26 @@ def robust_peak(window) -> float:
     1.0
     """
     x = np.asarray(window, dtype=float)
+    if x.ndim == 2:   # a stack of windows of one length (each row finite): one partition for all, a peak per row
+        if not np.isfinite(x).all():
+            return np.array([robust_peak(row) for row in x])
+        x = np.abs(x)
+        k = _peak_rank(x.shape[1])
+        x.partition(k, axis=1)
+        return x[:, k].copy()
     x = np.abs(x[np.isfinite(x)])
     if x.size == 0:
         return 0.0
-    # np.quantile(x, 1 - GLITCH_SHARE, method="lower") is the element of rank floor((n - 1) q): one partition
-    # picks it (the same element; np.quantile's wrappers cost more than the selection at a window's size)
-    k = math.floor((x.size - 1) * (1.0 - GLITCH_SHARE))
+    k = _peak_rank(x.size)
     x.partition(k)
     return float(x[k])
+
+
+def _peak_rank(n: int) -> int:
+    """The rank :func:`robust_peak` picks among ``n`` samples: np.quantile(x, 1 - GLITCH_SHARE, method="lower")
+    is the element of rank floor((n - 1) q), which one partition picks (np.quantile's wrappers cost more than
+    the selection at a window's size)."""
+    return math.floor((n - 1) * (1.0 - GLITCH_SHARE))
 
 
 def power_of_two_at_least(value: float) -> float:

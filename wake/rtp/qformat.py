@@ -144,6 +144,24 @@ def representable_noise(r, q, full_scale):
     return r2, q2, (r2 != r or q2 != q)
 
 
+def weight_words(weights, level, measurement_noise, process_noise, full_scale):
+    """An HPA's weights, R and q -> what ``wake_rtp_set_weights`` takes: ``(w_q, r_q, q_q)`` (``q_q`` None when
+    ``process_noise`` is None: the core keeps its q).  ValueError for what the core cannot hold."""
+    w_q = quantize_weights(weights, level)
+    r_q = quantize_variance(measurement_noise, full_scale, "measurement_noise R", positive=True)
+    if process_noise is None:
+        return w_q, r_q, None
+    return w_q, r_q, quantize_variance(process_noise, full_scale, "process_noise Q", positive=False)
+
+
+def clamped_words(weights, level, measurement_noise, process_noise, full_scale):
+    """:func:`weight_words` of R and q clamped first (:func:`representable_noise`): ``((w_q, r_q, q_q), clamped)``:
+    what an HPA's install hands the C core, one call (``FixedPointRTP.set_weights_clamped``) or a batch of them
+    (wake.hpa.c_batch.InstallBatch)."""
+    r, q, clamped = representable_noise(measurement_noise, process_noise, full_scale)
+    return weight_words(weights, level, r, q, full_scale), clamped
+
+
 def quantize_ahead(coefficients, goal):
     """A tremor-ahead predictor and gate goal -> (int32 Q27 coefficients, int32 Q30 goal).
 
