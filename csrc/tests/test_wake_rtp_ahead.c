@@ -83,7 +83,7 @@ static void test_status_codes(void)
     memset(&s, 0, sizeof(s));
     CHECK(wake_rtp_set_ahead(&s, c, 0) == WAKE_RTP_E_UNINIT, "uninitialised");
     CHECK(wake_rtp_init(&s, J, taps, w, 1000, 0, 0) == WAKE_RTP_OK, "init");
-    CHECK(s.ahead_ramp == WAKE_RTP_AHEAD_RAMP_DEFAULT && s.ahead_gate == 0 && s.ahead_goal == 0, "init: ramp 1/30, shut");
+    CHECK(s.ahead.ramp == WAKE_RTP_AHEAD_RAMP_DEFAULT && s.ahead.gate == 0 && s.ahead.goal == 0, "init: ramp 1/30, shut");
     CHECK(wake_rtp_set_ahead(&s, NULL, 0) == WAKE_RTP_E_NULL, "null coefficients");
     c[3] = WAKE_RTP_AHEAD_COEF_MAX;
     c[5] = -WAKE_RTP_AHEAD_COEF_MAX;
@@ -95,7 +95,7 @@ static void test_status_codes(void)
     c[3] = 0;
     CHECK(wake_rtp_set_ahead(&s, c, -1) == WAKE_RTP_E_AHEAD, "goal < 0");
     CHECK(wake_rtp_set_ahead(&s, c, WAKE_RTP_GATE_ONE + 1) == WAKE_RTP_E_AHEAD, "goal > 1");
-    CHECK(s.ahead_coef[5] == -WAKE_RTP_AHEAD_COEF_MAX && s.ahead_goal == WAKE_RTP_GATE_ONE, "a refused call changes nothing");
+    CHECK(s.ahead.coef[5] == -WAKE_RTP_AHEAD_COEF_MAX && s.ahead.goal == WAKE_RTP_GATE_ONE, "a refused call changes nothing");
     CHECK(wake_rtp_set_ahead_ramp(&s, 0) == WAKE_RTP_E_AHEAD, "ramp 0");
     CHECK(wake_rtp_set_ahead_ramp(&s, WAKE_RTP_GATE_ONE + 1) == WAKE_RTP_E_AHEAD, "ramp > 1");
     CHECK(wake_rtp_set_ahead_ramp(&s, WAKE_RTP_GATE_ONE) == WAKE_RTP_OK, "ramp 1");
@@ -168,9 +168,9 @@ static void test_against_double(int live)
     CHECK(worst_gate <= bound_gate, "gate within its bound: %.1f > %.1f", worst_gate, bound_gate);
     CHECK(worst_cmd <= bound_p + 32768.0 * bound_gate / Q30 + 1.0 / 512.0, "command within its bound: %.3f LSB",
           worst_cmd);
-    CHECK(s.ahead_saturations == 0u, "no saturation in range (%u)", (unsigned)s.ahead_saturations);
+    CHECK(s.ahead.saturations == 0u, "no saturation in range (%u)", (unsigned)s.ahead.saturations);
     /* 300 samples after the goal went to 0 from 0.35: 0.35 (29/30)^300 = 1.4e-5 */
-    CHECK(s.ahead_gate < (int32_t)(2e-5 * Q30), "the gate closes (%ld)", (long)s.ahead_gate);
+    CHECK(s.ahead.gate < (int32_t)(2e-5 * Q30), "the gate closes (%ld)", (long)s.ahead.gate);
 }
 
 /* A missing sample enters 0 and shuts the gate; reset zeroes; the voluntary output is the build's
@@ -193,7 +193,7 @@ static void test_missing_reset_and_voluntary(void)
         int16_t m = signal_at(n, 0.2);
         if (n % 37 == 5) {
             CHECK(wake_rtp_step_missing(&a, &y1) == WAKE_RTP_OK && wake_rtp_step_missing(&b, &y2) == WAKE_RTP_OK, "missing");
-            CHECK(a.ahead_goal == 0, "a missing sample sets the goal to 0");
+            CHECK(a.ahead.goal == 0, "a missing sample sets the goal to 0");
             CHECK(wake_rtp_get_ahead_state(&a, line) == WAKE_RTP_OK && line[0] == 0, "and enters estimate 0");
             CHECK(wake_rtp_set_ahead(&a, c, WAKE_RTP_GATE_ONE) == WAKE_RTP_OK, "re-open");
         } else {
@@ -207,13 +207,13 @@ static void test_missing_reset_and_voluntary(void)
     CHECK(wake_rtp_ahead_output(&a, &p, &g, &cmd) == WAKE_RTP_OK && p == 0 && g == 0 && cmd == 0, "reset: outputs 0");
     CHECK(wake_rtp_get_ahead_state(&a, line) == WAKE_RTP_OK, "get");
     for (i = 0; i < TAPS; ++i) CHECK(line[i] == 0, "reset: delay line zeroed");
-    CHECK(a.ahead_goal == 0 && a.ahead_coef[2] == c[2], "reset: goal 0, coefficients kept");
+    CHECK(a.ahead.goal == 0 && a.ahead.coef[2] == c[2], "reset: goal 0, coefficients kept");
     /* the first sample after a reset has no prediction before it: estimate 0 */
     CHECK(wake_rtp_step(&a, 12000, &y1) == WAKE_RTP_OK && wake_rtp_get_ahead_state(&a, line) == WAKE_RTP_OK
           && line[0] == 0, "first sample: estimate 0");
     /* a missing sample before the first one: estimate 0, goal 0 */
     CHECK(wake_rtp_reset(&b) == WAKE_RTP_OK && wake_rtp_set_ahead(&b, c, WAKE_RTP_GATE_ONE) == WAKE_RTP_OK, "b");
-    CHECK(wake_rtp_step_missing(&b, &y2) == WAKE_RTP_OK && y2 == 0 && b.ahead_goal == 0, "unprimed missing: goal 0");
+    CHECK(wake_rtp_step_missing(&b, &y2) == WAKE_RTP_OK && y2 == 0 && b.ahead.goal == 0, "unprimed missing: goal 0");
 }
 
 /* load_ahead_state / get_ahead_state round trip, and the carry-over of the line into the next P. */
@@ -231,7 +231,7 @@ static void test_state_round_trip(void)
     for (i = 0; i < TAPS; ++i) line[i] = (int16_t)(1000 * (i + 1));
     CHECK(wake_rtp_load_ahead_state(&s, line, WAKE_RTP_GATE_ONE / 2) == WAKE_RTP_OK, "load");
     CHECK(wake_rtp_get_ahead_state(&s, back) == WAKE_RTP_OK && memcmp(line, back, sizeof(line)) == 0, "round trip");
-    CHECK(s.ahead_gate == WAKE_RTP_GATE_ONE / 2, "gate loaded");
+    CHECK(s.ahead.gate == WAKE_RTP_GATE_ONE / 2, "gate loaded");
     c[1] = 1 << 27;                                         /* P = the estimate one step older */
     CHECK(wake_rtp_set_ahead(&s, c, WAKE_RTP_GATE_ONE / 2) == WAKE_RTP_OK, "set");
     CHECK(wake_rtp_step(&s, 0, &y) == WAKE_RTP_OK, "step");   /* first sample: estimate 0 enters */
@@ -252,18 +252,18 @@ static void test_corrupted(void)
     for (i = 0; i < TAPS; ++i) c[i] = (i & 1) ? -WAKE_RTP_AHEAD_COEF_MAX : WAKE_RTP_AHEAD_COEF_MAX;
     CHECK(wake_rtp_init(&s, J, taps, w, 1000, 0, 0) == WAKE_RTP_OK, "init");
     CHECK(wake_rtp_set_ahead(&s, c, WAKE_RTP_GATE_ONE) == WAKE_RTP_OK, "set");
-    s.ahead_head = 8u;
+    s.ahead.head = 8u;
     CHECK(wake_rtp_step(&s, 100, &y) == WAKE_RTP_E_CORRUPT, "a line index out of range is refused");
-    s.ahead_head = 3u;
-    for (i = 0; i < TAPS; ++i) s.ahead_coef[i] = (i & 1) ? INT32_MIN : INT32_MAX;
-    s.ahead_gate = INT32_MIN;
-    s.ahead_goal = INT32_MAX;
-    s.ahead_ramp = INT32_MIN;
+    s.ahead.head = 3u;
+    for (i = 0; i < TAPS; ++i) s.ahead.coef[i] = (i & 1) ? INT32_MIN : INT32_MAX;
+    s.ahead.gate = INT32_MIN;
+    s.ahead.goal = INT32_MAX;
+    s.ahead.ramp = INT32_MIN;
     for (i = 0; i < 20; ++i) {
         CHECK(wake_rtp_step(&s, (int16_t)((i & 1) ? 32767 : -32768), &y) == WAKE_RTP_OK, "corrupted values run");
-        CHECK(s.ahead_gate >= 0, "the gate stays non-negative (%ld)", (long)s.ahead_gate);
+        CHECK(s.ahead.gate >= 0, "the gate stays non-negative (%ld)", (long)s.ahead.gate);
     }
-    CHECK(s.ahead_saturations > 0u, "saturations counted");
+    CHECK(s.ahead.saturations > 0u, "saturations counted");
     CHECK(wake_rtp_set_weights(&s, w, 1000, 0) == WAKE_RTP_E_CORRUPT, "set_weights refuses corrupted ahead fields");
     CHECK(wake_rtp_set_ahead(&s, c, 0) == WAKE_RTP_E_CORRUPT, "set_ahead refuses them too");
     /* in range, the largest values saturate only the estimate, never P, the gate or the command */
@@ -273,9 +273,9 @@ static void test_corrupted(void)
     for (i = 0; i < 20; ++i) {
         CHECK(wake_rtp_step(&s, (int16_t)((i & 1) ? 32767 : -32768), &y) == WAKE_RTP_OK, "step");
     }
-    CHECK(s.ahead_gate == WAKE_RTP_GATE_ONE, "ramp 1: the gate is the goal at once");
+    CHECK(s.ahead.gate == WAKE_RTP_GATE_ONE, "ramp 1: the gate is the goal at once");
     /* the estimate saturates at +-1 FS; P = 64 FS at most, held by Q23 (+-256 FS) without saturating */
-    CHECK(labs((long)s.ahead_predicted) >= (long)(60.0 * 8388608.0), "P reaches 60 of its 64 FS (%ld)", (long)s.ahead_predicted);
+    CHECK(labs((long)s.ahead.predicted) >= (long)(60.0 * 8388608.0), "P reaches 60 of its 64 FS (%ld)", (long)s.ahead.predicted);
 }
 
 int main(void)
