@@ -278,6 +278,72 @@ static void test_corrupted(void)
     CHECK(labs((long)s.ahead.predicted) >= (long)(60.0 * 8388608.0), "P reaches 60 of its 64 FS (%ld)", (long)s.ahead.predicted);
 }
 
+/* A firmware that drives a tremor ahead of its own (wake_ahead.h), fed the core's tremor estimate
+ * e(n) = m(n) - y(n-1) (0 for the first sample; wake_ahead_step_missing for a missing one), holds what the RTP's
+ * embedded instance holds, bit for bit, at the ramp of 100 Hz and of 1000 Hz; and the instance's own checks. */
+static void test_an_instance_of_its_own(double fs)
+{
+    static int16_t taps[J * N];
+    const int32_t w[J] = {(int32_t)(0.2 * 16777216.0), (int32_t)(-0.1 * 16777216.0),
+                          (int32_t)(0.3 * 16777216.0), (int32_t)(0.6 * 16777216.0)};
+    const int32_t ramp = (int32_t)(Q30 / (0.3 * fs) + 0.5);
+    int32_t c[TAPS];
+    int16_t line[TAPS];
+    wake_rtp_t s;
+    wake_ahead_t own;
+    int n, i, same = 1;
+    make_averaging_taps(taps, J, N);
+    for (i = 0; i < TAPS; ++i) {
+        c[i] = (int32_t)(rng_uniform(-1.0, 1.0) * Q27);
+    }
+    CHECK(wake_ahead_init(NULL) == WAKE_RTP_E_NULL && wake_ahead_init(&own) == WAKE_RTP_OK, "init");
+    CHECK(own.ramp == WAKE_RTP_AHEAD_RAMP_DEFAULT && wake_ahead_check(&own) == WAKE_RTP_OK, "init: ramp 1/30, valid");
+    CHECK(wake_rtp_init(&s, J, taps, w, 40000, 30, 40000) == WAKE_RTP_OK, "rtp init");
+    CHECK(wake_ahead_set_model(&own, c, (int32_t)(0.75 * Q30)) == WAKE_RTP_OK
+          && wake_rtp_set_ahead(&s, c, (int32_t)(0.75 * Q30)) == WAKE_RTP_OK, "the same predictor");
+    CHECK(wake_ahead_set_ramp(&own, ramp) == WAKE_RTP_OK && wake_rtp_set_ahead_ramp(&s, ramp) == WAKE_RTP_OK,
+          "the same ramp");
+    for (n = 0; n < 600; ++n) {
+        int16_t y;
+        const int missing = (n % 97) == 50;
+        /* at 1000 Hz an accelerometer's recording: gravity, 0.3 FS, under the motion */
+        const int16_t m = (int16_t)(signal_at(n, 0.2) + (fs > 500.0 ? 9830 : 0));
+        /* the core's tremor estimate, read before its step: m(n) - y(n-1) in Q23, saturated (0 for the first
+         * sample) */
+        const int64_t diff = (int64_t)m * 256 - s.last_output;
+        const int32_t e = !s.primed ? 0 : diff > INT32_MAX ? INT32_MAX : diff < INT32_MIN ? INT32_MIN : (int32_t)diff;
+        if (missing) {
+            CHECK(wake_rtp_step_missing(&s, &y) == WAKE_RTP_OK, "step_missing");
+            wake_ahead_step_missing(&own);
+        } else {
+            CHECK(wake_rtp_step(&s, m, &y) == WAKE_RTP_OK, "step");
+            wake_ahead_step(&own, e);
+        }
+        if (n == 300) {   /* a new model and goal between two samples */
+            c[0] = -c[0];
+            CHECK(wake_ahead_set_model(&own, c, (int32_t)(0.5 * Q30)) == WAKE_RTP_OK
+                  && wake_rtp_set_ahead(&s, c, (int32_t)(0.5 * Q30)) == WAKE_RTP_OK, "a new model");
+        }
+        same = same && (memcmp(&own, &s.ahead, sizeof(own)) == 0);
+    }
+    CHECK(same, "fs %.0f Hz: the instance of its own holds the embedded one's state, bit for bit", fs);
+    CHECK(own.gate > 0 && own.predicted != 0, "the gate opened and the ahead predicts");
+    CHECK(wake_ahead_history(&own, line) == WAKE_RTP_OK && line[0] == own.line[own.head], "history: newest first");
+    CHECK(wake_ahead_load(&own, line, WAKE_RTP_GATE_ONE + 1) == WAKE_RTP_E_AHEAD, "load: gate > 1");
+    CHECK(wake_ahead_load(NULL, line, 0) == WAKE_RTP_E_NULL && wake_ahead_history(&own, NULL) == WAKE_RTP_E_NULL,
+          "NULL refused");
+    CHECK(wake_ahead_output(NULL, NULL, NULL, NULL) == WAKE_RTP_E_NULL, "output: NULL instance");
+    c[2] = WAKE_RTP_AHEAD_COEF_MAX + 1;
+    CHECK(wake_ahead_set_model(&own, c, 0) == WAKE_RTP_E_AHEAD && own.coef[2] != c[2], "a refused model changes nothing");
+    own.head = TAPS;
+    CHECK(wake_ahead_check(&own) == WAKE_RTP_E_CORRUPT && wake_ahead_history(&own, line) == WAKE_RTP_E_CORRUPT,
+          "a line index beyond 7 is corrupt");
+    wake_ahead_step(&own, INT32_MAX);                        /* any content is safe for the step */
+    CHECK(own.head < TAPS && own.saturations > 0u, "the step takes its index modulo 8 and counts the saturation");
+    CHECK(wake_ahead_reset(&own) == WAKE_RTP_OK && own.gate == 0 && own.goal == 0 && own.coef[0] == c[0]
+          && own.ramp == ramp, "reset: shut, the model and ramp kept");
+}
+
 int main(void)
 {
     printf("sizeof(wake_rtp_t) = %u bytes with the tremor ahead (J <= %d)\n", (unsigned)sizeof(wake_rtp_t),
@@ -288,6 +354,8 @@ int main(void)
     test_missing_reset_and_voluntary();
     test_state_round_trip();
     test_corrupted();
+    test_an_instance_of_its_own(100.0);
+    test_an_instance_of_its_own(1000.0);
     printf("%d passed, %d failed\n", n_passed, n_failed);
     return n_failed ? 1 : 0;
 }
