@@ -27,7 +27,7 @@
  * Every narrowing saturates and is counted in saturations; any value of the fields is safe (the next index is
  * taken modulo 8).
  */
-void wake_ahead_step(wake_ahead_t *a, wake_q23_t tremor)
+static WAKE_RTP_ALWAYS_INLINE void ahead_step(wake_ahead_t *a, wake_q23_t tremor)
 {
     uint32_t ev = 0u;
     const unsigned head = ahead_next_head(a);
@@ -37,6 +37,21 @@ void wake_ahead_step(wake_ahead_t *a, wake_q23_t tremor)
     const wake_q23_t predicted = ahead_predicted(ahead_dot(a->coef, &a->line[head]));
     ahead_output(a, predicted, ahead_gate_next(a, a->goal));
     count_events(&a->saturations, ev);
+}
+
+void wake_ahead_step(wake_ahead_t *a, wake_q23_t tremor)
+{
+    ahead_step(a, tremor);
+}
+
+/* The per-sample flow's hook (internal/wake_rtp_sample.h): the step on the RTP's embedded instance, one call from
+ * the core's step as before the instance existed (its frame and cost are the step's). */
+void wake_rtpi_ahead_step(wake_rtp_t *s, wake_q23_t tremor)
+{
+    wake_ahead_t *a = wake_rtpi_ahead(s);
+    if (a != NULL) {
+        ahead_step(a, tremor);
+    }
 }
 
 void wake_ahead_step_missing(wake_ahead_t *a)
@@ -68,28 +83,31 @@ void wake_ahead_finish(wake_ahead_t *a, const wake_ahead_prepared_t *prepared, w
 
 WAKE_RTP_COLD wake_rtp_status_t wake_ahead_init(wake_ahead_t *a)
 {
-    if (a == NULL) {
-        return WAKE_RTP_E_NULL;
+    wake_rtp_status_t st = WAKE_RTP_E_NULL;
+    if (a != NULL) {
+        ahead_init(a);
+        st = WAKE_RTP_OK;
     }
-    ahead_init(a);
-    return WAKE_RTP_OK;
+    return st;
 }
 
 WAKE_RTP_COLD wake_rtp_status_t wake_ahead_reset(wake_ahead_t *a)
 {
-    if (a == NULL) {
-        return WAKE_RTP_E_NULL;
+    wake_rtp_status_t st = WAKE_RTP_E_NULL;
+    if (a != NULL) {
+        ahead_reset(a);
+        st = WAKE_RTP_OK;
     }
-    ahead_reset(a);
-    return WAKE_RTP_OK;
+    return st;
 }
 
 WAKE_RTP_COLD wake_rtp_status_t wake_ahead_check(const wake_ahead_t *a)
 {
-    if (a == NULL) {
-        return WAKE_RTP_E_NULL;
+    wake_rtp_status_t st = WAKE_RTP_E_NULL;
+    if (a != NULL) {
+        st = (ahead_consistent(a) && (a->head < (unsigned)WAKE_RTP_AHEAD_TAPS)) ? WAKE_RTP_OK : WAKE_RTP_E_CORRUPT;
     }
-    return (ahead_consistent(a) && (a->head < (unsigned)WAKE_RTP_AHEAD_TAPS)) ? WAKE_RTP_OK : WAKE_RTP_E_CORRUPT;
+    return st;
 }
 
 /* The setters and readers, each written once: the instance's functions below and the RTP's (which pass its
@@ -98,7 +116,7 @@ WAKE_RTP_COLD wake_rtp_status_t wake_ahead_check(const wake_ahead_t *a)
 static WAKE_RTP_ALWAYS_INLINE wake_rtp_status_t set_model(wake_ahead_t *a, const int32_t *coefficients,
                                                           wake_ratio_t goal)
 {
-    if (a == NULL || coefficients == NULL) {
+    if ((a == NULL) || (coefficients == NULL)) {
         return WAKE_RTP_E_NULL;
     }
     if (!ahead_coefficients_in_range(coefficients) || !gate_in_range(goal, 0)) {
@@ -124,7 +142,7 @@ static WAKE_RTP_ALWAYS_INLINE wake_rtp_status_t set_ramp(wake_ahead_t *a, wake_r
 static WAKE_RTP_ALWAYS_INLINE wake_rtp_status_t load(wake_ahead_t *a, const wake_q15_t *line, wake_ratio_t gate)
 {
     unsigned i;
-    if (a == NULL || line == NULL) {
+    if ((a == NULL) || (line == NULL)) {
         return WAKE_RTP_E_NULL;
     }
     if (!gate_in_range(gate, 0)) {
@@ -142,7 +160,7 @@ static WAKE_RTP_ALWAYS_INLINE wake_rtp_status_t load(wake_ahead_t *a, const wake
 static WAKE_RTP_ALWAYS_INLINE wake_rtp_status_t history(const wake_ahead_t *a, wake_q15_t *line)
 {
     unsigned i;
-    if (a == NULL || line == NULL) {
+    if ((a == NULL) || (line == NULL)) {
         return WAKE_RTP_E_NULL;
     }
     if (a->head >= (unsigned)WAKE_RTP_AHEAD_TAPS) {

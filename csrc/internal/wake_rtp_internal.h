@@ -45,14 +45,6 @@
 #define WAKE_RTP_NOINLINE
 #endif
 
-/* A static function of an internal header kept out of line, which a module that includes the header but does
- * not call it leaves out without a warning. */
-#if defined(__GNUC__)
-#define WAKE_RTP_HOOK __attribute__((noinline, unused))
-#else
-#define WAKE_RTP_HOOK
-#endif
-
 /* Functions that run once per HPA, reset or state load, never per sample.
  * clang optimises them for size: at -O2 it unrolls their loops over the J
  * levels into about twice gcc's code (bench/clang_cost.py); gcc builds them
@@ -222,7 +214,7 @@ static inline int ahead_consistent(const wake_ahead_t *a)
 /** A new instance: the default ramp; coefficients, goal, gate and line 0. */
 static inline void ahead_init(wake_ahead_t *a)
 {
-    memset(a, 0, sizeof(*a));
+    (void)memset(a, 0, sizeof(*a));
     a->ramp = WAKE_RTP_AHEAD_RAMP_DEFAULT;
 }
 

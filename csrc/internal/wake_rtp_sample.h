@@ -35,7 +35,9 @@ uint32_t wake_rtpi_kalman_update(wake_rtp_t *s, wake_q23_t e);
 /** A sample without a measurement update: P = P + q I only (wake_rtp.c). */
 void wake_rtpi_time_update(wake_rtp_t *s, uint32_t *events);
 #endif
-/* The tremor ahead's step and finish are its public functions (wake_ahead.h, wake_rtp_ahead.c). */
+/** The RTP's tremor ahead fed the tremor estimate e(n) in Q23: wake_ahead_step on the embedded instance, nothing
+ * in a build without it (wake_rtp_ahead.c). */
+void wake_rtpi_ahead_step(wake_rtp_t *s, wake_q23_t tremor);
 #if WAKE_RTP_VOLUNTARY_AHEAD
 /** The voluntary motion ahead after the prediction of a step (wake_rtp_voluntary.c). */
 void wake_rtpi_voluntary_step(wake_rtp_t *s);
@@ -259,13 +261,13 @@ static WAKE_RTP_ALWAYS_INLINE int64_t ahead_dot(const int32_t *c, const wake_q15
 }
 
 /** Index of the slot the next estimate takes (the oldest one's), 0..7: the line runs newest first. */
-static inline unsigned ahead_next_head(const wake_ahead_t *a)
+static WAKE_RTP_ALWAYS_INLINE unsigned ahead_next_head(const wake_ahead_t *a)
 {
     return (a->head + (unsigned)WAKE_RTP_AHEAD_TAPS - 1u) & ((unsigned)WAKE_RTP_AHEAD_TAPS - 1u);
 }
 
 /** e(n) from the tremor estimate in Q23: Q15 of FS, saturated (counted in *events). */
-static inline wake_q15_t ahead_estimate(wake_q23_t tremor, uint32_t *events)
+static WAKE_RTP_ALWAYS_INLINE wake_q15_t ahead_estimate(wake_q23_t tremor, uint32_t *events)
 {
     /* round(t / 2^8) = floor((floor(t / 2) + 2^6) / 2^7) in 32 bits (no overflow: |floor(t / 2)| <= 2^30),
      * |.| < 2^24 before the saturation */
@@ -275,7 +277,7 @@ static inline wake_q15_t ahead_estimate(wake_q23_t tremor, uint32_t *events)
 }
 
 /** line <- e(n) at @p head (stored twice), which becomes the newest. */
-static inline void ahead_line_store(wake_ahead_t *a, unsigned head, wake_q15_t e)
+static WAKE_RTP_ALWAYS_INLINE void ahead_line_store(wake_ahead_t *a, unsigned head, wake_q15_t e)
 {
     a->line[head] = e;
     a->line[head + (unsigned)WAKE_RTP_AHEAD_TAPS] = e;
@@ -302,13 +304,13 @@ static WAKE_RTP_ALWAYS_INLINE int32_t ahead_gate_next(const wake_ahead_t *a, wak
 }
 
 /** P(n) from the dot product c . line, Q42 (|.| < 2^50): rounded to Q23, |.| < 2^31 fits int32. */
-static inline wake_q23_t ahead_predicted(int64_t dot)
+static WAKE_RTP_ALWAYS_INLINE wake_q23_t ahead_predicted(int64_t dot)
 {
     return (int32_t)shift_right_round(dot, WAKE_RTP_AHEAD_COEF_FRAC + WAKE_RTP_SAMPLE_FRAC - WAKE_RTP_STATE_FRAC);
 }
 
 /** Store P(n), the gate g(n) (31 bits) and the command g P. */
-static inline void ahead_output(wake_ahead_t *a, wake_q23_t predicted, int32_t gate)
+static WAKE_RTP_ALWAYS_INLINE void ahead_output(wake_ahead_t *a, wake_q23_t predicted, int32_t gate)
 {
     a->gate = gate;
     a->predicted = predicted;
@@ -513,13 +515,6 @@ static WAKE_RTP_ALWAYS_INLINE wake_q15_t sample_output(wake_rtp_t *s, int64_t ac
 }
 
 #if WAKE_RTP_AHEAD
-/** The RTP's tremor ahead fed e(n) = @p tremor: a call the compiler makes a jump (no frame of its own), so that
- * the step's own frame keeps no pointer to the embedded instance (Cortex-M0+: 24 bytes of stack). */
-static WAKE_RTP_HOOK void feed_ahead(wake_rtp_t *s, wake_q23_t tremor)
-{
-    wake_ahead_step(&s->ahead, tremor);
-}
-
 /** The tremor ahead of the sample, e(n) = @p tremor: a step's, or a prepared step's with the prepared gate
  * (a missing sample's goal is 0: its gate is computed here). */
 static WAKE_RTP_ALWAYS_INLINE void ahead_of_sample(wake_rtp_t *s, wake_q23_t tremor, int measured, int prepared)
@@ -529,12 +524,12 @@ static WAKE_RTP_ALWAYS_INLINE void ahead_of_sample(wake_rtp_t *s, wake_q23_t tre
         wake_ahead_finish(&s->ahead, &s->split_ahead, tremor,
                           (measured != 0) ? s->split_ahead.gate : ahead_gate_next(&s->ahead, 0));
     } else {
-        feed_ahead(s, tremor);
+        wake_rtpi_ahead_step(s, tremor);
     }
 #else
     (void)prepared;
     (void)measured;
-    feed_ahead(s, tremor);
+    wake_rtpi_ahead_step(s, tremor);
 #endif
 }
 #endif
