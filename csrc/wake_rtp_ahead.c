@@ -57,7 +57,7 @@ void wake_rtpi_ahead_step(wake_rtp_t *s, wake_q23_t tremor)
 void wake_ahead_step_missing(wake_ahead_t *a)
 {
     ahead_shut(a);
-    wake_ahead_step(a, 0);
+    ahead_step(a, 0);
 }
 
 void wake_ahead_prepare(const wake_ahead_t *a, wake_ahead_prepared_t *prepared)
