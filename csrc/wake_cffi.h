@@ -64,6 +64,39 @@ typedef enum {
     WAKE_RTP_E_AHEAD = -10,
     WAKE_RTP_E_UNPREPARED = -11
 } wake_rtp_status_t;
+/* ---- wake_ahead.h ---- */
+typedef struct {
+    int32_t coef[...];
+    wake_ratio_t goal;
+    wake_ratio_t gate;
+    wake_ratio_t ramp;
+    uint32_t saturations;
+    wake_q23_t predicted;
+    wake_q23_t command;
+    uint16_t head;
+    uint16_t reserved;
+    wake_q15_t line[...];
+} wake_ahead_t;
+typedef struct {
+    int64_t dot;
+    wake_ratio_t gate;
+} wake_ahead_prepared_t;
+wake_rtp_status_t wake_ahead_init(wake_ahead_t *a);
+wake_rtp_status_t wake_ahead_reset(wake_ahead_t *a);
+wake_rtp_status_t wake_ahead_check(const wake_ahead_t *a);
+wake_rtp_status_t wake_ahead_set_model(wake_ahead_t *a, const int32_t *coefficients, wake_ratio_t goal);
+wake_rtp_status_t wake_ahead_set_ramp(wake_ahead_t *a, wake_ratio_t ramp);
+wake_rtp_status_t wake_ahead_load(wake_ahead_t *a, const wake_q15_t *line, wake_ratio_t gate);
+wake_rtp_status_t wake_ahead_history(const wake_ahead_t *a, wake_q15_t *line);
+wake_rtp_status_t wake_ahead_output(const wake_ahead_t *a, wake_q23_t *predicted, wake_ratio_t *gate,
+                                    wake_q23_t *command);
+void wake_ahead_step(wake_ahead_t *a, wake_q23_t tremor);
+void wake_ahead_step_missing(wake_ahead_t *a);
+void wake_ahead_prepare(const wake_ahead_t *a, wake_ahead_prepared_t *prepared);
+void wake_ahead_finish(wake_ahead_t *a, const wake_ahead_prepared_t *prepared, wake_q23_t tremor,
+                       wake_ratio_t gate);
+
+/* ---- wake_rtp.h (the instance) ---- */
 typedef struct {
     uint32_t magic;
     uint32_t saturations;
@@ -87,16 +120,7 @@ typedef struct {
     wake_q23_t correction[...];
     wake_fir_t fir[...];
     wake_q15_t ring[...];
-    int32_t ahead_coef[...];
-    wake_ratio_t ahead_goal;
-    wake_ratio_t ahead_gate;
-    wake_ratio_t ahead_ramp;
-    uint32_t ahead_saturations;
-    wake_q23_t ahead_predicted;
-    wake_q23_t ahead_command;
-    uint16_t ahead_head;
-    uint16_t ahead_reserved;
-    wake_q15_t ahead_line[...];
+    wake_ahead_t ahead;
     wake_q24_t vol_weights[...];
     int64_t vol_z_start;
     int64_t vol_start;

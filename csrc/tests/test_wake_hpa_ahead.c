@@ -276,7 +276,7 @@ static void test_conversion_and_apply(void)
     CHECK(wake_hpa_ahead_to_rtp(&hpa.result, c, &goal) == WAKE_HPA_OK);
     CHECK(goal > 0);
     CHECK(wake_hpa_apply(&hpa, &rtp) == WAKE_HPA_OK);
-    CHECK(memcmp(rtp.ahead_coef, c, sizeof c) == 0 && rtp.ahead_goal == goal);
+    CHECK(memcmp(rtp.ahead.coef, c, sizeof c) == 0 && rtp.ahead.goal == goal);
 }
 
 int main(void)

@@ -153,7 +153,7 @@ static void test_against_double(int missing)
         (void)wake_rtp_voluntary_ahead_output(&s, &vh);
         (void)wake_rtp_voluntary_ahead_output(&plain, &vh_plain);
         identical &= (y == y_plain) && (s.last_output == plain.last_output) && (s.z == plain.z) && (s.s == plain.s)
-                     && (s.ahead_predicted == plain.ahead_predicted) && (vh_plain == plain.last_output);
+                     && (s.ahead.predicted == plain.ahead.predicted) && (vh_plain == plain.last_output);
         worst = fmax(worst, fabs(vh / Q23 - t.vh));
         worst_y = fmax(worst_y, fabs(s.last_output / Q23 - t.y));
         moved = fmax(moved, fabs(vh / Q23 - s.last_output / Q23));

@@ -266,7 +266,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             st = wake_hpa_apply(&hpa, &rtp);
 #if WAKE_HPA_AHEAD
             if (st == WAKE_HPA_OK && check) {   /* the RTP holds exactly the converted predictor and goal */
-                FUZZ_REQUIRE(memcmp(rtp.ahead_coef, c, sizeof c) == 0 && rtp.ahead_goal == goal);
+                FUZZ_REQUIRE(memcmp(rtp.ahead.coef, c, sizeof c) == 0 && rtp.ahead.goal == goal);
             }
 #endif
             break;

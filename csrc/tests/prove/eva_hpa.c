@@ -190,14 +190,14 @@ void eva_wake_hpa_apply(void)
                states of apply's statuses, so the ranges are checked after the call whatever its status */
             unsigned k;
             for (k = 0; k < WAKE_HPA_AHEAD_TAPS; ++k) {
-                rtp.ahead_coef[k] = Frama_C_interval(-WAKE_RTP_AHEAD_COEF_MAX, WAKE_RTP_AHEAD_COEF_MAX);
+                rtp.ahead.coef[k] = Frama_C_interval(-WAKE_RTP_AHEAD_COEF_MAX, WAKE_RTP_AHEAD_COEF_MAX);
             }
-            rtp.ahead_goal = Frama_C_interval(0, WAKE_RTP_GATE_ONE);
+            rtp.ahead.goal = Frama_C_interval(0, WAKE_RTP_GATE_ONE);
             (void)wake_hpa_apply(&hpa, &rtp);
             /* what apply installs (the result's predictor and goal converted) lies within the RTP's ranges */
             /*@ assert \forall integer k; 0 <= k < WAKE_HPA_AHEAD_TAPS ==>
-                       -1073741824 <= rtp.ahead_coef[k] <= 1073741824; */
-            /*@ assert 0 <= rtp.ahead_goal <= 1073741824; */
+                       -1073741824 <= rtp.ahead.coef[k] <= 1073741824; */
+            /*@ assert 0 <= rtp.ahead.goal <= 1073741824; */
         }
 #else
         (void)wake_hpa_apply(&hpa, &rtp);
