@@ -158,3 +158,31 @@ def test_the_predictor_fit_of_a_stack_is_each_series_own(rng, horizon):
     assert together.shape == (5, 8) and not together[2].any()
     for i in range(5):
         np.testing.assert_array_equal(together[i], fit_predictor(est[i], truth[i], horizon))
+
+
+@pytest.mark.parametrize("fs", [100.0, 1000.0])
+@pytest.mark.parametrize("kind", ["gyro", "acc"])
+def test_a_block_s_windows_are_prepared_each_as_alone(fs, kind):
+    """wake.hpa.schedule.prepare_windows on windows of many lengths (a glitch in one, a gap in another, None for a
+    point inside a long gap): each window and robust peak what prepare_window and robust_peak give it alone."""
+    from wake.hpa.schedule import prepare_window, prepare_windows
+    from wake.rtp.full_scale import robust_peak
+
+    x = motion(fs, kind, seconds=30.0)[0][:, 2 if kind == "acc" else 0]
+    L = WakeConfig(fs=fs).window_samples
+    windows = [x[: int(k * fs)].copy() for k in (1, 2, 3, 4)] + [x[k : k + L].copy() for k in range(0, 5 * L, L)]
+    windows[2][7] = 1e9                      # an outlier: dropped and filled
+    windows.insert(3, None)
+    for case in ("clean", "gap"):
+        if case == "gap":
+            windows[6][10:20] = np.nan       # a gap: every window goes alone
+        got = prepare_windows(windows)
+        for window, done in zip(windows, got):
+            if window is None:
+                assert done is None
+                continue
+            peak = robust_peak(window)
+            assert done[1] == peak
+            np.testing.assert_array_equal(done[0], prepare_window(window, peak))
+        assert np.isfinite(got[2][0][7]) and abs(got[2][0][7]) < 1e3   # the outlier filled in
+        assert got[0][0] is windows[0]       # a clean window is passed on as it is

@@ -34,7 +34,7 @@ import numpy as np
 
 from wake.config import WakeConfig
 from wake.hpa.run import clean_only_below
-from wake.rtp.full_scale import robust_peak
+from wake.rtp.full_scale import _peak_rank, robust_peak
 
 __all__ = ["GAP_SHARE", "HPASchedule", "ScheduleState", "prepare_window", "prepare_windows"]
 
@@ -214,26 +214,38 @@ def prepare_window(window, peak: float | None = None) -> np.ndarray:
 
 def prepare_windows(windows) -> list:
     """``(prepare_window(w, peak), peak)`` of each window of a list (None for None), ``peak`` its robust peak:
-    the windows of one length at once (one partition and one outlier test for all; a window with something to
-    drop or fill goes through :func:`prepare_window`, a clean one is returned as it is, as there)."""
+    every window at once, whatever its length (one magnitude pass and one outlier test for all, each window's
+    peak selected in its own stretch of it; a window with something to drop or fill goes through
+    :func:`prepare_window`, a clean one is returned as it is, as there).  A list with a non-finite sample goes
+    window by window."""
+    where = [i for i, window in enumerate(windows) if window is not None]
     out = [None] * len(windows)
-    lengths = {}
-    for i, window in enumerate(windows):
-        if window is not None:
-            lengths.setdefault(window.shape[0], []).append(i)
-    for rows in lengths.values():
-        if len(rows) == 1:   # one window of its length: its own calls cost less than a stack's
-            peak = robust_peak(windows[rows[0]])
-            out[rows[0]] = (prepare_window(windows[rows[0]], peak), peak)
-            continue
-        X = np.stack([windows[i] for i in rows])
-        peaks = robust_peak(X)
-        limits = np.array([_outlier_limit(float(peak)) for peak in peaks])
-        with np.errstate(invalid="ignore"):
-            clean = ~(np.abs(X) > limits[:, None]).any(axis=1) & ~np.isnan(X).any(axis=1)
-        for j, i in enumerate(rows):
-            peak = float(peaks[j])
-            out[i] = (windows[i] if clean[j] else prepare_window(windows[i], peak), peak)
+    if not where:
+        return out
+    lengths = [windows[i].shape[0] for i in where]
+    if len(where) == 1 or min(lengths) == 0:   # one window: its own calls cost less
+        for i in where:
+            peak = robust_peak(windows[i])
+            out[i] = (prepare_window(windows[i], peak), peak)
+        return out
+    flat = np.concatenate([windows[i] for i in where])
+    size = np.abs(flat)
+    if not np.isfinite(size).all():
+        for i in where:
+            peak = robust_peak(windows[i])
+            out[i] = (prepare_window(windows[i], peak), peak)
+        return out
+    starts = np.cumsum([0] + lengths)
+    peaks = []
+    for start, n in zip(starts.tolist(), lengths):   # robust_peak of each: the same rank, selected in its stretch
+        part = size[start:start + n].copy()
+        k = _peak_rank(n)
+        part.partition(k)
+        peaks.append(float(part[k]))
+    limits = np.repeat([_outlier_limit(peak) for peak in peaks], lengths)
+    wild = np.logical_or.reduceat(size > limits, starts[:-1])
+    for i, peak, outlier in zip(where, peaks, wild.tolist()):
+        out[i] = (prepare_window(windows[i], peak) if outlier else windows[i], peak)
     return out
 
 
