@@ -34,12 +34,13 @@ they agree bit for bit.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
 from wake.channel import Channel, ChannelState
 from wake.config import WakeConfig
+from wake.hpa.run import recorded
 
 __all__ = ["FrontEnd", "RateChannel", "RateChannelState", "in_input_samples", "make_channel"]
 
@@ -82,7 +83,7 @@ def in_input_samples(update, factor: int):
     if factor == 1:
         return update
     applied = update.applied_at * factor if update.applied_at >= 0 else update.applied_at
-    return replace(update, index=update.index * factor, applied_at=applied)
+    return recorded(update, index=update.index * factor, applied_at=applied)   # dataclasses.replace, faster
 
 
 class FrontEnd:
