@@ -158,16 +158,25 @@ class HPASchedule:
         # Long gaps: valid[j] is the index of a present sample, before[j] the run of missing samples before
         # it (the run carried from the last call before the first).
         valid = np.flatnonzero(~np.isnan(x))
-        before = np.diff(valid, prepend=-1) - 1
-        if valid.size:
-            before[0] += self.missing_run
-        ends = list(valid[before >= self.long_gap])  # first sample after each long gap
         carried = self.missing_run
+        if valid.size == n:   # no sample missing: only a run carried into x[0] can end a long gap
+            ends = [0] if n and carried >= self.long_gap else []
 
-        def run_at(k):
-            """Missing samples in a row up to and including x[k]."""
-            j = np.searchsorted(valid, k, side="right") - 1
-            return int(k - valid[j]) if j >= 0 else int(k + 1 + carried)
+            def run_at(k):
+                return 0
+        else:
+            before = np.empty_like(valid)   # np.diff(valid, prepend=-1) - 1
+            before[:1] = valid[:1]
+            np.subtract(valid[1:], valid[:-1], out=before[1:])
+            before[1:] -= 1
+            if valid.size:
+                before[0] += carried
+            ends = list(valid[before >= self.long_gap])  # first sample after each long gap
+
+            def run_at(k):
+                """Missing samples in a row up to and including x[k]."""
+                j = np.searchsorted(valid, k, side="right") - 1
+                return int(k - valid[j]) if j >= 0 else int(k + 1 + carried)
 
         while True:
             stop = self.next_point - base - 1  # index in x of the sample completing the next HPA point
