@@ -298,15 +298,12 @@ def update_from_result(res, index: int, full_scale: float, level: int, *, applie
     its ``applied_at`` and adds its install's ``flags`` after the result's own, each once)."""
     ffi, lib = _core()
     J, lsb = level, full_scale / _Q15
-    notes = []
-    if res.notes & lib.WAKE_HPA_NOTE_REGULARISED:
-        notes.append("regularised")
-    if res.notes & lib.WAKE_HPA_NOTE_WEIGHTS_KEPT:
-        notes.append("weights_kept")
-    if res.notes & lib.WAKE_HPA_NOTE_CLIPPED:
-        notes.append("weights_clipped")
-    if res.notes & lib.WAKE_HPA_NOTE_FULL_SCALE:
-        notes.append("clipping")  # the C HPA has applied wake.ahead.installed_goal's rule: its goal is 0
+    # "clipping": the C HPA has applied wake.ahead.installed_goal's rule (its goal is 0)
+    bits = res.notes
+    notes = [name for bit, name in ((lib.WAKE_HPA_NOTE_REGULARISED, "regularised"),
+                                    (lib.WAKE_HPA_NOTE_WEIGHTS_KEPT, "weights_kept"),
+                                    (lib.WAKE_HPA_NOTE_CLIPPED, "weights_clipped"),
+                                    (lib.WAKE_HPA_NOTE_FULL_SCALE, "clipping")) if bits & bit] if bits else []
     notes += [flag for flag in flags if flag not in notes]
     weights = np.array(ffi.unpack(res.weights, J), dtype=float)
     flag, goal = _FLAG_NAMES[res.flag], float(res.ahead_goal)
