@@ -245,12 +245,16 @@ def prepare_windows(windows) -> list:
             out[i] = (prepare_window(windows[i], peak), peak)
         return out
     starts = np.cumsum([0] + lengths)
-    peaks = []
-    for start, n in zip(starts.tolist(), lengths):   # robust_peak of each: the same rank, selected in its stretch
-        part = size[start:start + n].copy()
+    peaks, i = [], 0
+    while i < len(lengths):   # robust_peak of each: the same rank, selected in its own stretch (a run of windows
+        n, j = lengths[i], i  # of one length side by side: one partition along their rows)
+        while j < len(lengths) and lengths[j] == n:
+            j += 1
+        rows = size[starts[i]:starts[j]].reshape(j - i, n).copy()
         k = _peak_rank(n)
-        part.partition(k)
-        peaks.append(float(part[k]))
+        rows.partition(k, axis=1)
+        peaks += rows[:, k].tolist()
+        i = j
     limits = np.repeat([_outlier_limit(peak) for peak in peaks], lengths)
     wild = np.logical_or.reduceat(size > limits, starts[:-1])
     for i, peak, outlier in zip(where, peaks, wild.tolist()):
