@@ -86,3 +86,16 @@ def test_the_gate_ramps_with_its_time_constant_and_the_command_is_gated():
     assert step.goal == 1.0
     with pytest.raises(ValueError, match="coefficients"):
         step.set_model([1.0, 2.0], 1.0)
+
+
+@pytest.mark.parametrize("ratio", [-0.0, 0.0, 0.25, 1.0, 1.0 + 2**-52, -3.0, -5e-324, 5e-324, np.inf, -np.inf, np.nan])
+def test_the_gain_is_clipped_as_np_clip_clips_it(ratio):
+    """scale_gain clips <target, p> / <p, p> without np.clip's wrappers: every bit of np.clip's answer (-0.0 kept,
+    NaN passed on), and 0 for predictions without power."""
+    from wake.ahead import scale_gain
+
+    p = np.array([1.0, 0.0])
+    target = np.array([ratio, 5.0])   # <target, p> / <p, p> = ratio
+    want = float(np.clip(float(target @ p) / float(p @ p), 0.0, 1.0))
+    assert np.array(scale_gain(p, target)).tobytes() == np.array(want).tobytes()
+    assert scale_gain(np.zeros(2), target) == 0.0

@@ -60,6 +60,34 @@ def test_front_end_means_the_finite_samples_of_each_group():
         FrontEnd(0)
 
 
+@pytest.mark.parametrize("fs", [500.0, 1000.0])
+@pytest.mark.parametrize("kind", ["gyro", "acc"])
+def test_front_end_block_is_push_sample_by_sample(fs, kind):
+    """FrontEnd.block (complete groups at once) against push() per sample, bit for bit: blocks that start and end
+    inside a group, gaps inside a group and over whole groups, a group of -0.0 and one of huge values."""
+    from support import motion
+
+    D = WakeConfig(fs=fs, backend="reference").decimation_factor
+    x = motion(fs, kind, seconds=6.0)[0][:, 2 if kind == "acc" else 0].copy()
+    x[17:23] = np.nan
+    x[100:100 + 3 * D] = np.nan
+    x[200:200 + D] = -0.0
+    x[300:300 + D] = 1e300
+    one, block = FrontEnd(D), FrontEnd(D)
+    ends, values, start = [], [], 0
+    for size in (7, 1, 3 * D + 2, 0, 999, D, x.size):
+        part = x[start:start + size]
+        got = block.block(part)
+        ends += (got[0] + start).tolist()
+        values += got[1].tolist()
+        start += part.size
+    want = [(i, v) for i, v in enumerate(one.push(v) for v in x.tolist()) if v is not None]
+    assert ends == [i for i, _ in want]
+    # every bit: a mean of -0.0 stays -0.0, NaN the same NaN
+    assert np.array(values).tobytes() == np.array([v for _, v in want]).tobytes()
+    assert (block.total, block.finite, block.phase) == (one.total, one.finite, one.phase)
+
+
 def test_100_hz_runs_the_plain_channel():
     f = WakeFilter(fs=100.0, backend="reference")
     f.update(0.0)

@@ -230,9 +230,8 @@ def held_out_pairs(estimate, truth, previous, horizon: int, new_samples: int):
 def scale_gain(p, target) -> float:
     """``<target, p> / <p, p>`` clipped to [0, 1]; 0 when ``p`` has no power."""
     pp = float(p @ p)
-    if not pp > 0:
-        return 0.0
-    return float(np.clip(float(target @ p) / pp, 0.0, 1.0))
+    g = float(target @ p) / pp if pp > 0 else 0.0   # clipped as np.clip (NaN, -0.0 kept), without its 4 us of wrappers
+    return g if g != g or 0.0 <= g <= 1.0 else (0.0 if g < 0.0 else 1.0)
 
 
 def check_model(coefficients, goal):

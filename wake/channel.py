@@ -199,7 +199,7 @@ class Channel:
         analysis)``: ``count`` the point's sample count, ``prepared`` the window the HPA reads, ``peak`` the
         window's robust peak (read by the preparation and the full-scale policy) and, for the
         Python HPA, ``analysis`` its window-only steps, done for up to :data:`BATCH_SAMPLES` samples of windows
-        at once (:func:`~wake.hpa.run.analyse_windows`, windows of one length together: no window's steps
+        at once (:func:`~wake.hpa.run.analyse_windows`, the warm-up windows beside the full ones: no window's steps
         read an earlier HPA, so they may run before the RTP reaches the point; bit for bit one at a time)."""
         points = self.schedule.block(x)
         size = max(1, BATCH_SAMPLES // self.schedule.window_samples)
@@ -207,16 +207,12 @@ class Channel:
             prepared, peaks = zip(*[(None, None) if done is None else done
                                     for done in prepare_windows([window for _, window, _ in chunk])])
             analyses = [None] * len(chunk)
-            if self.config.hpa_backend != "c":
-                lengths = {}
-                for i, win in enumerate(prepared):
-                    if win is not None:
-                        lengths.setdefault(win.shape[0], []).append(i)
-                for rows in lengths.values():
-                    done = analyse_windows(np.stack([prepared[i] for i in rows]), self.config, taps=self.taps,
-                                           start_weights=self.start_weights)
-                    for i, analysis in zip(rows, done):
-                        analyses[i] = analysis
+            rows = [i for i, win in enumerate(prepared) if win is not None]
+            if self.config.hpa_backend != "c" and rows:
+                done = analyse_windows([prepared[i] for i in rows], self.config, taps=self.taps,
+                                       start_weights=self.start_weights)
+                for i, analysis in zip(rows, done):
+                    analyses[i] = analysis
             for (stop, window, count), win, peak, analysis in zip(chunk, prepared, peaks, analyses):
                 yield stop, window, count, (win, peak), analysis
 

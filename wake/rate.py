@@ -34,12 +34,13 @@ they agree bit for bit.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
 from wake.channel import Channel, ChannelState
 from wake.config import WakeConfig
+from wake.hpa.run import recorded
 
 __all__ = ["FrontEnd", "RateChannel", "RateChannelState", "in_input_samples", "make_channel"]
 
@@ -82,7 +83,7 @@ def in_input_samples(update, factor: int):
     if factor == 1:
         return update
     applied = update.applied_at * factor if update.applied_at >= 0 else update.applied_at
-    return replace(update, index=update.index * factor, applied_at=applied)
+    return recorded(update, index=update.index * factor, applied_at=applied)   # dataclasses.replace, faster
 
 
 class FrontEnd:
@@ -122,13 +123,33 @@ class FrontEnd:
         return out
 
     def block(self, x: np.ndarray):
-        """(positions in ``x`` where a group completes, the group outputs), as :meth:`push` gives them."""
+        """(positions in ``x`` where a group completes, the group outputs), as :meth:`push` gives them, bit for
+        bit: the open group's first samples and the last, incomplete group through :meth:`push`, every complete
+        group between them at once (each group's finite inputs added to 0.0 in order, one input position of
+        every group at a time, then divided by their count: :meth:`push`'s operations in its order)."""
+        x = np.asarray(x, dtype=float)
+        n, D = x.shape[0], self.factor
+        head = min(n, (D - self.phase) % D)   # the samples that complete the open group
         where, values = [], []
-        for i, v in enumerate(x.tolist()):
+        for i, v in enumerate(x[:head].tolist()):
             out = self.push(v)
             if out is not None:
                 where.append(i)
                 values.append(out)
+        groups = (n - head) // D
+        if groups:
+            rows = x[head:head + groups * D].reshape(groups, D)
+            total, finite = np.zeros(groups), np.zeros(groups, dtype=np.intp)
+            for k in range(D):   # total += value, for each finite value of the group in turn
+                present = rows[:, k] == rows[:, k]
+                total = np.where(present, total + np.where(present, rows[:, k], 0.0), total)
+                finite += present
+            with np.errstate(invalid="ignore", divide="ignore"):
+                means = np.where(finite > 0, total / np.maximum(finite, 1), np.nan)
+            where.extend(range(head + D - 1, head + groups * D, D))
+            values.extend(means.tolist())
+        for i, v in enumerate(x[head + groups * D:].tolist(), start=head + groups * D):
+            self.push(v)   # the last, incomplete group: it stays open
         return np.array(where, dtype=np.intp), np.array(values, dtype=float)
 
 
@@ -192,8 +213,7 @@ class RateChannel:
         if groups.size:
             rows = self.inner.process(groups)
             # what the bank-rate step gives at the end of a group holds until the end of the next one
-            for start, stop, col in zip(ends.tolist(), [*ends[1:].tolist(), x.shape[0]], rows.T):
-                out[:, start:stop] = col[:, None]
+            out[:, ends[0]:] = np.repeat(rows, np.diff(ends, append=x.shape[0]), axis=1)
             self.held = float(rows[0, -1])
         return out
 

@@ -54,6 +54,57 @@ def test_a_stack_gives_each_window_its_own_numbers(fs, kind):
             np.testing.assert_array_equal(upd.ahead_coefficients, ref.ahead_coefficients)
 
 
+@pytest.mark.parametrize("fs", [100.0, 1000.0])
+@pytest.mark.parametrize("kind", ["gyro", "acc"])
+def test_windows_of_many_lengths_at_once_give_each_its_own_numbers(fs, kind):
+    """The batch path's block: the warm-up windows (1 to 4 s, each its own length) beside full ones, a silent one
+    among them, analysed in one call; each window's analysis, and the update finished from it, bit for bit its
+    own; the spectra and the weight fits of such a list of stacks too."""
+    from wake.hpa.fit import fit_stacks, fit_weights
+    from wake.hpa.spectrum import ar_psd, ar_psds
+
+    config = WakeConfig(fs=fs)
+    taps = filter_bank_taps(config.wavelet, config.level, config.mode)
+    x = motion(fs, kind, seconds=30.0)[0][:, 2 if kind == "acc" else 0]
+    L = config.window_samples
+    windows = [x[: int(k * fs)] for k in (1, 2, 3, 4)] + [x[k : k + L] for k in range(0, 4 * L, L // 2)]
+    windows.insert(6, np.full(L, x[0]))   # no spread: the HPA keeps what it has
+    windows.insert(2, x[100 : 100 + int(2 * fs)])   # a second window of 2 s
+    together = analyse_windows(windows, config, taps=taps)
+    assert len(together) == len(windows) and [a.silent for a in together].count(True) == 1
+    previous = np.full(config.level, 0.2)
+    for window, a in zip(windows, together):
+        _same(a, analyse_windows(window[None], config, taps=taps)[0])
+        upd = finish_hpa(a, config, previous_weights=previous, index=window.size, previous_ahead=np.full(8, 0.1),
+                         new_samples=window.size // 2)
+        ref = run_hpa(window, config, taps=taps, previous_weights=previous, index=window.size,
+                      previous_ahead=np.full(8, 0.1), new_samples=window.size // 2)
+        for name in ("cutoff", "cutoff_flag", "measurement_noise", "fit_error", "ridge", "flags", "ahead_gain",
+                     "ahead_goal"):
+            assert getattr(upd, name) == getattr(ref, name), name
+        np.testing.assert_array_equal(upd.ahead_coefficients, ref.ahead_coefficients)
+    full = [w for w in windows if w.size == L and np.ptp(w) > 0][:3]
+    stacks = [windows[0][None], np.stack(full), np.stack([w for w in windows if w.size == int(2 * fs)])]
+    orders = [17, 17, 9]   # two AR orders: two frequency grids of the same size
+    for stack, order, (freqs, psd) in zip(stacks, orders, ar_psds(stacks, fs, orders)):
+        for row, got in zip(stack, psd):
+            want = ar_psd(row, fs, order)
+            np.testing.assert_array_equal(freqs, want[0])
+            np.testing.assert_array_equal(got, want[1])
+    rows = [(a.outputs[:-1], a.voluntary_gt[taps.shape[1]:]) for a in together if not a.silent]
+    w, err, used = fit_stacks([np.stack([A]) for A, _ in rows], [np.stack([y]) for _, y in rows], config.ridge)
+    for i, (A, y) in enumerate(rows):
+        alone = fit_weights(A, y, config.ridge)
+        np.testing.assert_array_equal(w[i], alone[0])
+        assert (err[i], used[i]) == alone[1:]
+
+
+def test_a_list_of_windows_is_refused_unless_each_is_1d():
+    config = WakeConfig()
+    with pytest.raises(ValueError, match="each window must be 1-D"):
+        analyse_windows([np.ones(500), np.ones((2, 500))], config)
+
+
 def test_levinson_rows_stop_where_their_error_reaches_zero(rng):
     """A row whose prediction error reaches 0 stops there, the others go on: each row is the one-row recursion."""
     x = rng.standard_normal((4, 300))
@@ -107,3 +158,31 @@ def test_the_predictor_fit_of_a_stack_is_each_series_own(rng, horizon):
     assert together.shape == (5, 8) and not together[2].any()
     for i in range(5):
         np.testing.assert_array_equal(together[i], fit_predictor(est[i], truth[i], horizon))
+
+
+@pytest.mark.parametrize("fs", [100.0, 1000.0])
+@pytest.mark.parametrize("kind", ["gyro", "acc"])
+def test_a_block_s_windows_are_prepared_each_as_alone(fs, kind):
+    """wake.hpa.schedule.prepare_windows on windows of many lengths (a glitch in one, a gap in another, None for a
+    point inside a long gap): each window and robust peak what prepare_window and robust_peak give it alone."""
+    from wake.hpa.schedule import prepare_window, prepare_windows
+    from wake.rtp.full_scale import robust_peak
+
+    x = motion(fs, kind, seconds=30.0)[0][:, 2 if kind == "acc" else 0]
+    L = WakeConfig(fs=fs).window_samples
+    windows = [x[: int(k * fs)].copy() for k in (1, 2, 3, 4)] + [x[k : k + L].copy() for k in range(0, 5 * L, L)]
+    windows[2][7] = 1e9                      # an outlier: dropped and filled
+    windows.insert(3, None)
+    for case in ("clean", "gap"):
+        if case == "gap":
+            windows[6][10:20] = np.nan       # a gap: every window goes alone
+        got = prepare_windows(windows)
+        for window, done in zip(windows, got):
+            if window is None:
+                assert done is None
+                continue
+            peak = robust_peak(window)
+            assert done[1] == peak
+            np.testing.assert_array_equal(done[0], prepare_window(window, peak))
+        assert np.isfinite(got[2][0][7]) and abs(got[2][0][7]) < 1e3   # the outlier filled in
+        assert got[0][0] is windows[0]       # a clean window is passed on as it is

@@ -173,11 +173,11 @@ class Batch:
             rtp.over_run, rtp.over_peak = 0, 0.0   # every sample inside the full scale
         for i in range(done):   # what Channel.apply records and keeps, point by point
             count = self.points[i][2]
-            upd = update_from_result(results[i], count, fs, config.level)
-            flags = upd.flags + (("noise_clamped",) if clamped[i] and "noise_clamped" not in upd.flags else ())
+            upd = update_from_result(results[i], count, fs, config.level, applied_at=count,
+                                     flags=("noise_clamped",) if clamped[i] else ())
             ch.weights = upd.weights
             ch.ahead_coefficients, ch.ahead_index = upd.ahead_coefficients, upd.index
-            ch.updates.append(recorded(upd, applied_at=count, flags=flags))
+            ch.updates.append(upd)
         if done:
             ch.measurement_noise = rtp.measurement_noise
         if done < k:

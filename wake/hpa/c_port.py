@@ -291,25 +291,26 @@ def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index:
     return update_from_result(res, index, fs_scale, J)
 
 
-def update_from_result(res, index: int, full_scale: float, level: int) -> HPAUpdate:
+def update_from_result(res, index: int, full_scale: float, level: int, *, applied_at: int = -1,
+                       flags: tuple = ()) -> HPAUpdate:
     """The :class:`~wake.hpa.HPAUpdate` of a ``wake_hpa_result_t`` of a window quantised at ``full_scale``
-    (R and e_L in physical units; :func:`run_hpa_c` and the batch driver, :mod:`wake.hpa.c_batch`)."""
+    (R and e_L in physical units; :func:`run_hpa_c` and the batch driver, :mod:`wake.hpa.c_batch`, which records
+    its ``applied_at`` and adds its install's ``flags`` after the result's own, each once)."""
     ffi, lib = _core()
     J, lsb = level, full_scale / _Q15
-    notes = []
-    if res.notes & lib.WAKE_HPA_NOTE_REGULARISED:
-        notes.append("regularised")
-    if res.notes & lib.WAKE_HPA_NOTE_WEIGHTS_KEPT:
-        notes.append("weights_kept")
-    if res.notes & lib.WAKE_HPA_NOTE_CLIPPED:
-        notes.append("weights_clipped")
-    if res.notes & lib.WAKE_HPA_NOTE_FULL_SCALE:
-        notes.append("clipping")  # the C HPA has applied wake.ahead.installed_goal's rule: its goal is 0
+    # "clipping": the C HPA has applied wake.ahead.installed_goal's rule (its goal is 0)
+    bits = res.notes
+    notes = [name for bit, name in ((lib.WAKE_HPA_NOTE_REGULARISED, "regularised"),
+                                    (lib.WAKE_HPA_NOTE_WEIGHTS_KEPT, "weights_kept"),
+                                    (lib.WAKE_HPA_NOTE_CLIPPED, "weights_clipped"),
+                                    (lib.WAKE_HPA_NOTE_FULL_SCALE, "clipping")) if bits & bit] if bits else []
+    notes += [flag for flag in flags if flag not in notes]
     weights = np.array(ffi.unpack(res.weights, J), dtype=float)
     flag, goal = _FLAG_NAMES[res.flag], float(res.ahead_goal)
     return HPAUpdate(int(index), float(res.cutoff), flag, weights,
                      float(res.measurement_noise) * lsb * lsb, float(np.sqrt(res.fit_mse)) * lsb,
-                     float(res.ridge), tuple(notes), ahead_coefficients=np.array(ffi.unpack(res.ahead, len(res.ahead)), dtype=float),
+                     float(res.ridge), tuple(notes), applied_at=applied_at,
+                     ahead_coefficients=np.array(ffi.unpack(res.ahead, len(res.ahead)), dtype=float),
                      ahead_gain=goal, ahead_goal=goal)
 
 

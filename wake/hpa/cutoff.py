@@ -169,7 +169,7 @@ def _analyse_rows(freqs, P, settings) -> list:
     """:func:`_analyse` of each row of ``P`` (W, n), one :class:`Spectrum` each: on a rising grid the dB spectra,
     local maxima, peaks, valleys and their left maxima of every row at once (the same elementwise operations,
     first-occurrence argmax and argmin over the same bins, so each row's numbers are its own), else row by row."""
-    inner, _, ascending = _bins(freqs, settings["tremor_band"])
+    inner, above, ascending = _bins(freqs, settings["tremor_band"])
     if not ascending or not inner.size or P.shape[0] == 1:   # one row: its own calls cost less than the stack's
         return [_analyse(freqs, row, settings) for row in P]
     lo, hi = settings["cutoff_range"]
@@ -186,18 +186,22 @@ def _analyse_rows(freqs, P, settings) -> list:
     span = np.arange(first, freqs.size)
     valleys = first + np.argmin(np.where(span < stops[:, None], db[:, first:], np.inf), axis=1)
     left = np.maximum.accumulate(db, axis=1)[np.arange(P.shape[0]), valleys]
+    floors = db[:, above].min(axis=1) if above.size else [None] * P.shape[0]   # each row's noise floor
     out = []
-    for i in range(P.shape[0]):
-        if not live[i]:
+    # the tests of each row, made for every row at once (the same comparisons and first-occurrence maxima)
+    for i, (alive, any_peak, top_peak, narrow) in enumerate(zip(live.tolist(), peaked.any(axis=1).tolist(),
+                                                                masked.max(axis=1).tolist(),
+                                                                (stops - first < 3).tolist())):
+        if not alive:
             out.append(Spectrum(freqs, None, None, None, None, fallback="silent", **settings))
-        elif not peaked[i].any():
+        elif not any_peak:
             out.append(Spectrum(freqs, db[i], None, None, None, fallback="no_tremor_peak", **settings))
-        elif masked[i].max() == -np.inf:   # every local maximum at -inf dB (an underflowed floor): as one row
+        elif top_peak == -np.inf:   # every local maximum at -inf dB (an underflowed floor): as one row
             out.append(_analyse(freqs, P[i], settings))
-        elif stops[i] - first < 3:
-            out.append(Spectrum(freqs, db[i], peaks[i], None, None, fallback="no_valley", **settings))
+        elif narrow:
+            out.append(Spectrum(freqs, db[i], peaks[i], None, None, fallback="no_valley", floor=floors[i], **settings))
         else:
-            out.append(Spectrum(freqs, db[i], peaks[i], valleys[i], left[i], **settings))
+            out.append(Spectrum(freqs, db[i], peaks[i], valleys[i], left[i], floor=floors[i], **settings))
     return out
 
 
@@ -271,6 +275,7 @@ class Spectrum:
     floor_margin_db: float
     edge_db: float
     fallback: str | None = None
+    floor: float | None = None   #: the noise floor when the analysis has it (:meth:`noise_floor`), dB
 
     @property
     def deep(self) -> bool:
@@ -281,6 +286,8 @@ class Spectrum:
     def noise_floor(self) -> float:
         """The lowest PSD above the tremor band, over fs/2 and every FLOOR_STRIDE-th bin below it (dB;
         -inf without bins there)."""
+        if self.floor is not None:
+            return self.floor
         above = _bins(self.freqs, self.tremor_band)[1]
         return self.db[above].min() if above.size else -np.inf
 

@@ -9,7 +9,7 @@ from wake.config import RIDGE_SCALES, WEIGHT_LIMIT
 from wake.hpa.spectrum import row_mean
 from wake.wavelets import default_weights  # noqa: F401  (re-exported: the weights before any fit)
 
-__all__ = ["fit_weights", "ridge_scale_of", "default_weights"]
+__all__ = ["fit_weights", "fit_stacks", "ridge_scale_of", "default_weights"]
 
 
 def ridge_scale_of(A, G, rule: str = "gram"):
@@ -74,60 +74,106 @@ def fit_weights(approximations, target, ridge=1e-6, weight_limit=WEIGHT_LIMIT, *
     >>> np.round(w, 6).tolist(), round(e, 9)
     ([2.0, -1.0], 0.0)
     """
-    A = np.asarray(approximations, dtype=float)
-    y = np.asarray(target, dtype=float)
-    if A.ndim not in (2, 3) or y.shape != A.shape[:-1]:
-        raise ValueError(f"approximations must be (L, J) and target (L,) (or stacks of them, (W, L, J) and "
-                         f"(W, L)), got {A.shape} and {y.shape}")
-    if A.shape[-2] < A.shape[-1]:
-        raise ValueError(f"need at least J = {A.shape[-1]} rows to fit J weights, got {A.shape[-2]}")
+    A, y = _checked(approximations, target)
     if A.ndim == 3:
-        return _fit_stack(A, y, float(ridge), weight_limit, center, shrink, ridge_scale)
-    w, err, used = _fit_stack(A[None], y[None], float(ridge), weight_limit, center, shrink, ridge_scale)
+        return fit_stacks([A], [y], ridge, weight_limit, center=center, shrinks=[shrink], ridge_scale=ridge_scale)
+    w, err, used = fit_stacks([A[None]], [y[None]], ridge, weight_limit, center=center, shrinks=[shrink],
+                              ridge_scale=ridge_scale)
     return w[0], float(err[0]), float(used[0])
 
 
-def _fit_stack(A, y, ridge, weight_limit, center, shrink, ridge_scale="gram"):
-    """:func:`fit_weights` of each window of a stack (W, L, J): one Gram matrix and one solve for every window
-    whose first ridge holds (the usual case), the ridge raised window by window where it does not.  Each
-    window's numbers are those of its own fit (the batched matmul and solve run the same BLAS and LAPACK
-    calls per window)."""
-    n, J = A.shape[0], A.shape[2]
-    At = np.swapaxes(A, 1, 2)
-    G = At @ A
-    b = (At @ y[:, :, None])[:, :, 0]
-    scale = ridge_scale_of(A, G, ridge_scale)
+def fit_stacks(approximations, targets, ridge=1e-6, weight_limit=WEIGHT_LIMIT, *, center=None, shrinks=None,
+               ridge_scale="gram"):
+    """:func:`fit_weights` of every window of a list of stacks, ``(W_i, L_i, J)`` against ``(W_i, L_i)``, each
+    stack with its own ``shrinks[i]`` (default 0): ``(weights (W, J), fit_error (W,), ridge (W,))`` over the
+    windows of all stacks in order, each row bit for bit its window's own fit.
+
+    The Gram matrices, ridge scales and fit errors are taken stack by stack (the stacks may differ in length: the
+    warm-up windows of a block beside its full ones); one solve serves every window whose first ridge holds (the
+    usual case), the ridge raised window by window where it does not (the batched matmul and solve run the same
+    BLAS and LAPACK calls per window as a window alone).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rng = np.random.default_rng(2)
+    >>> A1, A2 = rng.normal(size=(2, 40, 3)), rng.normal(size=(1, 90, 3))
+    >>> y1, y2 = A1 @ [1.0, -1.0, 0.5], A2 @ [0.5, 1.0, 2.0]
+    >>> w, err, used = fit_stacks([A1, A2], [y1, y2], ridge=1e-9)
+    >>> np.round(w, 4).tolist()[2], bool(np.array_equal(w[2], fit_weights(A2[0], y2[0], 1e-9)[0]))
+    ([0.5, 1.0, 2.0], True)
+    """
+    pairs = [_checked(A, y, stack=True) for A, y in zip(approximations, targets)]
+    if not pairs or len(pairs) != len(targets) or len({A.shape[2] for A, _ in pairs}) != 1:
+        raise ValueError(f"need one or more stacks of approximations, each with its targets, all with one J; got "
+                         f"{len(approximations)} stacks of approximations and {len(targets)} of targets")
+    approximations, targets = [A for A, _ in pairs], [y for _, y in pairs]
+    shrinks = [0.0] * len(pairs) if shrinks is None else shrinks
+    ridge, J = float(ridge), approximations[0].shape[2]
     eye = identity(J)   # made once per J
-    if center is not None and shrink > 0:
-        # |A w - y|^2 + s |w - c|^2: the normal equations gain s I on the left and s c on the right
-        G = G + (shrink * scale)[:, None, None] * eye
-        b = b + (shrink * scale)[:, None] * np.asarray(center, dtype=float)
+    G, b, scale = [], [], []
+    for A, y, shrink in zip(approximations, targets, shrinks):
+        At = np.swapaxes(A, 1, 2)
+        G.append(At @ A)
+        b.append((At @ y[:, :, None])[:, :, 0])
+        scale.append(ridge_scale_of(A, G[-1], ridge_scale))
+        if center is not None and shrink > 0:
+            # |A w - y|^2 + s |w - c|^2: the normal equations gain s I on the left and s c on the right
+            G[-1] = G[-1] + (shrink * scale[-1])[:, None, None] * eye
+            b[-1] = b[-1] + (shrink * scale[-1])[:, None] * np.asarray(center, dtype=float)
+    G, b, scale = (parts[0] if len(parts) == 1 else np.concatenate(parts) for parts in (G, b, scale))
+    sizes = [A.shape[0] for A in approximations]
+    n = G.shape[0]
     used = np.full(n, ridge)
     powered = np.isfinite(scale) & (scale > 0)   # a window without power: w = 0 (its error below)
-    every = bool(powered.all())
-    rows = np.arange(n) if every else np.flatnonzero(powered)
-    todo, w = rows, np.zeros((n, J))
-    if rows.size and (ridge > 0 or shrink > 0):
+    # the first ridge solves a window when there is a ridge or a pull; else its fit is the plain least squares
+    solvable = powered if ridge > 0 else powered & np.repeat(np.array(shrinks, dtype=float) > 0, sizes)
+    every = bool(solvable.all())
+    rows = np.arange(n) if every else np.flatnonzero(solvable)
+    todo, w = np.flatnonzero(powered & ~solvable), np.zeros((n, J))
+    if rows.size:
         Gp, bp, sp = (G, b, scale) if every else (G[rows], b[rows], scale[rows])
         try:
             first = np.linalg.solve(Gp + (ridge * sp)[:, None, None] * eye, bp[:, :, None])[:, :, 0]
         except np.linalg.LinAlgError:   # one singular window: each solved alone (and refused alone)
             first = None
+            todo = np.flatnonzero(powered)
         if first is not None:
             ok = np.isfinite(first).all(axis=1) & (np.abs(first).max(axis=1) <= weight_limit)
             if every and ok.all():
-                w, todo = first, ()
+                w = first
             else:
                 w[rows[ok]] = first[ok]
-                todo = rows[~ok]
+                todo = np.union1d(todo, rows[~ok])
+    starts = np.cumsum([0] + sizes)
     for i in todo:
-        w[i], used[i] = _raised(A[i], y[i], G[i], b[i], scale[i], eye, ridge, weight_limit, shrink)
-    if every:   # row_mean: np.mean(..., axis=1)'s numbers
-        err = np.sqrt(row_mean(((A @ w[:, :, None])[:, :, 0] - y) ** 2))
-    else:
-        err = np.sqrt(row_mean(y**2))
-        err[rows] = np.sqrt(row_mean(((A[rows] @ w[rows, :, None])[:, :, 0] - y[rows]) ** 2))
+        k = int(np.searchsorted(starts, i, side="right")) - 1
+        A, y, j = approximations[k], targets[k], i - starts[k]
+        w[i], used[i] = _raised(A[j], y[j], G[i], b[i], scale[i], eye, ridge, weight_limit, shrinks[k])
+    err = np.empty(n)
+    for A, y, lo, hi in zip(approximations, targets, starts[:-1], starts[1:]):
+        live = powered[lo:hi]
+        if live.all():   # row_mean: np.mean(..., axis=1)'s numbers
+            err[lo:hi] = np.sqrt(row_mean(((A @ w[lo:hi, :, None])[:, :, 0] - y) ** 2))
+        else:
+            e = np.sqrt(row_mean(y**2))
+            live = np.flatnonzero(live)
+            e[live] = np.sqrt(row_mean(((A[live] @ w[lo + live, :, None])[:, :, 0] - y[live]) ** 2))
+            err[lo:hi] = e
     return w, err, used
+
+
+def _checked(approximations, target, stack=False):
+    """``(A, y)`` as float arrays, checked: ``A`` (L, J) with ``y`` (L,), or (with ``stack``, only) a stack (W, L, J)
+    with (W, L), at least J rows each."""
+    A = np.asarray(approximations, dtype=float)
+    y = np.asarray(target, dtype=float)
+    if A.ndim not in ((3,) if stack else (2, 3)) or y.shape != A.shape[:-1]:
+        raise ValueError(f"approximations must be (L, J) and target (L,) (or stacks of them, (W, L, J) and "
+                         f"(W, L)), got {A.shape} and {y.shape}")
+    if A.shape[-2] < A.shape[-1]:
+        raise ValueError(f"need at least J = {A.shape[-1]} rows to fit J weights, got {A.shape[-2]}")
+    return A, y
 
 
 def _raised(A, y, G, b, scale, eye, ridge, weight_limit, shrink):

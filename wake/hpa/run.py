@@ -30,9 +30,9 @@ from wake.ahead import TAPS, fit_predictor, gate_target, held_out_gain
 from wake.config import WakeConfig
 from wake.hpa.cutoff import find_cutoff
 from wake.target import TARGET, PredictionTarget
-from wake.hpa.fit import default_weights, fit_weights
+from wake.hpa.fit import default_weights, fit_stacks, fit_weights
 from wake.hpa.sharp import detrended_highpass
-from wake.hpa.spectrum import ar_psd, row_var, window_order
+from wake.hpa.spectrum import ar_psds, row_var, window_order
 from wake.wavelets import filter_bank_outputs, filter_bank_taps, wavelet_approximations
 
 __all__ = ["HPAUpdate", "WindowAnalysis", "ahead_fit", "analyse_windows", "finish_hpa", "gate_truth", "run_hpa",
@@ -251,53 +251,100 @@ class WindowAnalysis:
 
 
 def analyse_windows(windows, config: WakeConfig, *, taps=None, start_weights=None) -> list:
-    """The window-only steps of :func:`run_hpa` for a stack of windows of one length, ``(W, n)``: one
-    :class:`WindowAnalysis` per row, each bit for bit what that window alone gives (the spectra, high-passes,
-    filter-bank outputs and fits of every row at once; the cut-off search row by row).  No row depends on
-    another, nor on an earlier HPA: a batch path analyses every window of a block first, then finishes them
-    in order (:func:`finish_hpa`)."""
-    fs, ridge = config.fs, config.ridge
+    """The window-only steps of :func:`run_hpa` for many windows at once: one :class:`WindowAnalysis` per window,
+    each bit for bit what that window alone gives.
+
+    ``windows`` is a stack of windows of one length, ``(W, n)``, or a sequence of 1-D windows of any lengths (a
+    block's warm-up windows beside its full ones).  The spectra, high-passes, filter-bank outputs and fits are
+    taken for every window of one length at once, the Levinson recursion, the cut-off search and the solves for
+    every window at once.  No window depends on another, nor on an earlier HPA: a batch path analyses every
+    window of a block first, then finishes them in order (:func:`finish_hpa`).
+    """
+    fs, ridge, L = config.fs, config.ridge, config.window_samples
     if taps is None:
         taps = filter_bank_taps(config.wavelet, config.level, config.mode)
-    X = np.asarray(windows, dtype=float)
-    n = X.shape[1]
-    spread = np.sqrt(row_var(X))   # np.std(X, axis=1)
-    live = spread > 1e-12 * np.maximum(1.0, np.max(np.abs(X), axis=1))
-    out = [WindowAnalysis(X[i], True) for i in range(X.shape[0])]
-    rows = np.flatnonzero(live)
-    if not rows.size:
+    out = [None] * len(windows)
+    groups = []   # (where in out, the live windows of one length, their spread)
+    for where, X in _by_length(windows):
+        spread = np.sqrt(row_var(X))   # np.std(X, axis=1)
+        live = spread > 1e-12 * np.maximum(1.0, np.max(np.abs(X), axis=1))
+        if not live.all():
+            for i in np.flatnonzero(~live):
+                out[where[i]] = WindowAnalysis(X[i], True)
+            X, spread, where = X[live], spread[live], where[live]
+        if X.shape[0]:
+            groups.append((where, X, spread))
+    if not groups:
         return out
-    if rows.size < X.shape[0]:
-        X, spread = X[rows], spread[rows]
     # a warm-up window may be shorter than L: its AR order is capped (window_order)
-    freqs, psd = ar_psd(X, fs, window_order(n, config.ar_order))
-    found = find_cutoff(freqs, psd, tremor_band=config.tremor_band, cutoff_range=config.cutoff_range,
-                        default_cutoff=config.default_cutoff, rule=config.cutoff_rule, shallow_max=config.shallow_max)
-    # the window's end-point line is voluntary: taken out first, it leaves no seam in the FFT
-    tremor_gt = detrended_highpass(X, fs, [cutoff for cutoff, _ in found])
-    voluntary_gt = X - tremor_gt
-    # R: variance of the tremor ground truth, floored at 1e-6 of the window's variance so that a window
-    # with no tremor still gives S = w'Pw + R > 0 (max(var, floor), row by row)
-    noise, floor = row_var(tremor_gt), 1e-6 * spread**2
-    noise = np.where(floor > noise, floor, noise)
-    outputs = filter_bank_outputs(X, taps)
-    if config.fit == "causal":
-        # a(k) for k = N-1 .. L-1-h against v_GT(k + h), h = TARGET.horizon (wake.target)
-        approx, target = TARGET.fit_pairs(outputs, voluntary_gt, taps.shape[1])
-    else:
-        approx = np.stack([wavelet_approximations(x, config.wavelet, config.level, config.mode) for x in X])
-        target = voluntary_gt
-    L = config.window_samples
-    shrink = WARMUP_SHRINK * (L - n) / L if (start_weights is not None and n < L) else 0.0
-    w, err, used = fit_weights(approx, target, ridge, center=start_weights, shrink=shrink,
-                               ridge_scale=config.ridge_scale)
-    # a window of CLEAN_ONLY_BELOW_S or more installs its fit: the tremor-ahead fit on it is window-only too
-    ahead = ahead_fit(X, outputs, w, tremor_gt, config.horizon) if n >= clean_only_below(config) else None
-    for j, i in enumerate(rows):
-        out[i] = WindowAnalysis(X[j], False, found[j][0], found[j][1], tremor_gt[j], voluntary_gt[j],
-                                float(noise[j]), outputs[j], w[j].copy(), float(err[j]), float(used[j]), shrink,
-                                None if ahead is None else tuple(part[j] for part in ahead))
+    orders = [window_order(X.shape[1], config.ar_order) for _, X, _ in groups]
+    found = _cutoffs(ar_psds([X for _, X, _ in groups], fs, orders), orders, config)
+    parts = []   # per group: tremor_gt, voluntary_gt, R, outputs, the fit's rows and targets, shrink
+    for (where, X, spread), cutoffs in zip(groups, found):
+        n = X.shape[1]
+        # the window's end-point line is voluntary: taken out first, it leaves no seam in the FFT
+        tremor_gt = detrended_highpass(X, fs, [cutoff for cutoff, _ in cutoffs])
+        voluntary_gt = X - tremor_gt
+        # R: variance of the tremor ground truth, floored at 1e-6 of the window's variance so that a window
+        # with no tremor still gives S = w'Pw + R > 0 (max(var, floor), row by row)
+        noise, floor = row_var(tremor_gt), 1e-6 * spread**2
+        noise = np.where(floor > noise, floor, noise)
+        outputs = filter_bank_outputs(X, taps)
+        if config.fit == "causal":
+            # a(k) for k = N-1 .. L-1-h against v_GT(k + h), h = TARGET.horizon (wake.target)
+            approx, target = TARGET.fit_pairs(outputs, voluntary_gt, taps.shape[1])
+        else:
+            approx = np.stack([wavelet_approximations(x, config.wavelet, config.level, config.mode) for x in X])
+            target = voluntary_gt
+        shrink = WARMUP_SHRINK * (L - n) / L if (start_weights is not None and n < L) else 0.0
+        parts.append((tremor_gt, voluntary_gt, noise, outputs, approx, target, shrink))
+    w, err, used = fit_stacks([p[4] for p in parts], [p[5] for p in parts], ridge, center=start_weights,
+                              shrinks=[p[6] for p in parts], ridge_scale=config.ridge_scale)
+    start = 0
+    for (where, X, _), cutoffs, (tremor_gt, voluntary_gt, noise, outputs, _, _, shrink) in zip(groups, found, parts):
+        stop = start + X.shape[0]
+        # a window of CLEAN_ONLY_BELOW_S or more installs its fit: the tremor-ahead fit on it is window-only too
+        ahead = ahead_fit(X, outputs, w[start:stop], tremor_gt, config.horizon) \
+            if X.shape[1] >= clean_only_below(config) else None
+        for j, i in enumerate(where):
+            out[i] = WindowAnalysis(X[j], False, cutoffs[j][0], cutoffs[j][1], tremor_gt[j], voluntary_gt[j],
+                                    float(noise[j]), outputs[j], w[start + j].copy(), float(err[start + j]),
+                                    float(used[start + j]), shrink,
+                                    None if ahead is None else tuple(part[j] for part in ahead))
+        start = stop
     return out
+
+
+def _by_length(windows) -> list:
+    """``[(where, stack)]``: the windows of each length stacked, with their places in ``windows`` (a stack of one
+    length, (W, n), is one group as it is)."""
+    if isinstance(windows, np.ndarray) and windows.ndim == 2:
+        return [(np.arange(windows.shape[0]), np.asarray(windows, dtype=float))]
+    places = {}
+    for i, x in enumerate(windows):
+        places.setdefault(np.shape(x), []).append(i)
+    for shape in places:
+        if len(shape) != 1:
+            raise ValueError(f"each window must be 1-D (or the windows one stack (W, n)), got one of shape {shape}")
+    return [(np.array(where), np.array([windows[i] for i in where], dtype=float)) for where in places.values()]
+
+
+def _cutoffs(spectra, orders, config: WakeConfig) -> list:
+    """:func:`find_cutoff` of every row of ``spectra`` (one ``(freqs, psd)`` per group of windows): the rows on one
+    frequency grid (one AR order) searched at once; a list of ``(cutoff, flag)`` per group."""
+    by_order = {}
+    for k, order in enumerate(orders):
+        by_order.setdefault(order, []).append(k)
+    found = [None] * len(spectra)
+    for ks in by_order.values():
+        psd = np.concatenate([spectra[k][1] for k in ks]) if len(ks) > 1 else spectra[ks[0]][1]
+        rows = find_cutoff(spectra[ks[0]][0], psd, tremor_band=config.tremor_band, cutoff_range=config.cutoff_range,
+                           default_cutoff=config.default_cutoff, rule=config.cutoff_rule,
+                           shallow_max=config.shallow_max)
+        start = 0
+        for k in ks:
+            found[k], start = rows[start:start + spectra[k][1].shape[0]], start + spectra[k][1].shape[0]
+    return found
 
 
 def finish_hpa(a: WindowAnalysis, config: WakeConfig, *, previous_weights=None, index: int = 0,

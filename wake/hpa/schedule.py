@@ -34,7 +34,7 @@ import numpy as np
 
 from wake.config import WakeConfig
 from wake.hpa.run import clean_only_below
-from wake.rtp.full_scale import robust_peak
+from wake.rtp.full_scale import _peak_rank, robust_peak
 
 __all__ = ["GAP_SHARE", "HPASchedule", "ScheduleState", "prepare_window", "prepare_windows"]
 
@@ -158,16 +158,25 @@ class HPASchedule:
         # Long gaps: valid[j] is the index of a present sample, before[j] the run of missing samples before
         # it (the run carried from the last call before the first).
         valid = np.flatnonzero(~np.isnan(x))
-        before = np.diff(valid, prepend=-1) - 1
-        if valid.size:
-            before[0] += self.missing_run
-        ends = list(valid[before >= self.long_gap])  # first sample after each long gap
         carried = self.missing_run
+        if valid.size == n:   # no sample missing: only a run carried into x[0] can end a long gap
+            ends = [0] if n and carried >= self.long_gap else []
 
-        def run_at(k):
-            """Missing samples in a row up to and including x[k]."""
-            j = np.searchsorted(valid, k, side="right") - 1
-            return int(k - valid[j]) if j >= 0 else int(k + 1 + carried)
+            def run_at(k):
+                return 0
+        else:
+            before = np.empty_like(valid)   # np.diff(valid, prepend=-1) - 1
+            before[:1] = valid[:1]
+            np.subtract(valid[1:], valid[:-1], out=before[1:])
+            before[1:] -= 1
+            if valid.size:
+                before[0] += carried
+            ends = list(valid[before >= self.long_gap])  # first sample after each long gap
+
+            def run_at(k):
+                """Missing samples in a row up to and including x[k]."""
+                j = np.searchsorted(valid, k, side="right") - 1
+                return int(k - valid[j]) if j >= 0 else int(k + 1 + carried)
 
         while True:
             stop = self.next_point - base - 1  # index in x of the sample completing the next HPA point
@@ -214,26 +223,42 @@ def prepare_window(window, peak: float | None = None) -> np.ndarray:
 
 def prepare_windows(windows) -> list:
     """``(prepare_window(w, peak), peak)`` of each window of a list (None for None), ``peak`` its robust peak:
-    the windows of one length at once (one partition and one outlier test for all; a window with something to
-    drop or fill goes through :func:`prepare_window`, a clean one is returned as it is, as there)."""
+    every window at once, whatever its length (one magnitude pass and one outlier test for all, each window's
+    peak selected in its own stretch of it; a window with something to drop or fill goes through
+    :func:`prepare_window`, a clean one is returned as it is, as there).  A list with a non-finite sample goes
+    window by window."""
+    where = [i for i, window in enumerate(windows) if window is not None]
     out = [None] * len(windows)
-    lengths = {}
-    for i, window in enumerate(windows):
-        if window is not None:
-            lengths.setdefault(window.shape[0], []).append(i)
-    for rows in lengths.values():
-        if len(rows) == 1:   # one window of its length: its own calls cost less than a stack's
-            peak = robust_peak(windows[rows[0]])
-            out[rows[0]] = (prepare_window(windows[rows[0]], peak), peak)
-            continue
-        X = np.stack([windows[i] for i in rows])
-        peaks = robust_peak(X)
-        limits = np.array([_outlier_limit(float(peak)) for peak in peaks])
-        with np.errstate(invalid="ignore"):
-            clean = ~(np.abs(X) > limits[:, None]).any(axis=1) & ~np.isnan(X).any(axis=1)
-        for j, i in enumerate(rows):
-            peak = float(peaks[j])
-            out[i] = (windows[i] if clean[j] else prepare_window(windows[i], peak), peak)
+    if not where:
+        return out
+    lengths = [windows[i].shape[0] for i in where]
+    if len(where) == 1 or min(lengths) == 0:   # one window: its own calls cost less
+        for i in where:
+            peak = robust_peak(windows[i])
+            out[i] = (prepare_window(windows[i], peak), peak)
+        return out
+    flat = np.concatenate([windows[i] for i in where])
+    size = np.abs(flat)
+    if not np.isfinite(size).all():
+        for i in where:
+            peak = robust_peak(windows[i])
+            out[i] = (prepare_window(windows[i], peak), peak)
+        return out
+    starts = np.cumsum([0] + lengths)
+    peaks, i = [], 0
+    while i < len(lengths):   # robust_peak of each: the same rank, selected in its own stretch (a run of windows
+        n, j = lengths[i], i  # of one length side by side: one partition along their rows)
+        while j < len(lengths) and lengths[j] == n:
+            j += 1
+        rows = size[starts[i]:starts[j]].reshape(j - i, n).copy()
+        k = _peak_rank(n)
+        rows.partition(k, axis=1)
+        peaks += rows[:, k].tolist()
+        i = j
+    limits = np.repeat([_outlier_limit(peak) for peak in peaks], lengths)
+    wild = np.logical_or.reduceat(size > limits, starts[:-1])
+    for i, peak, outlier in zip(where, peaks, wild.tolist()):
+        out[i] = (prepare_window(windows[i], peak) if outlier else windows[i], peak)
     return out
 
 

@@ -8,7 +8,8 @@ import numpy as np
 
 from wake._validation import check_positive
 
-__all__ = ["autocorrelation", "levinson_durbin", "yule_walker", "ar_psd", "window_order", "row_mean", "row_var"]
+__all__ = ["autocorrelation", "levinson_durbin", "yule_walker", "ar_psd", "ar_psds", "window_order", "row_mean",
+           "row_var"]
 
 #: The smallest normal float64: the floor of the spectrum's denominator (read once; np.finfo is not free).
 _TINY = float(np.finfo(float).tiny)
@@ -211,18 +212,52 @@ def ar_psd(x, fs, order=17, n_freqs=512):
     >>> bool(abs(f[np.argmax(p)] - 8.0) < 0.3)
     True
     """
-    try:
-        order, nfft, freqs, pick = _grid(fs, order, n_freqs)
-    except TypeError:   # something unhashable: checked (and refused by name) without the cache
-        order, nfft, freqs, pick = _grid.__wrapped__(fs, order, n_freqs)
     x = np.asarray(x, dtype=float)
-    if x.shape[-1] <= order:
-        raise ValueError(f"the window has {x.shape[-1]} samples; an AR({order}) fit needs more than {order}")
-    a, sigma2 = yule_walker(x, order)
-    denom = np.abs(np.fft.rfft(a, nfft, axis=-1)) ** 2
-    if pick is not None:
-        denom = denom[..., pick]
-    return freqs.copy(), np.asarray(sigma2)[..., None] / np.maximum(denom, _TINY)
+    (freqs, psd), = ar_psds([x.reshape(-1, x.shape[-1])], fs, [order], n_freqs)
+    return freqs, psd.reshape(x.shape[:-1] + psd.shape[-1:])
+
+
+def ar_psds(stacks, fs, orders, n_freqs=512) -> list:
+    """:func:`ar_psd` of each of a list of stacks of windows, ``(W_i, n_i)`` with the AR order ``orders[i]``: one
+    ``(freqs, psd)`` per stack, each row bit for bit :func:`ar_psd` of its window alone.
+
+    The stacks may differ in length (the warm-up windows of a block beside its full ones): each stack's mean
+    removal and autocorrelation are its own, the Levinson recursion and the spectrum's FFT run once for every
+    row of one order (a row's numbers do not depend on the rows beside it).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rng = np.random.default_rng(1)
+    >>> short, full = rng.normal(size=(2, 200)), rng.normal(size=(3, 500))
+    >>> (_, p1), (_, p2) = ar_psds([short, full], 100.0, [8, 8])
+    >>> p1.shape, p2.shape, bool(np.array_equal(p2[1], ar_psd(full[1], 100.0, 8)[1]))
+    ((2, 512), (3, 512), True)
+    """
+    grids, lags = {}, {}
+    for i, (x, order) in enumerate(zip(stacks, orders)):
+        try:
+            grid = _grid(fs, order, n_freqs)
+        except TypeError:   # something unhashable: checked (and refused by name) without the cache
+            grid = _grid.__wrapped__(fs, order, n_freqs)
+        order = grids.setdefault(grid[0], grid)[0]
+        if x.shape[-1] <= order:
+            raise ValueError(f"the window has {x.shape[-1]} samples; an AR({order}) fit needs more than {order}")
+        lags.setdefault(order, []).append((i, autocorrelation(x - row_mean(x, keepdims=True), order)))
+    out = [None] * len(stacks)
+    for order, parts in lags.items():
+        _, nfft, freqs, pick = grids[order]
+        a, sigma2, _ = levinson_durbin(parts[0][1] if len(parts) == 1 else np.concatenate([r for _, r in parts]),
+                                       order)
+        denom = np.abs(np.fft.rfft(a, nfft, axis=-1)) ** 2
+        if pick is not None:
+            denom = denom[..., pick]
+        psd = sigma2[:, None] / np.maximum(denom, _TINY)
+        start = 0
+        for i, r in parts:
+            out[i] = freqs.copy(), psd[start:start + r.shape[0]]
+            start += r.shape[0]
+    return out
 
 
 @functools.lru_cache(maxsize=64, typed=True)   # typed: True is not 1 (check_positive refuses a bool)
