@@ -62,7 +62,7 @@ static int any_checked_fields(void)
     unsigned j;
     float *const fields[] = {&cfg.fs, &cfg.tremor_low, &cfg.tremor_high, &cfg.cutoff_low, &cfg.cutoff_high,
                              &cfg.shallow_high, &cfg.default_cutoff, &cfg.min_depth_ratio, &cfg.floor_ratio,
-                             &cfg.edge_ratio, &cfg.ridge, &cfg.process_noise_ratio};
+                             &cfg.edge_ratio, &cfg.ridge, &cfg.process_noise_ratio, &cfg.gate_cutoff};
     unknown(&cfg, sizeof cfg);
     if (cfg.level >= 1u && cfg.level <= WAKE_HPA_MAX_LEVEL) {
         /* the same values, one Eva state each: loops over the level stay exact (apply's weights) */
