@@ -76,9 +76,10 @@ static int config_ok(const wake_hpa_config_t *c)
         c->ridge_scale > WAKE_HPA_RIDGE_CENTRED) {
         return 0;
     }
-    /* the gate's truth: 0 (above f_d), or below fs/2 with its bins inside the ones the truth has room for */
+    /* the gate's truth: 0 (above f_d), or below fs/2 with its bins inside the ones the truth has room for,
+       gate_cutoff < (B - 1) fs / 1022 (written so that no product overflows: fs > 0 and finite here) */
     if (!(c->gate_cutoff >= 0.0f) || !(c->gate_cutoff < c->fs / 2.0f) ||
-        c->gate_cutoff * (float)WAKE_HPA_PSD_GRID / c->fs >= (float)(WAKE_HPA_MAX_PSD_BINS - 1)) {
+        !(c->gate_cutoff < (float)(WAKE_HPA_MAX_PSD_BINS - 1) * (c->fs / (float)WAKE_HPA_PSD_GRID))) {
         return 0;
     }
     prev = 0;

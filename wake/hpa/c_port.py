@@ -109,9 +109,8 @@ def check_c_hpa_config(config: WakeConfig) -> None:
     if config.cutoff_range[1] * lib.WAKE_HPA_PSD_GRID / config.fs >= lib.WAKE_HPA_MAX_PSD_BINS - 1:
         problems.append(f"cutoff_range[1] = {config.cutoff_range[1]:g} Hz at fs = {config.fs:g} Hz needs more than "
                         f"WAKE_HPA_MAX_PSD_BINS = {lib.WAKE_HPA_MAX_PSD_BINS} spectrum bins")
-    if config.gate_cutoff is not None and config.gate_cutoff * lib.WAKE_HPA_PSD_GRID / config.fs >= \
-            lib.WAKE_HPA_MAX_PSD_BINS - 1:
-        top = (lib.WAKE_HPA_MAX_PSD_BINS - 1) * config.fs / lib.WAKE_HPA_PSD_GRID
+    top = (lib.WAKE_HPA_MAX_PSD_BINS - 1) * (config.fs / lib.WAKE_HPA_PSD_GRID)   # wake_hpa.c's config_ok
+    if config.gate_cutoff is not None and not config.gate_cutoff < top:
         problems.append(f"gate_cutoff = {config.gate_cutoff:g} Hz at fs = {config.fs:g} Hz needs more DFT bins than "
                         f"WAKE_HPA_MAX_PSD_BINS = {lib.WAKE_HPA_MAX_PSD_BINS} hold: the C HPA takes 0 < gate_cutoff "
                         f"< {top:g} Hz (or None)")
