@@ -431,6 +431,7 @@ static void ahead_block(const wake_hpa_t *h, wake_hpa_ahead_t *a, unsigned t, un
     float *ring = a->ring;
     const unsigned extra = (unsigned)h->gate_bins - h->bins;
     float vol[AHEAD_BLOCK], y[AHEAD_BLOCK], gate[AHEAD_BLOCK];
+    const float *scored = vol;
     unsigned q;
     /* the block reads only the elements it writes; zeroed all the same (stores, not a call: analyser) */
     for (q = 0; q < AHEAD_BLOCK; q += 2u) { /* wcet-loop: AHEAD_BLOCK / 2 */
@@ -438,14 +439,8 @@ static void ahead_block(const wake_hpa_t *h, wake_hpa_ahead_t *a, unsigned t, un
         vol[q + 1u] = 0.0f;
         y[q] = 0.0f;
         y[q + 1u] = 0.0f;
-        gate[q] = 0.0f;
-        gate[q + 1u] = 0.0f;
     }
     ahead_voluntary(a->bin_osc, h->bins, count, vol);
-    if (extra != 0u) {
-        /* the gate's bins above f_d (after the fit's in bin_osc): what the gate's truth also leaves out */
-        ahead_voluntary(&a->bin_osc[3u * h->bins], extra, count, gate);
-    }
     for (q = 0; q + 2u <= count; q += 2u) { /* wcet-loop: AHEAD_BLOCK / 2 */
         ahead_estimate2(a->fir, x, t + q, N, &y[q]);
     }
@@ -459,9 +454,19 @@ static void ahead_block(const wake_hpa_t *h, wake_hpa_ahead_t *a, unsigned t, un
             a->head[s - N] = y[q];
         }
         vol[q] = (((float)x[s] - mean) - slope * ((float)s - centre)) - vol[q];
-        gate[q] = vol[q] - gate[q];
     }
-    ahead_rows(h, a, vol, gate, t, count, pos);
+    if (extra != 0u) {
+        /* the gate's truth: T less the gate's bins above f_d (after the fit's in bin_osc) */
+        for (q = 0; q < AHEAD_BLOCK; ++q) { /* wcet-loop: AHEAD_BLOCK */
+            gate[q] = 0.0f;
+        }
+        ahead_voluntary(&a->bin_osc[3u * h->bins], extra, count, gate);
+        for (q = 0; q < count; ++q) { /* wcet-loop: AHEAD_BLOCK */
+            gate[q] = vol[q] - gate[q];
+        }
+        scored = gate;
+    }
+    ahead_rows(h, a, vol, scored, t, count, pos);
 }
 
 /**

@@ -130,12 +130,18 @@ static float fit_mse(const wake_hpa_t *h, const float *w)
 }
 
 
-/** One ridge attempt (wake.hpa.fit.fit_weights: the ridge rises tenfold until |w| <= 32). */
+/**
+ * One ridge attempt (wake.hpa.fit.fit_weights: the ridge rises tenfold until |w| <= 32); with
+ * WAKE_HPA_RIDGE_CENTRED in two pieces (h->t 0: the factorisation and the centred solve; 1: the rank one), so
+ * that a slice holds no more than one attempt of the default's.
+ */
 void wake_hpa_step_solve(wake_hpa_t *h)
 {
     const unsigned J = h->cfg.level;
+    const int centred = h->cfg.ridge_scale == WAKE_HPA_RIDGE_CENTRED;
     float *w = h->trial;
     unsigned j;
+    int solved;
     if (!(h->scale >= SOLVE_MIN_SCALE) || !is_finite(h->scale)) {
         for (j = 0; j < J; ++j) {
             w[j] = 0.0f;
@@ -143,7 +149,17 @@ void wake_hpa_step_solve(wake_hpa_t *h)
         wake_hpa_finish_fit(h, w, h->noise, max_f(h->yy / (float)h->rows, 0.0f), h->cfg.ridge, 0u);
         return;
     }
-    if (wake_hpa_solve_ridge(h, h->factor, w)) {
+    if (centred && h->t != 0u) {
+        h->t = 0;
+        solved = wake_hpa_solve_rank_one(h, h->factor, w);
+    } else {
+        solved = wake_hpa_solve_ridge(h, h->factor, w);
+        if (solved && centred) {
+            h->t = 1;   /* the rank one in the next piece */
+            return;
+        }
+    }
+    if (solved) {
         wake_hpa_finish_fit(h, w, h->noise, fit_mse(h, w), h->factor,
                h->factor > h->cfg.ridge ? (uint16_t)WAKE_HPA_NOTE_REGULARISED : (uint16_t)0u);
         return;

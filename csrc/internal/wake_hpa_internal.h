@@ -249,8 +249,11 @@ int32_t wake_hpa_step_ramp(wake_hpa_t *h, int32_t budget);
 
 void wake_hpa_step_gram(wake_hpa_t *h);
 void wake_hpa_step_solve(wake_hpa_t *h);
-/** (G + factor scale I) w = b by L D L'; 0 (the ridge rises) if a guard of the solve is not kept. */
+/** (G + factor scale I) w = b by L D L'; 0 (the ridge rises) if a guard of the solve is not kept
+ *  (WAKE_HPA_RIDGE_CENTRED: the centred solve, the attempt's first piece). */
 int wake_hpa_solve_ridge(wake_hpa_t *h, float factor, float *w);
+/** WAKE_HPA_RIDGE_CENTRED: the attempt's second piece, the rank one added to the centred solve in @p w. */
+int wake_hpa_solve_rank_one(wake_hpa_t *h, float factor, float *w);
 
 /* ---- wake_hpa_slice.c, wake_hpa_pieces.c ---------------------------------------------------------------------- */
 

@@ -168,6 +168,17 @@ void eva_wake_hpa_to_rtp(void)
                           w, &r, &q);
 }
 
+/** The previous predictor given to an instance init accepted (its counters of any content): coefficients of any bit
+ *  pattern, NaN and infinities included (the setter tests them), any index. */
+void eva_wake_hpa_set_previous_ahead(void)
+{
+    float c[WAKE_HPA_AHEAD_TAPS];
+    if (any_checked_fields()) {
+        unknown(c, sizeof c);
+        (void)wake_hpa_set_previous_ahead(&hpa, c, Frama_C_unsigned_int_interval(0u, UINT32_MAX));
+    }
+}
+
 void eva_wake_hpa_apply(void)
 {
     if (any_checked_fields()) {
