@@ -183,8 +183,11 @@ int wake_hpa_solve_ridge(wake_hpa_t *h, float factor, float *w)
 {
     const unsigned J = h->cfg.level;
     const solve_bounds_t s = solve_bounds(J, factor, h->scale);
-    float dg[WAKE_HPA_MAX_LEVEL] = {0.0f};   /* factor_ridge writes the first J (zeroed for the compiler's sake) */
+    float dg[WAKE_HPA_MAX_LEVEL];
     unsigned i;
+    for (i = 0; i < (unsigned)WAKE_HPA_MAX_LEVEL; ++i) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
+        dg[i] = 0.0f;   /* factor_ridge writes the first J; zeroed for the compiler's flow analysis */
+    }
     if (!factor_ridge(h, &s, dg)) {
         return 0;
     }
