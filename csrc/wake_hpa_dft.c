@@ -34,13 +34,14 @@ static void turn(uint32_t k, uint32_t n, float *c, float *s)
  */
 void wake_hpa_step_bins(wake_hpa_t *h)
 {
-    const float gate = hpa_ahead_gate_cutoff(h), bin_hz = h->cfg.fs / (float)h->n;
-    const float top = gate > h->cutoff ? gate : h->cutoff;
-    unsigned m, bins = 0;
-    for (m = 1; 2u * m < h->n && m <= WAKE_HPA_MAX_BINS && (float)m * bin_hz <= top; ++m) { /* wcet-loop: WAKE_HPA_MAX_WINDOW / 2 */
-        bins = ((float)m * bin_hz <= h->cutoff) ? m : bins;
+    const float gate = hpa_ahead_gate_cutoff(h);
+    unsigned m;
+    for (m = 1; 2u * m < h->n && m <= WAKE_HPA_MAX_BINS && (float)m * (h->cfg.fs / (float)h->n) <= h->cutoff; ++m) { /* wcet-loop: WAKE_HPA_MAX_WINDOW / 2 */
     }
-    h->bins = (uint16_t)bins;
+    h->bins = (uint16_t)(m - 1u);
+    /* the gate's bins go on from there (none when its cut-off is at or below f_d) */
+    for (; 2u * m < h->n && m <= WAKE_HPA_MAX_BINS && (float)m * (h->cfg.fs / (float)h->n) <= gate; ++m) { /* wcet-loop: WAKE_HPA_MAX_WINDOW / 2 */
+    }
     h->gate_bins = (uint16_t)(m - 1u);
     h->power = 0.0f;
     h->cross = 0.0f;
