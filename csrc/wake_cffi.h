@@ -206,6 +206,10 @@ typedef enum {
     WAKE_HPA_RULE_SHALLOW = 1,
     WAKE_HPA_RULE_FLOOR = 2
 } wake_hpa_rule_t;
+typedef enum {
+    WAKE_HPA_RIDGE_GRAM = 0,
+    WAKE_HPA_RIDGE_CENTRED = 1
+} wake_hpa_ridge_scale_t;
 typedef struct {
     float fs;
     float tremor_low;
@@ -219,12 +223,14 @@ typedef struct {
     float edge_ratio;
     float ridge;
     float process_noise_ratio;
+    float gate_cutoff;
     uint16_t window;
     uint16_t level;
     uint16_t ar_order;
     uint16_t rule;
     uint16_t clean_below;
     uint16_t horizon;
+    uint16_t ridge_scale;
     uint16_t warmup[...];
 } wake_hpa_config_t;
 typedef struct {
@@ -286,6 +292,7 @@ typedef struct {
     uint16_t lags;
     uint16_t d, t, m;
     uint16_t bins;
+    uint16_t gate_bins;
     uint16_t psd_end;
     uint16_t peak;
     uint16_t pair;
@@ -327,11 +334,14 @@ typedef struct {
     float factor;
     float gram[...];
     float rhs[...];
+    float colall[...];
     float chol[...];
     float trial[...];
     float rowsum[...];
     float colsum[...];
     float sy, vv, trace;
+    float trace_c;
+    float yc2;
     float weights[...];
     float r[...];
     float a[...];
@@ -357,6 +367,7 @@ wake_hpa_status_t wake_hpa_take(wake_hpa_t *h, wake_hpa_result_t *out);
 wake_hpa_status_t wake_hpa_to_rtp(const wake_hpa_result_t *res, int level, float process_noise_ratio,
                                   wake_q24_t *weights, wake_cov_t *r, wake_cov_t *q);
 wake_hpa_status_t wake_hpa_ahead_to_rtp(const wake_hpa_result_t *res, int32_t *coefficients, wake_ratio_t *goal);
+wake_hpa_status_t wake_hpa_set_previous_ahead(wake_hpa_t *h, const float *coefficients, uint32_t index);
 wake_hpa_status_t wake_hpa_apply(wake_hpa_t *h, wake_rtp_t *rtp);
 
 /* ---- wake_rate.h ----------------------------------------------------------------------------- */

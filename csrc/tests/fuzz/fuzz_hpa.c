@@ -114,6 +114,10 @@ static void read_config(fuzz_input_t *in, wake_hpa_config_t *c)
         c->ridge = fuzz_f32(in);
         c->process_noise_ratio = fuzz_f32(in);
     }
+    if (mask & 4096u) {                    /* issue 46's settings: any gate cut-off bits, the ridge's scale */
+        c->gate_cutoff = (mask & 8192u) ? fuzz_f32(in) : (float)fuzz_u8(in) / 16.0f;
+        c->ridge_scale = (uint16_t)(fuzz_u8(in) % 3u);
+    }
 }
 
 /**

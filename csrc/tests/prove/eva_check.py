@@ -69,7 +69,8 @@ VOLUNTARY_ENTRY_OPTIONS = {e: ("-eva-slevel-function", "divide_wide:0,wake_rtpi_
 VOLUNTARY_ENTRY_TIMEOUT = {e: 300 for e in VOLUNTARY_BUILD_ENTRIES}
 #: HPA entries whose analysis is checked (every alarm listed and justified)
 HPA_ENTRIES = ["wake_hpa_default_config", "wake_hpa_init", "wake_hpa_push", "wake_hpa_push_missing",
-               "wake_hpa_start", "wake_hpa_slice", "wake_hpa_take", "wake_hpa_to_rtp", "wake_hpa_apply"]
+               "wake_hpa_start", "wake_hpa_slice", "wake_hpa_take", "wake_hpa_to_rtp", "wake_hpa_apply",
+               "wake_hpa_set_previous_ahead"]
 #: configurations of the HPA entries: the HPA's own code does not depend on the RTP's arithmetic or Kalman
 #: switches, so two configurations cover both values of each; apply, which calls wake_rtp_set_weights, runs
 #: in all of them
@@ -106,6 +107,7 @@ HPA_REPORT_ENTRIES = [("hpa", "wake_hpa_run")]
 #: tests them, so Eva's non-finite float alarms are off there (-warn-special-float none); everywhere
 #: else a NaN or an infinity is an alarm
 RAW_FLOAT_ENTRIES = {"wake_hpa_init", "wake_hpa_to_rtp", "wake_hpa_apply", "wake_hpa_ahead_to_rtp",
+                     "wake_hpa_set_previous_ahead",
                      # the tremor ahead's solve tests what it divides by and clips what it produces, a NaN or an
                      # infinity on the way included (eva_hpa_ahead_steps.c)
                      "step_ahead_solve"}

@@ -62,7 +62,7 @@ static int any_checked_fields(void)
     unsigned j;
     float *const fields[] = {&cfg.fs, &cfg.tremor_low, &cfg.tremor_high, &cfg.cutoff_low, &cfg.cutoff_high,
                              &cfg.shallow_high, &cfg.default_cutoff, &cfg.min_depth_ratio, &cfg.floor_ratio,
-                             &cfg.edge_ratio, &cfg.ridge, &cfg.process_noise_ratio};
+                             &cfg.edge_ratio, &cfg.ridge, &cfg.process_noise_ratio, &cfg.gate_cutoff};
     unknown(&cfg, sizeof cfg);
     if (cfg.level >= 1u && cfg.level <= WAKE_HPA_MAX_LEVEL) {
         /* the same values, one Eva state each: loops over the level stay exact (apply's weights) */
@@ -166,6 +166,17 @@ void eva_wake_hpa_to_rtp(void)
     unknown(&result, sizeof result);
     (void)wake_hpa_to_rtp(&result, Frama_C_interval(INT32_MIN, INT32_MAX), Frama_C_float_interval(-1e30f, 1e30f),
                           w, &r, &q);
+}
+
+/** The previous predictor given to an instance init accepted (its counters of any content): coefficients of any bit
+ *  pattern, NaN and infinities included (the setter tests them), any index. */
+void eva_wake_hpa_set_previous_ahead(void)
+{
+    float c[WAKE_HPA_AHEAD_TAPS];
+    if (any_checked_fields()) {
+        unknown(c, sizeof c);
+        (void)wake_hpa_set_previous_ahead(&hpa, c, Frama_C_unsigned_int_interval(0u, UINT32_MAX));
+    }
 }
 
 void eva_wake_hpa_apply(void)
