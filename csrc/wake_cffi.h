@@ -96,6 +96,20 @@ void wake_ahead_prepare(const wake_ahead_t *a, wake_ahead_prepared_t *prepared);
 void wake_ahead_finish(wake_ahead_t *a, const wake_ahead_prepared_t *prepared, wake_q23_t tremor,
                        wake_ratio_t gate);
 
+/* ---- wake_voluntary_ahead.h ---- */
+typedef struct {
+    wake_q24_t weights[...];
+    int64_t z_start;
+    int64_t start;
+    int32_t gain;
+    wake_q23_t output;
+    uint32_t saturations;
+    uint16_t set;
+    uint16_t reserved;
+    wake_fir_t fir[...];
+} wake_voluntary_ahead_t;
+wake_rtp_status_t wake_voluntary_ahead_output(const wake_voluntary_ahead_t *v, wake_q23_t *output);
+
 /* ---- wake_rtp.h (the instance) ---- */
 typedef struct {
     uint32_t magic;
@@ -121,15 +135,7 @@ typedef struct {
     wake_fir_t fir[...];
     wake_q15_t ring[...];
     wake_ahead_t ahead;
-    wake_q24_t vol_weights[...];
-    int64_t vol_z_start;
-    int64_t vol_start;
-    int32_t vol_gain;
-    wake_q23_t vol_output;
-    uint32_t vol_saturations;
-    uint16_t vol_set;
-    uint16_t vol_reserved;
-    wake_fir_t vol_fir[...];
+    wake_voluntary_ahead_t voluntary_ahead;
 } wake_rtp_t;
 wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const wake_q15_t *taps,
                                 const wake_q24_t *weights, wake_cov_t r, wake_cov_t q, wake_cov_t p0);

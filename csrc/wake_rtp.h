@@ -63,6 +63,7 @@
 
 #include "wake_rtp_types.h"
 #include "wake_ahead.h"
+#include "wake_voluntary_ahead.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -189,18 +190,8 @@ typedef struct {
     wake_ahead_t ahead;        /**< the tremor ahead (wake_ahead.h): set by wake_rtp_set_ahead, fed by every step */
 #endif
 #if WAKE_RTP_VOLUNTARY_AHEAD
-    /* the voluntary motion ahead (WAKE_RTP_VOLUNTARY_AHEAD): w_h set by wake_rtp_set_voluntary_ahead; the
-       restart scalars rebuilt with the FIR by every restart and by the setter */
-    wake_q24_t vol_weights[WAKE_RTP_MAX_LEVEL];  /**< w_h, Q24, |w_h| <= 64 (0 until set) */
-    int64_t vol_z_start;                         /**< z_s = w' d_s, Q23 of FS in int64 (|.| < 2^41) */
-    int64_t vol_start;                           /**< w_h' d_s, Q23 of FS in int64 (|.| < 2^41) */
-    int32_t vol_gain;                            /**< k = w_h' w / |w|^2, Q24, saturated to [-128, 128) (0 for w = 0) */
-    wake_q23_t vol_output;                       /**< v_h(n) = w_h' (a + d) after the last step (y(n) while unset), Q23 of FS */
-    uint32_t vol_saturations;                    /**< narrowings of v_h that saturated (sticks at UINT32_MAX); apart
-                                                      from saturations, which describe y */
-    uint16_t vol_set;                            /**< 1 once a w_h is installed, else 0 (v_h = y(n)) */
-    uint16_t vol_reserved;                       /**< 0 */
-    wake_fir_t vol_fir[WAKE_RTP_MAX_TAPS];       /**< h_h = B' w_h, oldest sample first, as fir */
+    wake_voluntary_ahead_t voluntary_ahead;  /**< the voluntary motion ahead (wake_voluntary_ahead.h): w_h set by
+                                                  wake_rtp_set_voluntary_ahead, rebuilt by every restart */
 #endif
 #if WAKE_RTP_SPLIT
     /* the split step (WAKE_RTP_SPLIT): what wake_rtp_prepare computed for the next finish; the
@@ -516,7 +507,7 @@ wake_rtp_status_t wake_rtp_get_ahead_state(const wake_rtp_t *s, wake_q15_t *line
  * k = w_h' w / |w|^2: the J products Q48 (< 2^60 after the floor shift by 3)
  * over |w|^2 (Q24, < 2^40) by the exact long division of set_weights, rounded
  * once to Q24 and narrowed to int32 with saturation ([-128, 128), counted in
- * vol_saturations); 0 when w = 0 (d = d_s then).
+ * voluntary_ahead.saturations); 0 when w = 0 (d = d_s then).
  */
 wake_rtp_status_t wake_rtp_set_voluntary_ahead(wake_rtp_t *s, const wake_q24_t *weights_ahead);
 
@@ -534,7 +525,7 @@ wake_rtp_status_t wake_rtp_set_voluntary_ahead(wake_rtp_t *s, const wake_q24_t *
  * the FIR exact in int64 (< 2^47) as y's; z - z_s clamped to +-2^41, its
  * product with k (Q24) from two 32 x 32 -> 64-bit products (< 2^62), rounded
  * once; the sum (< 2^49) narrowed once to int32 Q23 with saturation (counted in
- * vol_saturations).
+ * voluntary_ahead.saturations).
  */
 wake_rtp_status_t wake_rtp_voluntary_ahead_output(const wake_rtp_t *s, wake_q23_t *output);
 

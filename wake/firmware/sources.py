@@ -20,7 +20,7 @@ RTP_SOURCES = ("wake_rtp.c", "wake_rtp_state.c", "wake_rtp_split.c", "wake_rtp_a
                "wake_rtp_block.c", "wake_rtp_fixed.c")
 #: The RTP's public headers: the core (wake_rtp.h, which includes the others), its number formats and status
 #: codes, and each feature instance's header.
-RTP_HEADERS = ("wake_rtp.h", "wake_rtp_types.h", "wake_ahead.h")
+RTP_HEADERS = ("wake_rtp.h", "wake_rtp_types.h", "wake_ahead.h", "wake_voluntary_ahead.h")
 #: The RTP's internal headers, which its modules include by their relative path.
 RTP_INTERNAL = ("internal/wake_rtp_internal.h", "internal/wake_rtp_sample.h", "internal/wake_bounds.h")
 

@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from wake._rtp import ffi, lib
+from wake.rtp.fixed_voluntary import LAYOUT_1_SIZES
 from wake.rtp.status import check_status as _check
 from wake.ahead import ramp_step
 from wake.rtp.qformat import AHEAD_COEF_FRAC, AHEAD_TAPS, GATE_FRAC, SAMPLE_FRAC, STATE_FRAC, quantize_ahead
@@ -43,11 +44,10 @@ def quantize_ramp(alpha: float) -> int:
 class AheadMixin:
     """``set_ahead``, ``last_ahead`` and ``run_ahead`` of the C core (the contract of issue 32)."""
 
-    #: Pickled struct sizes this core loads: its own, the one before the voluntary motion ahead (w_h) and the
-    #: one before the tremor ahead (each part was appended to the struct, so an older struct is its prefix; a
-    #: state without w_h holds the one-step prediction until an HPA installs one).
-    _STRUCT_SIZES = (ffi.sizeof("wake_rtp_t"), ffi.offsetof("wake_rtp_t", "vol_weights"),
-                     ffi.offsetof("wake_rtp_t", "ahead"))
+    #: Pickled struct sizes of layout 1 this core loads (wake.rtp.fixed_voluntary.LAYOUT_1_SIZES): whole, before
+    #: the voluntary motion ahead (w_h) and before the tremor ahead (a state without w_h holds the one-step
+    #: prediction until an HPA installs one).
+    _STRUCT_SIZES = LAYOUT_1_SIZES
 
     def _restore_ahead(self, st):
         """After unpickling: ``fs``, and for a state saved before the tremor ahead, none installed at 100 Hz."""

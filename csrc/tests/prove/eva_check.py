@@ -46,6 +46,9 @@ RTP_ENTRIES = ["wake_rtp_init", "wake_rtp_set_weights", "wake_rtp_reset", "wake_
 #: instance of any content, in every configuration (its module compiles in every one)
 AHEAD_INSTANCE_ENTRIES = ["wake_ahead_step", "wake_ahead_step_missing", "wake_ahead_prepare", "wake_ahead_finish",
                           "wake_ahead_set_model", "wake_ahead_load", "wake_ahead_history"]
+#: the voluntary motion ahead's own instance (wake_voluntary_ahead.h): its output entry, on an instance of any
+#: content, in every configuration (it compiles in every one)
+VOLUNTARY_INSTANCE_ENTRIES = ["wake_voluntary_ahead_output"]
 #: entries of the split step, analysed in every configuration with WAKE_RTP_SPLIT 1 added
 SPLIT_ENTRIES = ["wake_rtp_prepare", "wake_rtp_finish", "wake_rtp_finish_missing"]
 SPLIT_DEFS = " -DWAKE_RTP_SPLIT=1"
@@ -329,8 +332,8 @@ def main(argv=None) -> int:
         return 3
     plan = []
     if args.only in (None, "rtp"):
-        plan += [("rtp", e, c) for e in RTP_ENTRIES + AHEAD_INSTANCE_ENTRIES + SPLIT_ENTRIES + VOLUNTARY_ENTRIES
-                 for c in CONFIGS]
+        plan += [("rtp", e, c) for e in RTP_ENTRIES + AHEAD_INSTANCE_ENTRIES + VOLUNTARY_INSTANCE_ENTRIES + SPLIT_ENTRIES
+                 + VOLUNTARY_ENTRIES for c in CONFIGS]
     if args.only in (None, "hpa"):
         plan += [("hpa", e, c) for e in HPA_ENTRIES
                  for c in (CONFIGS if e in HPA_ALL_CONFIG_ENTRIES else HPA_CONFIGS)]

@@ -247,6 +247,16 @@ void eva_wake_ahead_history(void)
     (void)wake_ahead_history(&ahead, instance_line);
 }
 
+/* the voluntary motion ahead's own instance (wake_voluntary_ahead.h): its output entry, in every configuration */
+static wake_voluntary_ahead_t voluntary_instance;
+
+void eva_wake_voluntary_ahead_output(void)
+{
+    wake_q23_t output;
+    unknown(&voluntary_instance, sizeof voluntary_instance);
+    (void)wake_voluntary_ahead_output(&voluntary_instance, &output);
+}
+
 #if WAKE_RTP_VOLUNTARY_AHEAD
 /* the voluntary motion at n + h (WAKE_RTP_VOLUNTARY_AHEAD 1): analysed with the switch on */
 static wake_q24_t weights_ahead[WAKE_RTP_MAX_LEVEL];
