@@ -48,6 +48,26 @@ static int quantise_noise(double r, double q, double fs, int32_t *r_q, int32_t *
     return 1;
 }
 
+/* The RTP over samples [start, stop) with every output a batch collects; a wake_batch_status_t */
+static int run_stretch(wake_rtp_t *rtp, const wake_q15_t *x, size_t start, size_t stop, wake_q15_t *voluntary,
+                       wake_q23_t *tremor_ahead, wake_ratio_t *gate, wake_q23_t *command)
+{
+    if (wake_rtp_run_outputs(rtp, x + start, NULL, stop - start, voluntary + start, tremor_ahead + start,
+                             gate + start, command + start, NULL) != WAKE_RTP_OK) {
+        return WAKE_BATCH_RTP_REFUSED;
+    }
+    return WAKE_BATCH_DONE;
+}
+
+/* Channel.apply's order: the weights, R and q, then the tremor-ahead predictor and goal; a wake_batch_status_t */
+static int install(wake_rtp_t *rtp, const int32_t *w_q, int32_t r_q, int32_t q_q, const int32_t *c_q, int32_t goal_q)
+{
+    if (wake_rtp_set_weights(rtp, w_q, r_q, q_q) != WAKE_RTP_OK || wake_rtp_set_ahead(rtp, c_q, goal_q) != WAKE_RTP_OK) {
+        return WAKE_BATCH_RTP_REFUSED;
+    }
+    return WAKE_BATCH_DONE;
+}
+
 /* Run and install one HPA point's window; a wake_batch_status_t */
 static int hpa_point(wake_rtp_t *rtp, wake_hpa_t *hpa, const wake_hpa_config_t *cfg, const wake_q15_t *hpa_taps,
                      const wake_q15_t *window, uint16_t length, uint32_t count, double full_scale,
@@ -98,10 +118,7 @@ static int hpa_point(wake_rtp_t *rtp, wake_hpa_t *hpa, const wake_hpa_config_t *
         return WAKE_BATCH_NOT_INSTALLABLE;
     }
     goal_q = (int32_t)rint((double)res->ahead_goal * GATE_SCALE);
-    if (wake_rtp_set_weights(rtp, w_q, r_q, q_q) != WAKE_RTP_OK) {
-        return WAKE_BATCH_RTP_REFUSED;
-    }
-    if (wake_rtp_set_ahead(rtp, c_q, goal_q) != WAKE_RTP_OK) {
+    if (install(rtp, w_q, r_q, q_q, c_q, goal_q) != WAKE_BATCH_DONE) {
         return WAKE_BATCH_RTP_REFUSED;
     }
     /* the next HPA's previous weights (wake.hpa.c_port._instance clips them to the C HPA's limit) */
@@ -131,9 +148,8 @@ int wake_batch_run(wake_rtp_t *rtp, wake_hpa_t *hpa, const wake_hpa_config_t *cf
     for (k = 0; k < n_points; k++) {
         size_t stop = stops[k];
         if (start < stop) {
-            if (wake_rtp_run_outputs(rtp, x + start, NULL, stop - start, voluntary + start, tremor_ahead + start,
-                                     gate + start, command + start, NULL) != WAKE_RTP_OK) {
-                status = WAKE_BATCH_RTP_REFUSED;
+            status = run_stretch(rtp, x, start, stop, voluntary, tremor_ahead, gate, command);
+            if (status != WAKE_BATCH_DONE) {
                 break;
             }
             start = stop;
@@ -145,8 +161,7 @@ int wake_batch_run(wake_rtp_t *rtp, wake_hpa_t *hpa, const wake_hpa_config_t *cf
         }
     }
     if (status == WAKE_BATCH_DONE && start < n_samples) {   /* the stretch after the last point */
-        if (wake_rtp_run_outputs(rtp, x + start, NULL, n_samples - start, voluntary + start, tremor_ahead + start,
-                                 gate + start, command + start, NULL) == WAKE_RTP_OK) {
+        if (run_stretch(rtp, x, start, n_samples, voluntary, tremor_ahead, gate, command) == WAKE_BATCH_DONE) {
             start = n_samples;
         }
     }
@@ -168,23 +183,19 @@ int wake_batch_install(wake_rtp_t *rtp, const wake_q15_t *x, size_t n_samples, s
     for (k = 0; k < n_points; k++) {
         size_t stop = stops[k];
         if (start < stop) {
-            if (wake_rtp_run_outputs(rtp, x + start, NULL, stop - start, voluntary + start, tremor_ahead + start,
-                                     gate + start, command + start, NULL) != WAKE_RTP_OK) {
-                status = WAKE_BATCH_RTP_REFUSED;
+            status = run_stretch(rtp, x, start, stop, voluntary, tremor_ahead, gate, command);
+            if (status != WAKE_BATCH_DONE) {
                 break;
             }
             start = stop;
         }
-        /* Channel.apply's order: the weights, R and q, then the tremor-ahead predictor and goal */
-        if (wake_rtp_set_weights(rtp, weights + k * level, r[k], q[k]) != WAKE_RTP_OK
-            || wake_rtp_set_ahead(rtp, ahead + k * WAKE_HPA_AHEAD_TAPS, goals[k]) != WAKE_RTP_OK) {
-            status = WAKE_BATCH_RTP_REFUSED;
+        status = install(rtp, weights + k * level, r[k], q[k], ahead + k * WAKE_HPA_AHEAD_TAPS, goals[k]);
+        if (status != WAKE_BATCH_DONE) {
             break;
         }
     }
     if (status == WAKE_BATCH_DONE && start < n_samples) {   /* the stretch after the last point */
-        if (wake_rtp_run_outputs(rtp, x + start, NULL, n_samples - start, voluntary + start, tremor_ahead + start,
-                                 gate + start, command + start, NULL) == WAKE_RTP_OK) {
+        if (run_stretch(rtp, x, start, n_samples, voluntary, tremor_ahead, gate, command) == WAKE_BATCH_DONE) {
             start = n_samples;
         }
     }
