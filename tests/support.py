@@ -121,3 +121,30 @@ def load_build_ffi():
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
+
+
+#: every per-sample output of WakeFilter.run that a bit-for-bit comparison of two paths covers
+RUN_OUTPUTS = ("prediction", "voluntary", "tremor", "tremor_ahead", "confidence", "command", "full_scale", "clipped",
+               "saturations", "full_scale_changes")
+
+
+def assert_same_history(a, b):
+    """Two HPA histories (per channel, a list of HPAUpdate) equal field by field, arrays bit for bit."""
+    assert len(a) == len(b)
+    for ups_a, ups_b in zip(a, b):
+        assert len(ups_a) == len(ups_b) > 0
+        for u, v in zip(ups_a, ups_b):
+            assert u.__dict__.keys() == v.__dict__.keys()
+            for name, value in u.__dict__.items():
+                other = v.__dict__[name]
+                if isinstance(value, np.ndarray) or isinstance(other, np.ndarray):
+                    assert np.array_equal(value, other), (u.index, name)
+                else:
+                    assert value == other, (u.index, name, value, other)
+
+
+def assert_same_results(res, ref):
+    """Two WakeFilter.run results equal bit for bit: every output in RUN_OUTPUTS and the HPA history."""
+    for name in RUN_OUTPUTS:
+        assert np.array_equal(getattr(res, name), getattr(ref, name), equal_nan=True), name
+    assert_same_history(res.hpa, ref.hpa)

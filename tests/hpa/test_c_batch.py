@@ -8,17 +8,13 @@ on a gyroscope and on an accelerometer with gravity.
 
 import numpy as np
 import pytest
-from support import motion
+from support import assert_same_history, assert_same_results, motion
 
 from wake import WakeFilter
 from wake.hpa import c_batch
 from wake.rtp import c_backend_available
 
 pytestmark = pytest.mark.skipif(not c_backend_available(), reason="the compiled C core (wake._rtp) is not built")
-
-OUTPUTS = ("prediction", "voluntary", "tremor", "tremor_ahead", "confidence", "command", "full_scale", "clipped",
-           "saturations", "full_scale_changes")
-
 
 @pytest.fixture
 def taken(monkeypatch):
@@ -40,29 +36,13 @@ def without_driver(run, monkeypatch):
         return run()
 
 
-def assert_same_history(a, b):
-    assert len(a) == len(b)
-    for ups_a, ups_b in zip(a, b):
-        assert len(ups_a) == len(ups_b) > 0
-        for u, v in zip(ups_a, ups_b):
-            assert u.__dict__.keys() == v.__dict__.keys()
-            for name, value in u.__dict__.items():
-                other = v.__dict__[name]
-                if isinstance(value, np.ndarray) or isinstance(other, np.ndarray):
-                    assert np.array_equal(value, other), (u.index, name)
-                else:
-                    assert value == other, (u.index, name, value, other)
-
-
 def assert_same_run(x, monkeypatch, taken, **settings):
     run = lambda: WakeFilter(backend="c", hpa_backend="c", **settings).run(x)  # noqa: E731
     res = run()
     used = taken[0]
     ref = without_driver(run, monkeypatch)
     assert taken[0] == used
-    for name in OUTPUTS:
-        assert np.array_equal(getattr(res, name), getattr(ref, name), equal_nan=True), name
-    assert_same_history(res.hpa, ref.hpa)
+    assert_same_results(res, ref)
     return used
 
 
