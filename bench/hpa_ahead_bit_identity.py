@@ -91,7 +91,8 @@ def build(csrc: Path, defs: list, out: Path) -> ctypes.CDLL:
     subprocess.run(["gcc", "-O2", "-std=c99", "-ffp-contract=off", "-fPIC", "-shared", f"-I{csrc}",
                     "-DWAKE_HPA_AHEAD=1", "-DWAKE_RTP_AHEAD=1", *defs, str(shim),
                     *(str(p) for p in sorted(csrc.glob("wake_hpa*.c"))),   # the HPA's files, one or split by concern
-                    str(csrc / "wake_rtp.c"), "-o", str(out)], check=True)
+                    # the RTP's files (one, or by concern since the RTP's split)
+                    *(str(p) for p in sorted(csrc.glob("wake_rtp*.c"))), "-o", str(out)], check=True)
     lib = ctypes.CDLL(str(out))
     lib.shim_size.restype = lib.shim_result_size.restype = ctypes.c_size_t
     lib.shim_window.restype = ctypes.c_long

@@ -64,6 +64,53 @@ typedef enum {
     WAKE_RTP_E_AHEAD = -10,
     WAKE_RTP_E_UNPREPARED = -11
 } wake_rtp_status_t;
+/* ---- wake_ahead.h ---- */
+typedef struct {
+    int32_t coef[...];
+    wake_ratio_t goal;
+    wake_ratio_t gate;
+    wake_ratio_t ramp;
+    uint32_t saturations;
+    wake_q23_t predicted;
+    wake_q23_t command;
+    uint16_t head;
+    uint16_t reserved;
+    wake_q15_t line[...];
+} wake_ahead_t;
+typedef struct {
+    int64_t dot;
+    wake_ratio_t gate;
+} wake_ahead_prepared_t;
+wake_rtp_status_t wake_ahead_init(wake_ahead_t *a);
+wake_rtp_status_t wake_ahead_reset(wake_ahead_t *a);
+wake_rtp_status_t wake_ahead_check(const wake_ahead_t *a);
+wake_rtp_status_t wake_ahead_set_model(wake_ahead_t *a, const int32_t *coefficients, wake_ratio_t goal);
+wake_rtp_status_t wake_ahead_set_ramp(wake_ahead_t *a, wake_ratio_t ramp);
+wake_rtp_status_t wake_ahead_load(wake_ahead_t *a, const wake_q15_t *line, wake_ratio_t gate);
+wake_rtp_status_t wake_ahead_history(const wake_ahead_t *a, wake_q15_t *line);
+wake_rtp_status_t wake_ahead_output(const wake_ahead_t *a, wake_q23_t *predicted, wake_ratio_t *gate,
+                                    wake_q23_t *command);
+void wake_ahead_step(wake_ahead_t *a, wake_q23_t tremor);
+void wake_ahead_step_missing(wake_ahead_t *a);
+void wake_ahead_prepare(const wake_ahead_t *a, wake_ahead_prepared_t *prepared);
+void wake_ahead_finish(wake_ahead_t *a, const wake_ahead_prepared_t *prepared, wake_q23_t tremor,
+                       wake_ratio_t gate);
+
+/* ---- wake_voluntary_ahead.h ---- */
+typedef struct {
+    wake_q24_t weights[...];
+    int64_t z_start;
+    int64_t start;
+    int32_t gain;
+    wake_q23_t output;
+    uint32_t saturations;
+    uint16_t set;
+    uint16_t reserved;
+    wake_fir_t fir[...];
+} wake_voluntary_ahead_t;
+wake_rtp_status_t wake_voluntary_ahead_output(const wake_voluntary_ahead_t *v, wake_q23_t *output);
+
+/* ---- wake_rtp.h (the instance) ---- */
 typedef struct {
     uint32_t magic;
     uint32_t saturations;
@@ -87,25 +134,8 @@ typedef struct {
     wake_q23_t correction[...];
     wake_fir_t fir[...];
     wake_q15_t ring[...];
-    int32_t ahead_coef[...];
-    wake_ratio_t ahead_goal;
-    wake_ratio_t ahead_gate;
-    wake_ratio_t ahead_ramp;
-    uint32_t ahead_saturations;
-    wake_q23_t ahead_predicted;
-    wake_q23_t ahead_command;
-    uint16_t ahead_head;
-    uint16_t ahead_reserved;
-    wake_q15_t ahead_line[...];
-    wake_q24_t vol_weights[...];
-    int64_t vol_z_start;
-    int64_t vol_start;
-    int32_t vol_gain;
-    wake_q23_t vol_output;
-    uint32_t vol_saturations;
-    uint16_t vol_set;
-    uint16_t vol_reserved;
-    wake_fir_t vol_fir[...];
+    wake_ahead_t ahead;
+    wake_voluntary_ahead_t voluntary_ahead;
 } wake_rtp_t;
 wake_rtp_status_t wake_rtp_init(wake_rtp_t *s, int level, const wake_q15_t *taps,
                                 const wake_q24_t *weights, wake_cov_t r, wake_cov_t q, wake_cov_t p0);
@@ -182,6 +212,10 @@ typedef enum {
     WAKE_HPA_RULE_SHALLOW = 1,
     WAKE_HPA_RULE_FLOOR = 2
 } wake_hpa_rule_t;
+typedef enum {
+    WAKE_HPA_RIDGE_GRAM = 0,
+    WAKE_HPA_RIDGE_CENTRED = 1
+} wake_hpa_ridge_scale_t;
 typedef struct {
     float fs;
     float tremor_low;
@@ -195,12 +229,14 @@ typedef struct {
     float edge_ratio;
     float ridge;
     float process_noise_ratio;
+    float gate_cutoff;
     uint16_t window;
     uint16_t level;
     uint16_t ar_order;
     uint16_t rule;
     uint16_t clean_below;
     uint16_t horizon;
+    uint16_t ridge_scale;
     uint16_t warmup[...];
 } wake_hpa_config_t;
 typedef struct {
@@ -262,6 +298,7 @@ typedef struct {
     uint16_t lags;
     uint16_t d, t, m;
     uint16_t bins;
+    uint16_t gate_bins;
     uint16_t psd_end;
     uint16_t peak;
     uint16_t pair;
@@ -303,11 +340,14 @@ typedef struct {
     float factor;
     float gram[...];
     float rhs[...];
+    float colall[...];
     float chol[...];
     float trial[...];
     float rowsum[...];
     float colsum[...];
     float sy, vv, trace;
+    float trace_c;
+    float yc2;
     float weights[...];
     float r[...];
     float a[...];
@@ -333,6 +373,7 @@ wake_hpa_status_t wake_hpa_take(wake_hpa_t *h, wake_hpa_result_t *out);
 wake_hpa_status_t wake_hpa_to_rtp(const wake_hpa_result_t *res, int level, float process_noise_ratio,
                                   wake_q24_t *weights, wake_cov_t *r, wake_cov_t *q);
 wake_hpa_status_t wake_hpa_ahead_to_rtp(const wake_hpa_result_t *res, int32_t *coefficients, wake_ratio_t *goal);
+wake_hpa_status_t wake_hpa_set_previous_ahead(wake_hpa_t *h, const float *coefficients, uint32_t index);
 wake_hpa_status_t wake_hpa_apply(wake_hpa_t *h, wake_rtp_t *rtp);
 
 /* ---- wake_rate.h ----------------------------------------------------------------------------- */

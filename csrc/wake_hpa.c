@@ -41,7 +41,7 @@ static int config_ok(const wake_hpa_config_t *c)
     unsigned J, N, k, prev;
     const float f[] = {c->fs, c->tremor_low, c->tremor_high, c->cutoff_low, c->cutoff_high, c->shallow_high,
                        c->default_cutoff, c->min_depth_ratio, c->floor_ratio, c->edge_ratio, c->ridge,
-                       c->process_noise_ratio};
+                       c->process_noise_ratio, c->gate_cutoff};
     for (k = 0; k < sizeof f / sizeof f[0]; ++k) {
         if (!is_finite(f[k])) {
             return 0;
@@ -72,7 +72,14 @@ static int config_ok(const wake_hpa_config_t *c)
     if (c->cutoff_high * (float)WAKE_HPA_PSD_GRID / c->fs >= (float)(WAKE_HPA_MAX_PSD_BINS - 1)) {
         return 0;
     }
-    if (c->clean_below > c->window || c->horizon < 1u || c->horizon > WAKE_HPA_MAX_AHEAD_HORIZON) {
+    if (c->clean_below > c->window || c->horizon < 1u || c->horizon > WAKE_HPA_MAX_AHEAD_HORIZON ||
+        c->ridge_scale > WAKE_HPA_RIDGE_CENTRED) {
+        return 0;
+    }
+    /* the gate's truth: 0 (above f_d), or below fs/2 with its bins inside the ones the truth has room for,
+       gate_cutoff < (B - 1) fs / 1022 (written so that no product overflows: fs > 0 and finite here) */
+    if (!(c->gate_cutoff >= 0.0f) || !(c->gate_cutoff < c->fs / 2.0f) ||
+        !(c->gate_cutoff < (float)(WAKE_HPA_MAX_PSD_BINS - 1) * (c->fs / (float)WAKE_HPA_PSD_GRID))) {
         return 0;
     }
     prev = 0;
@@ -129,6 +136,7 @@ static uint32_t seal_of(const wake_hpa_t *h)
     v = mix(v, float_bits(c->edge_ratio));
     v = mix(v, float_bits(c->ridge));
     v = mix(v, float_bits(c->process_noise_ratio));
+    v = mix(v, float_bits(c->gate_cutoff));
     v = mix(v, (uint32_t)c->window | (uint32_t)c->level << 16);
     v = mix(v, (uint32_t)c->ar_order | (uint32_t)c->rule << 16);
     v = mix(v, (uint32_t)c->warmup[0] | (uint32_t)c->warmup[1] << 16);
@@ -138,7 +146,7 @@ static uint32_t seal_of(const wake_hpa_t *h)
     v = mix(v, (uint32_t)c->clean_below | (uint32_t)c->horizon << 16);
     v = mix(v, (uint32_t)h->psd_lo | (uint32_t)h->psd_hi << 16);
     v = mix(v, (uint32_t)h->cut_lo | (uint32_t)h->cut_hi << 16);
-    v = mix(v, (uint32_t)h->floor_lo);
+    v = mix(v, (uint32_t)h->floor_lo | (uint32_t)c->ridge_scale << 16);
     return mix(v, (uint32_t)h->cut_shallow | (uint32_t)h->gap_len << 16);
 }
 
@@ -163,11 +171,12 @@ wake_hpa_status_t wake_hpa_check_instance(const wake_hpa_t *h)
     if (h->work == NULL || h->n > h->cfg.window || h->n < 2u * N || h->rows != h->n - N - (WAKE_HPA_HORIZON - 1u) ||
         h->order > h->cfg.ar_order || h->lags > (h->order + 1u > N ? h->order + 1u : N) ||
         h->t > (h->phase == STEP_PSD ? psd_last(h) + 1u : h->n) ||
-        h->d > h->lags || h->bins > h->n / 2u || h->m > h->bins + 1u || h->pair > 2u ||
+        h->d > h->lags || h->gate_bins > h->n / 2u || h->bins > h->gate_bins || h->m > h->gate_bins + 1u ||
+        h->pair > 2u ||
         h->psd_end > psd_last(h) || h->attempts >= WAKE_HPA_RIDGE_STEPS ||
         ((h->phase == STEP_BIN_START || h->phase == STEP_BIN_END) && h->d >= h->pair) ||
         ((h->phase >= STEP_DFT) && (h->phase <= STEP_BIN_END) && (h->m == 0u)) ||
-        (h->phase == STEP_RAMP && h->t >= N) || h->bins > WAKE_HPA_MAX_BINS ||
+        (h->phase == STEP_RAMP && h->t >= N) || h->gate_bins > WAKE_HPA_MAX_BINS ||
         hpa_ahead_corrupt(h) ||
         ((h->phase == STEP_DIAG) && ((h->d >= N) || (h->t > (N - h->d)))) ||
         (h->phase == STEP_GRAM && (h->d >= h->cfg.level || h->t > h->d))) {
@@ -524,6 +533,28 @@ wake_hpa_status_t wake_hpa_ahead_to_rtp(const wake_hpa_result_t *res, int32_t *c
     }
     *goal = wake_hpa_round_clamp(res->ahead_goal * 1073741824.0f, 0.0f, 1073741824.0f);
     return WAKE_HPA_OK;
+}
+
+wake_hpa_status_t wake_hpa_set_previous_ahead(wake_hpa_t *h, const float *coefficients, uint32_t index)
+{
+    unsigned k;
+    wake_hpa_status_t st = wake_hpa_check_instance(h);
+    if (st != WAKE_HPA_OK) {
+        return st;
+    }
+    if (coefficients == NULL) {
+        return WAKE_HPA_E_NULL;
+    }
+    if (h->phase != STEP_IDLE) {
+        return WAKE_HPA_E_BUSY;
+    }
+    for (k = 0; k < WAKE_HPA_AHEAD_TAPS; ++k) {
+        /* NaN fails both tests */
+        if (!(coefficients[k] >= -WAKE_HPA_AHEAD_COEF_LIMIT) || !(coefficients[k] <= WAKE_HPA_AHEAD_COEF_LIMIT)) {
+            return WAKE_HPA_E_CONFIG;
+        }
+    }
+    return hpa_ahead_set_previous(h, coefficients, index) ? WAKE_HPA_OK : WAKE_HPA_E_CONFIG;
 }
 
 wake_hpa_status_t wake_hpa_apply(wake_hpa_t *h, wake_rtp_t *rtp)

@@ -128,6 +128,8 @@ extern "C" {
 #endif
 /** Taps of the tremor-ahead predictor the HPA fits (wake.ahead.TAPS; the RTP's WAKE_RTP_AHEAD_TAPS). */
 #define WAKE_HPA_AHEAD_TAPS 8u
+/** Largest |coefficient| of the tremor-ahead predictor (wake.ahead.COEFFICIENT_LIMIT). */
+#define WAKE_HPA_AHEAD_COEF_LIMIT 8.0f
 /** Largest tremor-ahead horizon wake_hpa_config_t::horizon may ask for, samples. */
 #define WAKE_HPA_MAX_AHEAD_HORIZON 32u
 /** Estimates the tremor-ahead pass keeps: a row's 8 lags h samples before its target, and the 7 rows before
@@ -200,6 +202,14 @@ typedef enum {
                                        band, for the noise floor (about 45 bins more at 100 Hz) */
 } wake_hpa_rule_t;
 
+/** What the weight fit's relative ridge is relative to (wake.config.RIDGE_SCALES, in that order;
+ *  wake.hpa.fit.ridge_scale_of). */
+typedef enum {
+    WAKE_HPA_RIDGE_GRAM = 0,      /**< the default: trace(G) / J */
+    WAKE_HPA_RIDGE_CENTRED = 1    /**< the trace of the centred Gram matrix (each column's mean out), which an
+                                       offset such as gravity does not inflate, floored at 1e-6 trace(G), over J */
+} wake_hpa_ridge_scale_t;
+
 /** The settings of wake.WakeConfig the HPA reads (`wake export-c` writes them). */
 typedef struct {
     float fs;                   /**< sampling rate, Hz, > 0 */
@@ -215,6 +225,10 @@ typedef struct {
     float edge_ratio;           /**< rule floor: 10^(-edge_db / 10), in (0, 1): 0.5011872 for 3 dB */
     float ridge;                /**< relative ridge, >= 0 (1e-6) */
     float process_noise_ratio;  /**< q = ratio * R when applied to the RTP, >= 0 */
+    float gate_cutoff;          /**< the tremor ahead's gate scores the previous predictor against the window's tremor
+                                     above max(f_d, gate_cutoff), Hz (wake.hpa.run.gate_truth); 0 (default): above
+                                     f_d.  0, or 0 < gate_cutoff < fs/2 with gate_cutoff 1022 / fs <
+                                     WAKE_HPA_MAX_PSD_BINS - 1 (the truth's bins); read by WAKE_HPA_AHEAD builds */
     uint16_t window;            /**< L, samples: 2 * 2^J <= L <= WAKE_HPA_MAX_WINDOW, L > 2 p */
     uint16_t level;             /**< J, 1..WAKE_HPA_MAX_LEVEL */
     uint16_t ar_order;          /**< p, 1..WAKE_HPA_MAX_ORDER */
@@ -224,6 +238,7 @@ typedef struct {
                                      (wake.hpa.run.CLEAN_ONLY_BELOW_S: 2 s) */
     uint16_t horizon;           /**< the tremor ahead's horizon h, samples, 1..WAKE_HPA_MAX_AHEAD_HORIZON (default 1):
                                      the predictor maps the estimate up to k onto the tremor at k + h */
+    uint16_t ridge_scale;       /**< a ::wake_hpa_ridge_scale_t (default WAKE_HPA_RIDGE_GRAM) */
     uint16_t warmup[WAKE_HPA_MAX_WARMUP]; /**< sample counts of warm-up HPAs before the first full
                                                window, increasing, each in [2 * 2^J, L); 0 ends the list */
 } wake_hpa_config_t;
@@ -307,6 +322,8 @@ typedef struct {
     uint16_t lags;                /**< correlation lags computed, max(order + 1, 2^J) */
     uint16_t d, t, m;             /**< loop counters of the current step */
     uint16_t bins;                /**< DFT bins at or below f_d */
+    uint16_t gate_bins;           /**< DFT bins at or below max(f_d, cfg.gate_cutoff), >= bins: those above bins
+                                       only feed the gate's truth (WAKE_HPA_AHEAD builds; else bins) */
     uint16_t psd_end;             /**< last PSD bin evaluated */
     uint16_t peak;                /**< tremor peak bin (0xFFFF: none yet) */
     uint16_t pair;                /**< bins in the current DFT pass (1 or 2) */
@@ -345,15 +362,20 @@ typedef struct {
     float den_floor;              /**< rule floor: largest D above tremor_high (the PSD's floor), 0 if none */
     float yy;                     /**< sum of the squared fit targets */
     float noise;                  /**< R of this run, LSB^2 */
-    float scale;                  /**< trace(G) / J */
+    float scale;                  /**< the ridge's scale: trace(G) / J, or (WAKE_HPA_RIDGE_CENTRED) max(trace(G_c),
+                                       1e-6 trace(G)) / J */
     float factor;                 /**< the ridge factor being tried */
-    float gram[WAKE_HPA_MAX_LEVEL * WAKE_HPA_MAX_LEVEL]; /**< G = A'A, J x J row-major */
-    float rhs[WAKE_HPA_MAX_LEVEL];              /**< b = A'v(+1) */
+    float gram[WAKE_HPA_MAX_LEVEL * WAKE_HPA_MAX_LEVEL]; /**< G = A'A, J x J row-major (WAKE_HPA_RIDGE_CENTRED: G_c,
+                                                     A less its column means) */
+    float rhs[WAKE_HPA_MAX_LEVEL];              /**< b = A'v(+1) (WAKE_HPA_RIDGE_CENTRED: b_c, the centred A's) */
+    float colall[WAKE_HPA_MAX_LEVEL];           /**< z = A'1 = c + rows mu s, the columns' sums */
     float chol[WAKE_HPA_MAX_LEVEL * WAKE_HPA_MAX_LEVEL]; /**< L of (G + lambda I) = L D L' */
     float trial[WAKE_HPA_MAX_LEVEL];            /**< the weights of the current ridge */
     float rowsum[WAKE_HPA_MAX_LEVEL];           /**< s = B 1 */
     float colsum[WAKE_HPA_MAX_LEVEL];           /**< c = B wsum = A_c' 1 */
     float sy, vv, trace;                        /**< sum of the centred targets, of v_c(t < 2^J)^2, trace G */
+    float trace_c;                              /**< trace of the centred Gram matrix G_c */
+    float yc2;                                  /**< sum of the squared targets less their mean, y_c'y_c - sy^2 / rows */
     float weights[WAKE_HPA_MAX_LEVEL];          /**< the newest weights (a silent window keeps them) */
     float r[WAKE_HPA_MAX_ORDER + 1];            /**< autocorrelation (scaled by n^3) */
     float a[WAKE_HPA_MAX_ORDER + 1];            /**< AR polynomial, a[0] = 1 */
@@ -478,6 +500,22 @@ wake_hpa_status_t wake_hpa_to_rtp(const wake_hpa_result_t *res, int level, float
  * [0, 1] times 2^30, rounded and clamped to [0, 2^30]; NaN becomes the lower bound.
  */
 wake_hpa_status_t wake_hpa_ahead_to_rtp(const wake_hpa_result_t *res, int32_t *coefficients, wake_ratio_t *goal);
+
+/**
+ * @brief Give an idle instance the previous HPA's tremor-ahead predictor, which the next run scores on the
+ *        samples since that HPA (its held-out gain, the gate's goal), as the instance that ran that HPA holds it.
+ *
+ * A fresh instance per window (a host that runs each window on its own instance) calls this before
+ * wake_hpa_start(); an instance that ran the previous HPA already holds its predictor.
+ * @param[in] h             an initialised instance with no run in progress
+ * @param[in] coefficients  WAKE_HPA_AHEAD_TAPS coefficients, newest estimate first, each finite and within
+ *                          [-8, 8] (wake.ahead.COEFFICIENT_LIMIT, what a run produces)
+ * @param[in] index         the previous HPA's index (samples received when its window closed)
+ * @return WAKE_HPA_OK; WAKE_HPA_E_NULL / _UNINIT / _CORRUPT; WAKE_HPA_E_BUSY (a run in progress: unchanged);
+ *         WAKE_HPA_E_CONFIG (a coefficient not finite or outside [-8, 8], or an instance built without the
+ *         tremor ahead, WAKE_HPA_AHEAD 0: unchanged).
+ */
+wake_hpa_status_t wake_hpa_set_previous_ahead(wake_hpa_t *h, const float *coefficients, uint32_t index);
 
 /**
  * @brief Install the newest result in the RTP between two samples.

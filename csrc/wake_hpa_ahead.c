@@ -25,6 +25,16 @@ void wake_hpa_ahead_keep(const wake_hpa_t *h, wake_hpa_ahead_t *a, const float *
     a->has_prev = 1;
 }
 
+void wake_hpa_ahead_set_previous(wake_hpa_ahead_t *a, const float *c, uint32_t index)
+{
+    unsigned i;
+    for (i = 0; i < WAKE_HPA_AHEAD_TAPS; ++i) {
+        a->prev[i] = c[i];
+    }
+    a->prev_index = index;
+    a->has_prev = 1;
+}
+
 /**
  * A constant window: nothing to fit and nothing to score.  The gate shuts (goal 0) and the previous
  * predictor stays (zero before the first): the next window scores it on the samples since this HPA, so
@@ -110,13 +120,18 @@ static inline void ahead_fir_tap(const wake_hpa_t *h, wake_hpa_ahead_t *a, unsig
  * with G from the 8 lag sums g_d = sum_k y(k) y(k-d) of the rows and their edges (i <= j, d = j - i):
  *   G_ij = g_d + sum_{k = k0-i}^{k0-1} y(k) y(k-d) - sum_{k = k1-i+1}^{k1} y(k) y(k-d)
  * and the previous predictor's held-out gain over the targets new since the previous HPA:
- *   gain = clip(<T, P> / <P, P>, 0, 1),  P(k + h) = c_prev . (y(k) .. y(k-7))
+ *   gain = clip(<T_g, P> / <P, P>, 0, 1),  P(k + h) = c_prev . (y(k) .. y(k-7))
+ * against the gate's truth T_g = T - sum_m v_m(t) over the bins m with f_d < m fs / n <= gate_cutoff
+ * (wake.hpa.run.gate_truth; T itself without a gate cut-off above f_d)
  */
 
-/** Every row of the fit is a held-out target (an HPA every L samples): <T, P>, <P, P> come from b and G. */
+/**
+ * Every row of the fit is a held-out target (an HPA every L samples) and the gate scores against the fit's own
+ * truth (no gate bins above f_d): <T, P>, <P, P> come from b and G.
+ */
 int wake_hpa_ahead_all_held(const wake_hpa_t *h, const wake_hpa_ahead_t *a)
 {
-    return a->held == (1u << h->cfg.level) + WAKE_HPA_AHEAD_TAPS - 1u + h->cfg.horizon;
+    return a->held == (1u << h->cfg.level) + WAKE_HPA_AHEAD_TAPS - 1u + h->cfg.horizon && h->gate_bins == h->bins;
 }
 
 /** The ahead sums cleared, the held-out targets' start; then the pass. */
@@ -350,10 +365,10 @@ static inline unsigned ring_back(unsigned pos, unsigned back)
  * to the sums in the order the rows come (the result does not depend on the blocks or the slicing).  The
  * row's u_i = y(k - i) run as a delay line in registers, started from the ring (@p pos: the ring index of
  * y(t0 - 1)): u shifts by one per row, u_0 = y(t - h) from the ring.  The previous predictor's P(t) = c_prev . u only on held-out
- * targets.
+ * targets, scored against the gate's truth @p gate (the same as @p target without gate bins above f_d).
  */
-static void ahead_rows(const wake_hpa_t *h, wake_hpa_ahead_t *a, const float *target, unsigned t0, unsigned count,
-                       unsigned pos)
+static void ahead_rows(const wake_hpa_t *h, wake_hpa_ahead_t *a, const float *target, const float *gate, unsigned t0,
+                       unsigned count, unsigned pos)
 {
     const unsigned N = 1u << h->cfg.level, hz = h->cfg.horizon;
     const unsigned first_row = N + WAKE_HPA_AHEAD_TAPS - 1u + hz;
@@ -387,7 +402,7 @@ static void ahead_rows(const wake_hpa_t *h, wake_hpa_ahead_t *a, const float *ta
                 float p = 0.0f;
                 p += prev[0] * u0; p += prev[1] * u1; p += prev[2] * u2; p += prev[3] * u3;
                 p += prev[4] * u4; p += prev[5] * u5; p += prev[6] * u6; p += prev[7] * u7;
-                a->tp += tq * p;
+                a->tp += gate[q] * p;
                 a->pp += p * p;
             }
         }
@@ -414,7 +429,9 @@ static void ahead_block(const wake_hpa_t *h, wake_hpa_ahead_t *a, unsigned t, un
     const float centre = 0.5f * (float)(h->n - 1u), mean = h->mean, slope = h->slope;
     const wake_q15_t *x = h->work;
     float *ring = a->ring;
-    float vol[AHEAD_BLOCK], y[AHEAD_BLOCK];
+    const unsigned extra = (unsigned)h->gate_bins - h->bins;
+    float vol[AHEAD_BLOCK], y[AHEAD_BLOCK], gate[AHEAD_BLOCK];
+    const float *scored = vol;
     unsigned q;
     /* the block reads only the elements it writes; zeroed all the same (stores, not a call: analyser) */
     for (q = 0; q < AHEAD_BLOCK; q += 2u) { /* wcet-loop: AHEAD_BLOCK / 2 */
@@ -438,7 +455,18 @@ static void ahead_block(const wake_hpa_t *h, wake_hpa_ahead_t *a, unsigned t, un
         }
         vol[q] = (((float)x[s] - mean) - slope * ((float)s - centre)) - vol[q];
     }
-    ahead_rows(h, a, vol, t, count, pos);
+    if (extra != 0u) {
+        /* the gate's truth: T less the gate's bins above f_d (after the fit's in bin_osc) */
+        for (q = 0; q < AHEAD_BLOCK; ++q) { /* wcet-loop: AHEAD_BLOCK */
+            gate[q] = 0.0f;
+        }
+        ahead_voluntary(&a->bin_osc[3u * h->bins], extra, count, gate);
+        for (q = 0; q < count; ++q) { /* wcet-loop: AHEAD_BLOCK */
+            gate[q] = vol[q] - gate[q];
+        }
+        scored = gate;
+    }
+    ahead_rows(h, a, vol, scored, t, count, pos);
 }
 
 /**

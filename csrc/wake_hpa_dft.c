@@ -4,9 +4,9 @@
  *        Reinsch's form of the Goertzel recursion, each bin slid over the fit rows into Cxy, and the window's
  *        end-point line's ramp.
  *
- *   STEP_BINS      count the DFT bins at or below f_d       (one slice)
+ *   STEP_BINS      count the DFT bins at or below f_d (and the gate's, up to its cut-off)  (one slice)
  *   STEP_DFT       X_m = sum x_c(t) e^{-j 2 pi m t / n}, two bins per pass (chunks of the window)
- *   STEP_BIN_START X_m and Q_m(0) from the pass's states    (one slice per bin)
+ *   STEP_BIN_START X_m and Q_m(0) from the pass's states    (one slice per bin; a gate bin: X'_m only)
  *   STEP_BIN_END   slide bin m over the fit rows into Cxy   (chunks of the 2^J rows)
  *   STEP_RAMP      the end-point line's ramp into Cxy        (chunks of the 2^J rows)
  */
@@ -27,13 +27,22 @@ static void turn(uint32_t k, uint32_t n, float *c, float *s)
     }
 }
 
-/** The DFT bins m >= 1 with m fs / n <= f_d form the voluntary ground truth: count them, start the first pass. */
+/**
+ * The DFT bins m >= 1 with m fs / n <= f_d form the voluntary ground truth: count them; with the tremor ahead
+ * and a gate cut-off above f_d, also the bins up to it (wake.hpa.run.gate_truth: the gate's truth leaves them
+ * out as well; their X'_m feed the tremor ahead's pass only).  Start the first pass.
+ */
 void wake_hpa_step_bins(wake_hpa_t *h)
 {
+    const float gate = hpa_ahead_gate_cutoff(h);
     unsigned m;
     for (m = 1; 2u * m < h->n && m <= WAKE_HPA_MAX_BINS && (float)m * (h->cfg.fs / (float)h->n) <= h->cutoff; ++m) { /* wcet-loop: WAKE_HPA_MAX_WINDOW / 2 */
     }
     h->bins = (uint16_t)(m - 1u);
+    /* the gate's bins go on from there (none when its cut-off is at or below f_d) */
+    for (; 2u * m < h->n && m <= WAKE_HPA_MAX_BINS && (float)m * (h->cfg.fs / (float)h->n) <= gate; ++m) { /* wcet-loop: WAKE_HPA_MAX_WINDOW / 2 */
+    }
+    h->gate_bins = (uint16_t)(m - 1u);
     h->power = 0.0f;
     h->cross = 0.0f;
     memset(h->cxy, 0, sizeof h->cxy);
@@ -41,7 +50,7 @@ void wake_hpa_step_bins(wake_hpa_t *h)
     h->d = 0;
     h->t = 0;
     h->m = 1;
-    if (h->bins >= 1u) {
+    if (h->gate_bins >= 1u) {
         wake_hpa_start_pass(h);
     } else {
         h->phase = STEP_RAMP;
@@ -52,7 +61,7 @@ void wake_hpa_step_bins(wake_hpa_t *h)
 void wake_hpa_start_pass(wake_hpa_t *h)
 {
     unsigned b;
-    h->pair = (uint16_t)(h->m + 1u <= h->bins ? 2u : 1u);
+    h->pair = (uint16_t)(h->m + 1u <= h->gate_bins ? 2u : 1u);
     for (b = 0; b < 2u; ++b) {
         float c, s = 0.0f;
         if (b < h->pair) {
@@ -335,13 +344,18 @@ void wake_hpa_step_bin_start(wake_hpa_t *h)
     /* X' = X - slope R */
     h->xr -= h->slope * rr;
     h->xi -= h->slope * ri;
-    h->power += h->xr * h->xr + h->xi * h->xi;
-    /* Re(X' conj(R)) */
-    h->cross += h->xr * rr + h->xi * ri;
     h->rot[0] = cw;
     h->rot[1] = sw;
     turn((N * m) % n, n, &h->ph[0], &h->ph[1]);
     hpa_ahead_bin(h, b, m, sw);
+    if (m > h->bins) {
+        /* a bin of the gate's truth only: nothing for the fit's targets */
+        next_bin(h);
+        return;
+    }
+    h->power += h->xr * h->xr + h->xi * h->xi;
+    /* Re(X' conj(R)) */
+    h->cross += h->xr * rr + h->xi * ri;
     h->ph[2] = 1.0f;
     h->ph[3] = 0.0f;
     turn((rows * m) % n, n, &h->ph[4], &h->ph[5]);
@@ -360,7 +374,7 @@ static void next_bin(wake_hpa_t *h)
     }
     h->d = 0;
     h->m = (uint16_t)(h->m + h->pair);
-    if (h->m <= h->bins) {
+    if (h->m <= h->gate_bins) {
         wake_hpa_start_pass(h);
     } else {
         h->phase = STEP_RAMP;

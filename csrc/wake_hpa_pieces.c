@@ -44,8 +44,9 @@ static int32_t piece_cost(const wake_hpa_t *h)
         return COST_GRAM_BASE + COST_GRAM_PER_TAP * N + (h->t == 0u ? COST_GRAM_ROW_PER_TAP * N : 0) + (h->t == 0u && h->d == 0u ? COST_GRAM_TARGETS_PER_TAP * N : 0) +
                (h->t == h->d && h->d + 1u == h->cfg.level ? COST_GRAM_LAST : 0);
     case STEP_SOLVE:
-        /* the factorisation and substitutions, plus the bounds of the guards (18 doublings) and the guards */
-        return COST_SOLVE_CUBIC * J * J * J + COST_SOLVE_SQUARE * J * J + COST_SOLVE_BASE;
+        /* the factorisation and substitutions, plus the bounds of the guards (18 doublings) and the guards; with
+           WAKE_HPA_RIDGE_CENTRED the rank one is a piece of its own (h->t 1) */
+        return h->t != 0u ? COST_SOLVE_RANK_ONE : COST_SOLVE_CUBIC * J * J * J + COST_SOLVE_SQUARE * J * J + COST_SOLVE_BASE;
     case STEP_AHEAD_START:
         return COST_AHEAD_TAP;
     case STEP_AHEAD_SOLVE:

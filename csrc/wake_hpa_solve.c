@@ -93,27 +93,20 @@ static int factor_ridge(wake_hpa_t *h, const solve_bounds_t *s, float *dg)
 }
 
 /**
- * (G + factor scale I) w = b by L D L' (no square root); 0 (the ridge rises) if a bound of solve_bounds
- * is not kept or a weight is not finite or above the limit.
+ * L z = b, |z_i| <= zlim (0 if not);  D y = z;  L' w = y: the substitutions of one right-hand side @p b.
  */
-int wake_hpa_solve_ridge(wake_hpa_t *h, float factor, float *w)
+static int substitute(const wake_hpa_t *h, const solve_bounds_t *s, const float *dg, const float *b, float *w)
 {
     const unsigned J = h->cfg.level;
-    const solve_bounds_t s = solve_bounds(J, factor, h->scale);
     const float *L = h->chol;
-    float dg[WAKE_HPA_MAX_LEVEL];
     unsigned i;
     unsigned k;
-    if (!factor_ridge(h, &s, dg)) {
-        return 0;
-    }
-    /* L z = b (|z_i| <= zlim);  D y = z;  L' w = y */
     for (i = 0; i < J; ++i) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
-        float v = h->rhs[i];
+        float v = b[i];
         for (k = 0; k < i; ++k) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
             v -= L[i * J + k] * w[k];
         }
-        if (!((v <= s.zlim) && (v >= -s.zlim))) {
+        if (!((v <= s->zlim) && (v >= -s->zlim))) {
             return 0;
         }
         w[i] = v;
@@ -128,6 +121,81 @@ int wake_hpa_solve_ridge(wake_hpa_t *h, float factor, float *w)
         }
         w[i] = v;
     }
+    return 1;
+}
+
+/**
+ * WAKE_HPA_RIDGE_CENTRED: (G_c + lambda I + z z' / rows) w = b_c + z 1'y / rows (wake_hpa_fit.c) by Sherman-Morrison,
+ * with p = M^-1 b_c (wake_hpa_solve_ridge, the attempt's first piece, leaves it in @p w and D on the diagonal of
+ * h->chol) and q = M^-1 u, u = z / zmax (|u_i| <= 1), M = G_c + lambda I = L D L':
+ *   w = p + q zmax (1'y - z'p) / (rows + zmax^2 u'q),   1'y - z'p = (sy - c'p) + rows mu (1 - s'p)
+ * q's substitution keeps the guard of a right-hand side (|u_i| <= 1, within the bound of one); a guard not kept,
+ * a sum not finite, or weights not finite or above their limit, and the ridge rises.
+ */
+int wake_hpa_solve_rank_one(wake_hpa_t *h, float factor, float *w)
+{
+    const unsigned J = h->cfg.level;
+    const solve_bounds_t s = solve_bounds(J, factor, h->scale);
+    const float fr = (float)h->rows, mu = h->mean;
+    float dg[WAKE_HPA_MAX_LEVEL], u[WAKE_HPA_MAX_LEVEL], q[WAKE_HPA_MAX_LEVEL];
+    float zmax = 0.0f, cp = -h->sy, sp = -1.0f, uq = 0.0f, num, den, t;
+    unsigned i;
+    for (i = 0; i < J; ++i) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
+        dg[i] = h->chol[i * J + i];
+        zmax = max_f(zmax, abs_f(h->colall[i]));
+    }
+    if (!(zmax > 0.0f) || !is_finite(zmax)) {
+        return weights_ok(w, J);   /* no column sums: no rank one */
+    }
+    for (i = 0; i < J; ++i) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
+        u[i] = h->colall[i] / zmax;
+    }
+    if (!substitute(h, &s, dg, u, q)) {
+        return 0;
+    }
+    for (i = 0; i < J; ++i) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
+        cp += h->colsum[i] * w[i];
+        sp += h->rowsum[i] * w[i];
+        uq += u[i] * q[i];
+    }
+    num = -(cp + fr * mu * sp);            /* 1'y - z'p */
+    den = fr + zmax * zmax * uq;           /* >= rows: M is positive definite */
+    if (!(den >= fr) || !is_finite(den) || !is_finite(num)) {
+        return 0;
+    }
+    t = zmax * (num / den);
+    for (i = 0; i < J; ++i) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
+        w[i] += q[i] * t;
+        if (!is_finite(w[i])) {
+            return 0;
+        }
+    }
     return weights_ok(w, J);
 }
 
+/**
+ * (G + factor scale I) w = b by L D L' (no square root); 0 (the ridge rises) if a bound of solve_bounds
+ * is not kept or a weight is not finite or above the limit.  WAKE_HPA_RIDGE_CENTRED: G and b are the centred
+ * Gram and right-hand side, w the centred solve p (not yet within the limit: the rank one follows,
+ * wake_hpa_solve_rank_one), D kept on the diagonal of h->chol for it.
+ */
+int wake_hpa_solve_ridge(wake_hpa_t *h, float factor, float *w)
+{
+    const unsigned J = h->cfg.level;
+    const solve_bounds_t s = solve_bounds(J, factor, h->scale);
+    float dg[WAKE_HPA_MAX_LEVEL];
+    unsigned i;
+    for (i = 0; i < (unsigned)WAKE_HPA_MAX_LEVEL; ++i) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
+        dg[i] = 0.0f;   /* factor_ridge writes the first J; zeroed for the compiler's flow analysis */
+    }
+    if (!factor_ridge(h, &s, dg)) {
+        return 0;
+    }
+    if (h->cfg.ridge_scale == WAKE_HPA_RIDGE_CENTRED) {
+        for (i = 0; i < J; ++i) { /* wcet-loop: WAKE_HPA_MAX_LEVEL */
+            h->chol[i * J + i] = dg[i];
+        }
+        return substitute(h, &s, dg, h->rhs, w);
+    }
+    return substitute(h, &s, dg, h->rhs, w) && weights_ok(w, J);
+}

@@ -61,18 +61,14 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "wake_rtp_types.h"
+#include "wake_ahead.h"
+#include "wake_voluntary_ahead.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-/** Largest filter-bank level J the struct has room for (1..8). */
-#ifndef WAKE_RTP_MAX_LEVEL
-#define WAKE_RTP_MAX_LEVEL 6
-#endif
-
-#if WAKE_RTP_MAX_LEVEL < 1 || WAKE_RTP_MAX_LEVEL > 8
-#error "WAKE_RTP_MAX_LEVEL must lie in 1..8"
-#endif
 
 /**
  * 1 (default): the Kalman update is compiled in.  0: a build for firmware
@@ -147,117 +143,6 @@ extern "C" {
 #error "WAKE_RTP_VOLUNTARY_AHEAD 1 and WAKE_RTP_SPLIT 1 together are not supported: the split step has no second FIR for w_h"
 #endif
 
-/** Taps of the tremor-ahead predictor (wake.ahead.TAPS); fixed: the step writes its eight products out and wraps the line index with a mask. */
-#define WAKE_RTP_AHEAD_TAPS 8
-/**
- * Fraction bits of the predictor's coefficients (Q27, range +-16): the HPA
- * clips each to +-8 (wake.ahead.COEFFICIENT_LIMIT), which Q28 would hold only
- * up to 8 - 2^-28; Q27 holds +-8 itself with a resolution of 7.5e-9.
- */
-#define WAKE_RTP_AHEAD_COEF_FRAC 27
-/** Largest accepted |coefficient| in Q27 (8.0). */
-#define WAKE_RTP_AHEAD_COEF_MAX (INT32_C(8) << WAKE_RTP_AHEAD_COEF_FRAC)
-/** Fraction bits of the gate, its goal and its ramp coefficient (Q30, [0, 1]). */
-#define WAKE_RTP_GATE_FRAC 30
-/** 1.0 in the gate's format. */
-#define WAKE_RTP_GATE_ONE (INT32_C(1) << WAKE_RTP_GATE_FRAC)
-/** The ramp coefficient init sets: 1 / (0.3 s x 100 Hz) = 1/30 in Q30 (wake.ahead.ramp_step(100)). */
-#define WAKE_RTP_AHEAD_RAMP_DEFAULT INT32_C(35791394)
-
-/** Ring length for the largest level: 2^WAKE_RTP_MAX_LEVEL samples. */
-#define WAKE_RTP_MAX_TAPS (1 << WAKE_RTP_MAX_LEVEL)
-
-/**
- * Fraction bits of the covariance format: P, R, q, p0 (and u = P w, S) are
- * stored as round(v / FS^2 * 2^WAKE_RTP_P_FRAC) in int32_t.
- *
- * The default 32 gives a range of +-0.5 FS^2 with a resolution of
- * 2^-32 = 2.3e-10 FS^2: R = 1e-6 FS^2 is held to 5e-5 relative; q = 1e-9 FS^2
- * is 4.3 LSB and becomes 4 (-7 %).  Raise it (e.g. -DWAKE_RTP_P_FRAC=34, range
- * +-0.125 FS^2, q = 1e-9 FS^2 -> 17 LSB, -1 %) when the covariance stays
- * small, lower it when p0 or R approach 0.5 FS^2.
- */
-#ifndef WAKE_RTP_P_FRAC
-#define WAKE_RTP_P_FRAC 32
-#endif
-
-#if WAKE_RTP_P_FRAC < 24 || WAKE_RTP_P_FRAC > 40
-#error "WAKE_RTP_P_FRAC must lie in 24..40"
-#endif
-
-/** Fraction bits of the I/O samples (Q15 of FS). */
-#define WAKE_RTP_SAMPLE_FRAC 15
-/** Fraction bits of the filter-bank taps (Q15). */
-#define WAKE_RTP_TAP_FRAC 15
-/** Fraction bits of a_j, d_j and the stored last output (Q23 of FS). */
-#define WAKE_RTP_STATE_FRAC 23
-/** Fraction bits of the HPA weights (Q24). */
-#define WAKE_RTP_WEIGHT_FRAC 24
-/** Largest accepted |weight| in Q24 (64.0). */
-#define WAKE_RTP_WEIGHT_MAX (INT32_C(64) << WAKE_RTP_WEIGHT_FRAC)
-/** Largest accepted sum of |taps| of one row in Q15 (2.0 - 2^-15). */
-#define WAKE_RTP_TAP_ROW_ABS_MAX ((INT32_C(2) << WAKE_RTP_TAP_FRAC) - 1)
-
-/**
- * Fraction bits of the FIR taps h = B'w: |h_i| <= 64 sum_j |B_ji| < 64 J, so
- * Q22 (range +-512) holds every h for J <= 8 and keeps the split M0+ FIR
- * (16 x 16-bit partial products) inside int32 for J <= 6.
- */
-#if WAKE_RTP_MAX_LEVEL <= 6
-#define WAKE_RTP_FIR_FRAC 22
-#else
-#define WAKE_RTP_FIR_FRAC 21
-#endif
-/** Fraction bits of the ratios rho = s/S and tau = R/S (Q30). */
-#define WAKE_RTP_RATIO_FRAC 30
-/** Fraction bits of the direction v (Q24, |v_i| < 2). */
-#define WAKE_RTP_DIR_FRAC 24
-
-/** Value of wake_rtp_t::magic once initialised ("WAKE"). */
-#define WAKE_RTP_MAGIC UINT32_C(0x57414B45)
-
-/** A sample, a prediction or a filter-bank tap: Q15 (of FS for signals). */
-typedef int16_t wake_q15_t;
-/** A signal value with 8 guard bits: Q23 of FS (d, z, e, y(n-1)). */
-typedef int32_t wake_q23_t;
-/** An HPA weight or the direction v: Q24, |w| <= 64. */
-typedef int32_t wake_q24_t;
-/**
- * A FIR tap h = B'w, Q(WAKE_RTP_FIR_FRAC): `value`, or on cores without a
- * 32 x 32 -> 64-bit multiply (Cortex-M0+) `parts`, the same 32 bits split so
- * that every product of the FIR is one 32-bit multiply:
- * h = (biased_hi - 2^15) 2^16 + mid 2^8 + lo.  A build uses one of the two.
- */
-typedef union {
-    int32_t value;
-    struct {
-        uint16_t biased_hi;   /**< floor(h / 2^16) + 2^15 */
-        uint8_t mid;          /**< bits 8..15 of h */
-        uint8_t lo;           /**< bits 0..7 of h */
-    } parts;
-} wake_fir_t;
-/** A covariance-like value (P, R, q, p0, s, b): Q(WAKE_RTP_P_FRAC) of FS^2. */
-typedef int32_t wake_cov_t;
-/** A dimensionless ratio (s/S, R/S): Q30. */
-typedef int32_t wake_ratio_t;
-
-/** Status codes: zero is success, every error is a distinct negative value. */
-typedef enum {
-    WAKE_RTP_OK = 0,              /**< success */
-    WAKE_RTP_E_NULL = -1,         /**< a required pointer is NULL */
-    WAKE_RTP_E_LEVEL = -2,        /**< level outside 1..WAKE_RTP_MAX_LEVEL */
-    WAKE_RTP_E_TAPS = -3,         /**< a tap row's sum of |taps| is 2.0 or more (Q15 65536) */
-    WAKE_RTP_E_WEIGHTS = -4,      /**< a weight outside [-64, 64] (Q24) */
-    WAKE_RTP_E_NOISE = -5,        /**< R <= 0, q < 0 or p0 < 0 */
-    WAKE_RTP_E_UNINIT = -6,       /**< the struct was never initialised (bad magic) */
-    WAKE_RTP_E_CORRUPT = -7,      /**< magic present but fields inconsistent (weights included) */
-    WAKE_RTP_E_STATE = -8,        /**< load_state: covariance diagonal negative */
-    WAKE_RTP_E_NO_KALMAN = -9,    /**< a Kalman setting (q, p0, d or P non-zero) in a WAKE_RTP_KALMAN 0 build */
-    WAKE_RTP_E_AHEAD = -10,       /**< a tremor-ahead value out of range: |coefficient| > 8 (Q27), goal or
-                                       gate outside [0, 1] (Q30), ramp outside (0, 1] (Q30) */
-    WAKE_RTP_E_UNPREPARED = -11   /**< wake_rtp_finish without a wake_rtp_prepare since the last step
-                                       (WAKE_RTP_SPLIT builds) */
-} wake_rtp_status_t;
 
 /**
  * One channel's complete state.  Treat the fields as read-only; change them
@@ -302,35 +187,11 @@ typedef struct {
                                                       k + N) so that the window, oldest first, is the
                                                       contiguous ring[head .. head + N - 1] */
 #if WAKE_RTP_AHEAD
-    /* the tremor ahead (WAKE_RTP_AHEAD): set by wake_rtp_set_ahead, stepped by every step */
-    int32_t ahead_coef[WAKE_RTP_AHEAD_TAPS];   /**< predictor c, newest estimate first, Q27, |c| <= 8 */
-    wake_ratio_t ahead_goal;                   /**< the gate's goal, Q30, [0, 1] */
-    wake_ratio_t ahead_gate;                   /**< the gate g, Q30, [0, 1] */
-    wake_ratio_t ahead_ramp;                   /**< alpha = 1 / max(1, 0.3 fs), Q30, (0, 1] */
-    uint32_t ahead_saturations;                /**< narrowings of the ahead part that saturated (sticks at
-                                                    UINT32_MAX); kept apart from saturations, which
-                                                    describe the voluntary prediction */
-    wake_q23_t ahead_predicted;                /**< P(n), the tremor predicted for n + h, Q23 of FS (|P| <= 64 FS) */
-    wake_q23_t ahead_command;                  /**< g(n) P(n), Q23 of FS */
-    uint16_t ahead_head;                       /**< index of the newest estimate in ahead_line, 0..7 */
-    uint16_t ahead_reserved;                   /**< 0 */
-    wake_q15_t ahead_line[2 * WAKE_RTP_AHEAD_TAPS];  /**< tremor estimates e, Q15 of FS, each stored twice
-                                                          (k and k + 8): newest first they are the
-                                                          contiguous ahead_line[ahead_head .. + 7] */
+    wake_ahead_t ahead;        /**< the tremor ahead (wake_ahead.h): set by wake_rtp_set_ahead, fed by every step */
 #endif
 #if WAKE_RTP_VOLUNTARY_AHEAD
-    /* the voluntary motion ahead (WAKE_RTP_VOLUNTARY_AHEAD): w_h set by wake_rtp_set_voluntary_ahead; the
-       restart scalars rebuilt with the FIR by every restart and by the setter */
-    wake_q24_t vol_weights[WAKE_RTP_MAX_LEVEL];  /**< w_h, Q24, |w_h| <= 64 (0 until set) */
-    int64_t vol_z_start;                         /**< z_s = w' d_s, Q23 of FS in int64 (|.| < 2^41) */
-    int64_t vol_start;                           /**< w_h' d_s, Q23 of FS in int64 (|.| < 2^41) */
-    int32_t vol_gain;                            /**< k = w_h' w / |w|^2, Q24, saturated to [-128, 128) (0 for w = 0) */
-    wake_q23_t vol_output;                       /**< v_h(n) = w_h' (a + d) after the last step (y(n) while unset), Q23 of FS */
-    uint32_t vol_saturations;                    /**< narrowings of v_h that saturated (sticks at UINT32_MAX); apart
-                                                      from saturations, which describe y */
-    uint16_t vol_set;                            /**< 1 once a w_h is installed, else 0 (v_h = y(n)) */
-    uint16_t vol_reserved;                       /**< 0 */
-    wake_fir_t vol_fir[WAKE_RTP_MAX_TAPS];       /**< h_h = B' w_h, oldest sample first, as fir */
+    wake_voluntary_ahead_t voluntary_ahead;  /**< the voluntary motion ahead (wake_voluntary_ahead.h): w_h set by
+                                                  wake_rtp_set_voluntary_ahead, rebuilt by every restart */
 #endif
 #if WAKE_RTP_SPLIT
     /* the split step (WAKE_RTP_SPLIT): what wake_rtp_prepare computed for the next finish; the
@@ -342,9 +203,7 @@ typedef struct {
     uint16_t split_ready;        /**< 1 from wake_rtp_prepare to the next step, else 0 */
     uint16_t split_reserved;     /**< 0 */
 #if WAKE_RTP_AHEAD
-    int64_t split_ahead;         /**< c . line less the newest estimate's product, Q42, exact, |.| < 2^49 */
-    wake_ratio_t split_gate;     /**< g(n) towards the goal, Q30 (a missing sample's finish, whose goal is 0,
-                                      computes its own) */
+    wake_ahead_prepared_t split_ahead;   /**< the tremor ahead's part of the next step (wake_ahead_prepare) */
 #endif
 #endif
 } wake_rtp_t;
@@ -564,7 +423,9 @@ wake_rtp_status_t wake_rtp_finish(wake_rtp_t *s, wake_q15_t sample, wake_q15_t *
 wake_rtp_status_t wake_rtp_finish_missing(wake_rtp_t *s, wake_q15_t *prediction);
 #endif
 
-#if WAKE_RTP_AHEAD
+/* The tremor ahead of the instance (wake_rtp_t::ahead): each function below forwards to its wake_ahead.h
+ * counterpart after checking the instance.  In a build without it (WAKE_RTP_AHEAD 0) the instance has none
+ * and each returns WAKE_RTP_E_NULL once the instance is checked. */
 /**
  * @brief Install an HPA's tremor-ahead predictor and the gate's goal between two samples.
  *
@@ -626,7 +487,6 @@ wake_rtp_status_t wake_rtp_load_ahead_state(wake_rtp_t *s, const wake_q15_t *lin
  * Reads only.
  */
 wake_rtp_status_t wake_rtp_get_ahead_state(const wake_rtp_t *s, wake_q15_t *line);
-#endif
 
 #if WAKE_RTP_VOLUNTARY_AHEAD
 /**
@@ -647,7 +507,7 @@ wake_rtp_status_t wake_rtp_get_ahead_state(const wake_rtp_t *s, wake_q15_t *line
  * k = w_h' w / |w|^2: the J products Q48 (< 2^60 after the floor shift by 3)
  * over |w|^2 (Q24, < 2^40) by the exact long division of set_weights, rounded
  * once to Q24 and narrowed to int32 with saturation ([-128, 128), counted in
- * vol_saturations); 0 when w = 0 (d = d_s then).
+ * voluntary_ahead.saturations); 0 when w = 0 (d = d_s then).
  */
 wake_rtp_status_t wake_rtp_set_voluntary_ahead(wake_rtp_t *s, const wake_q24_t *weights_ahead);
 
@@ -665,7 +525,7 @@ wake_rtp_status_t wake_rtp_set_voluntary_ahead(wake_rtp_t *s, const wake_q24_t *
  * the FIR exact in int64 (< 2^47) as y's; z - z_s clamped to +-2^41, its
  * product with k (Q24) from two 32 x 32 -> 64-bit products (< 2^62), rounded
  * once; the sum (< 2^49) narrowed once to int32 Q23 with saturation (counted in
- * vol_saturations).
+ * voluntary_ahead.saturations).
  */
 wake_rtp_status_t wake_rtp_voluntary_ahead_output(const wake_rtp_t *s, wake_q23_t *output);
 

@@ -68,7 +68,7 @@ wake_rtp_status_t wake_rtp_run_outputs(wake_rtp_t *s, const wake_q15_t *in, cons
             command[k] = commanded;
         }
         if (voluntary_ahead != NULL) {
-            voluntary_ahead[k] = s->vol_output;
+            voluntary_ahead[k] = s->voluntary_ahead.output;
         }
     }
     return st;

@@ -53,7 +53,7 @@ static void prepare_validated(wake_rtp_t *s)
     }
 #endif
     s->split_events = ev;
-    ahead_prepare(s);
+    features_prepare(s);
     s->split_ready = 1u;
 }
 

@@ -1,6 +1,7 @@
 /**
  * @file wake_rtp_voluntary.c
- * @brief The RTP's voluntary motion ahead (issue 32): w_h, its restart and its output.
+ * @brief The RTP's voluntary motion ahead (issue 32): w_h, its restart and its output, on the instance the RTP
+ * embeds (wake_voluntary_ahead.h, wake_rtp_t::voluntary_ahead).
  *
  * Its per-sample step (voluntary_ahead_step) is part of the step's flow (internal/wake_rtp_sample.h).
  * The float twin is wake/rtp/reference.py (ReferenceRTP.last_voluntary_ahead).
@@ -8,6 +9,23 @@
 #include "internal/wake_rtp_sample.h"
 
 #include <string.h>
+
+/** v_h(n) of instance @p v into @p output, or WAKE_RTP_E_NULL for a NULL pointer. */
+static WAKE_RTP_ALWAYS_INLINE wake_rtp_status_t output_of(const wake_voluntary_ahead_t *v, wake_q23_t *output)
+{
+    wake_rtp_status_t st = WAKE_RTP_E_NULL;
+    if ((v != NULL) && (output != NULL)) {
+        *output = v->output;
+        st = WAKE_RTP_OK;
+    }
+    return st;
+}
+
+/* the instance's own entry: in every build (a firmware that does not call it drops it at link time) */
+wake_rtp_status_t wake_voluntary_ahead_output(const wake_voluntary_ahead_t *v, wake_q23_t *output)
+{
+    return output_of(v, output);
+}
 
 #if WAKE_RTP_VOLUNTARY_AHEAD
 /**
@@ -37,29 +55,30 @@ static inline void fir_from_weights(const wake_rtp_t *s, const wake_q24_t *w, wa
 WAKE_RTP_COLD void wake_rtpi_voluntary_restart(wake_rtp_t *s)
 {
     const unsigned J = s->level;
-    fir_from_weights(s, s->vol_weights, s->vol_fir, &s->vol_saturations);
+    wake_voluntary_ahead_t *const v = &s->voluntary_ahead;
+    fir_from_weights(s, v->weights, v->fir, &v->saturations);
 #if WAKE_RTP_KALMAN
     {
         uint64_t omega = weight_norm2(s->weights, J);
         int64_t dot = 0;
         unsigned j;
         /* z_s = w' d_s and w_h' d_s                                                     Q23 */
-        s->vol_z_start = wake_rtpi_weighted_sum(s->weights, s->correction, J);
-        s->vol_start = wake_rtpi_weighted_sum(s->vol_weights, s->correction, J);
+        v->z_start = wake_rtpi_weighted_sum(s->weights, s->correction, J);
+        v->start = wake_rtpi_weighted_sum(v->weights, s->correction, J);
         /* w_h' w: J products Q48 < 2^60, floor-shifted by 3 (Q45, |.| < 2^60) */
         for (j = 0; j < J; ++j) {
-            dot += shift_right_floor(multiply_wide(s->vol_weights[j], s->weights[j]), 3u);
+            dot += shift_right_floor(multiply_wide(v->weights[j], s->weights[j]), 3u);
         }
         /* k = w_h' w / |w|^2: Q45 / Q24 with 3 more fraction bits = Q24; w = 0 observes nothing (d = d_s) */
-        s->vol_gain = (omega == 0u) ? 0 : narrow_saturate(divide_wide(dot, omega, 3u, &s->vol_saturations),
-                                                          &s->vol_saturations);
+        v->gain = (omega == 0u) ? 0 : narrow_saturate(divide_wide(dot, omega, 3u, &v->saturations),
+                                                          &v->saturations);
     }
 #else
     /* no Kalman: d = 0 (init and load_state see to it) and z never moves */
     (void)J;
-    s->vol_z_start = 0;
-    s->vol_start = 0;
-    s->vol_gain = 0;
+    v->z_start = 0;
+    v->start = 0;
+    v->gain = 0;
 #endif
 }
 
@@ -71,44 +90,46 @@ WAKE_RTP_COLD void wake_rtpi_voluntary_restart(wake_rtp_t *s)
  *
  * h_h' window exact in int64 (< 2^47, as y's), rounded once to Q23; z - z_s clamped to +-2^41, times k (Q24)
  * from two 32 x 32 -> 64-bit products, rounded once to Q23; the sum (< 2^49) narrowed once to int32 with
- * saturation, counted in vol_saturations.  No data-dependent branch: vol_set is configuration.
+ * saturation, counted in the instance's saturations.  No data-dependent branch: its set is configuration.
  */
 void wake_rtpi_voluntary_step(wake_rtp_t *s)
 {
     uint32_t ev = 0u;
-    if (s->vol_set == 0u) {
-        s->vol_output = s->last_output;                                   /* the one-step prediction held */
+    wake_voluntary_ahead_t *const v = &s->voluntary_ahead;
+    if (v->set == 0u) {
+        v->output = s->last_output;                                   /* the one-step prediction held */
         return;
     }
     {
-        const int64_t fir = shift_right_round(fir_window(s->vol_fir, s->ring + s->head, s->n_taps),
+        const int64_t fir = shift_right_round(fir_window(v->fir, s->ring + s->head, s->n_taps),
                                               FIR_TO_SIGNAL_SHIFT);                       /* Q23, < 2^40 */
         int64_t along = 0;
 #if WAKE_RTP_KALMAN
         /* w_h' (d - d_s) = k (z - z_s): Q24 x Q23 -> Q23, |.| < 2^49.  z and z_s are read clamped to +-2^41
          * (what they hold unless the state was corrupted), so that the difference cannot overflow */
         const int64_t moved = clamp_symmetric(s->z, WAKE_BOUND_RTP_VOLUNTARY_Z_BITS, &ev)
-                              - clamp_symmetric(s->vol_z_start, WAKE_BOUND_RTP_VOLUNTARY_Z_BITS, &ev);
-        along = multiply_wide_by32(moved, s->vol_gain, 24u);
+                              - clamp_symmetric(v->z_start, WAKE_BOUND_RTP_VOLUNTARY_Z_BITS, &ev);
+        along = multiply_wide_by32(moved, v->gain, 24u);
         /* w_h' d_s read within +-2^41 as well: the sum below stays < 2^50 */
-        along += clamp_symmetric(s->vol_start, WAKE_BOUND_RTP_VOLUNTARY_Z_BITS, &ev);
+        along += clamp_symmetric(v->start, WAKE_BOUND_RTP_VOLUNTARY_Z_BITS, &ev);
 #else
         (void)ev;   /* no Kalman: d = d_s = 0 */
 #endif
-        s->vol_output = narrow_saturate(fir + along, &ev);
+        v->output = narrow_saturate(fir + along, &ev);
     }
-    count_events(&s->vol_saturations, ev);
+    count_events(&v->saturations, ev);
 }
 
 int wake_rtpi_voluntary_consistent(const wake_rtp_t *s)
 {
-    return weights_in_range(s->vol_weights, s->level) && (s->vol_set <= 1u);
+    const wake_voluntary_ahead_t *const v = &s->voluntary_ahead;
+    return weights_in_range(v->weights, s->level) && (v->set <= 1u);
 }
 
 void wake_rtpi_voluntary_reset(wake_rtp_t *s)
 {
-    s->vol_output = 0;                                          /* w_h stays */
-    s->vol_saturations = 0u;
+    s->voluntary_ahead.output = 0;                              /* w_h stays */
+    s->voluntary_ahead.saturations = 0u;
 }
 
 WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_voluntary_ahead(wake_rtp_t *s, const wake_q24_t *weights_ahead)
@@ -123,8 +144,8 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_voluntary_ahead(wake_rtp_t *s, cons
     if (!weights_in_range(weights_ahead, s->level)) {
         return WAKE_RTP_E_WEIGHTS;
     }
-    memcpy(s->vol_weights, weights_ahead, (size_t)s->level * sizeof(wake_q24_t));
-    s->vol_set = 1u;
+    memcpy(s->voluntary_ahead.weights, weights_ahead, (size_t)s->level * sizeof(wake_q24_t));
+    s->voluntary_ahead.set = 1u;
     wake_rtpi_voluntary_restart(s);                                 /* d_s and z_s are the last restart's */
     return WAKE_RTP_OK;
 }
@@ -135,10 +156,6 @@ wake_rtp_status_t wake_rtp_voluntary_ahead_output(const wake_rtp_t *s, wake_q23_
     if (st != WAKE_RTP_OK) {
         return st;
     }
-    if (output == NULL) {
-        return WAKE_RTP_E_NULL;
-    }
-    *output = s->vol_output;
-    return WAKE_RTP_OK;
+    return output_of(&s->voluntary_ahead, output);
 }
 #endif

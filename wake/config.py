@@ -120,7 +120,8 @@ class WakeConfig:
         Relative ridge of the weight fit.
     ridge_scale : {"gram", "centred"}
         ``ridge`` relative to the Gram matrix (default, the C HPA's) or to its centred form, which gravity
-        does not inflate (Python HPA only; :func:`wake.hpa.fit.ridge_scale_of`; issue 46).
+        does not inflate (:func:`wake.hpa.fit.ridge_scale_of`; issue 46; the C HPA's
+        ``wake_hpa_config_t::ridge_scale``).
     tremor_band, cutoff_range, default_cutoff
         Cut-off search, see :func:`wake.hpa.find_cutoff`.
     cutoff_rule : {"floor", "paper", "shallow"}
@@ -204,8 +205,9 @@ class WakeConfig:
         The gate's held-out gain (:func:`wake.ahead.held_out_gain`) measured against the window's tremor
         above ``max(f_d, gate_cutoff)`` Hz instead of above ``f_d``: what a rhythm just above the HPA's
         cut-off (a 3-Hz voluntary pronation-supination) predicts then opens no gate.  ``None`` (the
-        default): ``f_d``, as the C HPA does.  4 is the lower edge of pathological tremor (issue 46,
-        docs/studies/design.md, "Tremor ahead where tremor is strong").  Python HPA only.
+        default): ``f_d``.  4 is the lower edge of pathological tremor (issue 46,
+        docs/studies/design.md, "Tremor ahead where tremor is strong").  The C HPA's
+        ``wake_hpa_config_t::gate_cutoff`` (0 for None).
 
     Examples
     --------
@@ -303,9 +305,6 @@ class WakeConfig:
             put("gate_cutoff", _number("gate_cutoff", self.gate_cutoff, low_open=True))
             if not self.gate_cutoff < nyquist:
                 raise ValueError(f"gate_cutoff must lie below fs/2 = {nyquist:g} Hz (or be None), got {self.gate_cutoff!r}")
-        if self.hpa_backend == "c" and (self.ridge_scale != "gram" or self.gate_cutoff is not None):
-            raise ValueError("ridge_scale='centred' and gate_cutoff need hpa_backend='python' (the C HPA has neither): "
-                             "pass hpa_backend='python', or ridge_scale='gram' and gate_cutoff=None")
         put("warmup_hpa_s", self._warmup_points())
         put("hpa_history_limit", _number("hpa_history_limit", self.hpa_history_limit, integer=True))
         if self.decimation is not None:

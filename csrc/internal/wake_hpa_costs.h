@@ -10,69 +10,70 @@
  * (a build with a slice budget of 1, the slice's entry check of about 250 included), median and
  * largest over the profiling windows (wake.firmware.hpa_cost.profile_windows):
  *
- *   sums:             342     711
- *   lags:             310     312
- *   DFT passes:       372     384
- *   bin slide:        414     630
- *   ramp:             307     327
- *   Rxx diagonal:     440     481
- *   AR spectrum:      556     567
- *   lag end:          404     408
- *   Levinson:         403     509
- *   cut-off:        1,440   1,708
- *   bin count:        779     845
- *   bin start:        784     787
- *   Gram:             644   1,286
- *   solve:          1,805   1,805
- *   ahead start:      364     571
- *   ahead pass:     1,234   1,383
- *   ahead solve:      511   1,169
+ *   sums:             349     718
+ *   lags:             317     319
+ *   DFT passes:       379     391
+ *   bin slide:        421     637
+ *   ramp:             314     334
+ *   Rxx diagonal:     447     488
+ *   AR spectrum:      563     574
+ *   lag end:          411     415
+ *   Levinson:         410     516
+ *   cut-off:        1,446   1,715
+ *   bin count:        832     922
+ *   bin start:        796     799
+ *   Gram:             662   1,310
+ *   solve:          1,861   1,861
+ *   ahead start:      371     578
+ *   ahead pass:     1,267   1,417
+ *   ahead solve:      518   1,176
  */
 #ifndef WAKE_HPA_COSTS_H
 #define WAKE_HPA_COSTS_H
 
 #define COST_PIECE 60                   /* the set-up of any piece of work */
-#define COST_SUM_PLAIN 22               /* one sample of the sums pass; sums: 342 / 711 */
-#define COST_SUM_AHEAD 25               /* the same with the tremor ahead's full-scale count; sums: 342 / 711 */
-#define COST_LAG 5                      /* one product of a lag sum; lags: 310 / 312 */
-#define COST_DFT1 14                    /* one sample of a one-bin DFT pass, its clamps' share; DFT passes: 372 / 384 */
-#define COST_DFT2 20                    /* one sample of a two-bin DFT pass; DFT passes: 372 / 384 */
-#define COST_SLIDE 90                   /* one row of a bin's slide, its clamps' share; bin slide: 414 / 630 */
-#define COST_RAMP 40                    /* one row of the end-point line's ramp; ramp: 307 / 327 */
-#define COST_DIAG_BASE 50               /* one entry of a diagonal of Rxx into Rxx B'; Rxx diagonal: 440 / 481 */
-#define COST_DIAG_PER_LEVEL 16          /* ... and per WAKE_HPA_MAX_LEVEL; Rxx diagonal: 440 / 481 */
-#define COST_PSD_BIN_BASE 100           /* one bin of the AR spectrum; AR spectrum: 556 / 567 */
-#define COST_PSD_BIN_PER_ORDER 10       /* ... and per AR coefficient (Clenshaw); AR spectrum: 556 / 567 */
-#define COST_LAG_END 150                /* the centring of one lag; lag end: 404 / 408 */
-#define COST_LEVINSON_BASE 80           /* one order of Levinson-Durbin; Levinson: 403 / 509 */
-#define COST_LEVINSON_PER_ORDER 12      /* ... and per order reached; Levinson: 403 / 509 */
-#define COST_LEVINSON_CLEAR_PER_ORDER 2 /* the first order's clearing, per max order; Levinson: 403 / 509 */
-#define COST_CUTOFF_BASE 400            /* the valley rule; cut-off: 1,440 / 1,708 */
-#define COST_CUTOFF_PER_BIN 20          /* ... and per PSD bin up to cutoff_high; cut-off: 1,440 / 1,708 */
-#define COST_CUTOFF_PER_SHALLOW 6       /* ... and per PSD bin up to shallow_high; cut-off: 1,440 / 1,708 */
-#define COST_BINS_BASE 450              /* the count of the DFT bins below f_d; bin count: 779 / 845 */
-#define COST_BINS_PER_BIN 10            /* ... and per bin up to cutoff_high; bin count: 779 / 845 */
-#define COST_BIN_START 450              /* a bin's X'_m, Q_m(0) and phasors; bin start: 784 / 787 */
-#define COST_GRAM_BASE 60               /* one entry of G; Gram: 644 / 1,286 */
-#define COST_GRAM_PER_TAP 8             /* ... and per tap; Gram: 644 / 1,286 */
-#define COST_GRAM_ROW_PER_TAP 12        /* a row's first entry: the row's sums, per tap; Gram: 644 / 1,286 */
-#define COST_GRAM_TARGETS_PER_TAP 8     /* the first row: the targets' sums, per tap; Gram: 644 / 1,286 */
-#define COST_GRAM_LAST 100              /* the last entry: y'y, R; Gram: 644 / 1,286 */
-#define COST_SOLVE_CUBIC 6              /* one ridge attempt, per J^3; solve: 1,805 / 1,805 */
-#define COST_SOLVE_SQUARE 12            /* ... per J^2; solve: 1,805 / 1,805 */
-#define COST_SOLVE_BASE 500             /* ... and the guards' bounds; solve: 1,805 / 1,805 */
-#define COST_AHEAD_TAP_BASE 20          /* one tap of the estimate's FIR w'B; ahead start: 364 / 571 */
-#define COST_AHEAD_TAP_PER_LEVEL 8      /* ... and per WAKE_HPA_MAX_LEVEL; ahead start: 364 / 571 */
-#define COST_AHEAD_CLEAR 300            /* the tremor-ahead sums cleared; ahead start: 364 / 571 */
-#define COST_AHEAD_CHUNK 150            /* a chunk of the tremor-ahead pass; ahead pass: 1,234 / 1,383 */
-#define COST_AHEAD_BASE 140             /* one sample of the tremor-ahead pass; ahead pass: 1,234 / 1,383 */
-#define COST_AHEAD4_PER_TAP 3           /* ... chunks of 4k samples, per FIR tap; ahead pass: 1,234 / 1,383 */
-#define COST_AHEAD4_PER_BIN 6           /* ... chunks of 4k samples, per truth bin; ahead pass: 1,234 / 1,383 */
-#define COST_AHEAD1_PER_TAP 6           /* ... shorter chunks, per FIR tap; ahead pass: 1,234 / 1,383 */
-#define COST_AHEAD1_PER_BIN 10          /* ... shorter chunks, per truth bin; ahead pass: 1,234 / 1,383 */
-#define COST_AHEAD_SOLVE_ROW 700        /* a row of the tremor-ahead Gram; ahead solve: 511 / 1,169 */
-#define COST_AHEAD_SOLVE_ROW_HELD 1300  /* its last row, with the held-out sums; ahead solve: 511 / 1,169 */
-#define COST_AHEAD_SOLVE_COLUMN 300     /* a column of L D L'; ahead solve: 511 / 1,169 */
-#define COST_AHEAD_SOLVE_LAST 950       /* the substitution, the gain and the goal; ahead solve: 511 / 1,169 */
+#define COST_SUM_PLAIN 22               /* one sample of the sums pass; sums: 349 / 718 */
+#define COST_SUM_AHEAD 25               /* the same with the tremor ahead's full-scale count; sums: 349 / 718 */
+#define COST_LAG 5                      /* one product of a lag sum; lags: 317 / 319 */
+#define COST_DFT1 14                    /* one sample of a one-bin DFT pass, its clamps' share; DFT passes: 379 / 391 */
+#define COST_DFT2 20                    /* one sample of a two-bin DFT pass; DFT passes: 379 / 391 */
+#define COST_SLIDE 90                   /* one row of a bin's slide, its clamps' share; bin slide: 421 / 637 */
+#define COST_RAMP 40                    /* one row of the end-point line's ramp; ramp: 314 / 334 */
+#define COST_DIAG_BASE 50               /* one entry of a diagonal of Rxx into Rxx B'; Rxx diagonal: 447 / 488 */
+#define COST_DIAG_PER_LEVEL 16          /* ... and per WAKE_HPA_MAX_LEVEL; Rxx diagonal: 447 / 488 */
+#define COST_PSD_BIN_BASE 100           /* one bin of the AR spectrum; AR spectrum: 563 / 574 */
+#define COST_PSD_BIN_PER_ORDER 10       /* ... and per AR coefficient (Clenshaw); AR spectrum: 563 / 574 */
+#define COST_LAG_END 150                /* the centring of one lag; lag end: 411 / 415 */
+#define COST_LEVINSON_BASE 80           /* one order of Levinson-Durbin; Levinson: 410 / 516 */
+#define COST_LEVINSON_PER_ORDER 12      /* ... and per order reached; Levinson: 410 / 516 */
+#define COST_LEVINSON_CLEAR_PER_ORDER 2 /* the first order's clearing, per max order; Levinson: 410 / 516 */
+#define COST_CUTOFF_BASE 400            /* the valley rule; cut-off: 1,446 / 1,715 */
+#define COST_CUTOFF_PER_BIN 20          /* ... and per PSD bin up to cutoff_high; cut-off: 1,446 / 1,715 */
+#define COST_CUTOFF_PER_SHALLOW 6       /* ... and per PSD bin up to shallow_high; cut-off: 1,446 / 1,715 */
+#define COST_BINS_BASE 450              /* the count of the DFT bins below f_d; bin count: 832 / 922 */
+#define COST_BINS_PER_BIN 10            /* ... and per bin up to cutoff_high; bin count: 832 / 922 */
+#define COST_BIN_START 450              /* a bin's X'_m, Q_m(0) and phasors; bin start: 796 / 799 */
+#define COST_GRAM_BASE 60               /* one entry of G; Gram: 662 / 1,310 */
+#define COST_GRAM_PER_TAP 8             /* ... and per tap; Gram: 662 / 1,310 */
+#define COST_GRAM_ROW_PER_TAP 12        /* a row's first entry: the row's sums, per tap; Gram: 662 / 1,310 */
+#define COST_GRAM_TARGETS_PER_TAP 8     /* the first row: the targets' sums, per tap; Gram: 662 / 1,310 */
+#define COST_GRAM_LAST 100              /* the last entry: y'y, R; Gram: 662 / 1,310 */
+#define COST_SOLVE_CUBIC 6              /* one ridge attempt, per J^3; solve: 1,861 / 1,861 */
+#define COST_SOLVE_SQUARE 12            /* ... per J^2; solve: 1,861 / 1,861 */
+#define COST_SOLVE_BASE 500             /* ... and the guards' bounds; solve: 1,861 / 1,861 */
+#define COST_SOLVE_RANK_ONE 900         /* ridge_scale centred: an attempt's rank one (its own piece); solve: 1,861 / 1,861 */
+#define COST_AHEAD_TAP_BASE 20          /* one tap of the estimate's FIR w'B; ahead start: 371 / 578 */
+#define COST_AHEAD_TAP_PER_LEVEL 8      /* ... and per WAKE_HPA_MAX_LEVEL; ahead start: 371 / 578 */
+#define COST_AHEAD_CLEAR 300            /* the tremor-ahead sums cleared; ahead start: 371 / 578 */
+#define COST_AHEAD_CHUNK 150            /* a chunk of the tremor-ahead pass; ahead pass: 1,267 / 1,417 */
+#define COST_AHEAD_BASE 140             /* one sample of the tremor-ahead pass; ahead pass: 1,267 / 1,417 */
+#define COST_AHEAD4_PER_TAP 3           /* ... chunks of 4k samples, per FIR tap; ahead pass: 1,267 / 1,417 */
+#define COST_AHEAD4_PER_BIN 6           /* ... chunks of 4k samples, per truth bin; ahead pass: 1,267 / 1,417 */
+#define COST_AHEAD1_PER_TAP 6           /* ... shorter chunks, per FIR tap; ahead pass: 1,267 / 1,417 */
+#define COST_AHEAD1_PER_BIN 10          /* ... shorter chunks, per truth bin; ahead pass: 1,267 / 1,417 */
+#define COST_AHEAD_SOLVE_ROW 700        /* a row of the tremor-ahead Gram; ahead solve: 518 / 1,176 */
+#define COST_AHEAD_SOLVE_ROW_HELD 1300  /* its last row, with the held-out sums; ahead solve: 518 / 1,176 */
+#define COST_AHEAD_SOLVE_COLUMN 300     /* a column of L D L'; ahead solve: 518 / 1,176 */
+#define COST_AHEAD_SOLVE_LAST 950       /* the substitution, the gain and the goal; ahead solve: 518 / 1,176 */
 
 #endif /* WAKE_HPA_COSTS_H */

@@ -179,7 +179,7 @@ static inline int32_t cost_psd_bin(const wake_hpa_t *h)
 static inline int32_t cost_ahead(const wake_hpa_t *h, unsigned k)
 {
     const int32_t N = (int32_t)1 << h->cfg.level;
-    return k % 4u == 0u ? COST_AHEAD_BASE + COST_AHEAD4_PER_TAP * N + COST_AHEAD4_PER_BIN * (int32_t)h->bins : COST_AHEAD_BASE + COST_AHEAD1_PER_TAP * N + COST_AHEAD1_PER_BIN * (int32_t)h->bins;
+    return k % 4u == 0u ? COST_AHEAD_BASE + COST_AHEAD4_PER_TAP * N + COST_AHEAD4_PER_BIN * (int32_t)h->gate_bins : COST_AHEAD_BASE + COST_AHEAD1_PER_TAP * N + COST_AHEAD1_PER_BIN * (int32_t)h->gate_bins;
 }
 
 /** One sample of the sums pass; with the tremor ahead also its full-scale count. */
@@ -249,8 +249,11 @@ int32_t wake_hpa_step_ramp(wake_hpa_t *h, int32_t budget);
 
 void wake_hpa_step_gram(wake_hpa_t *h);
 void wake_hpa_step_solve(wake_hpa_t *h);
-/** (G + factor scale I) w = b by L D L'; 0 (the ridge rises) if a guard of the solve is not kept. */
+/** (G + factor scale I) w = b by L D L'; 0 (the ridge rises) if a guard of the solve is not kept
+ *  (WAKE_HPA_RIDGE_CENTRED: the centred solve, the attempt's first piece). */
 int wake_hpa_solve_ridge(wake_hpa_t *h, float factor, float *w);
+/** WAKE_HPA_RIDGE_CENTRED: the attempt's second piece, the rank one added to the centred solve in @p w. */
+int wake_hpa_solve_rank_one(wake_hpa_t *h, float factor, float *w);
 
 /* ---- wake_hpa_slice.c, wake_hpa_pieces.c ---------------------------------------------------------------------- */
 
@@ -263,6 +266,8 @@ void wake_hpa_run_pieces(wake_hpa_t *h, int32_t budget);
 
 /** Keep @p c as the predictor of this run and the one the next run scores; @p goal the gate's goal. */
 void wake_hpa_ahead_keep(const wake_hpa_t *h, wake_hpa_ahead_t *a, const float *c, float goal);
+/** The previous HPA's predictor @p c (checked by the caller) and its @p index, for the next run to score. */
+void wake_hpa_ahead_set_previous(wake_hpa_ahead_t *a, const float *c, uint32_t index);
 /** A constant window: the gate shuts (goal 0), the previous predictor stays. */
 void wake_hpa_ahead_silent(const wake_hpa_t *h, wake_hpa_ahead_t *a);
 /** The predictor and goal into the run's result (the gate shut when the window is at full scale too often). */
@@ -298,6 +303,14 @@ static inline void hpa_ahead_sums(wake_hpa_t *h, unsigned rail)
     h->ahead.rail = (uint16_t)rail;   /* <= n */
 }
 static inline void hpa_ahead_silent(wake_hpa_t *h) { wake_hpa_ahead_silent(h, &h->ahead); }
+/** The previous HPA's predictor given to an idle instance (wake_hpa_set_previous_ahead): 1, done. */
+static inline int hpa_ahead_set_previous(wake_hpa_t *h, const float *c, uint32_t index)
+{
+    wake_hpa_ahead_set_previous(&h->ahead, c, index);
+    return 1;
+}
+/** The gate's truth reaches up to this frequency, Hz (0: f_d alone). */
+static inline float hpa_ahead_gate_cutoff(const wake_hpa_t *h) { return h->cfg.gate_cutoff; }
 static inline void hpa_ahead_install(wake_hpa_t *h)
 {
     /* the result is rewritten from here to publish(), with the tremor ahead's steps (many slices) in between:
@@ -356,6 +369,20 @@ static inline void hpa_ahead_sums(wake_hpa_t *h, unsigned rail)
     (void)rail;
 }
 static inline void hpa_ahead_silent(wake_hpa_t *h) { (void)h; }
+/** Without the fit's state there is no predictor to give: refused. */
+static inline int hpa_ahead_set_previous(wake_hpa_t *h, const float *c, uint32_t index)
+{
+    (void)h;
+    (void)c;
+    (void)index;
+    return 0;
+}
+/** Without the tremor ahead there is no gate: the truth's bins stop at f_d. */
+static inline float hpa_ahead_gate_cutoff(const wake_hpa_t *h)
+{
+    (void)h;
+    return 0.0f;
+}
 static inline void hpa_ahead_install(wake_hpa_t *h) { (void)h; }
 static inline int hpa_ahead_after_fit(wake_hpa_t *h)
 {

@@ -100,19 +100,16 @@ wake_rtp_status_t wake_rtpi_check_structure(const wake_rtp_t *s);
  * function but the per-sample ones). */
 wake_rtp_status_t wake_rtpi_check_instance(const wake_rtp_t *s);
 
-#if WAKE_RTP_AHEAD
 /** 0 when the tremor ahead's line index is out of range (the step indexes the line with it). */
 static inline int wake_rtpi_ahead_structure_ok(const wake_rtp_t *s)
 {
-    return (s->ahead_head < (unsigned)WAKE_RTP_AHEAD_TAPS) ? 1 : 0;
-}
+#if WAKE_RTP_AHEAD
+    return (s->ahead.head < (unsigned)WAKE_RTP_AHEAD_TAPS) ? 1 : 0;
 #else
-static inline int wake_rtpi_ahead_structure_ok(const wake_rtp_t *s)
-{
     (void)s;
     return 1;
-}
 #endif
+}
 
 /** 1 when every one of the @p level weights lies within +-64 (Q24). */
 static inline int weights_in_range(const wake_q24_t *weights, unsigned level)
@@ -187,7 +184,8 @@ int64_t wake_rtpi_weighted_sum(const wake_q24_t *w, const int32_t *x, unsigned J
 /* The feature modules' hooks                                              */
 /* ---------------------------------------------------------------------- */
 
-#if WAKE_RTP_AHEAD
+/* The tremor ahead (wake_ahead.h, wake_rtp_ahead.c): the rules its public functions and the RTP's hooks share. */
+
 /** 1 when every coefficient lies within +-8 (Q27). */
 static inline int ahead_coefficients_in_range(const int32_t *c)
 {
@@ -206,38 +204,86 @@ static inline int gate_in_range(wake_ratio_t v, wake_ratio_t lo)
     return (v >= lo && v <= WAKE_RTP_GATE_ONE) ? 1 : 0;
 }
 
-/** The ahead fields every function but the per-sample ones checks (the step indexes with ahead_head only). */
-static inline int wake_rtpi_ahead_consistent(const wake_rtp_t *s)
+/** The fields every function but the per-sample ones checks (the step indexes with head only). */
+static inline int ahead_consistent(const wake_ahead_t *a)
 {
-    return ahead_coefficients_in_range(s->ahead_coef) && gate_in_range(s->ahead_goal, 0)
-           && gate_in_range(s->ahead_gate, 0) && gate_in_range(s->ahead_ramp, 1);
+    return ahead_coefficients_in_range(a->coef) && gate_in_range(a->goal, 0)
+           && gate_in_range(a->gate, 0) && gate_in_range(a->ramp, 1);
 }
 
-/** The tremor ahead of a new instance: the default ramp; coefficients, goal and gate 0 (init's memset). */
-static inline void wake_rtpi_ahead_init(wake_rtp_t *s)
+/** A new instance: the default ramp; coefficients, goal, gate and line 0. */
+static inline void ahead_init(wake_ahead_t *a)
 {
-    s->ahead_ramp = WAKE_RTP_AHEAD_RAMP_DEFAULT;
+    (void)memset(a, 0, sizeof(*a));
+    a->ramp = WAKE_RTP_AHEAD_RAMP_DEFAULT;
 }
 
-/** The tremor ahead forgets its samples and shuts; its coefficients and ramp stay. */
-static inline void wake_rtpi_ahead_reset(wake_rtp_t *s)
+/** The instance forgets its samples and shuts; its coefficients and ramp stay. */
+static inline void ahead_reset(wake_ahead_t *a)
 {
-    memset(s->ahead_line, 0, sizeof(s->ahead_line));
-    s->ahead_head = 0u;
-    s->ahead_goal = 0;
-    s->ahead_gate = 0;
-    s->ahead_predicted = 0;
-    s->ahead_command = 0;
-    s->ahead_saturations = 0u;
+    memset(a->line, 0, sizeof(a->line));
+    a->head = 0u;
+    a->goal = 0;
+    a->gate = 0;
+    a->predicted = 0;
+    a->command = 0;
+    a->saturations = 0u;
 }
 
+/** A sample without a measurement: the held-out gain needs a window's worth of samples again. */
+static inline void ahead_shut(wake_ahead_t *a)
+{
+    a->goal = 0;
+}
+
+/* ---------------------------------------------------------------------- */
+/* The composition: which feature instances an RTP instance holds          */
+/* ---------------------------------------------------------------------- */
+
+#if WAKE_RTP_AHEAD
+/** The instance's tremor ahead. */
+static inline wake_ahead_t *wake_rtpi_ahead(wake_rtp_t *s)
+{
+    return &s->ahead;
+}
+/** The instance's tremor ahead, read only. */
+static inline const wake_ahead_t *wake_rtpi_ahead_of(const wake_rtp_t *s)
+{
+    return &s->ahead;
+}
+#else
+static inline wake_ahead_t *wake_rtpi_ahead(wake_rtp_t *s)
+{
+    (void)s;
+    return NULL;                    /* none: its functions answer WAKE_RTP_E_NULL */
+}
+static inline const wake_ahead_t *wake_rtpi_ahead_of(const wake_rtp_t *s)
+{
+    (void)s;
+    return NULL;
+}
+#endif
+
+#if WAKE_RTP_AHEAD
 /** The tremor ahead's outputs of the last step: P(n), g(n) and g(n) P(n). */
 static inline void wake_rtpi_ahead_outputs(const wake_rtp_t *s, wake_q23_t *predicted, wake_ratio_t *gate,
                                            wake_q23_t *command)
 {
-    *predicted = s->ahead_predicted;
-    *gate = s->ahead_gate;
-    *command = s->ahead_command;
+    *predicted = s->ahead.predicted;
+    *gate = s->ahead.gate;
+    *command = s->ahead.command;
+}
+static inline int wake_rtpi_ahead_consistent(const wake_rtp_t *s)
+{
+    return ahead_consistent(&s->ahead);
+}
+static inline void wake_rtpi_ahead_reset(wake_rtp_t *s)
+{
+    ahead_reset(&s->ahead);
+}
+static inline void wake_rtpi_ahead_init(wake_rtp_t *s)
+{
+    s->ahead.ramp = WAKE_RTP_AHEAD_RAMP_DEFAULT;        /* the rest is init's memset */
 }
 #else
 static inline void wake_rtpi_ahead_outputs(const wake_rtp_t *s, wake_q23_t *predicted, wake_ratio_t *gate,

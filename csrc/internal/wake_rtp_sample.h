@@ -35,14 +35,9 @@ uint32_t wake_rtpi_kalman_update(wake_rtp_t *s, wake_q23_t e);
 /** A sample without a measurement update: P = P + q I only (wake_rtp.c). */
 void wake_rtpi_time_update(wake_rtp_t *s, uint32_t *events);
 #endif
-#if WAKE_RTP_AHEAD
-/** The tremor ahead of one sample, fed the core's tremor estimate e(n) in Q23 (wake_rtp_ahead.c). */
+/** The RTP's tremor ahead fed the tremor estimate e(n) in Q23: wake_ahead_step on the embedded instance, nothing
+ * in a build without it (wake_rtp_ahead.c). */
 void wake_rtpi_ahead_step(wake_rtp_t *s, wake_q23_t tremor);
-#endif
-#if WAKE_RTP_AHEAD && WAKE_RTP_SPLIT
-/** wake_rtpi_ahead_step with the older seven products and the gate prepared (wake_rtp_ahead.c). */
-void wake_rtpi_ahead_finish(wake_rtp_t *s, wake_q23_t tremor, wake_ratio_t gate);
-#endif
 #if WAKE_RTP_VOLUNTARY_AHEAD
 /** The voluntary motion ahead after the prediction of a step (wake_rtp_voluntary.c). */
 void wake_rtpi_voluntary_step(wake_rtp_t *s);
@@ -231,12 +226,15 @@ static inline void time_update_only(wake_rtp_t *s, uint32_t *events)
 #endif
 }
 
-#if WAKE_RTP_AHEAD
+/* ---------------------------------------------------------------------- */
+/* The tremor ahead's per-sample pieces (wake_ahead_t; wake_rtp_ahead.c)   */
+/* ---------------------------------------------------------------------- */
+
 /**
  * P = c . line, newest estimate first: Q27 x Q15 products, exact in int64.
  * |c_i| < 2^31 and |e_i| <= 2^15 (any value of the struct): |P| < 2^49.
  */
-static inline int64_t ahead_dot(const int32_t *c, const wake_q15_t *line)
+static WAKE_RTP_ALWAYS_INLINE int64_t ahead_dot(const int32_t *c, const wake_q15_t *line)
 {
 #if WAKE_RTP_NO_LONG_MULTIPLY
     /* c = hi 2^16 + lo, lo in [0, 2^16): hi e and lo e are single 32-bit products (|.| < 2^31),
@@ -263,13 +261,13 @@ static inline int64_t ahead_dot(const int32_t *c, const wake_q15_t *line)
 }
 
 /** Index of the slot the next estimate takes (the oldest one's), 0..7: the line runs newest first. */
-static inline unsigned ahead_next_head(const wake_rtp_t *s)
+static WAKE_RTP_ALWAYS_INLINE unsigned ahead_next_head(const wake_ahead_t *a)
 {
-    return (s->ahead_head + (unsigned)WAKE_RTP_AHEAD_TAPS - 1u) & ((unsigned)WAKE_RTP_AHEAD_TAPS - 1u);
+    return (a->head + (unsigned)WAKE_RTP_AHEAD_TAPS - 1u) & ((unsigned)WAKE_RTP_AHEAD_TAPS - 1u);
 }
 
 /** e(n) from the tremor estimate in Q23: Q15 of FS, saturated (counted in *events). */
-static inline wake_q15_t ahead_estimate(wake_q23_t tremor, uint32_t *events)
+static WAKE_RTP_ALWAYS_INLINE wake_q15_t ahead_estimate(wake_q23_t tremor, uint32_t *events)
 {
     /* round(t / 2^8) = floor((floor(t / 2) + 2^6) / 2^7) in 32 bits (no overflow: |floor(t / 2)| <= 2^30),
      * |.| < 2^24 before the saturation */
@@ -279,11 +277,11 @@ static inline wake_q15_t ahead_estimate(wake_q23_t tremor, uint32_t *events)
 }
 
 /** line <- e(n) at @p head (stored twice), which becomes the newest. */
-static inline void ahead_line_store(wake_rtp_t *s, unsigned head, wake_q15_t e)
+static WAKE_RTP_ALWAYS_INLINE void ahead_line_store(wake_ahead_t *a, unsigned head, wake_q15_t e)
 {
-    s->ahead_line[head] = e;
-    s->ahead_line[head + (unsigned)WAKE_RTP_AHEAD_TAPS] = e;
-    s->ahead_head = (uint16_t)head;
+    a->line[head] = e;
+    a->line[head + (unsigned)WAKE_RTP_AHEAD_TAPS] = e;
+    a->head = (uint16_t)head;
 }
 
 /**
@@ -295,32 +293,47 @@ static inline void ahead_line_store(wake_rtp_t *s, unsigned head, wake_q15_t e)
  * AND each), so goal - g fits int32, the product < 2^62, and the sum (< 2^32) is returned through the
  * same mask (defined; no branch).
  */
-static inline int32_t ahead_gate_next(const wake_rtp_t *s, wake_ratio_t goal_field)
+static WAKE_RTP_ALWAYS_INLINE int32_t ahead_gate_next(const wake_ahead_t *a, wake_ratio_t goal_field)
 {
-    const int32_t gate = (int32_t)((uint32_t)s->ahead_gate & UINT32_C(0x7FFFFFFF));
+    const int32_t gate = (int32_t)((uint32_t)a->gate & UINT32_C(0x7FFFFFFF));
     const int32_t goal = (int32_t)((uint32_t)goal_field & UINT32_C(0x7FFFFFFF));
     const int32_t diff = goal - gate;
-    return (int32_t)((uint32_t)(gate + shift_right_round(multiply_wide(diff, (int32_t)((uint32_t)s->ahead_ramp
+    return (int32_t)((uint32_t)(gate + shift_right_round(multiply_wide(diff, (int32_t)((uint32_t)a->ramp
                                                                                        & UINT32_C(0x7FFFFFFF))),
                                                           WAKE_RTP_GATE_FRAC)) & UINT32_C(0x7FFFFFFF));
 }
 
 /** P(n) from the dot product c . line, Q42 (|.| < 2^50): rounded to Q23, |.| < 2^31 fits int32. */
-static inline wake_q23_t ahead_predicted(int64_t dot)
+static WAKE_RTP_ALWAYS_INLINE wake_q23_t ahead_predicted(int64_t dot)
 {
     return (int32_t)shift_right_round(dot, WAKE_RTP_AHEAD_COEF_FRAC + WAKE_RTP_SAMPLE_FRAC - WAKE_RTP_STATE_FRAC);
 }
 
 /** Store P(n), the gate g(n) (31 bits) and the command g P. */
-static inline void ahead_output(wake_rtp_t *s, wake_q23_t predicted, int32_t gate)
+static WAKE_RTP_ALWAYS_INLINE void ahead_output(wake_ahead_t *a, wake_q23_t predicted, int32_t gate)
 {
-    s->ahead_gate = gate;
-    s->ahead_predicted = predicted;
+    a->gate = gate;
+    a->predicted = predicted;
     /* command = g P: Q53, |.| < 2^62; rounded to Q23 (<= |P| for g <= 1; < 2^31 for the 31-bit g) */
-    s->ahead_command = (int32_t)shift_right_round(multiply_wide(gate, predicted), WAKE_RTP_GATE_FRAC);
+    a->command = (int32_t)shift_right_round(multiply_wide(gate, predicted), WAKE_RTP_GATE_FRAC);
 }
 
-#endif
+/** v clamped to +-2^bits (1 <= bits <= 62), not counted: it only guards a corrupted prepared sum. */
+static inline int64_t clamp_quiet(int64_t v, unsigned bits)
+{
+    const int64_t top = INT64_C(1) << bits;
+    return (v > top) ? top : (v < -top) ? -top : v;
+}
+
+/** The tremor ahead's part of a prepare: the slot the next estimate takes holds the oldest one, which it
+ * drops: c . line from there, less c_0 times it, is the sum of the seven products that stay (exact,
+ * |.| < 2^49); the gate towards the goal (a missing sample's finish computes its own). */
+static inline void ahead_prepare(const wake_ahead_t *a, wake_ahead_prepared_t *p)
+{
+    const unsigned head = ahead_next_head(a);
+    p->dot = ahead_dot(a->coef, &a->line[head]) - multiply_wide(a->coef[0], a->line[head]);
+    p->gate = ahead_gate_next(a, a->goal);
+}
 
 
 
@@ -341,13 +354,6 @@ static inline int32_t stand_in(const wake_rtp_t *s)
 /* The split step (WAKE_RTP_SPLIT): the parts of a step that prepare      */
 /* computes without the sample, and what finish adds to them              */
 /* ---------------------------------------------------------------------- */
-
-/** v clamped to +-2^bits (1 <= bits <= 62), not counted: it only guards a corrupted prepared sum. */
-static inline int64_t clamp_quiet(int64_t v, unsigned bits)
-{
-    const int64_t top = INT64_C(1) << bits;
-    return (v > top) ? top : (v < -top) ? -top : v;
-}
 
 /** h x exactly, for one FIR tap (either representation, see wake_fir_t) and a Q15 sample: |.| < 2^46. */
 static inline int64_t fir_product(wake_fir_t h, int32_t x)
@@ -403,23 +409,15 @@ static inline int64_t times_sample(int64_t a, int32_t x)
 }
 
 
+/** The feature instances' part of a prepare (the tremor ahead's, when the instance holds one). */
+static inline void features_prepare(wake_rtp_t *s)
+{
 #if WAKE_RTP_AHEAD
-/** The tremor ahead's part of a prepare: the slot the next estimate takes holds the oldest one, which it
- * drops: c . line from there, less c_0 times it, is the sum of the seven products that stay (exact,
- * |.| < 2^49); the gate towards the goal (a missing sample's finish computes its own). */
-static inline void ahead_prepare(wake_rtp_t *s)
-{
-    const unsigned head = ahead_next_head(s);
-    s->split_ahead = ahead_dot(s->ahead_coef, &s->ahead_line[head])
-                     - multiply_wide(s->ahead_coef[0], s->ahead_line[head]);
-    s->split_gate = ahead_gate_next(s, s->ahead_goal);
-}
+    ahead_prepare(&s->ahead, &s->split_ahead);
 #else
-static inline void ahead_prepare(wake_rtp_t *s)
-{
     (void)s;
-}
 #endif
+}
 
 /** The sample into a prepared window: h' window from the prepared sum (the first sample fills the window). */
 static WAKE_RTP_ALWAYS_INLINE int64_t take_prepared(wake_rtp_t *s, wake_q15_t sample)
@@ -523,7 +521,8 @@ static WAKE_RTP_ALWAYS_INLINE void ahead_of_sample(wake_rtp_t *s, wake_q23_t tre
 {
 #if WAKE_RTP_SPLIT
     if (prepared != 0) {
-        wake_rtpi_ahead_finish(s, tremor, (measured != 0) ? s->split_gate : ahead_gate_next(s, 0));
+        wake_ahead_finish(&s->ahead, &s->split_ahead, tremor,
+                          (measured != 0) ? s->split_ahead.gate : ahead_gate_next(&s->ahead, 0));
     } else {
         wake_rtpi_ahead_step(s, tremor);
     }
@@ -620,7 +619,7 @@ static WAKE_RTP_ALWAYS_INLINE int sample_admitted(wake_rtp_t *s, wake_q15_t *sam
 #endif
     if (!measured) {
 #if WAKE_RTP_AHEAD
-        s->ahead_goal = 0;                         /* the held-out gain needs a window's worth of samples again */
+        ahead_shut(&s->ahead);                     /* the held-out gain needs a window's worth of samples again */
 #endif
         if (!s->primed) {
             *prediction = 0;                       /* a missing sample before the first: nothing to predict from */

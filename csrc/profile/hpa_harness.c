@@ -6,7 +6,9 @@
  * calls hpa_profile_start(n) and then wake_hpa_slice(&g_hpa) until it
  * returns WAKE_HPA_DONE, counting the instructions of every call; or
  * wake_hpa_run(&g_hpa) for one whole HPA.  The configuration is WakeConfig's
- * default (wake_hpa_default_config: 100 Hz, L = 500, J = 5, p = 17).
+ * default (wake_hpa_default_config: 100 Hz, L = 500, J = 5, p = 17), with
+ * -DHPA_PROFILE_RIDGE_SCALE=n and -DHPA_PROFILE_GATE_CUTOFF=f the ridge's scale
+ * and the gate's cut-off (python -m wake.firmware.hpa_cost --ridge-scale, --gate-cutoff).
  */
 #include <stddef.h>
 #include <stdint.h>
@@ -37,6 +39,12 @@ int hpa_profile_init(void)
     wake_hpa_config_t c;
     int j;
     (void)wake_hpa_default_config(&c);
+#ifdef HPA_PROFILE_RIDGE_SCALE
+    c.ridge_scale = HPA_PROFILE_RIDGE_SCALE;
+#endif
+#ifdef HPA_PROFILE_GATE_CUTOFF
+    c.gate_cutoff = HPA_PROFILE_GATE_CUTOFF;
+#endif
     for (j = 0; j < WAKE_HPA_MAX_LEVEL; ++j) {
         w[j] = w0[j];
         wq[j] = 0;

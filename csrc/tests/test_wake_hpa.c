@@ -65,7 +65,7 @@ static void test_bad_input(void)
     {
         wake_hpa_config_t bad;
         int k;
-        for (k = 0; k < 21; ++k) {
+        for (k = 0; k < 26; ++k) {
             bad = c;
             switch (k) {
             case 0: bad.level = 0; break;
@@ -88,6 +88,11 @@ static void test_bad_input(void)
             case 17: bad.clean_below = (uint16_t)(bad.window + 1u); break;
             case 18: bad.horizon = 0; break;
             case 19: bad.horizon = WAKE_HPA_MAX_AHEAD_HORIZON + 1u; break;
+            case 20: bad.ridge_scale = WAKE_HPA_RIDGE_CENTRED + 1u; break;
+            case 21: bad.gate_cutoff = -1.0f; break;
+            case 22: bad.gate_cutoff = NAN; break;
+            case 23: bad.gate_cutoff = 50.0f; break;          /* fs / 2 */
+            case 24: bad.gate_cutoff = INFINITY; break;
             default: bad.rule = 7; break;
             }
             init_default(&hpa);

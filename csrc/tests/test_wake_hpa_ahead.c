@@ -3,7 +3,8 @@
  * UBSan by `make test`.  Agreement with wake.ahead (fit_predictor, held_out_gain, gate_target) is tested
  * from Python (tests/hpa/test_c_ahead.py); here: the horizon is validated, the first HPA's goal is 0 and
  * a steady tremor's next one opens the gate, a window without tremor shuts it, so does one clipped at full
- * scale on more than 1 % of its samples, a silent one keeps the predictor, slices equal one run bit for bit, the Q27 / Q30 conversion, and wake_hpa_apply() installs the predictor in the RTP.
+ * scale on more than 1 % of its samples, a silent one keeps the predictor, slices equal one run bit for bit, the Q27 / Q30 conversion, and wake_hpa_apply() installs the predictor in the RTP; wake_hpa_set_previous_ahead() gives a fresh
+ * instance the previous predictor as the instance that ran it holds it.
  */
 #include <math.h>
 #include <stdio.h>
@@ -62,6 +63,41 @@ static void test_horizon_is_validated(void)
     CHECK(wake_hpa_init(&hpa, &c, taps, start_w) == WAKE_HPA_E_CONFIG);
     c.horizon = WAKE_HPA_MAX_AHEAD_HORIZON;
     CHECK(wake_hpa_init(&hpa, &c, taps, start_w) == WAKE_HPA_OK);
+}
+
+/* wake_hpa_set_previous_ahead: checked coefficients into an idle instance; the next run scores them exactly as the
+   instance that produced them would (the same goal, bit for bit); refusals change nothing. */
+static void test_set_previous_ahead(void)
+{
+    wake_hpa_result_t first, chained, fresh;
+    float c[WAKE_HPA_AHEAD_TAPS];
+    unsigned i;
+    for (i = 0; i < 3u * L; ++i) {
+        const double t = (double)i / 100.0;
+        stream[i] = (int16_t)(6000.0 * sin(TWO_PI * 0.3 * t) + 3000.0 * sin(TWO_PI * 6.0 * t));
+    }
+    init_h(&hpa, 5);
+    first = run_window(&hpa, stream, L, L);
+    chained = run_window(&hpa, stream + L, L, 2 * L);
+    init_h(&other, 5);
+    CHECK(wake_hpa_set_previous_ahead(&other, first.ahead, L) == WAKE_HPA_OK);
+    CHECK(other.ahead.has_prev == 1u && other.ahead.prev_index == L);
+    fresh = run_window(&other, stream + L, L, 2 * L);
+    CHECK(chained.ahead_goal > 0.5f && fresh.ahead_goal == chained.ahead_goal);
+    CHECK(memcmp(fresh.ahead, chained.ahead, sizeof fresh.ahead) == 0);
+    for (i = 0; i < WAKE_HPA_AHEAD_TAPS; ++i) {
+        c[i] = first.ahead[i];
+    }
+    c[2] = NAN;
+    CHECK(wake_hpa_set_previous_ahead(&other, c, 7u) == WAKE_HPA_E_CONFIG);
+    c[2] = 8.5f;
+    CHECK(wake_hpa_set_previous_ahead(&other, c, 7u) == WAKE_HPA_E_CONFIG);
+    CHECK(other.ahead.prev_index == 2u * L);   /* the run kept its own predictor */
+    CHECK(wake_hpa_set_previous_ahead(&other, NULL, 7u) == WAKE_HPA_E_NULL);
+    CHECK(wake_hpa_set_previous_ahead(NULL, first.ahead, 7u) == WAKE_HPA_E_NULL);
+    CHECK(wake_hpa_start(&other, stream, L, 3 * L) == WAKE_HPA_OK);
+    CHECK(wake_hpa_set_previous_ahead(&other, first.ahead, 7u) == WAKE_HPA_E_BUSY);
+    CHECK(wake_hpa_run(&other) == WAKE_HPA_DONE);
 }
 
 /* A steady 6 Hz tremor on a slow movement: the first HPA has nothing to score (goal 0), the next one scores
@@ -276,13 +312,14 @@ static void test_conversion_and_apply(void)
     CHECK(wake_hpa_ahead_to_rtp(&hpa.result, c, &goal) == WAKE_HPA_OK);
     CHECK(goal > 0);
     CHECK(wake_hpa_apply(&hpa, &rtp) == WAKE_HPA_OK);
-    CHECK(memcmp(rtp.ahead_coef, c, sizeof c) == 0 && rtp.ahead_goal == goal);
+    CHECK(memcmp(rtp.ahead.coef, c, sizeof c) == 0 && rtp.ahead.goal == goal);
 }
 
 int main(void)
 {
     make_taps();
     test_horizon_is_validated();
+    test_set_previous_ahead();
     test_steady_tremor_opens_the_gate();
     test_no_tremor_shuts_the_gate();
     test_clipped_window_shuts_the_gate();

@@ -83,7 +83,7 @@ static void test_status_codes(void)
     memset(&s, 0, sizeof(s));
     CHECK(wake_rtp_set_ahead(&s, c, 0) == WAKE_RTP_E_UNINIT, "uninitialised");
     CHECK(wake_rtp_init(&s, J, taps, w, 1000, 0, 0) == WAKE_RTP_OK, "init");
-    CHECK(s.ahead_ramp == WAKE_RTP_AHEAD_RAMP_DEFAULT && s.ahead_gate == 0 && s.ahead_goal == 0, "init: ramp 1/30, shut");
+    CHECK(s.ahead.ramp == WAKE_RTP_AHEAD_RAMP_DEFAULT && s.ahead.gate == 0 && s.ahead.goal == 0, "init: ramp 1/30, shut");
     CHECK(wake_rtp_set_ahead(&s, NULL, 0) == WAKE_RTP_E_NULL, "null coefficients");
     c[3] = WAKE_RTP_AHEAD_COEF_MAX;
     c[5] = -WAKE_RTP_AHEAD_COEF_MAX;
@@ -95,7 +95,7 @@ static void test_status_codes(void)
     c[3] = 0;
     CHECK(wake_rtp_set_ahead(&s, c, -1) == WAKE_RTP_E_AHEAD, "goal < 0");
     CHECK(wake_rtp_set_ahead(&s, c, WAKE_RTP_GATE_ONE + 1) == WAKE_RTP_E_AHEAD, "goal > 1");
-    CHECK(s.ahead_coef[5] == -WAKE_RTP_AHEAD_COEF_MAX && s.ahead_goal == WAKE_RTP_GATE_ONE, "a refused call changes nothing");
+    CHECK(s.ahead.coef[5] == -WAKE_RTP_AHEAD_COEF_MAX && s.ahead.goal == WAKE_RTP_GATE_ONE, "a refused call changes nothing");
     CHECK(wake_rtp_set_ahead_ramp(&s, 0) == WAKE_RTP_E_AHEAD, "ramp 0");
     CHECK(wake_rtp_set_ahead_ramp(&s, WAKE_RTP_GATE_ONE + 1) == WAKE_RTP_E_AHEAD, "ramp > 1");
     CHECK(wake_rtp_set_ahead_ramp(&s, WAKE_RTP_GATE_ONE) == WAKE_RTP_OK, "ramp 1");
@@ -168,9 +168,9 @@ static void test_against_double(int live)
     CHECK(worst_gate <= bound_gate, "gate within its bound: %.1f > %.1f", worst_gate, bound_gate);
     CHECK(worst_cmd <= bound_p + 32768.0 * bound_gate / Q30 + 1.0 / 512.0, "command within its bound: %.3f LSB",
           worst_cmd);
-    CHECK(s.ahead_saturations == 0u, "no saturation in range (%u)", (unsigned)s.ahead_saturations);
+    CHECK(s.ahead.saturations == 0u, "no saturation in range (%u)", (unsigned)s.ahead.saturations);
     /* 300 samples after the goal went to 0 from 0.35: 0.35 (29/30)^300 = 1.4e-5 */
-    CHECK(s.ahead_gate < (int32_t)(2e-5 * Q30), "the gate closes (%ld)", (long)s.ahead_gate);
+    CHECK(s.ahead.gate < (int32_t)(2e-5 * Q30), "the gate closes (%ld)", (long)s.ahead.gate);
 }
 
 /* A missing sample enters 0 and shuts the gate; reset zeroes; the voluntary output is the build's
@@ -193,7 +193,7 @@ static void test_missing_reset_and_voluntary(void)
         int16_t m = signal_at(n, 0.2);
         if (n % 37 == 5) {
             CHECK(wake_rtp_step_missing(&a, &y1) == WAKE_RTP_OK && wake_rtp_step_missing(&b, &y2) == WAKE_RTP_OK, "missing");
-            CHECK(a.ahead_goal == 0, "a missing sample sets the goal to 0");
+            CHECK(a.ahead.goal == 0, "a missing sample sets the goal to 0");
             CHECK(wake_rtp_get_ahead_state(&a, line) == WAKE_RTP_OK && line[0] == 0, "and enters estimate 0");
             CHECK(wake_rtp_set_ahead(&a, c, WAKE_RTP_GATE_ONE) == WAKE_RTP_OK, "re-open");
         } else {
@@ -207,13 +207,13 @@ static void test_missing_reset_and_voluntary(void)
     CHECK(wake_rtp_ahead_output(&a, &p, &g, &cmd) == WAKE_RTP_OK && p == 0 && g == 0 && cmd == 0, "reset: outputs 0");
     CHECK(wake_rtp_get_ahead_state(&a, line) == WAKE_RTP_OK, "get");
     for (i = 0; i < TAPS; ++i) CHECK(line[i] == 0, "reset: delay line zeroed");
-    CHECK(a.ahead_goal == 0 && a.ahead_coef[2] == c[2], "reset: goal 0, coefficients kept");
+    CHECK(a.ahead.goal == 0 && a.ahead.coef[2] == c[2], "reset: goal 0, coefficients kept");
     /* the first sample after a reset has no prediction before it: estimate 0 */
     CHECK(wake_rtp_step(&a, 12000, &y1) == WAKE_RTP_OK && wake_rtp_get_ahead_state(&a, line) == WAKE_RTP_OK
           && line[0] == 0, "first sample: estimate 0");
     /* a missing sample before the first one: estimate 0, goal 0 */
     CHECK(wake_rtp_reset(&b) == WAKE_RTP_OK && wake_rtp_set_ahead(&b, c, WAKE_RTP_GATE_ONE) == WAKE_RTP_OK, "b");
-    CHECK(wake_rtp_step_missing(&b, &y2) == WAKE_RTP_OK && y2 == 0 && b.ahead_goal == 0, "unprimed missing: goal 0");
+    CHECK(wake_rtp_step_missing(&b, &y2) == WAKE_RTP_OK && y2 == 0 && b.ahead.goal == 0, "unprimed missing: goal 0");
 }
 
 /* load_ahead_state / get_ahead_state round trip, and the carry-over of the line into the next P. */
@@ -231,7 +231,7 @@ static void test_state_round_trip(void)
     for (i = 0; i < TAPS; ++i) line[i] = (int16_t)(1000 * (i + 1));
     CHECK(wake_rtp_load_ahead_state(&s, line, WAKE_RTP_GATE_ONE / 2) == WAKE_RTP_OK, "load");
     CHECK(wake_rtp_get_ahead_state(&s, back) == WAKE_RTP_OK && memcmp(line, back, sizeof(line)) == 0, "round trip");
-    CHECK(s.ahead_gate == WAKE_RTP_GATE_ONE / 2, "gate loaded");
+    CHECK(s.ahead.gate == WAKE_RTP_GATE_ONE / 2, "gate loaded");
     c[1] = 1 << 27;                                         /* P = the estimate one step older */
     CHECK(wake_rtp_set_ahead(&s, c, WAKE_RTP_GATE_ONE / 2) == WAKE_RTP_OK, "set");
     CHECK(wake_rtp_step(&s, 0, &y) == WAKE_RTP_OK, "step");   /* first sample: estimate 0 enters */
@@ -252,18 +252,18 @@ static void test_corrupted(void)
     for (i = 0; i < TAPS; ++i) c[i] = (i & 1) ? -WAKE_RTP_AHEAD_COEF_MAX : WAKE_RTP_AHEAD_COEF_MAX;
     CHECK(wake_rtp_init(&s, J, taps, w, 1000, 0, 0) == WAKE_RTP_OK, "init");
     CHECK(wake_rtp_set_ahead(&s, c, WAKE_RTP_GATE_ONE) == WAKE_RTP_OK, "set");
-    s.ahead_head = 8u;
+    s.ahead.head = 8u;
     CHECK(wake_rtp_step(&s, 100, &y) == WAKE_RTP_E_CORRUPT, "a line index out of range is refused");
-    s.ahead_head = 3u;
-    for (i = 0; i < TAPS; ++i) s.ahead_coef[i] = (i & 1) ? INT32_MIN : INT32_MAX;
-    s.ahead_gate = INT32_MIN;
-    s.ahead_goal = INT32_MAX;
-    s.ahead_ramp = INT32_MIN;
+    s.ahead.head = 3u;
+    for (i = 0; i < TAPS; ++i) s.ahead.coef[i] = (i & 1) ? INT32_MIN : INT32_MAX;
+    s.ahead.gate = INT32_MIN;
+    s.ahead.goal = INT32_MAX;
+    s.ahead.ramp = INT32_MIN;
     for (i = 0; i < 20; ++i) {
         CHECK(wake_rtp_step(&s, (int16_t)((i & 1) ? 32767 : -32768), &y) == WAKE_RTP_OK, "corrupted values run");
-        CHECK(s.ahead_gate >= 0, "the gate stays non-negative (%ld)", (long)s.ahead_gate);
+        CHECK(s.ahead.gate >= 0, "the gate stays non-negative (%ld)", (long)s.ahead.gate);
     }
-    CHECK(s.ahead_saturations > 0u, "saturations counted");
+    CHECK(s.ahead.saturations > 0u, "saturations counted");
     CHECK(wake_rtp_set_weights(&s, w, 1000, 0) == WAKE_RTP_E_CORRUPT, "set_weights refuses corrupted ahead fields");
     CHECK(wake_rtp_set_ahead(&s, c, 0) == WAKE_RTP_E_CORRUPT, "set_ahead refuses them too");
     /* in range, the largest values saturate only the estimate, never P, the gate or the command */
@@ -273,9 +273,75 @@ static void test_corrupted(void)
     for (i = 0; i < 20; ++i) {
         CHECK(wake_rtp_step(&s, (int16_t)((i & 1) ? 32767 : -32768), &y) == WAKE_RTP_OK, "step");
     }
-    CHECK(s.ahead_gate == WAKE_RTP_GATE_ONE, "ramp 1: the gate is the goal at once");
+    CHECK(s.ahead.gate == WAKE_RTP_GATE_ONE, "ramp 1: the gate is the goal at once");
     /* the estimate saturates at +-1 FS; P = 64 FS at most, held by Q23 (+-256 FS) without saturating */
-    CHECK(labs((long)s.ahead_predicted) >= (long)(60.0 * 8388608.0), "P reaches 60 of its 64 FS (%ld)", (long)s.ahead_predicted);
+    CHECK(labs((long)s.ahead.predicted) >= (long)(60.0 * 8388608.0), "P reaches 60 of its 64 FS (%ld)", (long)s.ahead.predicted);
+}
+
+/* A firmware that drives a tremor ahead of its own (wake_ahead.h), fed the core's tremor estimate
+ * e(n) = m(n) - y(n-1) (0 for the first sample; wake_ahead_step_missing for a missing one), holds what the RTP's
+ * embedded instance holds, bit for bit, at the ramp of 100 Hz and of 1000 Hz; and the instance's own checks. */
+static void test_an_instance_of_its_own(double fs)
+{
+    static int16_t taps[J * N];
+    const int32_t w[J] = {(int32_t)(0.2 * 16777216.0), (int32_t)(-0.1 * 16777216.0),
+                          (int32_t)(0.3 * 16777216.0), (int32_t)(0.6 * 16777216.0)};
+    const int32_t ramp = (int32_t)(Q30 / (0.3 * fs) + 0.5);
+    int32_t c[TAPS];
+    int16_t line[TAPS];
+    wake_rtp_t s;
+    wake_ahead_t own;
+    int n, i, same = 1;
+    make_averaging_taps(taps, J, N);
+    for (i = 0; i < TAPS; ++i) {
+        c[i] = (int32_t)(rng_uniform(-1.0, 1.0) * Q27);
+    }
+    CHECK(wake_ahead_init(NULL) == WAKE_RTP_E_NULL && wake_ahead_init(&own) == WAKE_RTP_OK, "init");
+    CHECK(own.ramp == WAKE_RTP_AHEAD_RAMP_DEFAULT && wake_ahead_check(&own) == WAKE_RTP_OK, "init: ramp 1/30, valid");
+    CHECK(wake_rtp_init(&s, J, taps, w, 40000, 30, 40000) == WAKE_RTP_OK, "rtp init");
+    CHECK(wake_ahead_set_model(&own, c, (int32_t)(0.75 * Q30)) == WAKE_RTP_OK
+          && wake_rtp_set_ahead(&s, c, (int32_t)(0.75 * Q30)) == WAKE_RTP_OK, "the same predictor");
+    CHECK(wake_ahead_set_ramp(&own, ramp) == WAKE_RTP_OK && wake_rtp_set_ahead_ramp(&s, ramp) == WAKE_RTP_OK,
+          "the same ramp");
+    for (n = 0; n < 600; ++n) {
+        int16_t y;
+        const int missing = (n % 97) == 50;
+        /* at 1000 Hz an accelerometer's recording: gravity, 0.3 FS, under the motion */
+        const int16_t m = (int16_t)(signal_at(n, 0.2) + (fs > 500.0 ? 9830 : 0));
+        /* the core's tremor estimate, read before its step: m(n) - y(n-1) in Q23, saturated (0 for the first
+         * sample) */
+        const int64_t diff = (int64_t)m * 256 - s.last_output;
+        const int32_t e = !s.primed ? 0 : diff > INT32_MAX ? INT32_MAX : diff < INT32_MIN ? INT32_MIN : (int32_t)diff;
+        if (missing) {
+            CHECK(wake_rtp_step_missing(&s, &y) == WAKE_RTP_OK, "step_missing");
+            wake_ahead_step_missing(&own);
+        } else {
+            CHECK(wake_rtp_step(&s, m, &y) == WAKE_RTP_OK, "step");
+            wake_ahead_step(&own, e);
+        }
+        if (n == 300) {   /* a new model and goal between two samples */
+            c[0] = -c[0];
+            CHECK(wake_ahead_set_model(&own, c, (int32_t)(0.5 * Q30)) == WAKE_RTP_OK
+                  && wake_rtp_set_ahead(&s, c, (int32_t)(0.5 * Q30)) == WAKE_RTP_OK, "a new model");
+        }
+        same = same && (memcmp(&own, &s.ahead, sizeof(own)) == 0);
+    }
+    CHECK(same, "fs %.0f Hz: the instance of its own holds the embedded one's state, bit for bit", fs);
+    CHECK(own.gate > 0 && own.predicted != 0, "the gate opened and the ahead predicts");
+    CHECK(wake_ahead_history(&own, line) == WAKE_RTP_OK && line[0] == own.line[own.head], "history: newest first");
+    CHECK(wake_ahead_load(&own, line, WAKE_RTP_GATE_ONE + 1) == WAKE_RTP_E_AHEAD, "load: gate > 1");
+    CHECK(wake_ahead_load(NULL, line, 0) == WAKE_RTP_E_NULL && wake_ahead_history(&own, NULL) == WAKE_RTP_E_NULL,
+          "NULL refused");
+    CHECK(wake_ahead_output(NULL, NULL, NULL, NULL) == WAKE_RTP_E_NULL, "output: NULL instance");
+    c[2] = WAKE_RTP_AHEAD_COEF_MAX + 1;
+    CHECK(wake_ahead_set_model(&own, c, 0) == WAKE_RTP_E_AHEAD && own.coef[2] != c[2], "a refused model changes nothing");
+    own.head = TAPS;
+    CHECK(wake_ahead_check(&own) == WAKE_RTP_E_CORRUPT && wake_ahead_history(&own, line) == WAKE_RTP_E_CORRUPT,
+          "a line index beyond 7 is corrupt");
+    wake_ahead_step(&own, INT32_MAX);                        /* any content is safe for the step */
+    CHECK(own.head < TAPS && own.saturations > 0u, "the step takes its index modulo 8 and counts the saturation");
+    CHECK(wake_ahead_reset(&own) == WAKE_RTP_OK && own.gate == 0 && own.goal == 0 && own.coef[0] == c[0]
+          && own.ramp == ramp, "reset: shut, the model and ramp kept");
 }
 
 int main(void)
@@ -288,6 +354,8 @@ int main(void)
     test_missing_reset_and_voluntary();
     test_state_round_trip();
     test_corrupted();
+    test_an_instance_of_its_own(100.0);
+    test_an_instance_of_its_own(1000.0);
     printf("%d passed, %d failed\n", n_passed, n_failed);
     return n_failed ? 1 : 0;
 }

@@ -258,8 +258,8 @@ static void test_status(void)
     s.split_rho = INT32_MIN;
     s.split_events = UINT32_MAX;
 #if WAKE_RTP_AHEAD
-    s.split_ahead = INT64_MIN;
-    s.split_gate = -1;
+    s.split_ahead.dot = INT64_MIN;
+    s.split_ahead.gate = -1;
 #endif
     CHECK(wake_rtp_finish(&s, 32767, &y) == WAKE_RTP_OK && s.split_ready == 0u,
           "corrupted prepared values: the finish runs (a wrong prediction at worst)");

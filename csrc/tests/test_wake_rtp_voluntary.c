@@ -102,7 +102,7 @@ static void test_status_codes(void)
     CHECK(wake_rtp_set_voluntary_ahead(&s, w) == WAKE_RTP_E_UNINIT, "uninitialised");
     CHECK(wake_rtp_voluntary_ahead_output(&s, &out) == WAKE_RTP_E_UNINIT && out == 7, "output: uninitialised");
     CHECK(wake_rtp_init(&s, J, taps, w, 1000, 0, 0) == WAKE_RTP_OK, "init");
-    CHECK(s.vol_set == 0u && s.vol_output == 0, "init: no w_h, output 0");
+    CHECK(s.voluntary_ahead.set == 0u && s.voluntary_ahead.output == 0, "init: no w_h, output 0");
     memcpy(&before, &s, sizeof(s));
     CHECK(wake_rtp_set_voluntary_ahead(&s, NULL) == WAKE_RTP_E_NULL, "null w_h");
     CHECK(wake_rtp_set_voluntary_ahead(&s, wh) == WAKE_RTP_E_WEIGHTS, "w_h above 64");
@@ -110,12 +110,12 @@ static void test_status_codes(void)
     CHECK(wake_rtp_set_voluntary_ahead(&s, wh) == WAKE_RTP_E_WEIGHTS, "w_h below -64");
     CHECK(memcmp(&before, &s, sizeof(s)) == 0, "a refused w_h changes nothing");
     wh[3] = WAKE_RTP_WEIGHT_MAX;
-    CHECK(wake_rtp_set_voluntary_ahead(&s, wh) == WAKE_RTP_OK && s.vol_set == 1u, "w_h at 64 is accepted");
+    CHECK(wake_rtp_set_voluntary_ahead(&s, wh) == WAKE_RTP_OK && s.voluntary_ahead.set == 1u, "w_h at 64 is accepted");
     CHECK(wake_rtp_voluntary_ahead_output(&s, NULL) == WAKE_RTP_E_NULL, "output: null");
-    s.vol_set = 2u;
-    CHECK(wake_rtp_reset(&s) == WAKE_RTP_E_CORRUPT, "a corrupted vol_set is caught");
-    s.vol_set = 1u;
-    s.vol_weights[0] = WAKE_RTP_WEIGHT_MAX + 1;
+    s.voluntary_ahead.set = 2u;
+    CHECK(wake_rtp_reset(&s) == WAKE_RTP_E_CORRUPT, "a corrupted set flag of w_h is caught");
+    s.voluntary_ahead.set = 1u;
+    s.voluntary_ahead.weights[0] = WAKE_RTP_WEIGHT_MAX + 1;
     CHECK(wake_rtp_set_weights(&s, w, 1000, 0) == WAKE_RTP_E_CORRUPT, "a corrupted w_h is caught");
 }
 
@@ -135,7 +135,7 @@ static void test_against_double(int missing)
     CHECK(wake_rtp_init(&s, J, taps, w, r, q, p0) == WAKE_RTP_OK, "init");
     CHECK(wake_rtp_init(&plain, J, taps, w, r, q, p0) == WAKE_RTP_OK, "init");
     CHECK(wake_rtp_set_voluntary_ahead(&s, wh) == WAKE_RTP_OK, "set w_h");
-    twin_init(&t, taps, s.weights, s.vol_weights, r / 4294967296.0, q / 4294967296.0, p0 / 4294967296.0);
+    twin_init(&t, taps, s.weights, s.voluntary_ahead.weights, r / 4294967296.0, q / 4294967296.0, p0 / 4294967296.0);
     for (k = 0; k < 3000; ++k) {
         wake_q15_t y, y_plain;
         wake_q23_t vh, vh_plain;
@@ -153,7 +153,7 @@ static void test_against_double(int missing)
         (void)wake_rtp_voluntary_ahead_output(&s, &vh);
         (void)wake_rtp_voluntary_ahead_output(&plain, &vh_plain);
         identical &= (y == y_plain) && (s.last_output == plain.last_output) && (s.z == plain.z) && (s.s == plain.s)
-                     && (s.ahead_predicted == plain.ahead_predicted) && (vh_plain == plain.last_output);
+                     && (s.ahead.predicted == plain.ahead.predicted) && (vh_plain == plain.last_output);
         worst = fmax(worst, fabs(vh / Q23 - t.vh));
         worst_y = fmax(worst_y, fabs(s.last_output / Q23 - t.y));
         moved = fmax(moved, fabs(vh / Q23 - s.last_output / Q23));
@@ -163,7 +163,7 @@ static void test_against_double(int missing)
     CHECK(worst < 4.0 / Q15, "v_h within 4 Q15 LSB of the double twin (missing %d): %.3g FS (y: %.3g)", missing, worst, worst_y);
     CHECK(worst > 0.0, "not accidentally exact");
     CHECK(moved > 1e-3, "w_h moves v_h away from y (%.3g FS)", moved);
-    CHECK(s.vol_saturations == 0u && s.saturations == 0u, "no saturation");
+    CHECK(s.voluntary_ahead.saturations == 0u && s.saturations == 0u, "no saturation");
 }
 
 /* load_state restarts d_s and z_s: right after it v_h is w_h'(a + d) of the loaded window and d. */
@@ -200,7 +200,15 @@ static void test_load_state_and_reset(void)
     }
     CHECK(fabs(vh / Q23 - want) < 4.0 / Q23 + N * ldexp(1.0, -WAKE_RTP_FIR_FRAC - 1),
           "v_h after load_state: %.9f, want %.9f", vh / Q23, want);
-    CHECK(wake_rtp_reset(&s) == WAKE_RTP_OK && s.vol_output == 0 && s.vol_set == 1u, "reset: output 0, w_h kept");
+    {   /* the instance alone (wake_voluntary_ahead.h) reads what the RTP's entry reads */
+        wake_q23_t alone = 1, via_rtp = 2;
+        CHECK(wake_voluntary_ahead_output(&s.voluntary_ahead, &alone) == WAKE_RTP_OK
+              && wake_rtp_voluntary_ahead_output(&s, &via_rtp) == WAKE_RTP_OK && alone == via_rtp && alone == vh,
+              "the instance's output %ld is the RTP's %ld", (long)alone, (long)via_rtp);
+        CHECK(wake_voluntary_ahead_output(NULL, &alone) == WAKE_RTP_E_NULL
+              && wake_voluntary_ahead_output(&s.voluntary_ahead, NULL) == WAKE_RTP_E_NULL, "NULL is refused");
+    }
+    CHECK(wake_rtp_reset(&s) == WAKE_RTP_OK && s.voluntary_ahead.output == 0 && s.voluntary_ahead.set == 1u, "reset: output 0, w_h kept");
 }
 
 /* One state's outputs after a step, as a batch caller reads them per sample. */
@@ -320,7 +328,13 @@ int main(void)
 
 int main(void)
 {
+    wake_voluntary_ahead_t v;
+    wake_q23_t out = 0;
+    memset(&v, 0, sizeof v);
+    v.output = 1234;
     CHECK(WAKE_RTP_VOLUNTARY_AHEAD == 0, "built without the voluntary motion ahead");
+    CHECK(wake_voluntary_ahead_output(&v, &out) == WAKE_RTP_OK && out == 1234,
+          "the instance's own entry is there in every build");
     printf("WAKE_RTP_VOLUNTARY_AHEAD 0: nothing to test (%d passed)\n", n_passed);
     return n_failed ? 1 : 0;
 }

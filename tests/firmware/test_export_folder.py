@@ -10,7 +10,7 @@ from support import CSRC
 
 from wake.cli import main
 from wake.firmware.folder import export_folder
-from wake.firmware.sources import HPA_INTERNAL_HEADERS, HPA_SOURCES, INTERNAL_HEADERS, RTP_SOURCES
+from wake.firmware.sources import HPA_INTERNAL_HEADERS, HPA_SOURCES, INTERNAL_HEADERS, RTP_HEADERS, RTP_SOURCES
 
 CONFIG = dict(wavelet="sym3", level=5, measurement_noise=1e-3, full_scale=4.0)
 HOST_CC = shutil.which("cc") or shutil.which("gcc")
@@ -52,9 +52,9 @@ def compile_folder(cc, folder, extra):
 def test_folder_holds_the_core_unchanged_and_the_configuration(tmp_path):
     files = export_folder(tmp_path / "fw", sources=CSRC, **CONFIG)
     assert [f.relative_to(tmp_path / "fw").as_posix() for f in files] == [
-        "wake_rtp.c", "wake_rtp.h", "wake_fixed.h", *RTP_SOURCES[1:], *HPA_SOURCES, "wake_hpa.h", *INTERNAL_HEADERS,
+        "wake_rtp.c", *RTP_HEADERS, "wake_fixed.h", *RTP_SOURCES[1:], *HPA_SOURCES, "wake_hpa.h", *INTERNAL_HEADERS,
         "wake_rate.c", "wake_rate.h", "wake_config.h", "README.md"]
-    for name in ("wake_rtp.h", "wake_fixed.h", *RTP_SOURCES, *HPA_SOURCES, "wake_hpa.h", *INTERNAL_HEADERS,
+    for name in (*RTP_HEADERS, "wake_fixed.h", *RTP_SOURCES, *HPA_SOURCES, "wake_hpa.h", *INTERNAL_HEADERS,
                  "wake_rate.c", "wake_rate.h"):
         assert (tmp_path / "fw" / name).read_bytes() == (CSRC / name).read_bytes()
     header = (tmp_path / "fw" / "wake_config.h").read_text()

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import pytest
 
-from wake.firmware.sources import HPA_SOURCES, INTERNAL_HEADERS, RTP_SOURCES  # noqa: E402
+from wake.firmware.sources import HPA_SOURCES, INTERNAL_HEADERS, RTP_HEADERS, RTP_SOURCES  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 ARM_CC = shutil.which("arm-none-eabi-gcc")
@@ -142,7 +142,7 @@ def test_export_c_from_the_wheel_compiles_for_cortex_m4_and_the_host(installed):
     fw = work / "fw"
     assert sorted(p.relative_to(fw).as_posix() for p in fw.rglob("*") if p.is_file()) == sorted(
         ["README.md", "wake_config.h", "wake_fixed.h", *HPA_SOURCES, "wake_hpa.h", *INTERNAL_HEADERS,
-         "wake_rate.c", "wake_rate.h", "wake_rtp.h", *RTP_SOURCES])
+         "wake_rate.c", "wake_rate.h", *RTP_HEADERS, *RTP_SOURCES])
     (fw / "use_config.c").write_text('#include "wake_hpa.h"\n#include "wake_config.h"\n'
                                      "int start(void) { static wake_rtp_t r; static wake_hpa_t h;\n"
                                      "  return wake_config_init(&r) + (int)wake_config_hpa_init(&h); }\n")

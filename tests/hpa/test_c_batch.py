@@ -91,9 +91,11 @@ def test_gaps_clipping_and_a_jump_fall_back_point_by_point(fs, monkeypatch, take
 
 
 @pytest.mark.parametrize("settings", [dict(horizon=5), dict(horizon=20, gate_cutoff=None),
-                                      dict(initial_weights="prior")])
+                                      dict(initial_weights="prior"), dict(horizon=2, gate_cutoff=4.0),
+                                      dict(horizon=2, ridge_scale="centred", kind="acc")])
 def test_tremor_ahead_options(settings, monkeypatch, taken):
-    x = motion(100.0, "gyro", seconds=40.0, seed=4)[0]
+    settings = dict(settings)
+    x = motion(100.0, settings.pop("kind", "gyro"), seconds=40.0, seed=4)[0]
     try:
         assert_same_run(x, monkeypatch, taken, **settings)
     except TypeError as exc:   # a setting this version does not have

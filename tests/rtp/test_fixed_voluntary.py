@@ -132,9 +132,10 @@ def test_a_state_round_trip_keeps_w_h_and_an_older_state_holds_the_one_step_pred
     clone = pickle.loads(pickle.dumps(c))
     np.testing.assert_array_equal(clone.weights_ahead, c.weights_ahead)
     np.testing.assert_array_equal(clone.run_outputs(x[600:]), c.run_outputs(x[600:]))
-    # a state saved before the core had w_h (the struct up to vol_weights) loads and holds y
+    # a state saved before the core had w_h (layout 1, the struct up to its w_h) loads and holds y
     st = c.__getstate__()
-    old = dict(st, struct=st["struct"][: _c.ffi.offsetof("wake_rtp_t", "vol_weights")])
+    old = dict(st, struct=st["struct"][: FixedPointRTP._STRUCT_SIZES[1]])
+    del old["layout"]
     before = FixedPointRTP.__new__(FixedPointRTP)
     before.__setstate__(old)
     assert before.weights_ahead is None
@@ -170,5 +171,10 @@ def test_the_c_setter_refuses_what_the_python_side_cannot_send():
     assert not c.has_weights_ahead
     assert lib.wake_rtp_set_voluntary_ahead(c._state, ffi.new("int32_t[]", [0, top, -top])) == lib.WAKE_RTP_OK
     assert lib.wake_rtp_set_voluntary_ahead(ffi.new("wake_rtp_t *"), ffi.new("int32_t[]", 3)) == lib.WAKE_RTP_E_UNINIT
-    c._state.vol_weights[0] = top + 1            # a corrupted w_h is caught by the next configuration call
+    out = ffi.new("int32_t *")                    # the instance alone (wake_voluntary_ahead.h) reads the RTP's output
+    c._state.voluntary_ahead.output = -12345
+    assert lib.wake_voluntary_ahead_output(ffi.addressof(c._state, "voluntary_ahead"), out) == lib.WAKE_RTP_OK
+    assert out[0] == -12345 and c.last_voluntary_ahead == -12345 * c.full_scale / 2.0**23
+    assert lib.wake_voluntary_ahead_output(ffi.NULL, out) == lib.WAKE_RTP_E_NULL
+    c._state.voluntary_ahead.weights[0] = top + 1            # a corrupted w_h is caught by the next configuration call
     assert lib.wake_rtp_reset(c._state) == lib.WAKE_RTP_E_CORRUPT

@@ -1,4 +1,5 @@
-"""The Q formats of wake.rtp.qformat are those of csrc/wake_rtp.h, and need no compiled core."""
+"""The Q formats of wake.rtp.qformat are those of csrc/wake_rtp.h (and wake_rtp_types.h, which it includes), and
+need no compiled core."""
 
 import re
 import subprocess
@@ -15,7 +16,7 @@ ROOT = Path(__file__).resolve().parents[2]
 
 def header_defines():
     """``#define WAKE_RTP_NAME value`` of the header, the values evaluated (defaults of ``#ifndef`` blocks)."""
-    text = (CSRC / "wake_rtp.h").read_text()
+    text = (CSRC / "wake_rtp_types.h").read_text() + (CSRC / "wake_rtp.h").read_text()
     values = {}
     for name, expr in re.findall(r"#define\s+(WAKE_RTP_\w+)\s+(.+)", text):
         expr = re.sub(r"/\*.*", "", expr).strip()

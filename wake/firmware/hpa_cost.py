@@ -12,7 +12,7 @@ cost model bounds it by design (docs/studies/hpa_c.md).  ``--functions`` attribu
 every instruction of a whole HPA to its function and with ``--ahead`` to the
 parts of the tremor-ahead fit (:mod:`wake.firmware.hpa_functions`).
 
-    python -m wake.firmware.hpa_cost [--json OUT] [--ahead] [--functions]
+    python -m wake.firmware.hpa_cost [--json OUT] [--ahead] [--functions] [--ridge-scale centred] [--gate-cutoff 4]
     python -m wake.firmware.hpa_cost --calibrate [--write | --check]
 
 The slice cost model's constants live in one table, :data:`wake.firmware.hpa_costs.COSTS`;
@@ -233,6 +233,19 @@ def report(results: dict, rtp_step_bound: int | None = None) -> list[str]:
     return lines
 
 
+def setting_defs(ahead=False, ridge_scale="gram", gate_cutoff=None) -> list:
+    """The ``-D`` options of a build with the tremor-ahead fit (``ahead``) and the profiling harness's
+    configuration at ``ridge_scale`` and ``gate_cutoff`` (csrc/profile/hpa_harness.c)."""
+    from wake.config import RIDGE_SCALES
+
+    defs = ["-DWAKE_HPA_AHEAD=1"] if ahead else []
+    if ridge_scale != "gram":
+        defs.append(f"-DHPA_PROFILE_RIDGE_SCALE={RIDGE_SCALES.index(ridge_scale)}")
+    if gate_cutoff is not None:
+        defs.append(f"-DHPA_PROFILE_GATE_CUTOFF={float(gate_cutoff)!r}f")
+    return defs
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description="Cortex-M cost of the on-device HPA")
     ap.add_argument("--json", help="write the figures here (with --functions: every window's counts)")
@@ -252,8 +265,12 @@ def main(argv=None) -> int:
                          "windows; with --ahead also per part of the tremor-ahead fit")
     ap.add_argument("--sliced", action="store_true",
                     help="with --functions: count a sliced run (every wake_hpa_slice call) instead of wake_hpa_run")
+    ap.add_argument("--ridge-scale", choices=("gram", "centred"), default="gram",
+                    help="the HPA's ridge_scale (WakeConfig.ridge_scale; default gram)")
+    ap.add_argument("--gate-cutoff", type=float, default=None,
+                    help="the HPA's gate_cutoff in Hz (WakeConfig.gate_cutoff; read with --ahead; default none)")
     args = ap.parse_args(argv)
-    defs = ["-DWAKE_HPA_AHEAD=1"] if args.ahead else []
+    defs = setting_defs(args.ahead, args.ridge_scale, args.gate_cutoff)
     if args.functions:
         from wake.firmware.hpa_functions import function_report
 

@@ -53,6 +53,7 @@ COSTS = (
     ("COST_SOLVE_CUBIC", 6, "solve", "one ridge attempt, per J^3"),
     ("COST_SOLVE_SQUARE", 12, "solve", "... per J^2"),
     ("COST_SOLVE_BASE", 500, "solve", "... and the guards' bounds"),
+    ("COST_SOLVE_RANK_ONE", 900, "solve", "ridge_scale centred: an attempt's rank one (its own piece)"),
     ("COST_AHEAD_TAP_BASE", 20, "ahead start", "one tap of the estimate's FIR w'B"),
     ("COST_AHEAD_TAP_PER_LEVEL", 8, "ahead start", "... and per WAKE_HPA_MAX_LEVEL"),
     ("COST_AHEAD_CLEAR", 300, "ahead start", "the tremor-ahead sums cleared"),

@@ -11,18 +11,21 @@ from __future__ import annotations
 
 from pathlib import Path
 
-__all__ = ["HPA_INTERNAL_HEADERS", "HPA_SOURCES", "INTERNAL_HEADERS", "RTP_INTERNAL", "RTP_SOURCES", "SourcesUnavailable",
-           "csrc_dir"]
+__all__ = ["HPA_INTERNAL_HEADERS", "HPA_SOURCES", "INTERNAL_HEADERS", "RTP_HEADERS", "RTP_INTERNAL", "RTP_SOURCES",
+           "SourcesUnavailable", "csrc_dir"]
 
 #: The RTP's modules (docs/reference/architecture.md, "The C core's files"): the core step first; a module a
 #: build does not use compiles to nothing.
 RTP_SOURCES = ("wake_rtp.c", "wake_rtp_state.c", "wake_rtp_split.c", "wake_rtp_ahead.c", "wake_rtp_voluntary.c",
                "wake_rtp_block.c", "wake_rtp_fixed.c")
+#: The RTP's public headers: the core (wake_rtp.h, which includes the others), its number formats and status
+#: codes, and each feature instance's header.
+RTP_HEADERS = ("wake_rtp.h", "wake_rtp_types.h", "wake_ahead.h", "wake_voluntary_ahead.h")
 #: The RTP's internal headers, which its modules include by their relative path.
 RTP_INTERNAL = ("internal/wake_rtp_internal.h", "internal/wake_rtp_sample.h", "internal/wake_bounds.h")
 
 #: Files every use of the sources needs.
-_REQUIRED = ("wake_rtp.c", "wake_rtp.h", "wake_fixed.h")
+_REQUIRED = ("wake_rtp.c", *RTP_HEADERS, "wake_fixed.h")
 #: The on-device HPA's sources, a file per concern (csrc/internal/wake_hpa_internal.h describes each), and the
 #: internal headers they share (not part of the API; a build compiles them, a user never includes them).
 HPA_SOURCES = ("wake_hpa.c", "wake_hpa_spectrum.c", "wake_hpa_dft.c", "wake_hpa_fit.c", "wake_hpa_solve.c",

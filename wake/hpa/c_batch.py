@@ -37,7 +37,7 @@ def covers(channel) -> bool:
     ahead installed, nothing wrapping the channel's HPA (the progress bar of ``wake run`` counts its calls)."""
     config, rtp = channel.config, channel.rtp
     return (config.hpa_backend == "c" and config.backend == "c" and rtp.on_c and "hpa" not in channel.__dict__
-            and not rtp.core._state.vol_set and rtp.core.clipped == rtp.clipped_before)
+            and not rtp.core._state.voluntary_ahead.set and rtp.core.clipped == rtp.clipped_before)
 
 
 def covers_installs(channel) -> bool:
@@ -46,7 +46,7 @@ def covers_installs(channel) -> bool:
     wrapping the channel's HPA, no clip since the last HPA."""
     config, rtp = channel.config, channel.rtp
     return (config.hpa_backend != "c" and config.backend == "c" and config.horizon == 1 and rtp.on_c
-            and "hpa" not in channel.__dict__ and not rtp.core._state.vol_set
+            and "hpa" not in channel.__dict__ and not rtp.core._state.voluntary_ahead.set
             and rtp.core.clipped == rtp.clipped_before)
 
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from wake.config import WakeConfig
+from wake.config import RIDGE_SCALES, WakeConfig
 from wake.hpa.cutoff import CUTOFF_FLAGS, EDGE_DB, FLOOR_MARGIN_DB, FLOOR_STRIDE, MIN_DEPTH_DB
 from wake.hpa.run import HPAUpdate, clean_only_below
 from wake.registry import cutoff_rule_names, cutoff_rules, get_cutoff_rule
@@ -57,6 +57,7 @@ def c_mirror_problems(lib) -> list:
     """Where the Python side and the compiled C HPA ``lib`` disagree: the one check of every number the
     two both state.  Each registered cut-off rule (:mod:`wake.registry`) must have its ``c_name`` numbered
     by its place in the registry, each key of :data:`~wake.hpa.CUTOFF_FLAGS` its :func:`c_flag_name`;
+    each of :data:`~wake.config.RIDGE_SCALES` its ``WAKE_HPA_RIDGE_*`` numbered by its place there;
     ``MAX_WARMUP``, ``FLOOR_STRIDE`` and the prediction target's horizon (:mod:`wake.target`) must equal
     the header's, and the share of a window at full scale that shuts the tremor ahead's gate
     (:data:`~wake.rtp.full_scale.GLITCH_SHARE`) must be ``1 / WAKE_HPA_GLITCH_DIVISOR``.  Returns one message
@@ -79,6 +80,12 @@ def c_mirror_problems(lib) -> list:
                         ("WAKE_HPA_HORIZON", TARGET.horizon)):
         if int(getattr(lib, name)) != value:
             problems.append(f"{name} = {int(getattr(lib, name))}, the Python side says {value}")
+    for number, rule in enumerate(RIDGE_SCALES):
+        name = "WAKE_HPA_RIDGE_" + rule.upper()
+        have = getattr(lib, name, None)
+        if have is None or int(have) != number:
+            problems.append(f"ridge_scale {rule!r}: {name} = {have}, expected {number} (wake_hpa_ridge_scale_t "
+                            "follows the order of wake.config.RIDGE_SCALES)")
     if 1.0 / int(lib.WAKE_HPA_GLITCH_DIVISOR) != GLITCH_SHARE:
         problems.append(f"WAKE_HPA_GLITCH_DIVISOR = {int(lib.WAKE_HPA_GLITCH_DIVISOR)}, but "
                         f"wake.rtp.full_scale.GLITCH_SHARE = {GLITCH_SHARE!r} (the C HPA's clipping rule must be "
@@ -102,6 +109,11 @@ def check_c_hpa_config(config: WakeConfig) -> None:
     if config.cutoff_range[1] * lib.WAKE_HPA_PSD_GRID / config.fs >= lib.WAKE_HPA_MAX_PSD_BINS - 1:
         problems.append(f"cutoff_range[1] = {config.cutoff_range[1]:g} Hz at fs = {config.fs:g} Hz needs more than "
                         f"WAKE_HPA_MAX_PSD_BINS = {lib.WAKE_HPA_MAX_PSD_BINS} spectrum bins")
+    top = (lib.WAKE_HPA_MAX_PSD_BINS - 1) * (config.fs / lib.WAKE_HPA_PSD_GRID)   # wake_hpa.c's config_ok
+    if config.gate_cutoff is not None and not config.gate_cutoff < top:
+        problems.append(f"gate_cutoff = {config.gate_cutoff:g} Hz at fs = {config.fs:g} Hz needs more DFT bins than "
+                        f"WAKE_HPA_MAX_PSD_BINS = {lib.WAKE_HPA_MAX_PSD_BINS} hold: the C HPA takes 0 < gate_cutoff "
+                        f"< {top:g} Hz (or None)")
     if len(config.hpa_points()) > lib.WAKE_HPA_MAX_WARMUP:
         problems.append(f"{len(config.hpa_points())} warm-up points exceed WAKE_HPA_MAX_WARMUP = "
                         f"{lib.WAKE_HPA_MAX_WARMUP} (pass fewer warmup_hpa_s)")
@@ -125,7 +137,9 @@ def hpa_config_fields(config: WakeConfig) -> dict:
             "shallow_high": config.shallow_max,
             "default_cutoff": config.default_cutoff, "min_depth_ratio": MIN_DEPTH_RATIO,
             "floor_ratio": FLOOR_RATIO, "edge_ratio": EDGE_RATIO, "ridge": config.ridge,
-            "process_noise_ratio": config.process_noise_ratio, "window": config.window_samples,
+            "process_noise_ratio": config.process_noise_ratio,
+            "gate_cutoff": 0.0 if config.gate_cutoff is None else config.gate_cutoff,
+            "ridge_scale": RIDGE_SCALES.index(config.ridge_scale), "window": config.window_samples,
             "level": config.level, "ar_order": config.ar_order, "rule": cutoff_rule_names().index(config.cutoff_rule),
             "clean_below": clean_only_below(config), "horizon": 1, "warmup": points + [0] * (MAX_WARMUP - len(points))}
 
@@ -206,17 +220,21 @@ def _instance(config: WakeConfig, taps, weights, name: str, *, horizon: int = 1,
 
 def _previous_ahead(h, previous_ahead, index: int, new_samples: int):
     """Give a fresh instance the previous HPA's tremor-ahead predictor, as that HPA's instance would hold it
-    (``ahead_prev``; its index ``new_samples`` before ``index``), so its held-out gain scores it."""
+    (its index ``new_samples`` before ``index``), so its held-out gain scores it: ``wake_hpa_set_previous_ahead``,
+    which checks the coefficients."""
     if previous_ahead is None:
         return
-    c = np.asarray(previous_ahead, dtype=np.float32)
-    if c.shape != (len(h.ahead.prev),) or not np.isfinite(c).all():
-        raise ValueError(f"previous_ahead must be {len(h.ahead.prev)} finite coefficients, got {previous_ahead!r}")
+    ffi, lib = _core()
+    taps = int(lib.WAKE_HPA_AHEAD_TAPS)
+    c = np.ascontiguousarray(previous_ahead, dtype=np.float32)
+    if c.shape != (taps,):
+        raise ValueError(f"previous_ahead must be {taps} finite coefficients within [-8, 8], got {previous_ahead!r}")
     if isinstance(new_samples, bool) or not 0 <= int(new_samples) <= int(index):
         raise ValueError(f"new_samples must be an integer in 0..index = {index}, got {new_samples!r}")
-    h.ahead.prev[0 : c.size] = c.tolist()   # one slice assignment (float32 values: exact in the C floats)
-    h.ahead.prev_index = (int(index) - int(new_samples)) & 0xFFFFFFFF
-    h.ahead.has_prev = 1
+    status = lib.wake_hpa_set_previous_ahead(h, ffi.from_buffer("float[]", c), (int(index) - int(new_samples)) & 0xFFFFFFFF)
+    if status != lib.WAKE_HPA_OK:
+        raise ValueError(f"previous_ahead must be {taps} finite coefficients within [-8, 8] (the predictor an HPA "
+                         f"produces), got {previous_ahead!r} (wake_hpa_set_previous_ahead: status {status})")
 
 
 def run_hpa_c(window, config: WakeConfig, *, taps, previous_weights=None, index: int = 0,

@@ -85,10 +85,9 @@ static int hpa_point(wake_rtp_t *rtp, wake_hpa_t *hpa, const wake_hpa_config_t *
     if (wake_hpa_init(hpa, cfg, hpa_taps, carry->weights) != WAKE_HPA_OK) {
         return WAKE_BATCH_HPA_REFUSED;
     }
-    if (carry->has_ahead) {                  /* wake.hpa.c_port._previous_ahead */
-        memcpy(hpa->ahead.prev, carry->ahead, sizeof carry->ahead);
-        hpa->ahead.prev_index = carry->ahead_index;
-        hpa->ahead.has_prev = 1u;
+    if (carry->has_ahead                     /* wake.hpa.c_port._previous_ahead */
+        && wake_hpa_set_previous_ahead(hpa, carry->ahead, carry->ahead_index) != WAKE_HPA_OK) {
+        return WAKE_BATCH_HPA_REFUSED;
     }
     if (wake_hpa_start(hpa, window, length, count) != WAKE_HPA_OK || wake_hpa_run(hpa) != WAKE_HPA_DONE
         || wake_hpa_take(hpa, res) != WAKE_HPA_OK) {

@@ -15,7 +15,7 @@ import numpy as np
 
 from wake._rtp import ffi, lib
 from wake.rtp.fixed_ahead import AheadMixin
-from wake.rtp.fixed_voluntary import VoluntaryAheadMixin
+from wake.rtp.fixed_voluntary import STRUCT_LAYOUT, VoluntaryAheadMixin, migrate_struct
 from wake.rtp.status import check_status as _check
 from wake.rtp.qformat import (  # noqa: F401  (re-exported: the formats of this core)
     _INT32_MAX, _INT32_MIN, FIR_FRAC, GATE_FRAC, MAX_LEVEL, P_FRAC, SAMPLE_FRAC, STATE_FRAC, TAP_FRAC, TAP_ROW_ABS_MAX,
@@ -287,7 +287,7 @@ class FixedPointRTP(AheadMixin, VoluntaryAheadMixin):
             missing = ffi.from_buffer("uint8_t[]", flags)
         vol_q = np.empty(n, dtype=np.int16)                # every entry is written by the C core
         rows = np.empty((4, n if all_outputs else 0), dtype=np.int32)   # P, gate, command, voluntary ahead
-        with_ahead = all_outputs and bool(self._state.vol_set)   # constant within a block (installed between blocks)
+        with_ahead = all_outputs and bool(self._state.voluntary_ahead.set)   # constant within a block (installed between blocks)
         ptrs = [ffi.from_buffer("int32_t[]", rows[i]) if all_outputs and (i < 3 or with_ahead) else ffi.NULL
                 for i in range(4)]                        # a NULL row is not computed
         _check(lib.wake_rtp_run_outputs(self._state, ffi.from_buffer("int16_t[]", x_q), missing, n,
@@ -376,7 +376,7 @@ class FixedPointRTP(AheadMixin, VoluntaryAheadMixin):
     def __getstate__(self):
         return {"full_scale": self.full_scale, "taps_q": self._taps_q, "clipped": self.clipped,
                 "p0_q": self._p0_q, "struct": bytes(ffi.buffer(self._state)),
-                "carried": self._carried_saturations, "fs": self.fs}
+                "carried": self._carried_saturations, "fs": self.fs, "layout": STRUCT_LAYOUT}
 
     def __setstate__(self, st):
         self.full_scale = st["full_scale"]
@@ -384,13 +384,14 @@ class FixedPointRTP(AheadMixin, VoluntaryAheadMixin):
         self.level, self.n_taps = self._taps_q.shape
         self._p0_q = st["p0_q"]
         self.clipped = st["clipped"]
-        if len(st["struct"]) not in self._STRUCT_SIZES or not isinstance(st["carried"], int):
-            raise ValueError("this state was saved by another version of the C core (its struct layout "
-                             "differs); re-create the filter and run it again instead of loading the state")
+        if not isinstance(st["carried"], int):
+            raise ValueError("this state was saved by another version of the C core (its saturation count is "
+                             "not an int); re-create the filter and run it again instead of loading the state")
+        struct = migrate_struct(st["struct"], st.get("layout", 1))
         self._carried_saturations = st["carried"]
         self._state = ffi.new("wake_rtp_t *")
         self._out = ffi.new("int16_t *")
         self._taps_c = ffi.from_buffer("int16_t[]", self._taps_q)
-        ffi.buffer(self._state)[:len(st["struct"])] = st["struct"]
+        ffi.buffer(self._state)[:len(struct)] = struct
         self._state.taps = self._taps_c  # the pickled pointer belonged to the old process
         self._restore_ahead(st)

@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from wake._rtp import ffi, lib
+from wake.rtp.fixed_voluntary import LAYOUT_1_SIZES
 from wake.rtp.status import check_status as _check
 from wake.ahead import ramp_step
 from wake.rtp.qformat import AHEAD_COEF_FRAC, AHEAD_TAPS, GATE_FRAC, SAMPLE_FRAC, STATE_FRAC, quantize_ahead
@@ -43,17 +44,16 @@ def quantize_ramp(alpha: float) -> int:
 class AheadMixin:
     """``set_ahead``, ``last_ahead`` and ``run_ahead`` of the C core (the contract of issue 32)."""
 
-    #: Pickled struct sizes this core loads: its own, the one before the voluntary motion ahead (w_h) and the
-    #: one before the tremor ahead (each part was appended to the struct, so an older struct is its prefix; a
-    #: state without w_h holds the one-step prediction until an HPA installs one).
-    _STRUCT_SIZES = (ffi.sizeof("wake_rtp_t"), ffi.offsetof("wake_rtp_t", "vol_weights"),
-                     ffi.offsetof("wake_rtp_t", "ahead_coef"))
+    #: Pickled struct sizes of layout 1 this core loads (wake.rtp.fixed_voluntary.LAYOUT_1_SIZES): whole, before
+    #: the voluntary motion ahead (w_h) and before the tremor ahead (a state without w_h holds the one-step
+    #: prediction until an HPA installs one).
+    _STRUCT_SIZES = LAYOUT_1_SIZES
 
     def _restore_ahead(self, st):
         """After unpickling: ``fs``, and for a state saved before the tremor ahead, none installed at 100 Hz."""
         self.fs = float(st.get("fs", 100.0))
-        if len(st["struct"]) <= ffi.offsetof("wake_rtp_t", "ahead_coef"):
-            self._state.ahead_ramp = quantize_ramp(ramp_step(self.fs))   # the rest stays 0: shut, no predictor
+        if len(st["struct"]) <= ffi.offsetof("wake_rtp_t", "ahead"):
+            self._state.ahead.ramp = quantize_ramp(ramp_step(self.fs))   # the rest stays 0: shut, no predictor
 
     def _init_ahead(self, fs):
         f = float(fs)
@@ -74,17 +74,17 @@ class AheadMixin:
     @property
     def ahead_coefficients(self):
         """The predictor as the C core holds it (Q27, dequantised), newest estimate first."""
-        return np.array(list(self._state.ahead_coef), dtype=float) / 2.0**AHEAD_COEF_FRAC
+        return np.array(list(self._state.ahead.coef), dtype=float) / 2.0**AHEAD_COEF_FRAC
 
     @property
     def ahead_goal(self):
         """The gate's goal (Q30, dequantised)."""
-        return self._state.ahead_goal / 2.0**GATE_FRAC
+        return self._state.ahead.goal / 2.0**GATE_FRAC
 
     @property
     def ahead_ramp(self):
         """The gate's ramp coefficient alpha (Q30, dequantised)."""
-        return self._state.ahead_ramp / 2.0**GATE_FRAC
+        return self._state.ahead.ramp / 2.0**GATE_FRAC
 
     @property
     def ahead_history(self):
@@ -96,14 +96,14 @@ class AheadMixin:
     @property
     def ahead_saturations(self):
         """Narrowings of the tremor ahead that saturated (apart from :attr:`saturations`)."""
-        return int(self._state.ahead_saturations)
+        return int(self._state.ahead.saturations)
 
     @property
     def last_ahead(self):
         """``(predicted, confidence, command)`` of the last step: the tremor for ``n + h``, the gate, their product."""
         st = self._state
         lsb = self.full_scale / 2.0**STATE_FRAC   # P and the command are Q23 of the full scale
-        return st.ahead_predicted * lsb, st.ahead_gate / 2.0**GATE_FRAC, st.ahead_command * lsb
+        return st.ahead.predicted * lsb, st.ahead.gate / 2.0**GATE_FRAC, st.ahead.command * lsb
 
     def run_ahead(self, samples):
         """:meth:`run_outputs` without its last row: ``(voluntary, predicted, confidence, command)`` arrays,

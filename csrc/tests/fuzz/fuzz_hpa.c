@@ -114,6 +114,10 @@ static void read_config(fuzz_input_t *in, wake_hpa_config_t *c)
         c->ridge = fuzz_f32(in);
         c->process_noise_ratio = fuzz_f32(in);
     }
+    if (mask & 4096u) {                    /* issue 46's settings: any gate cut-off bits, the ridge's scale */
+        c->gate_cutoff = (mask & 8192u) ? fuzz_f32(in) : (float)fuzz_u8(in) / 16.0f;
+        c->ridge_scale = (uint16_t)(fuzz_u8(in) % 3u);
+    }
 }
 
 /**
@@ -266,7 +270,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             st = wake_hpa_apply(&hpa, &rtp);
 #if WAKE_HPA_AHEAD
             if (st == WAKE_HPA_OK && check) {   /* the RTP holds exactly the converted predictor and goal */
-                FUZZ_REQUIRE(memcmp(rtp.ahead_coef, c, sizeof c) == 0 && rtp.ahead_goal == goal);
+                FUZZ_REQUIRE(memcmp(rtp.ahead.coef, c, sizeof c) == 0 && rtp.ahead.goal == goal);
             }
 #endif
             break;

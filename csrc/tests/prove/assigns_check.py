@@ -39,8 +39,9 @@ LISTED = re.compile(r"h->(?P<name>\w+)(?:\[(?P<lo>[^\]]+?)\s*\.\.\s*(?P<hi>[^\]]
 
 
 def header_values() -> dict:
-    """The default value of every integer macro of the public headers (`#define NAME expr`), as eval'd ints."""
-    text = (CSRC / "wake_rtp.h").read_text() + (CSRC / "wake_hpa.h").read_text()
+    """The default value of every integer macro of the public headers (`#define NAME expr`; wake_rtp_types.h holds
+    the RTP's sizes), as eval'd ints."""
+    text = "".join((CSRC / h).read_text() for h in ("wake_rtp_types.h", "wake_rtp.h", "wake_hpa.h"))
     exprs = {}
     for m in re.finditer(r"^#define (WAKE_\w+) (.+?)\s*(?:/\*.*)?$", text, re.M):
         exprs.setdefault(m[1], m[2])

@@ -42,6 +42,13 @@ RTP_ENTRIES = ["wake_rtp_init", "wake_rtp_set_weights", "wake_rtp_reset", "wake_
                "wake_rtp_step_missing", "wake_rtp_run", "wake_rtp_load_state", "wake_rtp_get_state",
                "wake_rtp_reciprocal", "wake_rtp_set_ahead", "wake_rtp_set_ahead_ramp", "wake_rtp_ahead_output",
                "wake_rtp_load_ahead_state", "wake_rtp_get_ahead_state"]
+#: the tremor ahead's own instance (wake_ahead.h): its per-sample functions and the setters that take arrays, on an
+#: instance of any content, in every configuration (its module compiles in every one)
+AHEAD_INSTANCE_ENTRIES = ["wake_ahead_step", "wake_ahead_step_missing", "wake_ahead_prepare", "wake_ahead_finish",
+                          "wake_ahead_set_model", "wake_ahead_load", "wake_ahead_history"]
+#: the voluntary motion ahead's own instance (wake_voluntary_ahead.h): its output entry, on an instance of any
+#: content, in every configuration (it compiles in every one)
+VOLUNTARY_INSTANCE_ENTRIES = ["wake_voluntary_ahead_output"]
 #: entries of the split step, analysed in every configuration with WAKE_RTP_SPLIT 1 added
 SPLIT_ENTRIES = ["wake_rtp_prepare", "wake_rtp_finish", "wake_rtp_finish_missing"]
 SPLIT_DEFS = " -DWAKE_RTP_SPLIT=1"
@@ -65,7 +72,8 @@ VOLUNTARY_ENTRY_OPTIONS = {e: ("-eva-slevel-function", "divide_wide:0,wake_rtpi_
 VOLUNTARY_ENTRY_TIMEOUT = {e: 300 for e in VOLUNTARY_BUILD_ENTRIES}
 #: HPA entries whose analysis is checked (every alarm listed and justified)
 HPA_ENTRIES = ["wake_hpa_default_config", "wake_hpa_init", "wake_hpa_push", "wake_hpa_push_missing",
-               "wake_hpa_start", "wake_hpa_slice", "wake_hpa_take", "wake_hpa_to_rtp", "wake_hpa_apply"]
+               "wake_hpa_start", "wake_hpa_slice", "wake_hpa_take", "wake_hpa_to_rtp", "wake_hpa_apply",
+               "wake_hpa_set_previous_ahead"]
 #: configurations of the HPA entries: the HPA's own code does not depend on the RTP's arithmetic or Kalman
 #: switches, so two configurations cover both values of each; apply, which calls wake_rtp_set_weights, runs
 #: in all of them
@@ -102,6 +110,7 @@ HPA_REPORT_ENTRIES = [("hpa", "wake_hpa_run")]
 #: tests them, so Eva's non-finite float alarms are off there (-warn-special-float none); everywhere
 #: else a NaN or an infinity is an alarm
 RAW_FLOAT_ENTRIES = {"wake_hpa_init", "wake_hpa_to_rtp", "wake_hpa_apply", "wake_hpa_ahead_to_rtp",
+                     "wake_hpa_set_previous_ahead",
                      # the tremor ahead's solve tests what it divides by and clips what it produces, a NaN or an
                      # infinity on the way included (eva_hpa_ahead_steps.c)
                      "step_ahead_solve"}
@@ -323,7 +332,8 @@ def main(argv=None) -> int:
         return 3
     plan = []
     if args.only in (None, "rtp"):
-        plan += [("rtp", e, c) for e in RTP_ENTRIES + SPLIT_ENTRIES + VOLUNTARY_ENTRIES for c in CONFIGS]
+        plan += [("rtp", e, c) for e in RTP_ENTRIES + AHEAD_INSTANCE_ENTRIES + VOLUNTARY_INSTANCE_ENTRIES + SPLIT_ENTRIES
+                 + VOLUNTARY_ENTRIES for c in CONFIGS]
     if args.only in (None, "hpa"):
         plan += [("hpa", e, c) for e in HPA_ENTRIES
                  for c in (CONFIGS if e in HPA_ALL_CONFIG_ENTRIES else HPA_CONFIGS)]

@@ -62,7 +62,7 @@ static int any_checked_fields(void)
     unsigned j;
     float *const fields[] = {&cfg.fs, &cfg.tremor_low, &cfg.tremor_high, &cfg.cutoff_low, &cfg.cutoff_high,
                              &cfg.shallow_high, &cfg.default_cutoff, &cfg.min_depth_ratio, &cfg.floor_ratio,
-                             &cfg.edge_ratio, &cfg.ridge, &cfg.process_noise_ratio};
+                             &cfg.edge_ratio, &cfg.ridge, &cfg.process_noise_ratio, &cfg.gate_cutoff};
     unknown(&cfg, sizeof cfg);
     if (cfg.level >= 1u && cfg.level <= WAKE_HPA_MAX_LEVEL) {
         /* the same values, one Eva state each: loops over the level stay exact (apply's weights) */
@@ -168,6 +168,17 @@ void eva_wake_hpa_to_rtp(void)
                           w, &r, &q);
 }
 
+/** The previous predictor given to an instance init accepted (its counters of any content): coefficients of any bit
+ *  pattern, NaN and infinities included (the setter tests them), any index. */
+void eva_wake_hpa_set_previous_ahead(void)
+{
+    float c[WAKE_HPA_AHEAD_TAPS];
+    if (any_checked_fields()) {
+        unknown(c, sizeof c);
+        (void)wake_hpa_set_previous_ahead(&hpa, c, Frama_C_unsigned_int_interval(0u, UINT32_MAX));
+    }
+}
+
 void eva_wake_hpa_apply(void)
 {
     if (any_checked_fields()) {
@@ -190,14 +201,14 @@ void eva_wake_hpa_apply(void)
                states of apply's statuses, so the ranges are checked after the call whatever its status */
             unsigned k;
             for (k = 0; k < WAKE_HPA_AHEAD_TAPS; ++k) {
-                rtp.ahead_coef[k] = Frama_C_interval(-WAKE_RTP_AHEAD_COEF_MAX, WAKE_RTP_AHEAD_COEF_MAX);
+                rtp.ahead.coef[k] = Frama_C_interval(-WAKE_RTP_AHEAD_COEF_MAX, WAKE_RTP_AHEAD_COEF_MAX);
             }
-            rtp.ahead_goal = Frama_C_interval(0, WAKE_RTP_GATE_ONE);
+            rtp.ahead.goal = Frama_C_interval(0, WAKE_RTP_GATE_ONE);
             (void)wake_hpa_apply(&hpa, &rtp);
             /* what apply installs (the result's predictor and goal converted) lies within the RTP's ranges */
             /*@ assert \forall integer k; 0 <= k < WAKE_HPA_AHEAD_TAPS ==>
-                       -1073741824 <= rtp.ahead_coef[k] <= 1073741824; */
-            /*@ assert 0 <= rtp.ahead_goal <= 1073741824; */
+                       -1073741824 <= rtp.ahead.coef[k] <= 1073741824; */
+            /*@ assert 0 <= rtp.ahead.goal <= 1073741824; */
         }
 #else
         (void)wake_hpa_apply(&hpa, &rtp);

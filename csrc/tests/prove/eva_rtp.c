@@ -195,6 +195,68 @@ void eva_wake_rtp_get_ahead_state(void)
 }
 #endif
 
+/* the tremor ahead's own instance (wake_ahead.h), in every configuration: of any content at all (the header
+   documents every content as safe for the step, and the setters check what they take) */
+static wake_ahead_t ahead;
+static wake_ahead_prepared_t ahead_prepared;
+static int32_t instance_coefficients[WAKE_RTP_AHEAD_TAPS];
+static wake_q15_t instance_line[WAKE_RTP_AHEAD_TAPS];
+
+void eva_wake_ahead_step(void)
+{
+    unknown(&ahead, sizeof ahead);
+    wake_ahead_step(&ahead, any_i32());
+}
+
+void eva_wake_ahead_step_missing(void)
+{
+    unknown(&ahead, sizeof ahead);
+    wake_ahead_step_missing(&ahead);
+}
+
+void eva_wake_ahead_prepare(void)
+{
+    unknown(&ahead, sizeof ahead);
+    wake_ahead_prepare(&ahead, &ahead_prepared);
+}
+
+void eva_wake_ahead_finish(void)
+{
+    unknown(&ahead, sizeof ahead);
+    unknown(&ahead_prepared, sizeof ahead_prepared);
+    wake_ahead_finish(&ahead, &ahead_prepared, any_i32(), any_i32());
+}
+
+void eva_wake_ahead_set_model(void)
+{
+    unknown(&ahead, sizeof ahead);
+    unknown(instance_coefficients, sizeof instance_coefficients);
+    (void)wake_ahead_set_model(&ahead, instance_coefficients, any_i32());
+}
+
+void eva_wake_ahead_load(void)
+{
+    unknown(&ahead, sizeof ahead);
+    unknown(instance_line, sizeof instance_line);
+    (void)wake_ahead_load(&ahead, instance_line, any_i32());
+}
+
+void eva_wake_ahead_history(void)
+{
+    unknown(&ahead, sizeof ahead);
+    (void)wake_ahead_history(&ahead, instance_line);
+}
+
+/* the voluntary motion ahead's own instance (wake_voluntary_ahead.h): its output entry, in every configuration */
+static wake_voluntary_ahead_t voluntary_instance;
+
+void eva_wake_voluntary_ahead_output(void)
+{
+    wake_q23_t output;
+    unknown(&voluntary_instance, sizeof voluntary_instance);
+    (void)wake_voluntary_ahead_output(&voluntary_instance, &output);
+}
+
 #if WAKE_RTP_VOLUNTARY_AHEAD
 /* the voluntary motion at n + h (WAKE_RTP_VOLUNTARY_AHEAD 1): analysed with the switch on */
 static wake_q24_t weights_ahead[WAKE_RTP_MAX_LEVEL];

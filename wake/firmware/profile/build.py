@@ -199,6 +199,61 @@ def rtp_sources(src):
     return sorted(Path(src).glob("wake_rtp*.c"), key=lambda p: (p.name != "wake_rtp.c", p.name))
 
 
+#: The RTP's entry points that exist for one feature only: a firmware without the feature calls none of them.
+FEATURE_ENTRIES = {
+    "WAKE_RTP_AHEAD": ("wake_rtp_set_ahead", "wake_rtp_set_ahead_ramp", "wake_rtp_ahead_output",
+                       "wake_rtp_load_ahead_state", "wake_rtp_get_ahead_state"),
+    "WAKE_RTP_SPLIT": ("wake_rtp_prepare", "wake_rtp_finish", "wake_rtp_finish_missing"),
+    "WAKE_RTP_VOLUNTARY_AHEAD": ("wake_rtp_set_voluntary_ahead", "wake_rtp_voluntary_ahead_output",
+                                 "wake_rtp_run_outputs"),
+}
+#: Each switch's value when ``defs`` does not set it (csrc/wake_rtp.h).
+FEATURE_DEFAULTS = {"WAKE_RTP_AHEAD": "1", "WAKE_RTP_SPLIT": "0", "WAKE_RTP_VOLUNTARY_AHEAD": "0"}
+
+
+def firmware_entries(names, defs=()) -> list:
+    """The RTP's public functions (``wake_rtp_*`` of ``names``) that a firmware built with ``defs`` calls:
+    those of a feature the build leaves off are not.
+
+    Examples
+    --------
+    >>> firmware_entries(["wake_rtp_step", "wake_rtp_set_ahead", "wake_ahead_step"], ["-DWAKE_RTP_AHEAD=0"])
+    ['wake_rtp_step']
+    """
+    values = dict(FEATURE_DEFAULTS)
+    for d in defs:
+        name, _, value = str(d).removeprefix("-D").partition("=")
+        if name in values:
+            values[name] = value or "1"
+    off = {e for switch, entries in FEATURE_ENTRIES.items() if values[switch] == "0" for e in entries}
+    return sorted(n for n in names if n.startswith("wake_rtp_") and n not in off)
+
+
+def _linked_core(run, tools, target, flags, src, out, core_o, defs, compiler):
+    """The core as a firmware links it: every module compiled with a section per function and linked with
+    ``--gc-sections`` from the RTP's entry points of the configuration (firmware_entries), so a feature
+    module's functions that nothing calls are dropped, as a firmware's link drops them.  Its sections are the
+    footprint; the profiled image links ``core_o``, whose code is the same function for function."""
+    nm = shutil.which("arm-none-eabi-nm")
+    if nm is None:
+        return core_o
+    names = [line.split()[-1] for line in subprocess.run([nm, "-g", "--defined-only", str(core_o)],
+                                                         capture_output=True, text=True, check=True).stdout.splitlines()
+             if line.split()[1:2] == ["T"]]
+    sectioned = []
+    for module in rtp_sources(src):
+        obj = out / (module.stem + ".fs.o")
+        cc = ([tools["gcc"], *WARN_FLAGS, *flags] if compiler == "gcc" else
+              [clang_command() or "clang", "--target=arm-none-eabi", *WARN_FLAGS, *flags, "-isystem", NEWLIB_INCLUDE])
+        run([*cc, "-ffunction-sections", "-fdata-sections", "-c", str(module), "-o", str(obj)])
+        sectioned.append(str(obj))
+    linked = out / "wake_rtp_linked.o"
+    roots = [f"-Wl,--undefined={name}" for name in firmware_entries(names, defs)]
+    run([tools["gcc"], *TARGETS[target][1], "-nostdlib", "-r", "-Wl,--gc-sections", *roots, *sectioned,
+         "-o", str(linked)])
+    return linked
+
+
 def build_image(target="m4-O2", *, board="generic", build_dir=None, csrc=None, defs=(), debug=True,
                 compiler="gcc") -> Image:
     """Cross-compile the core and the harness for ``target`` and link an ELF image.
@@ -242,6 +297,7 @@ def build_image(target="m4-O2", *, board="generic", build_dir=None, csrc=None, d
         module_objects.append(str(obj))
     run([tools["gcc"], *TARGETS[target][1], "-nostdlib", "-r", *module_objects, "-o", str(core_o)])
     objects = [str(core_o)]
+    linked_o = _linked_core(run, tools, target, flags, src, out, core_o, defs, compiler)
     if (src / "wake_rate.c").is_file():  # the decimating front end (input rates above 150 Hz)
         run([tools["gcc"], *WARN_FLAGS, *flags, "-c", str(src / "wake_rate.c"), "-o", "wake_rate.o"])
         objects.append("wake_rate.o")
@@ -258,6 +314,6 @@ def build_image(target="m4-O2", *, board="generic", build_dir=None, csrc=None, d
         ci = out / "wake_rtp_modules.ci"
         ci.write_text("".join(Path(o).with_suffix(".ci").read_text() for o in module_objects
                               if Path(o).with_suffix(".ci").is_file()))
-    img = Image.read(elf, core_o, target, ci)
+    img = Image.read(elf, linked_o, target, ci)
     img.source = src / "wake_rtp.c"
     return img
