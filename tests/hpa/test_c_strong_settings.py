@@ -224,7 +224,8 @@ def test_the_c_hpa_refuses_bad_settings_and_python_names_the_valid_range():
     weights = np.zeros(5, dtype=np.float32)
     good = hpa_config(WakeConfig(gate_cutoff=4.0, ridge_scale="centred"))
     h = ffi.new("wake_hpa_t *")
-    init = lambda c: lib.wake_hpa_init(h, c, ffi.from_buffer("int16_t[]", taps), ffi.from_buffer("float[]", weights))
+    def init(c):
+        return lib.wake_hpa_init(h, c, ffi.from_buffer("int16_t[]", taps), ffi.from_buffer("float[]", weights))
     assert init(good) == lib.WAKE_HPA_OK
     for field, bad in (("gate_cutoff", -1.0), ("gate_cutoff", float("nan")), ("gate_cutoff", 50.0),
                        ("gate_cutoff", float("inf")), ("ridge_scale", 2)):

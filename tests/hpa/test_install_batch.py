@@ -1,125 +1,43 @@
-"""The Python HPA's batch path (wake.hpa.c_batch.InstallBatch, wake_batch_install in wake/native/wake_batch.c)
-against the path it replaces.
+"""What only the Python HPA's batch path has (wake.hpa.c_batch.InstallBatch, wake_batch_install in
+wake/native/wake_batch.c); what both batch paths share is tested in tests/hpa/test_batch_paths.py.
 
-``WakeFilter(backend="c")`` with the Python HPA finishes a run of analysed windows in Python and hands their RTP
-stretches and installs to one C call; every point it does not cover, or that the driver refuses, runs on
-``Channel.hpa``.  With the batch switched off (``c_batch.covers_installs`` False) every point runs there: outputs
-and HPA history must be the same bit for bit, at 100 and 1000 Hz (the rate adapter), on a gyroscope and on an
-accelerometer with gravity.
+With the batch switched off (``c_batch.covers_installs`` False) every point runs on ``Channel.hpa``: outputs and
+HPA history must be the same bit for bit.
 """
 
 import numpy as np
 import pytest
-from support import assert_same_history, assert_same_results, motion
+from batch_paths import PATHS, assert_same_run, stop_after_first_point, without_path
+from support import assert_same_history, motion
 
 from wake import WakeFilter
-from wake.hpa import c_batch
 from wake.rtp import c_backend_available
 
 pytestmark = pytest.mark.skipif(not c_backend_available(), reason="the compiled C core (wake._rtp) is not built")
 
+PATH = PATHS["install"]
+
+
 @pytest.fixture
 def taken(monkeypatch):
     """The points the batch installed, counted."""
-    count = [0]
-    flush = c_batch.InstallBatch.flush
-
-    def counting(self, y):
-        offered = len(self.points)
-        start, rest = flush(self, y)
-        count[0] += offered - len(rest)
-        return start, rest
-
-    monkeypatch.setattr(c_batch.InstallBatch, "flush", counting)
-    return count
-
-
-def without_batch(run, monkeypatch):
-    with monkeypatch.context() as m:
-        m.setattr(c_batch, "covers_installs", lambda channel: False)
-        return run()
-
-
-def assert_same_run(x, monkeypatch, taken, **settings):
-    run = lambda: WakeFilter(backend="c", **settings).run(x)  # noqa: E731
-    res = run()
-    used = taken[0]
-    ref = without_batch(run, monkeypatch)
-    assert taken[0] == used
-    assert_same_results(res, ref)
-    return used
-
-
-@pytest.mark.parametrize("fs", [100.0, 1000.0])
-@pytest.mark.parametrize("kind", ["gyro", "acc"])
-def test_batch_matches_the_point_by_point_path(fs, kind, monkeypatch, taken):
-    x, _ = motion(fs, kind, seconds=40.0)
-    used = assert_same_run(x, monkeypatch, taken, fs=fs)
-    assert used >= 3 * 6   # three channels, most of their 11 points in the batch
-
-
-@pytest.mark.parametrize("fs", [100.0, 1000.0])
-@pytest.mark.parametrize("kind", ["gyro", "acc"])
-def test_blocks_and_updates_unchanged(fs, kind, monkeypatch, taken):
-    x = motion(fs, kind, seconds=25.0)[0][:, 2]
-    cuts = np.cumsum([1, 333, 2000, 7, 4000])
-    cuts = cuts[cuts < x.shape[0]]
-
-    def blocks():
-        f = WakeFilter(backend="c", fs=fs)
-        out = np.concatenate([f.update_block(part) for part in np.split(x, cuts)])
-        return out, f.hpa_history
-
-    out, hist = blocks()
-    assert taken[0] > 0
-    ref, ref_hist = without_batch(blocks, monkeypatch)
-    assert np.array_equal(out, ref, equal_nan=True)
-    assert_same_history(hist, ref_hist)
-    f = WakeFilter(backend="c", fs=fs)
-    stepped = np.array([f.update(float(v)) for v in x[: x.shape[0] // 2]])
-    assert np.array_equal(stepped, out[: x.shape[0] // 2], equal_nan=True)
-
-
-@pytest.mark.filterwarnings("ignore::wake.rtp.adaptive.ClippingWarning")   # the clipped case's, both ways
-@pytest.mark.parametrize("fs", [100.0, 1000.0])
-def test_gaps_clipping_and_a_jump_fall_back_point_by_point(fs, monkeypatch, taken):
-    x = motion(fs, "acc", seconds=40.0, seed=2)[0][:, 2].copy()
-    n = x.shape[0]
-    x[n // 4 : n // 4 + int(2 * fs)] = np.nan        # a long gap
-    x[n // 2 : n // 2 + 5] = np.nan                  # a short one
-    x[3 * n // 4 :] += 40.0                          # a jump: the overflow rule raises the full scale
-    used = assert_same_run(x, monkeypatch, taken, fs=fs)
-    assert used > 0
-    taken[0] = 0
-    assert_same_run(x, monkeypatch, taken, fs=fs, full_scale=4.0)   # clipped at a fixed full scale
+    return PATH.count_points(monkeypatch)
 
 
 @pytest.mark.parametrize("settings", [dict(horizon=5), dict(gate_cutoff=4.0), dict(initial_weights="prior"),
                                       dict(ridge_scale="centred")])
 def test_settings_the_batch_takes_or_leaves(settings, monkeypatch, taken):
     x = motion(100.0, "gyro", seconds=40.0, seed=4)[0]
-    assert_same_run(x, monkeypatch, taken, **settings)
+    assert_same_run(PATH, x, monkeypatch, taken, **settings)
     # a voluntary motion ahead (horizon > 1) is installed point by point; the rest go to the batch
     assert (taken[0] == 0) == (settings.get("horizon", 1) > 1)
 
 
 def test_a_point_the_driver_refuses_runs_on_the_channel(monkeypatch, taken):
     """The driver stops after its first point of each call (as after a refusal): the rest run as before."""
-    ffi, lib = c_batch._core()
-
-    class OnePoint:
-        def __getattr__(self, name):
-            return getattr(lib, name)
-
-        def wake_batch_install(self, *args):
-            args = list(args)
-            args[2], args[3] = args[4][0], min(args[3], 1)   # to the first point, no tail: as a refusal leaves it
-            lib.wake_batch_install(*args)
-            return lib.WAKE_BATCH_RTP_REFUSED
-
-    monkeypatch.setattr(c_batch, "_core", lambda: (ffi, OnePoint()))
+    stop_after_first_point(monkeypatch, "wake_batch_install", 2, "WAKE_BATCH_RTP_REFUSED")
     x = motion(100.0, "acc", seconds=40.0, seed=5)[0]
-    assert assert_same_run(x, monkeypatch, taken) == 3   # the first point of each channel's batch, the rest after
+    assert assert_same_run(PATH, x, monkeypatch, taken) == 3   # the first point of each channel's batch, the rest after
 
 
 def test_a_point_whose_finish_raises_runs_on_the_channel(monkeypatch, taken):
@@ -140,18 +58,7 @@ def test_a_point_whose_finish_raises_runs_on_the_channel(monkeypatch, taken):
     x = motion(100.0, "gyro", seconds=40.0, seed=6)[0][:, 0]
     res = WakeFilter(backend="c").run(x)
     monkeypatch.setattr(module, "clamped_words", real)
-    ref = without_batch(lambda: WakeFilter(backend="c").run(x), monkeypatch)
+    ref = without_path(PATH, lambda: WakeFilter(backend="c").run(x), monkeypatch)
     assert calls[0] >= 3 and taken[0] > 0
     assert np.array_equal(res.prediction, ref.prediction)
     assert_same_history(res.hpa, ref.hpa)
-
-
-def test_bad_input_refused_alike(monkeypatch):
-    x = motion(100.0, "gyro", seconds=10.0)[0][:, 0].copy()
-    x[700] = np.inf
-    messages = []
-    for run in (lambda: WakeFilter(backend="c").run(x),) * 2:
-        with pytest.raises(ValueError) as info:
-            run() if not messages else without_batch(run, monkeypatch)
-        messages.append(str(info.value))
-    assert messages[0] == messages[1] and "inf" in messages[0]
