@@ -22,12 +22,9 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from wake import WakeConfig  # noqa: E402
-from wake.ahead import fit_predictor, gate_target, held_out_gain, predictions  # noqa: E402
 from wake.eval.synthetic import paper_dataset  # noqa: E402
-from wake.hpa.c_port import quantize_window, run_ahead_c  # noqa: E402
-from wake.hpa.sharp import detrended_highpass  # noqa: E402
-from wake.rtp.qformat import quantize_taps  # noqa: E402
-from wake.wavelets import filter_bank_outputs, filter_bank_taps  # noqa: E402
+from wake.hpa.c_port import ahead_agreement  # noqa: E402
+from wake.wavelets import filter_bank_taps  # noqa: E402
 
 CONFIG = WakeConfig(backend="reference")
 TAPS = filter_bank_taps("sym3", 5)
@@ -36,26 +33,13 @@ HORIZONS = (1, 5, 10, 20)
 
 def compare(stream, horizon, worst):
     """Run the C fit on ``stream`` and fold its differences from wake.ahead into ``worst``."""
-    L, N = CONFIG.window_samples, 2**CONFIG.level
     full_scale = 2.0 ** np.ceil(np.log2(np.max(np.abs(stream)) * 1.01 + 1e-12))
-    out = run_ahead_c(stream, CONFIG, taps=TAPS, horizon=horizon, full_scale=full_scale)
-    x = quantize_window(stream, full_scale).astype(float)
-    taps = quantize_taps(TAPS).astype(float) / 32768.0
-    previous = None
-    for k, o in enumerate(out):
-        w = x[k * L:(k + 1) * L]
-        y = w[N:] - filter_bank_outputs(w, taps)[:L - N] @ o["weights"]
-        truth = detrended_highpass(w, CONFIG.fs, o["cutoff"])[N:]
-        ref = fit_predictor(y, truth, horizon)
-        goal = gate_target(held_out_gain(y, truth, previous, horizon, L), o["flag"])
-        previous = o["coefficients"]
-        c = o["coefficients"]
+    for r in ahead_agreement(stream, CONFIG, taps=TAPS, horizon=horizon, full_scale=full_scale):
+        c, ref = r["coefficients"], r["reference"]
         worst["coefficient"] = max(worst["coefficient"], np.max(np.abs(c - ref)) / max(1.0, np.max(np.abs(ref))))
-        worst["goal"] = max(worst["goal"], abs(o["goal"] - goal))
-        command, command_ref = o["goal"] * predictions(y, c), goal * predictions(y, ref)
-        scale = np.sqrt(np.mean(command_ref**2))
-        if scale > 0:
-            worst["command_nrmse"] = max(worst["command_nrmse"], np.sqrt(np.mean((command - command_ref) ** 2)) / scale)
+        worst["goal"] = max(worst["goal"], abs(r["goal"] - r["reference_goal"]))
+        if r["command_nrmse"] is not None:
+            worst["command_nrmse"] = max(worst["command_nrmse"], r["command_nrmse"])
         worst["windows"] += 1
 
 

@@ -16,10 +16,9 @@ import pytest
 from support import NO_PADS, NO_PDKIT, pads_dir, pdkit_dir
 
 from wake import WakeConfig, WakeFilter
-from wake.ahead import NO_TREMOR_FLAGS, fit_predictor, gate_target, held_out_gain, predictions
+from wake.ahead import NO_TREMOR_FLAGS
 from wake.eval.strong_tremor import make_strong_tremor
 from wake.hpa import run_hpa
-from wake.hpa.run import gate_truth
 from wake.hpa.sharp import detrended_highpass
 from wake.rtp import c_backend_available
 from wake.target import TARGET
@@ -118,34 +117,19 @@ def voluntary_rhythm(fs, seconds=20.0):
 
 def check_ahead(stream, cfg, horizon):
     """run_ahead_c over consecutive windows against wake.ahead on each window's estimate, with the gate scored
-    against wake.hpa.run.gate_truth; the goals."""
-    from wake.hpa.c_port import quantize_window, run_ahead_c
-    from wake.rtp.qformat import quantize_taps
+    against wake.hpa.run.gate_truth (wake.hpa.c_port.ahead_agreement); the goals."""
+    from wake.hpa.c_port import ahead_agreement
 
-    L = cfg.window_samples
     full = 2.0 ** np.ceil(np.log2(np.max(np.abs(stream)) * 1.01))
-    out = run_ahead_c(stream, cfg, taps=TAPS, horizon=horizon, full_scale=full)
-    x = quantize_window(stream, full).astype(float)
-    taps = quantize_taps(TAPS).astype(float) / 32768.0
-    previous = None
-    for k, o in enumerate(out):
-        w = x[k * L:(k + 1) * L]
-        y = w[N:] - filter_bank_outputs(w, taps)[:L - N] @ o["weights"]
-        full_truth = detrended_highpass(w, cfg.fs, o["cutoff"])
-        ref = fit_predictor(y, full_truth[N:], horizon)
-        scored = gate_truth(w, cfg.fs, o["cutoff"], full_truth, cfg.gate_cutoff)[N:]
-        goal = gate_target(held_out_gain(y, scored, previous, horizon, L), o["flag"])
-        c = o["coefficients"]
+    rows = ahead_agreement(stream, cfg, taps=TAPS, horizon=horizon, full_scale=full)
+    for r in rows:
+        c, ref = r["coefficients"], r["reference"]
         assert np.max(np.abs(c - ref)) <= COEF_TOL * max(1.0, np.max(np.abs(ref)))
-        assert o["goal"] == pytest.approx(goal, abs=GOAL_TOL)
-        if o["flag"] in NO_TREMOR_FLAGS:
-            assert o["goal"] == 0.0
-        command, command_ref = o["goal"] * predictions(y, c), goal * predictions(y, ref)
-        scale = np.sqrt(np.mean(command_ref**2))
-        assert np.sqrt(np.mean((command - command_ref) ** 2)) <= COMMAND_NRMSE * scale if scale > 0 else \
-            np.all(command == 0.0)
-        previous = c
-    return [o["goal"] for o in out[1:]]
+        assert r["goal"] == pytest.approx(r["reference_goal"], abs=GOAL_TOL)
+        if r["flag"] in NO_TREMOR_FLAGS:
+            assert r["goal"] == 0.0
+        assert r["command_zero"] if r["command_nrmse"] is None else r["command_nrmse"] <= COMMAND_NRMSE
+    return [r["goal"] for r in rows[1:]]
 
 
 @pytest.mark.parametrize("fs", [100.0, 200.0])

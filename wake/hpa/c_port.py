@@ -394,3 +394,65 @@ def run_ahead_c(stream, config: WakeConfig, *, taps, horizon: int = 1, full_scal
                     "flag": list(CUTOFF_FLAGS)[res.flag], "coefficients": np.array(list(res.ahead), dtype=float),
                     "goal": float(res.ahead_goal)})
     return out
+
+
+def ahead_agreement(stream, config: WakeConfig, *, taps, horizon: int = 1, full_scale: float) -> list:
+    """Each window's C tremor-ahead fit (:func:`run_ahead_c`) beside :mod:`wake.ahead`'s on the same estimate.
+
+    Each window's estimate and truth are recomputed in float64 from the int16 window the C HPA read and the
+    weights it installed; the float fit (:func:`wake.ahead.fit_predictor`) and goal
+    (:func:`wake.ahead.held_out_gain`, scored against :func:`wake.hpa.run.gate_truth`, then
+    :func:`wake.ahead.gate_target`) use the C fit of the window before as the previous predictor, as the C HPA does.
+
+    Parameters
+    ----------
+    stream, config, taps, horizon, full_scale
+        As :func:`run_ahead_c`.
+
+    Returns
+    -------
+    list of dict
+        Per window: ``flag``, ``coefficients`` and ``goal`` (the C HPA's), ``reference`` and
+        ``reference_goal`` (the float fit's), ``command_nrmse`` (the RMS difference of the gated commands
+        ``goal * P`` over the window, divided by the float command's RMS; None where that RMS is 0) and
+        ``command_zero`` (whether the C command is then 0 as well).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from wake import WakeConfig
+    >>> from wake.hpa.c_port import ahead_agreement
+    >>> from wake.wavelets import filter_bank_taps
+    >>> t = np.arange(1500) / 100.0
+    >>> x = np.sin(2 * np.pi * 0.3 * t) + 0.5 * np.sin(2 * np.pi * 6 * t)
+    >>> rows = ahead_agreement(x, WakeConfig(), taps=filter_bank_taps("sym3", 5), full_scale=2.0)
+    >>> max(abs(r["goal"] - r["reference_goal"]) for r in rows) < 1e-3
+    True
+    """
+    from wake.ahead import fit_predictor, gate_target, held_out_gain, predictions
+    from wake.hpa.run import gate_truth
+    from wake.hpa.sharp import detrended_highpass
+    from wake.rtp.qformat import quantize_taps
+    from wake.wavelets import filter_bank_outputs
+
+    out = run_ahead_c(stream, config, taps=taps, horizon=horizon, full_scale=full_scale)
+    L, N = config.window_samples, 2 ** config.level
+    x = quantize_window(np.asarray(stream, dtype=float), full_scale).astype(float)
+    taps_f = quantize_taps(taps).astype(float) / 32768.0
+    rows, previous = [], None
+    for k, o in enumerate(out):
+        w = x[k * L:(k + 1) * L]
+        y = w[N:] - filter_bank_outputs(w, taps_f)[:L - N] @ o["weights"]
+        truth = detrended_highpass(w, config.fs, o["cutoff"])
+        reference = fit_predictor(y, truth[N:], horizon)
+        scored = gate_truth(w, config.fs, o["cutoff"], truth, config.gate_cutoff)[N:]
+        goal = gate_target(held_out_gain(y, scored, previous, horizon, L), o["flag"])
+        c = o["coefficients"]
+        command, command_ref = o["goal"] * predictions(y, c), goal * predictions(y, reference)
+        scale = float(np.sqrt(np.mean(command_ref**2)))
+        rows.append({"flag": o["flag"], "coefficients": c, "goal": o["goal"], "reference": reference,
+                     "reference_goal": goal,
+                     "command_nrmse": float(np.sqrt(np.mean((command - command_ref) ** 2))) / scale if scale > 0 else None,
+                     "command_zero": bool(np.all(command == 0.0))})
+        previous = c
+    return rows
