@@ -4,7 +4,7 @@
  * Python side computes them, the steps wake.channel.Channel.apply takes to install an HPA's result: R and q
  * in physical units (wake.hpa.c_port.run_hpa_c), clamped into the RTP's formats
  * (wake.rtp.qformat.representable_noise) and rounded half to even (quantize_weights, quantize_variance,
- * quantize_ahead).  tests/hpa/test_c_batch.py checks it against that path bit for bit.
+ * quantize_ahead).  tests/hpa/test_batch_paths.py checks it against that path bit for bit.
  */
 #include "wake_batch.h"
 
@@ -48,15 +48,60 @@ static int quantise_noise(double r, double q, double fs, int32_t *r_q, int32_t *
     return 1;
 }
 
+/* What a batch's RTP stretches read and write (sample-indexed, the whole call's length) */
+typedef struct {
+    const wake_q15_t *x;
+    wake_q15_t *voluntary;
+    wake_q23_t *tremor_ahead;
+    wake_ratio_t *gate;
+    wake_q23_t *command;
+} stretch_io_t;
+
 /* The RTP over samples [start, stop) with every output a batch collects; a wake_batch_status_t */
-static int run_stretch(wake_rtp_t *rtp, const wake_q15_t *x, size_t start, size_t stop, wake_q15_t *voluntary,
-                       wake_q23_t *tremor_ahead, wake_ratio_t *gate, wake_q23_t *command)
+static int run_stretch(wake_rtp_t *rtp, const stretch_io_t *io, size_t start, size_t stop)
 {
-    if (wake_rtp_run_outputs(rtp, x + start, NULL, stop - start, voluntary + start, tremor_ahead + start,
-                             gate + start, command + start, NULL) != WAKE_RTP_OK) {
+    if (wake_rtp_run_outputs(rtp, io->x + start, NULL, stop - start, io->voluntary + start, io->tremor_ahead + start,
+                             io->gate + start, io->command + start, NULL) != WAKE_RTP_OK) {
         return WAKE_BATCH_RTP_REFUSED;
     }
     return WAKE_BATCH_DONE;
+}
+
+/* What a batch does at its k-th point, after the stretch before it; a wake_batch_status_t */
+typedef int (*point_fn)(wake_rtp_t *rtp, size_t k, void *context);
+
+/* The two drivers' loop: the stretch up to each point, the point, then the stretch after the last point;
+ * stops at the first status other than WAKE_BATCH_DONE, with the points and samples done */
+static int run_points(wake_rtp_t *rtp, const stretch_io_t *io, size_t n_samples, size_t n_points,
+                      const uint32_t *stops, point_fn at_point, void *context, size_t *points_done,
+                      size_t *samples_done)
+{
+    size_t k;
+    size_t start = 0;
+    int status = WAKE_BATCH_DONE;
+
+    for (k = 0; k < n_points; k++) {
+        size_t stop = stops[k];
+        if (start < stop) {
+            status = run_stretch(rtp, io, start, stop);
+            if (status != WAKE_BATCH_DONE) {
+                break;
+            }
+            start = stop;
+        }
+        status = at_point(rtp, k, context);
+        if (status != WAKE_BATCH_DONE) {
+            break;
+        }
+    }
+    if (status == WAKE_BATCH_DONE && start < n_samples) {   /* the stretch after the last point */
+        if (run_stretch(rtp, io, start, n_samples) == WAKE_BATCH_DONE) {
+            start = n_samples;
+        }
+    }
+    *points_done = k;
+    *samples_done = start;
+    return status;
 }
 
 /* Channel.apply's order: the weights, R and q, then the tremor-ahead predictor and goal; a wake_batch_status_t */
@@ -132,6 +177,29 @@ static int hpa_point(wake_rtp_t *rtp, wake_hpa_t *hpa, const wake_hpa_config_t *
     return WAKE_BATCH_DONE;
 }
 
+/* wake_batch_run's points: each window through the C HPA, its result installed */
+typedef struct {
+    wake_hpa_t *hpa;
+    const wake_hpa_config_t *cfg;
+    const wake_q15_t *hpa_taps;
+    const uint32_t *counts;
+    const wake_q15_t *windows;
+    const uint32_t *offsets;
+    const uint16_t *lengths;
+    double full_scale;
+    double process_noise_ratio;
+    wake_batch_carry_t *carry;
+    wake_hpa_result_t *results;
+    uint8_t *clamped;
+} hpa_points_t;
+
+static int hpa_at_point(wake_rtp_t *rtp, size_t k, void *context)
+{
+    const hpa_points_t *p = (const hpa_points_t *)context;
+    return hpa_point(rtp, p->hpa, p->cfg, p->hpa_taps, p->windows + p->offsets[k], p->lengths[k], p->counts[k],
+                     p->full_scale, p->process_noise_ratio, p->carry, &p->results[k], &p->clamped[k]);
+}
+
 int wake_batch_run(wake_rtp_t *rtp, wake_hpa_t *hpa, const wake_hpa_config_t *cfg, const wake_q15_t *hpa_taps,
                    const wake_q15_t *x, size_t n_samples, size_t n_points, const uint32_t *stops,
                    const uint32_t *counts,
@@ -140,33 +208,26 @@ int wake_batch_run(wake_rtp_t *rtp, wake_hpa_t *hpa, const wake_hpa_config_t *cf
                    wake_q15_t *voluntary, wake_q23_t *tremor_ahead, wake_ratio_t *gate, wake_q23_t *command,
                    wake_hpa_result_t *results, uint8_t *clamped, size_t *points_done, size_t *samples_done)
 {
-    size_t k;
-    size_t start = 0;
-    int status = WAKE_BATCH_DONE;
+    stretch_io_t io = {x, voluntary, tremor_ahead, gate, command};
+    hpa_points_t points = {hpa, cfg, hpa_taps, counts, windows, offsets, lengths, full_scale, process_noise_ratio,
+                           carry, results, clamped};
+    return run_points(rtp, &io, n_samples, n_points, stops, hpa_at_point, &points, points_done, samples_done);
+}
 
-    for (k = 0; k < n_points; k++) {
-        size_t stop = stops[k];
-        if (start < stop) {
-            status = run_stretch(rtp, x, start, stop, voluntary, tremor_ahead, gate, command);
-            if (status != WAKE_BATCH_DONE) {
-                break;
-            }
-            start = stop;
-        }
-        status = hpa_point(rtp, hpa, cfg, hpa_taps, windows + offsets[k], lengths[k], counts[k], full_scale,
-                           process_noise_ratio, carry, &results[k], &clamped[k]);
-        if (status != WAKE_BATCH_DONE) {
-            break;
-        }
-    }
-    if (status == WAKE_BATCH_DONE && start < n_samples) {   /* the stretch after the last point */
-        if (run_stretch(rtp, x, start, n_samples, voluntary, tremor_ahead, gate, command) == WAKE_BATCH_DONE) {
-            start = n_samples;
-        }
-    }
-    *points_done = k;
-    *samples_done = start;
-    return status;
+/* wake_batch_install's points: each install's words, already quantised */
+typedef struct {
+    size_t level;
+    const wake_q24_t *weights;
+    const wake_cov_t *r;
+    const wake_cov_t *q;
+    const int32_t *ahead;
+    const wake_ratio_t *goals;
+} install_points_t;
+
+static int install_at_point(wake_rtp_t *rtp, size_t k, void *context)
+{
+    const install_points_t *p = (const install_points_t *)context;
+    return install(rtp, p->weights + k * p->level, p->r[k], p->q[k], p->ahead + k * WAKE_HPA_AHEAD_TAPS, p->goals[k]);
 }
 
 int wake_batch_install(wake_rtp_t *rtp, const wake_q15_t *x, size_t n_samples, size_t n_points,
@@ -175,30 +236,7 @@ int wake_batch_install(wake_rtp_t *rtp, const wake_q15_t *x, size_t n_samples, s
                        wake_q23_t *tremor_ahead, wake_ratio_t *gate, wake_q23_t *command, size_t *points_done,
                        size_t *samples_done)
 {
-    size_t k;
-    size_t start = 0;
-    int status = WAKE_BATCH_DONE;
-
-    for (k = 0; k < n_points; k++) {
-        size_t stop = stops[k];
-        if (start < stop) {
-            status = run_stretch(rtp, x, start, stop, voluntary, tremor_ahead, gate, command);
-            if (status != WAKE_BATCH_DONE) {
-                break;
-            }
-            start = stop;
-        }
-        status = install(rtp, weights + k * level, r[k], q[k], ahead + k * WAKE_HPA_AHEAD_TAPS, goals[k]);
-        if (status != WAKE_BATCH_DONE) {
-            break;
-        }
-    }
-    if (status == WAKE_BATCH_DONE && start < n_samples) {   /* the stretch after the last point */
-        if (run_stretch(rtp, x, start, n_samples, voluntary, tremor_ahead, gate, command) == WAKE_BATCH_DONE) {
-            start = n_samples;
-        }
-    }
-    *points_done = k;
-    *samples_done = start;
-    return status;
+    stretch_io_t io = {x, voluntary, tremor_ahead, gate, command};
+    install_points_t points = {level, weights, r, q, ahead, goals};
+    return run_points(rtp, &io, n_samples, n_points, stops, install_at_point, &points, points_done, samples_done);
 }
