@@ -298,7 +298,7 @@ typedef struct {
     uint16_t lags;
     uint16_t d, t, m;
     uint16_t bins;
-    uint16_t gate_bins;
+    uint16_t gate_extra;
     uint16_t psd_end;
     uint16_t peak;
     uint16_t pair;

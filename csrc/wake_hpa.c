@@ -171,12 +171,12 @@ wake_hpa_status_t wake_hpa_check_instance(const wake_hpa_t *h)
     if (h->work == NULL || h->n > h->cfg.window || h->n < 2u * N || h->rows != h->n - N - (WAKE_HPA_HORIZON - 1u) ||
         h->order > h->cfg.ar_order || h->lags > (h->order + 1u > N ? h->order + 1u : N) ||
         h->t > (h->phase == STEP_PSD ? psd_last(h) + 1u : h->n) ||
-        h->d > h->lags || h->gate_bins > h->n / 2u || h->bins > h->gate_bins || h->m > h->gate_bins + 1u ||
+        h->d > h->lags || hpa_dft_bins(h) > h->n / 2u || h->m > hpa_dft_bins(h) + 1u ||
         h->pair > 2u ||
         h->psd_end > psd_last(h) || h->attempts >= WAKE_HPA_RIDGE_STEPS ||
         ((h->phase == STEP_BIN_START || h->phase == STEP_BIN_END) && h->d >= h->pair) ||
         ((h->phase >= STEP_DFT) && (h->phase <= STEP_BIN_END) && (h->m == 0u)) ||
-        (h->phase == STEP_RAMP && h->t >= N) || h->gate_bins > WAKE_HPA_MAX_BINS ||
+        (h->phase == STEP_RAMP && h->t >= N) || hpa_dft_bins(h) > WAKE_HPA_MAX_BINS ||
         hpa_ahead_corrupt(h) ||
         ((h->phase == STEP_DIAG) && ((h->d >= N) || (h->t > (N - h->d)))) ||
         (h->phase == STEP_GRAM && (h->d >= h->cfg.level || h->t > h->d))) {

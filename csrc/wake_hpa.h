@@ -322,8 +322,10 @@ typedef struct {
     uint16_t lags;                /**< correlation lags computed, max(order + 1, 2^J) */
     uint16_t d, t, m;             /**< loop counters of the current step */
     uint16_t bins;                /**< DFT bins at or below f_d */
-    uint16_t gate_bins;           /**< DFT bins at or below max(f_d, cfg.gate_cutoff), >= bins: those above bins
-                                       only feed the gate's truth (WAKE_HPA_AHEAD builds; else bins) */
+    uint16_t gate_extra;          /**< DFT bins above f_d at or below cfg.gate_cutoff (bins + 1 .. bins +
+                                       gate_extra): they only feed the gate's truth (WAKE_HPA_AHEAD builds; else 0).
+                                       Held as a count above bins, not a last bin, so that "no gate bins" is a
+                                       value of one field (an analyser tracks no relation between two) */
     uint16_t psd_end;             /**< last PSD bin evaluated */
     uint16_t peak;                /**< tremor peak bin (0xFFFF: none yet) */
     uint16_t pair;                /**< bins in the current DFT pass (1 or 2) */

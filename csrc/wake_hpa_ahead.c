@@ -131,7 +131,7 @@ static inline void ahead_fir_tap(const wake_hpa_t *h, wake_hpa_ahead_t *a, unsig
  */
 int wake_hpa_ahead_all_held(const wake_hpa_t *h, const wake_hpa_ahead_t *a)
 {
-    return a->held == (1u << h->cfg.level) + WAKE_HPA_AHEAD_TAPS - 1u + h->cfg.horizon && h->gate_bins == h->bins;
+    return a->held == (1u << h->cfg.level) + WAKE_HPA_AHEAD_TAPS - 1u + h->cfg.horizon && h->gate_extra == 0u;
 }
 
 /** The ahead sums cleared, the held-out targets' start; then the pass. */
@@ -429,7 +429,7 @@ static void ahead_block(const wake_hpa_t *h, wake_hpa_ahead_t *a, unsigned t, un
     const float centre = 0.5f * (float)(h->n - 1u), mean = h->mean, slope = h->slope;
     const wake_q15_t *x = h->work;
     float *ring = a->ring;
-    const unsigned extra = (unsigned)h->gate_bins - h->bins;
+    const unsigned extra = h->gate_extra;
     float vol[AHEAD_BLOCK], y[AHEAD_BLOCK], gate[AHEAD_BLOCK];
     const float *scored = vol;
     unsigned q;

@@ -35,14 +35,15 @@ static void turn(uint32_t k, uint32_t n, float *c, float *s)
 void wake_hpa_step_bins(wake_hpa_t *h)
 {
     const float gate = hpa_ahead_gate_cutoff(h);
-    unsigned m;
+    unsigned m, extra = 0u;
     for (m = 1; 2u * m < h->n && m <= WAKE_HPA_MAX_BINS && (float)m * (h->cfg.fs / (float)h->n) <= h->cutoff; ++m) { /* wcet-loop: WAKE_HPA_MAX_WINDOW / 2 */
     }
     h->bins = (uint16_t)(m - 1u);
     /* the gate's bins go on from there (none when its cut-off is at or below f_d) */
     for (; 2u * m < h->n && m <= WAKE_HPA_MAX_BINS && (float)m * (h->cfg.fs / (float)h->n) <= gate; ++m) { /* wcet-loop: WAKE_HPA_MAX_WINDOW / 2 */
+        ++extra;
     }
-    h->gate_bins = (uint16_t)(m - 1u);
+    h->gate_extra = (uint16_t)extra;
     h->power = 0.0f;
     h->cross = 0.0f;
     memset(h->cxy, 0, sizeof h->cxy);
@@ -50,7 +51,7 @@ void wake_hpa_step_bins(wake_hpa_t *h)
     h->d = 0;
     h->t = 0;
     h->m = 1;
-    if (h->gate_bins >= 1u) {
+    if (hpa_dft_bins(h) >= 1u) {
         wake_hpa_start_pass(h);
     } else {
         h->phase = STEP_RAMP;
@@ -61,7 +62,7 @@ void wake_hpa_step_bins(wake_hpa_t *h)
 void wake_hpa_start_pass(wake_hpa_t *h)
 {
     unsigned b;
-    h->pair = (uint16_t)(h->m + 1u <= h->gate_bins ? 2u : 1u);
+    h->pair = (uint16_t)(h->m + 1u <= hpa_dft_bins(h) ? 2u : 1u);
     for (b = 0; b < 2u; ++b) {
         float c, s = 0.0f;
         if (b < h->pair) {
@@ -374,7 +375,7 @@ static void next_bin(wake_hpa_t *h)
     }
     h->d = 0;
     h->m = (uint16_t)(h->m + h->pair);
-    if (h->m <= h->gate_bins) {
+    if (h->m <= hpa_dft_bins(h)) {
         wake_hpa_start_pass(h);
     } else {
         h->phase = STEP_RAMP;

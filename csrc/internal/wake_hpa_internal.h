@@ -171,6 +171,12 @@ static inline int32_t cost_psd_bin(const wake_hpa_t *h)
     return COST_PSD_BIN_BASE + COST_PSD_BIN_PER_ORDER * (int32_t)h->order;
 }
 
+/** The DFT passes' last bin: the fit's bins, then the gate's above them. */
+static inline unsigned hpa_dft_bins(const wake_hpa_t *h)
+{
+    return (unsigned)h->bins + h->gate_extra;
+}
+
 /**
  * One sample of the tremor-ahead pass in a chunk of @p k samples: the 2^J-tap FIR (two samples a turn), the
  * row, and the bins' oscillators, each run over the samples of a chunk (about 5 + 4 r instructions per bin
@@ -179,7 +185,7 @@ static inline int32_t cost_psd_bin(const wake_hpa_t *h)
 static inline int32_t cost_ahead(const wake_hpa_t *h, unsigned k)
 {
     const int32_t N = (int32_t)1 << h->cfg.level;
-    return k % 4u == 0u ? COST_AHEAD_BASE + COST_AHEAD4_PER_TAP * N + COST_AHEAD4_PER_BIN * (int32_t)h->gate_bins : COST_AHEAD_BASE + COST_AHEAD1_PER_TAP * N + COST_AHEAD1_PER_BIN * (int32_t)h->gate_bins;
+    return k % 4u == 0u ? COST_AHEAD_BASE + COST_AHEAD4_PER_TAP * N + COST_AHEAD4_PER_BIN * (int32_t)hpa_dft_bins(h) : COST_AHEAD_BASE + COST_AHEAD1_PER_TAP * N + COST_AHEAD1_PER_BIN * (int32_t)hpa_dft_bins(h);
 }
 
 /** One sample of the sums pass; with the tremor ahead also its full-scale count. */

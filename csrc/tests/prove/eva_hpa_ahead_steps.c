@@ -191,7 +191,7 @@ void eva_step_ahead_pass_chunk(void)
     hpa.slope = anyf(-SLOPE_MAX, SLOPE_MAX);
     hpa.bins = (uint16_t)Frama_C_interval(0, (int)(6u * hpa.n / 100u));
     /* the default configuration's gate cut-off is 0, so STEP_BINS leaves no gate bins above the fit's */
-    hpa.gate_bins = hpa.bins;
+    hpa.gate_extra = 0u;
     for (i = 0; i < WAKE_HPA_MAX_BINS; ++i) {
         hpa.ahead.bin_osc[3u * i] = anyf(-OSC_V_MAX, OSC_V_MAX);
         hpa.ahead.bin_osc[3u * i + 1u] = anyf(-OSC_E_MAX, OSC_E_MAX);
