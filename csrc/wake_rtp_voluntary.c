@@ -150,7 +150,7 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_voluntary_ahead(wake_rtp_t *s, cons
     }
     memcpy(v->weights, weights_ahead, (size_t)s->level * sizeof(wake_q24_t));
     v->set = 1u;
-    wake_rtpi_voluntary_restart_on(s, v);                           /* d_s and z_s are the last restart's */
+    wake_rtpi_voluntary_restart(s);                                 /* d_s and z_s are the last restart's */
     return WAKE_RTP_OK;
 }
 

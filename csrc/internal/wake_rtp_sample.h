@@ -359,8 +359,10 @@ static inline int64_t fir_product(wake_fir_t h, int32_t x)
 {
 #if WAKE_RTP_SPLIT_FIR
     /* h = (biased_hi - 2^15) 2^16 + mid 2^8 + lo: three 32-bit products (|.| < 2^31), no 64-bit multiply */
-    return (int64_t)(((int32_t)h.parts.biased_hi - 32768) * x) * 65536 + (int64_t)((int32_t)h.parts.mid * x) * 256
-           + (int64_t)((int32_t)h.parts.lo * x);
+    const int32_t p_hi = ((int32_t)h.parts.biased_hi - 32768) * x;
+    const int32_t p_mid = (int32_t)h.parts.mid * x;
+    const int32_t p_lo = (int32_t)h.parts.lo * x;
+    return ((int64_t)p_hi * 65536) + ((int64_t)p_mid * 256) + (int64_t)p_lo;
 #else
     return (int64_t)h.value * x;
 #endif
