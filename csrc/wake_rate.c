@@ -134,7 +134,6 @@ wake_rate_status_t wake_rate_push(wake_rate_t *s, wake_q15_t sample, int present
     return status;
 }
 
-#if WAKE_RTP_SPLIT
 wake_rate_status_t wake_rate_step(wake_rate_t *s, wake_rtp_t *rtp, wake_q15_t sample, int present,
                                   wake_q15_t *prediction)
 {
@@ -167,4 +166,3 @@ wake_rate_status_t wake_rate_step(wake_rate_t *s, wake_rtp_t *rtp, wake_q15_t sa
     }
     return status;
 }
-#endif

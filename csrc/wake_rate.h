@@ -106,7 +106,6 @@ wake_rate_status_t wake_rate_init(wake_rate_t *s, int factor);
 wake_rate_status_t wake_rate_push(wake_rate_t *s, wake_q15_t sample, int present, wake_rate_group_t *group,
                                   wake_q15_t *mean);
 
-#if WAKE_RTP_SPLIT
 /**
  * @brief One input sample through the front end and the split RTP step (WAKE_RTP_SPLIT builds).
  *
@@ -120,7 +119,10 @@ wake_rate_status_t wake_rate_push(wake_rate_t *s, wake_q15_t sample, int present
  * the static bound of this function is the worst input sample
  * (docs/studies/design.md, "In firmware").  Between two calls the firmware may
  * install weights, noise or a tremor-ahead model in the RTP (the setters keep a
- * prepared step prepared); it must not step the RTP itself.
+ * prepared step prepared); it must not step the RTP itself.  Compiled in every
+ * build: with an RTP built without WAKE_RTP_SPLIT (no prepared step to hold)
+ * the RTP refuses and it returns WAKE_RATE_E_RTP; a firmware that does not
+ * call it does not link it.
  * @param[in,out] s           initialised front end, factor D >= 2
  * @param[in,out] rtp         initialised RTP instance (built with the same WAKE_RTP_* options)
  * @param[in]     sample      Q15 of FS (ignored when @p present is 0)
@@ -135,7 +137,6 @@ wake_rate_status_t wake_rate_push(wake_rate_t *s, wake_q15_t sample, int present
  */
 wake_rate_status_t wake_rate_step(wake_rate_t *s, wake_rtp_t *rtp, wake_q15_t sample, int present,
                                   wake_q15_t *prediction);
-#endif
 
 #ifdef __cplusplus
 }

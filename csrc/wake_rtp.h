@@ -105,10 +105,13 @@ extern "C" {
  * result of wake_rtp_step / wake_rtp_step_missing bit for bit.  Behind a
  * decimating front end (wake_rate.h, wake_rate_step) the prepare runs on an
  * input sample that only pushes, so no input sample pays for a whole step.
- * The struct grows by the prepared values (48 bytes on a Cortex-M4 with the
- * tremor ahead, 32 without) and the code by the two halves; wake_rtp_step is
- * the same function in both builds (it also forgets a prepared step).  Every
- * translation unit of a firmware must see the same value.
+ * The struct grows by the prepared values (wake_rtp_split_t: 48 bytes on a
+ * Cortex-M4 with the tremor ahead, 32 without) and the code by the two halves;
+ * wake_rtp_step is the same function in both builds (it also forgets a
+ * prepared step).  The split step's module (wake_rtp_split.c) compiles in
+ * every build: a firmware that uses it links its entries
+ * (wake.firmware.sources.FEATURE_ENTRIES), one that does not leaves them out.
+ * Every translation unit of a firmware must see the same value.
  */
 #ifndef WAKE_RTP_SPLIT
 #define WAKE_RTP_SPLIT 0
@@ -131,8 +134,9 @@ extern "C" {
  * The struct grows by w_h, the second FIR and four scalars; the one-step
  * prediction and every other output are the same, bit for bit, in both builds.
  * The host extension (build_ffi.py) and the standalone firmware build with 1; a
- * firmware that does not use it leaves it 0, so its code, cost and static bounds
- * do not move (its module, wake_rtp_voluntary.c, compiles to nothing).  Not with WAKE_RTP_SPLIT 1 (the
+ * firmware that does not use it leaves it 0, so its state, code, cost and static
+ * bounds do not move (its module, wake_rtp_voluntary.c, compiles in every build;
+ * such a firmware does not link its entries).  Not with WAKE_RTP_SPLIT 1 (the
  * split step has no second FIR): that combination does not compile.
  */
 #ifndef WAKE_RTP_VOLUNTARY_AHEAD
@@ -143,6 +147,23 @@ extern "C" {
 #error "WAKE_RTP_VOLUNTARY_AHEAD 1 and WAKE_RTP_SPLIT 1 together are not supported: the split step has no second FIR for w_h"
 #endif
 
+
+/**
+ * What wake_rtp_prepare computed for the next finish (the split step, WAKE_RTP_SPLIT 1 builds embed one as
+ * wake_rtp_t::split; its module, wake_rtp_split.c, compiles in every build and answers WAKE_RTP_E_NULL or
+ * WAKE_RTP_E_UNPREPARED where the instance holds none).
+ */
+typedef struct {
+    int64_t fir;               /**< h' window less the newest sample's product, Q(FIR + 15), exact, |.| < 2^52 */
+    int64_t s;                 /**< s after the next measurement update, Q(P_FRAC) of FS^2 */
+    wake_ratio_t rho;          /**< rho = s / S of the next measurement update, Q30 */
+    uint32_t events;           /**< saturations of the prepared measurement update */
+    uint16_t ready;            /**< 1 from wake_rtp_prepare to the next step, else 0 */
+    uint16_t reserved;         /**< 0 */
+#if WAKE_RTP_AHEAD
+    wake_ahead_prepared_t ahead;   /**< the tremor ahead's part of the next step (wake_ahead_prepare) */
+#endif
+} wake_rtp_split_t;
 
 /**
  * One channel's complete state.  Treat the fields as read-only; change them
@@ -194,17 +215,8 @@ typedef struct {
                                                   wake_rtp_set_voluntary_ahead, rebuilt by every restart */
 #endif
 #if WAKE_RTP_SPLIT
-    /* the split step (WAKE_RTP_SPLIT): what wake_rtp_prepare computed for the next finish; the
-       setters recompute it when it is ready, any step forgets it */
-    int64_t split_fir;           /**< h' window less the newest sample's product, Q(FIR + 15), exact, |.| < 2^52 */
-    int64_t split_s;             /**< s after the next measurement update, Q(P_FRAC) of FS^2 */
-    wake_ratio_t split_rho;      /**< rho = s / S of the next measurement update, Q30 */
-    uint32_t split_events;       /**< saturations of the prepared measurement update */
-    uint16_t split_ready;        /**< 1 from wake_rtp_prepare to the next step, else 0 */
-    uint16_t split_reserved;     /**< 0 */
-#if WAKE_RTP_AHEAD
-    wake_ahead_prepared_t split_ahead;   /**< the tremor ahead's part of the next step (wake_ahead_prepare) */
-#endif
+    wake_rtp_split_t split;    /**< the split step's prepared values (wake_rtp_prepare): the setters recompute
+                                    them when they are ready, any step forgets them */
 #endif
 } wake_rtp_t;
 
@@ -362,7 +374,9 @@ wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q15_t *window,
  */
 wake_rtp_status_t wake_rtp_get_state(const wake_rtp_t *s, wake_q23_t *correction, wake_cov_t *covariance);
 
-#if WAKE_RTP_SPLIT
+/* The split step (wake_rtp_split.c): compiled in every build, linked by a firmware that calls it.  In a
+ * build without WAKE_RTP_SPLIT the instance holds no prepared values: wake_rtp_prepare returns
+ * WAKE_RTP_E_NULL and the finishes WAKE_RTP_E_UNPREPARED once the instance is checked, changing nothing. */
 /**
  * @brief The part of the next step that does not need its sample (WAKE_RTP_SPLIT builds).
  *
@@ -421,7 +435,6 @@ wake_rtp_status_t wake_rtp_finish(wake_rtp_t *s, wake_q15_t sample, wake_q15_t *
  * as the sample and the prepared time update s + q|w|^2 (saturating).
  */
 wake_rtp_status_t wake_rtp_finish_missing(wake_rtp_t *s, wake_q15_t *prediction);
-#endif
 
 /* The tremor ahead of the instance (wake_rtp_t::ahead): each function below forwards to its wake_ahead.h
  * counterpart after checking the instance.  In a build without it (WAKE_RTP_AHEAD 0) the instance has none
@@ -488,7 +501,10 @@ wake_rtp_status_t wake_rtp_load_ahead_state(wake_rtp_t *s, const wake_q15_t *lin
  */
 wake_rtp_status_t wake_rtp_get_ahead_state(const wake_rtp_t *s, wake_q15_t *line);
 
-#if WAKE_RTP_VOLUNTARY_AHEAD
+/* The voluntary motion ahead of the instance (wake_rtp_t::voluntary_ahead, wake_rtp_voluntary.c): compiled in
+ * every build, linked by a firmware that calls it.  In a build without WAKE_RTP_VOLUNTARY_AHEAD the instance
+ * holds none: wake_rtp_set_voluntary_ahead and wake_rtp_voluntary_ahead_output return WAKE_RTP_E_NULL once
+ * the instance is checked. */
 /**
  * @brief Install w_h, the HPA's weights of the voluntary motion h samples ahead, between two samples.
  *
@@ -548,9 +564,10 @@ wake_rtp_status_t wake_rtp_voluntary_ahead_output(const wake_rtp_t *s, wake_q23_
  * @param[out]    voluntary_ahead  n values v_h, Q23 of FS (may be NULL)
  * In a build without WAKE_RTP_AHEAD the three tremor-ahead outputs are 0
  * (nothing predicted, the gate shut).  The arrays must not overlap.
- * Compiled with WAKE_RTP_VOLUNTARY_AHEAD 1, the host build, where every
- * output exists: a firmware build (0) leaves it out, so its code and static
- * bounds do not move (a firmware's block of predictions is wake_rtp_run).
+ * In a build without WAKE_RTP_VOLUNTARY_AHEAD, voluntary_ahead[k] is y(n)
+ * in Q23 (what the voluntary ahead outputs while no w_h is installed).
+ * The host's block entry: a firmware's block of predictions is wake_rtp_run,
+ * and a firmware that does not call this one does not link it.
  * @return WAKE_RTP_OK, WAKE_RTP_E_NULL (@p in NULL with n > 0), _UNINIT or
  *         _CORRUPT (checked before the first sample; then nothing is written
  *         and the state is untouched).
@@ -561,7 +578,6 @@ wake_rtp_status_t wake_rtp_voluntary_ahead_output(const wake_rtp_t *s, wake_q23_
 wake_rtp_status_t wake_rtp_run_outputs(wake_rtp_t *s, const wake_q15_t *in, const uint8_t *missing, size_t n,
                                        wake_q15_t *voluntary, wake_q23_t *tremor_ahead, wake_ratio_t *gate,
                                        wake_q23_t *command, wake_q23_t *voluntary_ahead);
-#endif
 
 /**
  * @brief 2^61 / x for x in [2^30, 2^31), by Newton-Raphson (no division).

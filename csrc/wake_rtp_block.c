@@ -24,8 +24,7 @@ wake_rtp_status_t wake_rtp_run(wake_rtp_t *s, const wake_q15_t *in, wake_q15_t *
     return WAKE_RTP_OK;
 }
 
-#if WAKE_RTP_VOLUNTARY_AHEAD
-/* the host build's block entry (wake_rtp.h): firmware builds leave it out */
+/* the host's block entry (wake_rtp.h): a firmware that does not call it does not link it */
 wake_rtp_status_t wake_rtp_run_outputs(wake_rtp_t *s, const wake_q15_t *in, const uint8_t *missing, size_t n,
                                        wake_q15_t *voluntary, wake_q23_t *tremor_ahead, wake_ratio_t *gate,
                                        wake_q23_t *command, wake_q23_t *voluntary_ahead)
@@ -68,9 +67,8 @@ wake_rtp_status_t wake_rtp_run_outputs(wake_rtp_t *s, const wake_q15_t *in, cons
             command[k] = commanded;
         }
         if (voluntary_ahead != NULL) {
-            voluntary_ahead[k] = s->voluntary_ahead.output;
+            voluntary_ahead[k] = wake_rtpi_voluntary_output(s);
         }
     }
     return st;
 }
-#endif

@@ -5,7 +5,10 @@
  * wake_rtp_step_missing bit for bit.
  *
  * A scheduling of the core's per-sample pieces (internal/wake_rtp_sample.h): the finish is the step's own
- * control flow (sample_flow) instantiated for a prepared step.
+ * control flow (sample_flow) instantiated for a prepared step.  The prepared values live in the instance's
+ * wake_rtp_split_t (wake_rtpi_split): a build without WAKE_RTP_SPLIT holds none, and there the entries
+ * answer WAKE_RTP_E_NULL (prepare) or WAKE_RTP_E_UNPREPARED (the finishes); a firmware that does not call
+ * them does not link them.
  */
 /* At -Os the split step keeps its own copies of the integer helpers (wake_fixed.h): its finish calls them
  * about ten times on its longest path, and calls within a module cost fewer instructions (the compiler
@@ -13,7 +16,6 @@
 #define WAKE_FIXED_LOCAL_COPIES 1
 #include "internal/wake_rtp_sample.h"
 
-#if WAKE_RTP_SPLIT
 #if WAKE_RTP_KALMAN && WAKE_RTP_NO_LONG_MULTIPLY
 kalman_gain_t wake_rtpi_kalman_gain(const wake_rtp_t *s, uint32_t *events)
 {
@@ -30,7 +32,7 @@ kalman_gain_t wake_rtpi_kalman_gain(const wake_rtp_t *s, uint32_t *events)
  *   rho, s = the Kalman gain and (R/S) s + q|w|^2                           unless inert
  *   ahead  = c . line(n) - c_0 e(n);  gate towards the goal
  */
-static void prepare_validated(wake_rtp_t *s)
+static void prepare_validated(wake_rtp_t *s, wake_rtp_split_t *p)
 {
     const unsigned N = s->n_taps;
     /* after the next push the window is ring[head + 1 .. head + N - 1] and the new sample; the ring's
@@ -39,29 +41,30 @@ static void prepare_validated(wake_rtp_t *s)
     const wake_q15_t *older = &s->ring[s->head + 1u];
     uint32_t ev = 0u;
     if (s->primed != 0u) {
-        s->split_fir = fir_window(s->fir, older, N) - fir_product(s->fir[N - 1u], older[N - 1u]);
+        p->fir = fir_window(s->fir, older, N) - fir_product(s->fir[N - 1u], older[N - 1u]);
     } else {
-        s->split_fir = fir_sum(s->fir, N);
+        p->fir = fir_sum(s->fir, N);
     }
-    s->split_rho = 0;
-    s->split_s = s->s;
+    p->rho = 0;
+    p->s = s->s;
 #if WAKE_RTP_KALMAN
     if (!s->inert) {
         const kalman_gain_t g = gain_of(s, &ev);
-        s->split_rho = g.rho;
-        s->split_s = kalman_covariance(s, &g, &ev);
+        p->rho = g.rho;
+        p->s = kalman_covariance(s, &g, &ev);
     }
 #endif
-    s->split_events = ev;
-    features_prepare(s);
-    s->split_ready = 1u;
+    p->events = ev;
+    features_prepare(s, p);
+    p->ready = 1u;
 }
 
-/* A setter changed what a prepare read: prepare again if the instance was prepared. */
-void wake_rtpi_split_refresh(wake_rtp_t *s)
+/* A setter changed what a prepare read: prepare again if the instance was prepared (wake_rtpi_split_refresh). */
+void wake_rtpi_split_prepare_again(wake_rtp_t *s)
 {
-    if (s->split_ready != 0u) {
-        prepare_validated(s);
+    wake_rtp_split_t *const p = wake_rtpi_split(s);
+    if ((p != NULL) && (p->ready != 0u)) {
+        prepare_validated(s, p);
     }
 }
 
@@ -86,7 +89,12 @@ wake_rtp_status_t wake_rtp_prepare(wake_rtp_t *s)
 {
     wake_rtp_status_t st = wake_rtpi_check_structure(s);
     if (st == WAKE_RTP_OK) {
-        prepare_validated(s);
+        wake_rtp_split_t *const p = wake_rtpi_split(s);
+        if (p != NULL) {
+            prepare_validated(s, p);
+        } else {
+            st = WAKE_RTP_E_NULL;                          /* the instance holds no split step */
+        }
     }
     return st;
 }
@@ -100,4 +108,3 @@ wake_rtp_status_t wake_rtp_finish_missing(wake_rtp_t *s, wake_q15_t *prediction)
 {
     return finish_checked(s, 0, 0, prediction);
 }
-#endif

@@ -5,6 +5,12 @@
  *
  * Its per-sample step (voluntary_ahead_step) is part of the step's flow (internal/wake_rtp_sample.h).
  * The float twin is wake/rtp/reference.py (ReferenceRTP.last_voluntary_ahead).
+ *
+ * Compiled in every build: the instance's entry (wake_voluntary_ahead_output) reads any instance; the RTP's
+ * entries reach the embedded one through wake_rtpi_voluntary, which a build without
+ * WAKE_RTP_VOLUNTARY_AHEAD answers with none (they return WAKE_RTP_E_NULL), and the step's hooks are the
+ * no-ops of internal/wake_rtp_internal.h there (the step calls none of this file).  A firmware that does
+ * not call the entries does not link them.
  */
 #include "internal/wake_rtp_sample.h"
 
@@ -21,13 +27,12 @@ static WAKE_RTP_ALWAYS_INLINE wake_rtp_status_t output_of(const wake_voluntary_a
     return st;
 }
 
-/* the instance's own entry: in every build (a firmware that does not call it drops it at link time) */
+/* the instance's own entry (a firmware that does not call it drops it at link time) */
 wake_rtp_status_t wake_voluntary_ahead_output(const wake_voluntary_ahead_t *v, wake_q23_t *output)
 {
     return output_of(v, output);
 }
 
-#if WAKE_RTP_VOLUNTARY_AHEAD
 /**
  * FIR taps h_i = sum_j B_ji w_j of weights @p w: exact in int64 (Q39), rounded once to Q(FIR), as restart
  * builds h = B'w (restart keeps its own loop so that the default build's code does not move, issue 34).
@@ -52,10 +57,9 @@ static inline void fir_from_weights(const wake_rtp_t *s, const wake_q24_t *w, wa
  *
  * and the FIR taps h_h = B' w_h.  Runs in every restart and in wake_rtp_set_voluntary_ahead.
  */
-WAKE_RTP_COLD void wake_rtpi_voluntary_restart(wake_rtp_t *s)
+WAKE_RTP_COLD void wake_rtpi_voluntary_restart_on(wake_rtp_t *s, wake_voluntary_ahead_t *v)
 {
     const unsigned J = s->level;
-    wake_voluntary_ahead_t *const v = &s->voluntary_ahead;
     fir_from_weights(s, v->weights, v->fir, &v->saturations);
 #if WAKE_RTP_KALMAN
     {
@@ -92,10 +96,9 @@ WAKE_RTP_COLD void wake_rtpi_voluntary_restart(wake_rtp_t *s)
  * from two 32 x 32 -> 64-bit products, rounded once to Q23; the sum (< 2^49) narrowed once to int32 with
  * saturation, counted in the instance's saturations.  No data-dependent branch: its set is configuration.
  */
-void wake_rtpi_voluntary_step(wake_rtp_t *s)
+void wake_rtpi_voluntary_step_on(const wake_rtp_t *s, wake_voluntary_ahead_t *v)
 {
     uint32_t ev = 0u;
-    wake_voluntary_ahead_t *const v = &s->voluntary_ahead;
     if (v->set == 0u) {
         v->output = s->last_output;                                   /* the one-step prediction held */
         return;
@@ -120,32 +123,33 @@ void wake_rtpi_voluntary_step(wake_rtp_t *s)
     count_events(&v->saturations, ev);
 }
 
-int wake_rtpi_voluntary_consistent(const wake_rtp_t *s)
+int wake_rtpi_voluntary_consistent_on(const wake_rtp_t *s, const wake_voluntary_ahead_t *v)
 {
-    const wake_voluntary_ahead_t *const v = &s->voluntary_ahead;
     return weights_in_range(v->weights, s->level) && (v->set <= 1u);
 }
 
-void wake_rtpi_voluntary_reset(wake_rtp_t *s)
+void wake_rtpi_voluntary_reset_on(wake_voluntary_ahead_t *v)
 {
-    s->voluntary_ahead.output = 0;                              /* w_h stays */
-    s->voluntary_ahead.saturations = 0u;
+    v->output = 0;                                              /* w_h stays */
+    v->saturations = 0u;
 }
 
 WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_voluntary_ahead(wake_rtp_t *s, const wake_q24_t *weights_ahead)
 {
+    wake_voluntary_ahead_t *v;
     wake_rtp_status_t st = wake_rtpi_check_instance(s);
     if (st != WAKE_RTP_OK) {
         return st;
     }
-    if (weights_ahead == NULL) {
-        return WAKE_RTP_E_NULL;
+    v = wake_rtpi_voluntary(s);
+    if ((weights_ahead == NULL) || (v == NULL)) {
+        return WAKE_RTP_E_NULL;                                     /* or the instance holds none */
     }
     if (!weights_in_range(weights_ahead, s->level)) {
         return WAKE_RTP_E_WEIGHTS;
     }
-    memcpy(s->voluntary_ahead.weights, weights_ahead, (size_t)s->level * sizeof(wake_q24_t));
-    s->voluntary_ahead.set = 1u;
+    memcpy(v->weights, weights_ahead, (size_t)s->level * sizeof(wake_q24_t));
+    v->set = 1u;
     wake_rtpi_voluntary_restart(s);                                 /* d_s and z_s are the last restart's */
     return WAKE_RTP_OK;
 }
@@ -156,6 +160,5 @@ wake_rtp_status_t wake_rtp_voluntary_ahead_output(const wake_rtp_t *s, wake_q23_
     if (st != WAKE_RTP_OK) {
         return st;
     }
-    return output_of(&s->voluntary_ahead, output);
+    return output_of(wake_rtpi_voluntary_of(s), output);          /* none: WAKE_RTP_E_NULL */
 }
-#endif

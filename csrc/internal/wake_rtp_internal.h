@@ -309,14 +309,57 @@ static inline void wake_rtpi_ahead_init(wake_rtp_t *s)
 }
 #endif
 
+/* The voluntary motion ahead (wake_voluntary_ahead.h, wake_rtp_voluntary.c) on instance v of RTP s. */
+/** 1 when w_h and its flag are consistent. */
+int wake_rtpi_voluntary_consistent_on(const wake_rtp_t *s, const wake_voluntary_ahead_t *v);
+/** The output and counter back to 0; w_h stays. */
+void wake_rtpi_voluntary_reset_on(wake_voluntary_ahead_t *v);
+/** The restart for the current w and d_s. */
+void wake_rtpi_voluntary_restart_on(wake_rtp_t *s, wake_voluntary_ahead_t *v);
+
 #if WAKE_RTP_VOLUNTARY_AHEAD
-/** 1 when w_h and its flag are consistent (wake_rtp_voluntary.c). */
-int wake_rtpi_voluntary_consistent(const wake_rtp_t *s);
-/** The output and counter of the voluntary motion ahead back to 0; w_h stays (wake_rtp_voluntary.c). */
-void wake_rtpi_voluntary_reset(wake_rtp_t *s);
-/** The voluntary motion ahead's restart for the current w and d_s (wake_rtp_voluntary.c). */
-void wake_rtpi_voluntary_restart(wake_rtp_t *s);
+/** The instance's voluntary motion ahead. */
+static inline wake_voluntary_ahead_t *wake_rtpi_voluntary(wake_rtp_t *s)
+{
+    return &s->voluntary_ahead;
+}
+/** The instance's voluntary motion ahead, read only. */
+static inline const wake_voluntary_ahead_t *wake_rtpi_voluntary_of(const wake_rtp_t *s)
+{
+    return &s->voluntary_ahead;
+}
+/** The voluntary motion ahead's output of the last step, v_h(n). */
+static inline wake_q23_t wake_rtpi_voluntary_output(const wake_rtp_t *s)
+{
+    return s->voluntary_ahead.output;
+}
+static inline int wake_rtpi_voluntary_consistent(const wake_rtp_t *s)
+{
+    return wake_rtpi_voluntary_consistent_on(s, &s->voluntary_ahead);
+}
+static inline void wake_rtpi_voluntary_reset(wake_rtp_t *s)
+{
+    wake_rtpi_voluntary_reset_on(&s->voluntary_ahead);
+}
+static inline void wake_rtpi_voluntary_restart(wake_rtp_t *s)
+{
+    wake_rtpi_voluntary_restart_on(s, &s->voluntary_ahead);
+}
 #else
+static inline wake_voluntary_ahead_t *wake_rtpi_voluntary(wake_rtp_t *s)
+{
+    (void)s;
+    return NULL;                    /* none: its functions answer WAKE_RTP_E_NULL */
+}
+static inline const wake_voluntary_ahead_t *wake_rtpi_voluntary_of(const wake_rtp_t *s)
+{
+    (void)s;
+    return NULL;
+}
+static inline wake_q23_t wake_rtpi_voluntary_output(const wake_rtp_t *s)
+{
+    return s->last_output;          /* none: the one-step prediction held, as before a w_h is installed */
+}
 static inline int wake_rtpi_voluntary_consistent(const wake_rtp_t *s)
 {
     (void)s;
@@ -332,13 +375,48 @@ static inline void wake_rtpi_voluntary_restart(wake_rtp_t *s)
 }
 #endif
 
+/** Prepare again if the instance was prepared (wake_rtp_split.c). */
+void wake_rtpi_split_prepare_again(wake_rtp_t *s);
+
 #if WAKE_RTP_SPLIT
-/** A setter changed what a prepare read: prepare again if the instance was prepared (wake_rtp_split.c). */
-void wake_rtpi_split_refresh(wake_rtp_t *s);
+/** A setter changed what a prepare read: prepare again if the instance was prepared. */
+static inline void wake_rtpi_split_refresh(wake_rtp_t *s)
+{
+    wake_rtpi_split_prepare_again(s);
+}
+/** A step forgets a prepared step (it changes what the prepare read). */
+static inline void wake_rtpi_split_forget(wake_rtp_t *s)
+{
+    s->split.ready = 0u;
+}
+/** The instance's split step: what wake_rtp_prepare computed for the next finish. */
+static inline wake_rtp_split_t *wake_rtpi_split(wake_rtp_t *s)
+{
+    return &s->split;
+}
+/** The instance's split step, read only. */
+static inline const wake_rtp_split_t *wake_rtpi_split_of(const wake_rtp_t *s)
+{
+    return &s->split;
+}
 #else
 static inline void wake_rtpi_split_refresh(wake_rtp_t *s)
 {
+    (void)s;                        /* nothing prepared: nothing to refresh */
+}
+static inline void wake_rtpi_split_forget(wake_rtp_t *s)
+{
     (void)s;
+}
+static inline wake_rtp_split_t *wake_rtpi_split(wake_rtp_t *s)
+{
+    (void)s;
+    return NULL;                    /* none: wake_rtp_prepare answers WAKE_RTP_E_NULL, a finish _UNPREPARED */
+}
+static inline const wake_rtp_split_t *wake_rtpi_split_of(const wake_rtp_t *s)
+{
+    (void)s;
+    return NULL;
 }
 #endif
 

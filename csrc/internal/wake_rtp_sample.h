@@ -38,10 +38,8 @@ void wake_rtpi_time_update(wake_rtp_t *s, uint32_t *events);
 /** The RTP's tremor ahead fed the tremor estimate e(n) in Q23: wake_ahead_step on the embedded instance, nothing
  * in a build without it (wake_rtp_ahead.c). */
 void wake_rtpi_ahead_step(wake_rtp_t *s, wake_q23_t tremor);
-#if WAKE_RTP_VOLUNTARY_AHEAD
-/** The voluntary motion ahead after the prediction of a step (wake_rtp_voluntary.c). */
-void wake_rtpi_voluntary_step(wake_rtp_t *s);
-#endif
+/** The voluntary motion ahead @p v after the prediction of a step of @p s (wake_rtp_voluntary.c). */
+void wake_rtpi_voluntary_step_on(const wake_rtp_t *s, wake_voluntary_ahead_t *v);
 
 
 /* ---------------------------------------------------------------------- */
@@ -158,7 +156,7 @@ static inline kalman_gain_t kalman_gain(const wake_rtp_t *s, uint32_t *events)
     return g;
 }
 
-#if WAKE_RTP_SPLIT && WAKE_RTP_NO_LONG_MULTIPLY
+#if WAKE_RTP_NO_LONG_MULTIPLY
 /* Without the long multiply the gain's 64-bit products are long code: the step's update and the split step's
  * prepare share one out-of-line copy (wake_rtp_split.c), as one translation unit compiled them before. */
 kalman_gain_t wake_rtpi_kalman_gain(const wake_rtp_t *s, uint32_t *events);
@@ -349,10 +347,11 @@ static inline int32_t stand_in(const wake_rtp_t *s)
     return (int32_t)shift_right_round(s->last_output, SIGNAL_GUARD_BITS);
 }
 
-#if WAKE_RTP_SPLIT
 /* ---------------------------------------------------------------------- */
-/* The split step (WAKE_RTP_SPLIT): the parts of a step that prepare      */
-/* computes without the sample, and what finish adds to them              */
+/* The split step (wake_rtp_split.c): the parts of a step that prepare    */
+/* computes without the sample into the instance's wake_rtp_split_t, and  */
+/* what finish adds to them (only a prepared step, @p prepared 1, runs    */
+/* them, and only on an instance that holds one: wake_rtpi_split)         */
 /* ---------------------------------------------------------------------- */
 
 /** h x exactly, for one FIR tap (either representation, see wake_fir_t) and a Q15 sample: |.| < 2^46. */
@@ -360,8 +359,10 @@ static inline int64_t fir_product(wake_fir_t h, int32_t x)
 {
 #if WAKE_RTP_SPLIT_FIR
     /* h = (biased_hi - 2^15) 2^16 + mid 2^8 + lo: three 32-bit products (|.| < 2^31), no 64-bit multiply */
-    return (int64_t)(((int32_t)h.parts.biased_hi - 32768) * x) * 65536 + (int64_t)((int32_t)h.parts.mid * x) * 256
-           + (int64_t)((int32_t)h.parts.lo * x);
+    const int32_t p_hi = ((int32_t)h.parts.biased_hi - 32768) * x;
+    const int32_t p_mid = (int32_t)h.parts.mid * x;
+    const int32_t p_lo = (int32_t)h.parts.lo * x;
+    return ((int64_t)p_hi * 65536) + ((int64_t)p_mid * 256) + (int64_t)p_lo;
 #else
     return (int64_t)h.value * x;
 #endif
@@ -409,30 +410,32 @@ static inline int64_t times_sample(int64_t a, int32_t x)
 }
 
 
-/** The feature instances' part of a prepare (the tremor ahead's, when the instance holds one). */
-static inline void features_prepare(wake_rtp_t *s)
+/** The feature instances' part of a prepare into @p p (the tremor ahead's, when the instance holds one). */
+static inline void features_prepare(wake_rtp_t *s, wake_rtp_split_t *p)
 {
 #if WAKE_RTP_AHEAD
-    ahead_prepare(&s->ahead, &s->split_ahead);
+    ahead_prepare(&s->ahead, &p->ahead);
 #else
     (void)s;
+    (void)p;
 #endif
 }
 
 /** The sample into a prepared window: h' window from the prepared sum (the first sample fills the window). */
 static WAKE_RTP_ALWAYS_INLINE int64_t take_prepared(wake_rtp_t *s, wake_q15_t sample)
 {
+    const wake_rtp_split_t *const p = wake_rtpi_split_of(s);
     int64_t acc;
     if (s->primed != 0u) {
         ring_store(s, sample);
         /* h' window = prepared + h_{N-1} m(n), exact (the prepared sum clamped to its range, |.| < 2^52) */
-        acc = clamp_quiet(s->split_fir, WAKE_BOUND_RTP_PREPARED_FIR_BITS) + fir_product(s->fir[s->n_taps - 1u], sample);
+        acc = clamp_quiet(p->fir, WAKE_BOUND_RTP_PREPARED_FIR_BITS) + fir_product(s->fir[s->n_taps - 1u], sample);
     } else {
         /* the first sample fills the window with itself: h' window = (sum of h) m(n), exact (the prepared
          * sum clamped to its range, |.| <= 2^39) */
         wake_rtpi_prime_window(s, sample);
         ring_store(s, sample);
-        acc = times_sample(clamp_quiet(s->split_fir, WAKE_BOUND_RTP_PREPARED_TAP_SUM_BITS), sample);
+        acc = times_sample(clamp_quiet(p->fir, WAKE_BOUND_RTP_PREPARED_TAP_SUM_BITS), sample);
     }
     return acc;
 }
@@ -441,12 +444,12 @@ static WAKE_RTP_ALWAYS_INLINE int64_t take_prepared(wake_rtp_t *s, wake_q15_t sa
 /** The measurement update with the prepared gain and covariance; returns its saturations. */
 static WAKE_RTP_ALWAYS_INLINE uint32_t kalman_finish(wake_rtp_t *s, wake_q23_t e)
 {
+    const wake_rtp_split_t *const p = wake_rtpi_split_of(s);
     uint32_t ev = 0u;
-    s->z = kalman_corrected(s, s->split_rho, e, &ev);
-    s->s = clamp_cov_wide(s->split_s, &ev);   /* within +-2^50 already, unless corrupted */
-    return ev + s->split_events;
+    s->z = kalman_corrected(s, p->rho, e, &ev);
+    s->s = clamp_cov_wide(p->s, &ev);   /* within +-2^50 already, unless corrupted */
+    return ev + p->events;
 }
-#endif
 #endif
 
 /* The per-sample control flow is written once (sample_flow, sample_admitted): @p prepared 0 makes the whole
@@ -458,16 +461,11 @@ static WAKE_RTP_ALWAYS_INLINE uint32_t kalman_finish(wake_rtp_t *s, wake_q23_t e
 static WAKE_RTP_ALWAYS_INLINE int64_t take_sample(wake_rtp_t *s, wake_q15_t sample, int prepared)
 {
     int64_t acc = 0;
-#if WAKE_RTP_SPLIT
     if (prepared != 0) {
         acc = take_prepared(s, sample);
     } else {
         push(s, sample);
     }
-#else
-    (void)prepared;
-    push(s, sample);
-#endif
     return acc;
 }
 
@@ -476,16 +474,11 @@ static WAKE_RTP_ALWAYS_INLINE int64_t take_sample(wake_rtp_t *s, wake_q15_t samp
 static WAKE_RTP_ALWAYS_INLINE uint32_t kalman_measured(wake_rtp_t *s, wake_q23_t e, int prepared)
 {
     uint32_t ev;
-#if WAKE_RTP_SPLIT
     if (prepared != 0) {
         ev = kalman_finish(s, e);
     } else {
         ev = wake_rtpi_kalman_update(s, e);
     }
-#else
-    (void)prepared;
-    ev = wake_rtpi_kalman_update(s, e);
-#endif
     return ev;
 }
 #endif
@@ -494,7 +487,7 @@ static WAKE_RTP_ALWAYS_INLINE uint32_t kalman_measured(wake_rtp_t *s, wake_q23_t
  * since the prepare). */
 static WAKE_RTP_ALWAYS_INLINE void time_update_of_sample(wake_rtp_t *s, uint32_t *events, int prepared)
 {
-#if WAKE_RTP_SPLIT && WAKE_RTP_KALMAN
+#if WAKE_RTP_KALMAN
     if (prepared != 0) {
         if (!s->inert) {
             s->s = time_updated(s, events);
@@ -519,18 +512,13 @@ static WAKE_RTP_ALWAYS_INLINE wake_q15_t sample_output(wake_rtp_t *s, int64_t ac
  * (a missing sample's goal is 0: its gate is computed here). */
 static WAKE_RTP_ALWAYS_INLINE void ahead_of_sample(wake_rtp_t *s, wake_q23_t tremor, int measured, int prepared)
 {
-#if WAKE_RTP_SPLIT
     if (prepared != 0) {
-        wake_ahead_finish(&s->ahead, &s->split_ahead, tremor,
-                          (measured != 0) ? s->split_ahead.gate : ahead_gate_next(&s->ahead, 0));
+        const wake_rtp_split_t *const p = wake_rtpi_split_of(s);
+        wake_ahead_finish(&s->ahead, &p->ahead, tremor,
+                          (measured != 0) ? p->ahead.gate : ahead_gate_next(&s->ahead, 0));
     } else {
         wake_rtpi_ahead_step(s, tremor);
     }
-#else
-    (void)prepared;
-    (void)measured;
-    wake_rtpi_ahead_step(s, tremor);
-#endif
 }
 #endif
 
@@ -576,7 +564,7 @@ static WAKE_RTP_ALWAYS_INLINE wake_q15_t sample_flow(wake_rtp_t *s, wake_q15_t s
     y = sample_output(s, acc, prepared, &ev);
     count_events(&s->saturations, ev);
 #if WAKE_RTP_VOLUNTARY_AHEAD
-    wake_rtpi_voluntary_step(s);               /* not with WAKE_RTP_SPLIT (wake_rtp.h) */
+    wake_rtpi_voluntary_step_on(s, &s->voluntary_ahead);   /* not with WAKE_RTP_SPLIT (wake_rtp.h) */
 #endif
 #if WAKE_RTP_AHEAD
     ahead_of_sample(s, tremor, measured, prepared);
@@ -587,13 +575,8 @@ static WAKE_RTP_ALWAYS_INLINE wake_q15_t sample_flow(wake_rtp_t *s, wake_q15_t s
 /** 1 when a prepared step (@p prepared) finds no prepare since the last step. */
 static WAKE_RTP_ALWAYS_INLINE int unprepared(const wake_rtp_t *s, int prepared)
 {
-#if WAKE_RTP_SPLIT
-    return ((prepared != 0) && (s->split_ready != 1u)) ? 1 : 0;
-#else
-    (void)s;
-    (void)prepared;
-    return 0;
-#endif
+    const wake_rtp_split_t *const p = wake_rtpi_split_of(s);
+    return ((prepared != 0) && ((p == NULL) || (p->ready != 1u))) ? 1 : 0;
 }
 
 /**
@@ -614,9 +597,7 @@ static WAKE_RTP_ALWAYS_INLINE int sample_admitted(wake_rtp_t *s, wake_q15_t *sam
         *st = (prediction == NULL) ? WAKE_RTP_E_NULL : WAKE_RTP_E_UNPREPARED;   /* nothing changes */
         return 0;
     }
-#if WAKE_RTP_SPLIT
-    s->split_ready = 0u;                           /* the step changes what a prepare read */
-#endif
+    wake_rtpi_split_forget(s);                     /* the step changes what a prepare read */
     if (!measured) {
 #if WAKE_RTP_AHEAD
         ahead_shut(&s->ahead);                     /* the held-out gain needs a window's worth of samples again */

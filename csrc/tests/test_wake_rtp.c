@@ -824,6 +824,52 @@ static void test_corrupted_variance(void)
     }
 }
 
+/* A feature the build leaves off (WAKE_RTP_SPLIT, WAKE_RTP_VOLUNTARY_AHEAD 0): its module still compiles and
+ * links; its entries answer (prepare WAKE_RTP_E_NULL, a finish _UNPREPARED, the voluntary ahead's E_NULL) once
+ * the instance is checked, and change nothing; the block entry outputs y(n) as the voluntary ahead. */
+static void test_entries_of_features_left_off(void)
+{
+    static int16_t taps[MAXJ * MAXN];
+    static int16_t in[40], vol[40];
+    static int32_t vol_ahead[40];
+    wake_rtp_t s, before;
+    int32_t w[MAXJ];
+    int16_t y = 123;
+    int32_t out = 456;
+    unsigned k;
+    make_taps(4, taps, 0);
+    make_weights(4, w, 0.5);
+    CHECK(wake_rtp_init(&s, 4, taps, w, 3000, 3, 3000) == WAKE_RTP_OK, "init");
+    for (k = 0; k < 40u; ++k) {
+        in[k] = (int16_t)(3000 * sin(0.3 * k));
+    }
+    CHECK(wake_rtp_prepare(NULL) == WAKE_RTP_E_NULL, "prepare: NULL instance");
+#if !WAKE_RTP_SPLIT
+    memcpy(&before, &s, sizeof(s));
+    CHECK(wake_rtp_prepare(&s) == WAKE_RTP_E_NULL, "no split step: prepare answers E_NULL");
+    CHECK(wake_rtp_finish(&s, 100, &y) == WAKE_RTP_E_UNPREPARED && y == 123, "no split step: finish unprepared");
+    CHECK(wake_rtp_finish_missing(&s, &y) == WAKE_RTP_E_UNPREPARED && y == 123, "no split step: finish_missing");
+    CHECK(memcmp(&before, &s, sizeof(s)) == 0, "no split step: nothing changed");
+#endif
+#if !WAKE_RTP_VOLUNTARY_AHEAD
+    memcpy(&before, &s, sizeof(s));
+    CHECK(wake_rtp_set_voluntary_ahead(&s, w) == WAKE_RTP_E_NULL, "no voluntary ahead: set answers E_NULL");
+    CHECK(wake_rtp_voluntary_ahead_output(&s, &out) == WAKE_RTP_E_NULL && out == 456,
+          "no voluntary ahead: output answers E_NULL");
+    CHECK(memcmp(&before, &s, sizeof(s)) == 0, "no voluntary ahead: nothing changed");
+    CHECK(wake_rtp_run_outputs(&s, in, NULL, 40u, vol, NULL, NULL, NULL, vol_ahead) == WAKE_RTP_OK, "run_outputs");
+    CHECK(vol_ahead[39] == s.last_output && vol_ahead[39] != 0, "no voluntary ahead: run_outputs gives y(n) in Q23");
+    CHECK((int32_t)vol[39] * 256 - vol_ahead[39] < 256 && vol_ahead[39] - (int32_t)vol[39] * 256 < 256,
+          "no voluntary ahead: the same y(n) in Q15 and Q23");
+#endif
+    (void)before;
+    (void)in;
+    (void)y;
+    (void)out;
+    (void)vol;
+    (void)vol_ahead;
+}
+
 int main(void)
 {
     printf("sizeof(wake_rtp_t) = %u bytes (WAKE_RTP_MAX_LEVEL = %d, P_FRAC = %d)\n", (unsigned)sizeof(wake_rtp_t),
@@ -840,6 +886,7 @@ int main(void)
     test_corrupted_weights();
     test_corrupted_variance();
     test_24_hours_bounded();
+    test_entries_of_features_left_off();
     printf("%d passed, %d failed\n", n_passed, n_failed);
     return n_failed ? 1 : 0;
 }

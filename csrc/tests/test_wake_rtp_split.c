@@ -67,7 +67,7 @@ static void random_weights(wake_q24_t *w, int large)
 /** The two instances agree in everything a step reads or writes (the prepared values excepted). */
 static int same_state(const wake_rtp_t *a, const wake_rtp_t *b)
 {
-    return memcmp(a, b, offsetof(wake_rtp_t, split_fir)) == 0;
+    return memcmp(a, b, offsetof(wake_rtp_t, split)) == 0;
 }
 
 /** Noise settings: active Kalman (q, p0 > 0) where the build has it, else inert. */
@@ -243,8 +243,8 @@ static void test_status(void)
     CHECK(wake_rtp_finish(&s, 100, &y) == WAKE_RTP_E_UNPREPARED && y == 123, "finish before any prepare");
     CHECK(wake_rtp_finish_missing(&s, &y) == WAKE_RTP_E_UNPREPARED && y == 123, "finish_missing before any prepare");
     CHECK(memcmp(&copy, &s, sizeof s) == 0, "a refused finish changes nothing");
-    CHECK(wake_rtp_prepare(&s) == WAKE_RTP_OK && s.split_ready == 1u, "prepare");
-    CHECK(wake_rtp_step(&s, 100, &y) == WAKE_RTP_OK && s.split_ready == 0u, "a step forgets the prepared step");
+    CHECK(wake_rtp_prepare(&s) == WAKE_RTP_OK && s.split.ready == 1u, "prepare");
+    CHECK(wake_rtp_step(&s, 100, &y) == WAKE_RTP_OK && s.split.ready == 0u, "a step forgets the prepared step");
     CHECK(wake_rtp_finish(&s, 100, &y) == WAKE_RTP_E_UNPREPARED, "so finish refuses");
     CHECK(wake_rtp_prepare(&s) == WAKE_RTP_OK && wake_rtp_finish(&s, 100, &y) == WAKE_RTP_OK, "prepare, finish");
     CHECK(wake_rtp_finish(&s, 100, &y) == WAKE_RTP_E_UNPREPARED, "one finish per prepare");
@@ -254,14 +254,14 @@ static void test_status(void)
 
     /* corrupted prepared values give a wrong prediction, never undefined behaviour (UBSan) */
     CHECK(wake_rtp_prepare(&s) == WAKE_RTP_OK, "prepare");
-    s.split_fir = INT64_MAX;
-    s.split_rho = INT32_MIN;
-    s.split_events = UINT32_MAX;
+    s.split.fir = INT64_MAX;
+    s.split.rho = INT32_MIN;
+    s.split.events = UINT32_MAX;
 #if WAKE_RTP_AHEAD
-    s.split_ahead.dot = INT64_MIN;
-    s.split_ahead.gate = -1;
+    s.split.ahead.dot = INT64_MIN;
+    s.split.ahead.gate = -1;
 #endif
-    CHECK(wake_rtp_finish(&s, 32767, &y) == WAKE_RTP_OK && s.split_ready == 0u,
+    CHECK(wake_rtp_finish(&s, 32767, &y) == WAKE_RTP_OK && s.split.ready == 0u,
           "corrupted prepared values: the finish runs (a wrong prediction at worst)");
 
     CHECK(wake_rate_init(&fe, 1) == WAKE_RATE_OK, "front end D 1");
@@ -270,7 +270,7 @@ static void test_status(void)
     CHECK(wake_rate_step(NULL, &s, 0, 1, &y) == WAKE_RATE_E_NULL, "NULL front end");
     CHECK(wake_rate_step(&fe, NULL, 0, 1, &y) == WAKE_RATE_E_NULL && fe.phase == 0u, "NULL RTP");
     CHECK(wake_rate_step(&fe, &s, 0, 1, NULL) == WAKE_RATE_E_NULL && fe.phase == 0u, "NULL prediction");
-    CHECK(wake_rate_step(&fe, &s, 10, 1, &y) == WAKE_RATE_OK && s.split_ready == 1u, "the first sample prepares");
+    CHECK(wake_rate_step(&fe, &s, 10, 1, &y) == WAKE_RATE_OK && s.split.ready == 1u, "the first sample prepares");
     CHECK(wake_rtp_step(&s, 10, &y) == WAKE_RTP_OK, "a step outside wake_rate_step");
     y = 77;
     CHECK(wake_rate_step(&fe, &s, 10, 1, &y) == WAKE_RATE_E_RTP && fe.phase == 0u && y == 77,

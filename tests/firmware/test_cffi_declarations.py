@@ -2,8 +2,9 @@
 
 build_ffi.py reads its declarations from csrc/wake_cffi.h, written for cffi.  cffi's API mode checks
 every declaration in that file against the headers (a field of the wrong size or offset stops the import);
-these tests check the other direction: every public function the extension's sources define is declared,
-and the file is one cffi reads as it is (no preprocessor conditionals to strip).
+these tests check the other direction: every public function the extension's sources define is declared
+(but the entries of a feature its configuration leaves off, wake.firmware.sources.FEATURE_ENTRIES: their
+module compiles in every build), and the file is one cffi reads as it is (no preprocessor conditionals to strip).
 """
 
 import re
@@ -14,6 +15,7 @@ from pathlib import Path
 import pytest
 
 from support import load_build_ffi
+from wake.firmware.sources import FEATURE_ENTRIES, firmware_entries
 
 CSRC = Path(__file__).resolve().parents[2] / "csrc"
 
@@ -42,7 +44,12 @@ def test_every_defined_function_is_declared():
     internal = {m for h in CSRC.glob("internal/*.h")
                 for m in re.findall(r"\b(wake_\w+)\(", h.read_text(encoding="utf-8"))}
     assert "wake_hpa_step_solve" in internal
-    missing = sorted(defined - set(dir(lib.lib)) - internal)
+    # the entries of a feature the configuration leaves off (the split step): compiled, not the extension's API
+    defs = [f"-D{name}={value}" for name, value in build_ffi.CONFIGURATION]
+    off = {e for entries in FEATURE_ENTRIES.values() for e in entries} - set(
+        firmware_entries(defined, defs, prefixes=("wake_rtp_", "wake_rate_")))
+    assert {"wake_rtp_prepare", "wake_rate_step"} <= off and "wake_rtp_run_outputs" not in off
+    missing = sorted(defined - set(dir(lib.lib)) - internal - off)
     assert not missing, f"defined in csrc/ but not declared in csrc/wake_cffi.h: {missing}"
 
 

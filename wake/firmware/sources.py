@@ -11,11 +11,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
-__all__ = ["HPA_INTERNAL_HEADERS", "HPA_SOURCES", "INTERNAL_HEADERS", "RTP_HEADERS", "RTP_INTERNAL", "RTP_SOURCES",
-           "SourcesUnavailable", "csrc_dir"]
+__all__ = ["FEATURE_DEFAULTS", "FEATURE_ENTRIES", "FEATURES_MAKE", "HPA_INTERNAL_HEADERS", "HPA_SOURCES",
+           "INTERNAL_HEADERS", "RTP_HEADERS", "RTP_INTERNAL", "RTP_SOURCES", "SourcesUnavailable", "csrc_dir",
+           "features_make_text", "feature_values", "firmware_entries"]
 
-#: The RTP's modules (docs/reference/architecture.md, "The C core's files"): the core step first; a module a
-#: build does not use compiles to nothing.
+#: The RTP's modules (docs/reference/architecture.md, "The C core's files"): the core step first.  Every
+#: module compiles in every configuration; a firmware links the entries of the features it uses
+#: (FEATURE_ENTRIES) and ``--gc-sections`` drops the rest.
 RTP_SOURCES = ("wake_rtp.c", "wake_rtp_state.c", "wake_rtp_split.c", "wake_rtp_ahead.c", "wake_rtp_voluntary.c",
                "wake_rtp_block.c", "wake_rtp_fixed.c")
 #: The RTP's public headers: the core (wake_rtp.h, which includes the others), its number formats and status
@@ -33,6 +35,71 @@ HPA_SOURCES = ("wake_hpa.c", "wake_hpa_spectrum.c", "wake_hpa_dft.c", "wake_hpa_
 HPA_INTERNAL_HEADERS = ("internal/wake_hpa_internal.h", "internal/wake_bounds.h", "internal/wake_hpa_costs.h")
 #: Every internal header once (the analyser's bounds, internal/wake_bounds.h, serve the RTP and the HPA).
 INTERNAL_HEADERS = tuple(dict.fromkeys(RTP_INTERNAL + HPA_INTERNAL_HEADERS))
+
+
+#: The entry points that exist for one feature only, per feature switch (csrc/wake_rtp.h): a firmware built
+#: without the feature calls none of them, so its link (``-ffunction-sections``, ``--gc-sections``) keeps none.
+#: The one list of them: ``wake profile`` reads it (firmware_entries), and ``make -C csrc cross`` reads
+#: FEATURES_MAKE, generated from it (``python -m wake.firmware.sources --write-make``; a test checks they agree).
+FEATURE_ENTRIES = {
+    "WAKE_RTP_AHEAD": ("wake_rtp_set_ahead", "wake_rtp_set_ahead_ramp", "wake_rtp_ahead_output",
+                       "wake_rtp_load_ahead_state", "wake_rtp_get_ahead_state"),
+    "WAKE_RTP_SPLIT": ("wake_rtp_prepare", "wake_rtp_finish", "wake_rtp_finish_missing", "wake_rate_step"),
+    "WAKE_RTP_VOLUNTARY_AHEAD": ("wake_rtp_set_voluntary_ahead", "wake_rtp_voluntary_ahead_output",
+                                 "wake_rtp_run_outputs"),
+}
+#: Each switch's value when a build does not set it (csrc/wake_rtp.h).
+FEATURE_DEFAULTS = {"WAKE_RTP_AHEAD": "1", "WAKE_RTP_SPLIT": "0", "WAKE_RTP_VOLUNTARY_AHEAD": "0"}
+#: The make fragment generated from FEATURE_ENTRIES (relative to the sources' directory).
+FEATURES_MAKE = "wake_features.mk"
+
+
+def feature_values(defs=()) -> dict:
+    """Each feature switch's value in a build with the ``-D`` options ``defs`` (``-DNAME`` alone is 1).
+
+    Examples
+    --------
+    >>> feature_values(["-DWAKE_RTP_SPLIT=1", "-mcpu=cortex-m4"])["WAKE_RTP_SPLIT"]
+    '1'
+    """
+    values = dict(FEATURE_DEFAULTS)
+    for d in defs:
+        name, _, value = str(d).removeprefix("-D").partition("=")
+        if name in values:
+            values[name] = value or "1"
+    return values
+
+
+def firmware_entries(names, defs=(), prefixes=("wake_rtp_",)) -> list:
+    """The public functions among ``names`` (those starting with one of ``prefixes``) that a firmware built
+    with ``defs`` links: all but the entries of a feature the build leaves off (FEATURE_ENTRIES).
+
+    Examples
+    --------
+    >>> firmware_entries(["wake_rtp_step", "wake_rtp_set_ahead", "wake_ahead_step"], ["-DWAKE_RTP_AHEAD=0"])
+    ['wake_rtp_step']
+    """
+    values = feature_values(defs)
+    off = {e for switch, entries in FEATURE_ENTRIES.items() if values[switch] == "0" for e in entries}
+    return sorted(n for n in names if n.startswith(tuple(prefixes)) and n not in off)
+
+
+def features_make_text() -> str:
+    """csrc/wake_features.mk: FEATURE_ENTRIES for the Makefile's cross link, and ``wake_entries_off``, the
+    entries a build with the flags ``$(1)`` leaves off (as firmware_entries)."""
+    lines = ["# Generated from wake.firmware.sources.FEATURE_ENTRIES by `python -m wake.firmware.sources --write-make`:",
+             "# do not edit (tests/firmware/test_c_layout.py checks that they agree).  The entry points of each",
+             "# feature: a firmware built without the feature links none of them.", ""]
+    calls = []
+    for switch, entries in FEATURE_ENTRIES.items():
+        lines.append(f"WAKE_ENTRIES_{switch} := {' '.join(entries)}")
+        if FEATURE_DEFAULTS[switch] == "0":     # off unless the flags set it
+            calls.append(f"$(if $(filter -D{switch} -D{switch}=1,$(1)),,$(WAKE_ENTRIES_{switch}))")
+        else:                                   # on unless the flags set it to 0
+            calls.append(f"$(if $(filter -D{switch}=0,$(1)),$(WAKE_ENTRIES_{switch}))")
+    lines += ["", "# $(call wake_entries_off,FLAGS): the entries of the features a build with FLAGS leaves off",
+              "wake_entries_off = " + " ".join(calls), ""]
+    return "\n".join(lines)
 
 
 class SourcesUnavailable(FileNotFoundError):
@@ -91,3 +158,23 @@ def csrc_dir(path: str | Path | None = None, *, need: tuple[str, ...] = ()) -> P
             f"the C sources in {cand} lack {', '.join(missing)}: point at the csrc/ directory of a wake "
             "source tree")
     return cand
+
+
+def main(argv=None) -> int:
+    """``python -m wake.firmware.sources --write-make [CSRC]``: write csrc/wake_features.mk from FEATURE_ENTRIES."""
+    import argparse
+
+    parser = argparse.ArgumentParser(prog="python -m wake.firmware.sources",
+                                     description="Write the make fragment of the feature entries (FEATURE_ENTRIES).")
+    parser.add_argument("--write-make", action="store_true", required=True,
+                        help=f"write {FEATURES_MAKE} into the sources' directory")
+    parser.add_argument("csrc", nargs="?", default=None, help="the csrc/ directory (default: this package's)")
+    args = parser.parse_args(argv)
+    path = csrc_dir(args.csrc) / FEATURES_MAKE
+    path.write_text(features_make_text())
+    print(f"wrote {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

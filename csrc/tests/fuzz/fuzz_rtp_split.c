@@ -22,7 +22,7 @@
  * as it was).
  *
  * The property, beyond the sanitizers: after every call both instances return the same status, the same
- * prediction and the same observable state, byte for byte (everything before wake_rtp_t::split_fir, as
+ * prediction and the same observable state, byte for byte (everything before wake_rtp_t::split, as
  * csrc/tests/test_wake_rtp_split.c compares), and the front ends the same state.  After a corruption only
  * the statuses must agree: a corrupted state is one no call sequence makes (the ring holds each sample
  * twice, and the split step reads the other copy of some: docs/studies/verification.md, "Fuzzing"), on which the
@@ -71,13 +71,13 @@ static int status_known(wake_rtp_status_t st)
 /** The observable state: everything before the prepared values (test_wake_rtp_split.c, same_state). */
 static int same_state(const wake_rtp_t *a, const wake_rtp_t *b)
 {
-    return memcmp(a, b, offsetof(wake_rtp_t, split_fir)) == 0;
+    return memcmp(a, b, offsetof(wake_rtp_t, split)) == 0;
 }
 
 /** One sample (or a missing one) on both, in the direct mode. */
 static void direct_sample(fuzz_input_t *in, int missing)
 {
-    const int prepared = split.split_ready != 0u;
+    const int prepared = split.split.ready != 0u;
     const uint8_t how = fuzz_u8(in);
     const wake_q15_t sample = missing ? 0 : fuzz_i16(in);
     wake_q15_t y_split = 0x1234, y_whole = 0x1234;
@@ -94,7 +94,7 @@ static void direct_sample(fuzz_input_t *in, int missing)
     st_whole = missing ? wake_rtp_step_missing(&whole, &y_whole) : wake_rtp_step(&whole, sample, &y_whole);
     FUZZ_REQUIRE(status_known(st_split) && st_split == st_whole);
     FUZZ_REQUIRE(corrupted || (y_split == y_whole && same_state(&split, &whole)));
-    FUZZ_REQUIRE(st_split != WAKE_RTP_OK || split.split_ready == 0u);   /* a step forgets the prepared one */
+    FUZZ_REQUIRE(st_split != WAKE_RTP_OK || split.split.ready == 0u);   /* a step forgets the prepared one */
 }
 
 /** One input sample through the front ends, in the rate mode. */
@@ -179,8 +179,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     FUZZ_REQUIRE(same_state(&split, &whole));
     /* a refused init leaves the prepared values as they were (here 0xA5 bytes): not prepared, so that the
        harness never finishes from bytes no prepare wrote (the comparisons exclude them) */
-    split.split_ready = 0u;
-    whole.split_ready = 0u;
+    split.split.ready = 0u;
+    whole.split.ready = 0u;
     {
         /* the mode and D: the low bit picks rate, the rest D = 1 + value % 16 (often), or up to 1000 */
         const uint16_t mode = fuzz_u16(&in);
@@ -208,7 +208,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             FUZZ_REQUIRE(corrupted || same_state(&split, &whole));   /* observable state untouched */
             break;
         case OP_UNPREPARED:   /* a finish without a prepare is refused and changes nothing */
-            if (split.split_ready == 0u && !rate_mode) {
+            if (split.split.ready == 0u && !rate_mode) {
                 wake_q15_t y = 0x1234;
                 st = (fuzz_u8(&in) & 1u) != 0u ? wake_rtp_finish_missing(&split, &y)
                                                 : wake_rtp_finish(&split, fuzz_i16(&in), &y);
@@ -251,7 +251,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             FUZZ_REQUIRE(a == wake_rtp_run(&whole, block_whole, block_whole, n) && status_known(a));
             FUZZ_REQUIRE(corrupted || (memcmp(block_split, block_whole, n * sizeof block_split[0]) == 0 &&
                                         same_state(&split, &whole)));
-            FUZZ_REQUIRE(a != WAKE_RTP_OK || n == 0u || split.split_ready == 0u);   /* a run forgets it */
+            FUZZ_REQUIRE(a != WAKE_RTP_OK || n == 0u || split.split.ready == 0u);   /* a run forgets it */
             break;
         }
 #if WAKE_RTP_AHEAD
@@ -286,14 +286,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
 #endif
         default: {   /* OP_CORRUPT: the same bytes into both observable states, the taps pointer kept */
-            const size_t offset = fuzz_u16(&in) % offsetof(wake_rtp_t, split_fir);
+            const size_t offset = fuzz_u16(&in) % offsetof(wake_rtp_t, split);
             size_t len = (size_t)(fuzz_u8(&in) % 16u) + 1u;
             uint8_t bytes[16];
-            if (split.split_ready != 0u) {
+            if (split.split.ready != 0u) {
                 break;
             }
-            if (len > offsetof(wake_rtp_t, split_fir) - offset) {
-                len = offsetof(wake_rtp_t, split_fir) - offset;
+            if (len > offsetof(wake_rtp_t, split) - offset) {
+                len = offsetof(wake_rtp_t, split) - offset;
             }
             fuzz_bytes(&in, bytes, len);
             memcpy((uint8_t *)&split + offset, bytes, len);

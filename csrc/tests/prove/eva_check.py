@@ -65,7 +65,7 @@ VOLUNTARY_BUILD_ENTRIES = ["wake_rtp_set_weights", "wake_rtp_load_state"]
 #: division for k about 14 times, each of those 66 turns of up to 100 states: 90 % of the analysis (-eva-show-perf).
 #: Joining inside the voluntary restart and the division (one state per call; the division's quotient is clamped
 #: to +-2^50 whatever the states) gives the same result (no alarm) in a tenth of the time or less
-VOLUNTARY_ENTRY_OPTIONS = {e: ("-eva-slevel-function", "divide_wide:0,wake_rtpi_voluntary_restart:0")
+VOLUNTARY_ENTRY_OPTIONS = {e: ("-eva-slevel-function", "divide_wide:0,wake_rtpi_voluntary_restart_on:0")
                            for e in VOLUNTARY_BUILD_ENTRIES}
 #: seconds per entry in that build whatever --timeout says: 9 to 33 s per configuration at a load average of 1 to 2
 #: on a 2-core machine, beyond EVA_TIMEOUT's 120 s on a busier one

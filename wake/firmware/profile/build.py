@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from wake.firmware import sources
+from wake.firmware.sources import firmware_entries
 
 TARGETS = {
     "m4-O2": ("Cortex-M4, -O2", ["-mcpu=cortex-m4", "-mthumb", "-O2"]),
@@ -194,39 +195,35 @@ def clang_command():
 
 
 def rtp_sources(src):
-    """The RTP's modules in ``src`` (csrc/wake_rtp*.c), the core step's first; a module a build does not use
-    compiles to nothing."""
+    """The RTP's modules in ``src`` (csrc/wake_rtp*.c), the core step's first; every one compiles in every
+    configuration, the link keeps the entries of the configuration's features (firmware_entries)."""
     return sorted(Path(src).glob("wake_rtp*.c"), key=lambda p: (p.name != "wake_rtp.c", p.name))
 
 
-#: The RTP's entry points that exist for one feature only: a firmware without the feature calls none of them.
-FEATURE_ENTRIES = {
-    "WAKE_RTP_AHEAD": ("wake_rtp_set_ahead", "wake_rtp_set_ahead_ramp", "wake_rtp_ahead_output",
-                       "wake_rtp_load_ahead_state", "wake_rtp_get_ahead_state"),
-    "WAKE_RTP_SPLIT": ("wake_rtp_prepare", "wake_rtp_finish", "wake_rtp_finish_missing"),
-    "WAKE_RTP_VOLUNTARY_AHEAD": ("wake_rtp_set_voluntary_ahead", "wake_rtp_voluntary_ahead_output",
-                                 "wake_rtp_run_outputs"),
-}
-#: Each switch's value when ``defs`` does not set it (csrc/wake_rtp.h).
-FEATURE_DEFAULTS = {"WAKE_RTP_AHEAD": "1", "WAKE_RTP_SPLIT": "0", "WAKE_RTP_VOLUNTARY_AHEAD": "0"}
+def _defined_functions(obj):
+    """The global functions an object defines (arm-none-eabi-nm), or None without the tool."""
+    nm = shutil.which("arm-none-eabi-nm")
+    if nm is None:
+        return None
+    return [line.split()[-1] for line in subprocess.run([nm, "-g", "--defined-only", str(obj)],
+                                                        capture_output=True, text=True, check=True).stdout.splitlines()
+            if line.split()[1:2] == ["T"]]
 
 
-def firmware_entries(names, defs=()) -> list:
-    """The RTP's public functions (``wake_rtp_*`` of ``names``) that a firmware built with ``defs`` calls:
-    those of a feature the build leaves off are not.
-
-    Examples
-    --------
-    >>> firmware_entries(["wake_rtp_step", "wake_rtp_set_ahead", "wake_ahead_step"], ["-DWAKE_RTP_AHEAD=0"])
-    ['wake_rtp_step']
-    """
-    values = dict(FEATURE_DEFAULTS)
-    for d in defs:
-        name, _, value = str(d).removeprefix("-D").partition("=")
-        if name in values:
-            values[name] = value or "1"
-    off = {e for switch, entries in FEATURE_ENTRIES.items() if values[switch] == "0" for e in entries}
-    return sorted(n for n in names if n.startswith("wake_rtp_") and n not in off)
+def _linked_rate(run, tools, target, flags, src, out, defs):
+    """The front end (wake_rate.c) as a firmware links it: a section per function, linked with ``--gc-sections``
+    from its entry points of the configuration (firmware_entries: wake_rate_step with WAKE_RTP_SPLIT 1 only)."""
+    sectioned = out / "wake_rate.fs.o"
+    run([tools["gcc"], *WARN_FLAGS, *flags, "-ffunction-sections", "-c", str(src / "wake_rate.c"),
+         "-o", str(sectioned)])
+    names = _defined_functions(sectioned)
+    if names is None:
+        return sectioned
+    linked = out / "wake_rate.o"
+    roots = [f"-Wl,--undefined={name}" for name in firmware_entries(names, defs, prefixes=("wake_rate_",))]
+    run([tools["gcc"], *TARGETS[target][1], "-nostdlib", "-r", "-Wl,--gc-sections", *roots, str(sectioned),
+         "-o", str(linked)])
+    return linked
 
 
 def _linked_core(run, tools, target, flags, src, out, core_o, defs, compiler):
@@ -234,12 +231,9 @@ def _linked_core(run, tools, target, flags, src, out, core_o, defs, compiler):
     ``--gc-sections`` from the RTP's entry points of the configuration (firmware_entries), so a feature
     module's functions that nothing calls are dropped, as a firmware's link drops them.  Its sections are the
     footprint; the profiled image links ``core_o``, whose code is the same function for function."""
-    nm = shutil.which("arm-none-eabi-nm")
-    if nm is None:
+    names = _defined_functions(core_o)
+    if names is None:
         return core_o
-    names = [line.split()[-1] for line in subprocess.run([nm, "-g", "--defined-only", str(core_o)],
-                                                         capture_output=True, text=True, check=True).stdout.splitlines()
-             if line.split()[1:2] == ["T"]]
     sectioned = []
     for module in rtp_sources(src):
         obj = out / (module.stem + ".fs.o")
@@ -299,8 +293,7 @@ def build_image(target="m4-O2", *, board="generic", build_dir=None, csrc=None, d
     objects = [str(core_o)]
     linked_o = _linked_core(run, tools, target, flags, src, out, core_o, defs, compiler)
     if (src / "wake_rate.c").is_file():  # the decimating front end (input rates above 150 Hz)
-        run([tools["gcc"], *WARN_FLAGS, *flags, "-c", str(src / "wake_rate.c"), "-o", "wake_rate.o"])
-        objects.append("wake_rate.o")
+        objects.append(str(_linked_rate(run, tools, target, flags, src, out, defs)))
     harness_flags = ["-std=c99", "-Wall", "-Wextra", *flags, "-fno-tree-loop-distribute-patterns", "-I", str(src)]
     run([tools["gcc"], *harness_flags, "-c", str(prof / "harness.c"), "-o", "harness.o"])
     run([tools["gcc"], *harness_flags, "-c", str(prof / "startup.c"), "-o", "startup.o"])
