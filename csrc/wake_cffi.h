@@ -62,7 +62,8 @@ typedef enum {
     WAKE_RTP_E_STATE = -8,
     WAKE_RTP_E_NO_KALMAN = -9,
     WAKE_RTP_E_AHEAD = -10,
-    WAKE_RTP_E_UNPREPARED = -11
+    WAKE_RTP_E_UNPREPARED = -11,
+    WAKE_RTP_E_FEATURE = -12
 } wake_rtp_status_t;
 /* ---- wake_ahead.h ---- */
 typedef struct {

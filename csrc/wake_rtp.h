@@ -150,8 +150,8 @@ extern "C" {
 
 /**
  * What wake_rtp_prepare computed for the next finish (the split step, WAKE_RTP_SPLIT 1 builds embed one as
- * wake_rtp_t::split; its module, wake_rtp_split.c, compiles in every build and answers WAKE_RTP_E_NULL or
- * WAKE_RTP_E_UNPREPARED where the instance holds none).
+ * wake_rtp_t::split; its module, wake_rtp_split.c, compiles in every build and answers WAKE_RTP_E_FEATURE
+ * where the instance holds none).
  */
 typedef struct {
     int64_t fir;               /**< h' window less the newest sample's product, Q(FIR + 15), exact, |.| < 2^52 */
@@ -375,8 +375,8 @@ wake_rtp_status_t wake_rtp_load_state(wake_rtp_t *s, const wake_q15_t *window,
 wake_rtp_status_t wake_rtp_get_state(const wake_rtp_t *s, wake_q23_t *correction, wake_cov_t *covariance);
 
 /* The split step (wake_rtp_split.c): compiled in every build, linked by a firmware that calls it.  In a
- * build without WAKE_RTP_SPLIT the instance holds no prepared values: wake_rtp_prepare returns
- * WAKE_RTP_E_NULL and the finishes WAKE_RTP_E_UNPREPARED once the instance is checked, changing nothing. */
+ * build without WAKE_RTP_SPLIT the instance holds no prepared values: wake_rtp_prepare and the finishes
+ * return WAKE_RTP_E_FEATURE once the instance is checked, changing nothing. */
 /**
  * @brief The part of the next step that does not need its sample (WAKE_RTP_SPLIT builds).
  *
@@ -438,7 +438,7 @@ wake_rtp_status_t wake_rtp_finish_missing(wake_rtp_t *s, wake_q15_t *prediction)
 
 /* The tremor ahead of the instance (wake_rtp_t::ahead): each function below forwards to its wake_ahead.h
  * counterpart after checking the instance.  In a build without it (WAKE_RTP_AHEAD 0) the instance has none
- * and each returns WAKE_RTP_E_NULL once the instance is checked. */
+ * and each returns WAKE_RTP_E_FEATURE once the instance is checked, changing nothing. */
 /**
  * @brief Install an HPA's tremor-ahead predictor and the gate's goal between two samples.
  *
@@ -503,8 +503,8 @@ wake_rtp_status_t wake_rtp_get_ahead_state(const wake_rtp_t *s, wake_q15_t *line
 
 /* The voluntary motion ahead of the instance (wake_rtp_t::voluntary_ahead, wake_rtp_voluntary.c): compiled in
  * every build, linked by a firmware that calls it.  In a build without WAKE_RTP_VOLUNTARY_AHEAD the instance
- * holds none: wake_rtp_set_voluntary_ahead and wake_rtp_voluntary_ahead_output return WAKE_RTP_E_NULL once
- * the instance is checked. */
+ * holds none: wake_rtp_set_voluntary_ahead and wake_rtp_voluntary_ahead_output return WAKE_RTP_E_FEATURE once
+ * the instance is checked, changing nothing. */
 /**
  * @brief Install w_h, the HPA's weights of the voluntary motion h samples ahead, between two samples.
  *

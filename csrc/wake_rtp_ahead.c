@@ -224,6 +224,9 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_ahead(wake_rtp_t *s, const int32_t 
 {
     wake_rtp_status_t st = wake_rtpi_check_instance(s);
     if (st == WAKE_RTP_OK) {
+        st = wake_rtpi_feature(wake_rtpi_ahead(s));
+    }
+    if (st == WAKE_RTP_OK) {
         st = set_model(wake_rtpi_ahead(s), coefficients, goal);
     }
     if (st == WAKE_RTP_OK) {
@@ -235,6 +238,9 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_ahead(wake_rtp_t *s, const int32_t 
 WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_ahead_ramp(wake_rtp_t *s, wake_ratio_t ramp)
 {
     wake_rtp_status_t st = wake_rtpi_check_instance(s);
+    if (st == WAKE_RTP_OK) {
+        st = wake_rtpi_feature(wake_rtpi_ahead(s));
+    }
     if (st == WAKE_RTP_OK) {
         st = set_ramp(wake_rtpi_ahead(s), ramp);
     }
@@ -249,6 +255,9 @@ wake_rtp_status_t wake_rtp_ahead_output(const wake_rtp_t *s, wake_q23_t *predict
 {
     wake_rtp_status_t st = wake_rtpi_check_structure(s);
     if (st == WAKE_RTP_OK) {
+        st = wake_rtpi_feature(wake_rtpi_ahead_of(s));
+    }
+    if (st == WAKE_RTP_OK) {
         st = output(wake_rtpi_ahead_of(s), predicted, gate, command);
     }
     return st;
@@ -257,6 +266,9 @@ wake_rtp_status_t wake_rtp_ahead_output(const wake_rtp_t *s, wake_q23_t *predict
 WAKE_RTP_COLD wake_rtp_status_t wake_rtp_load_ahead_state(wake_rtp_t *s, const wake_q15_t *line, wake_ratio_t gate)
 {
     wake_rtp_status_t st = wake_rtpi_check_instance(s);
+    if (st == WAKE_RTP_OK) {
+        st = wake_rtpi_feature(wake_rtpi_ahead(s));
+    }
     if (st == WAKE_RTP_OK) {
         st = load(wake_rtpi_ahead(s), line, gate);
     }
@@ -269,6 +281,9 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_load_ahead_state(wake_rtp_t *s, const w
 WAKE_RTP_COLD wake_rtp_status_t wake_rtp_get_ahead_state(const wake_rtp_t *s, wake_q15_t *line)
 {
     wake_rtp_status_t st = wake_rtpi_check_instance(s);
+    if (st == WAKE_RTP_OK) {
+        st = wake_rtpi_feature(wake_rtpi_ahead_of(s));
+    }
     if (st == WAKE_RTP_OK) {
         st = history(wake_rtpi_ahead_of(s), line);
     }

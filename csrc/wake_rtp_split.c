@@ -7,7 +7,7 @@
  * A scheduling of the core's per-sample pieces (internal/wake_rtp_sample.h): the finish is the step's own
  * control flow (sample_flow) instantiated for a prepared step.  The prepared values live in the instance's
  * wake_rtp_split_t (wake_rtpi_split): a build without WAKE_RTP_SPLIT holds none, and there the entries
- * answer WAKE_RTP_E_NULL (prepare) or WAKE_RTP_E_UNPREPARED (the finishes); a firmware that does not call
+ * answer WAKE_RTP_E_FEATURE; a firmware that does not call
  * them does not link them.
  */
 /* At -Os the split step keeps its own copies of the integer helpers (wake_fixed.h): its finish calls them
@@ -90,10 +90,9 @@ wake_rtp_status_t wake_rtp_prepare(wake_rtp_t *s)
     wake_rtp_status_t st = wake_rtpi_check_structure(s);
     if (st == WAKE_RTP_OK) {
         wake_rtp_split_t *const p = wake_rtpi_split(s);
-        if (p != NULL) {
+        st = wake_rtpi_feature(p);                         /* the instance may hold no split step */
+        if (st == WAKE_RTP_OK) {
             prepare_validated(s, p);
-        } else {
-            st = WAKE_RTP_E_NULL;                          /* the instance holds no split step */
         }
     }
     return st;

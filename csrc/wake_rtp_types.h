@@ -131,8 +131,10 @@ typedef enum {
     WAKE_RTP_E_NO_KALMAN = -9,    /**< a Kalman setting (q, p0, d or P non-zero) in a WAKE_RTP_KALMAN 0 build */
     WAKE_RTP_E_AHEAD = -10,       /**< a tremor-ahead value out of range: |coefficient| > 8 (Q27), goal or
                                        gate outside [0, 1] (Q30), ramp outside (0, 1] (Q30) */
-    WAKE_RTP_E_UNPREPARED = -11   /**< wake_rtp_finish without a wake_rtp_prepare since the last step
+    WAKE_RTP_E_UNPREPARED = -11,  /**< wake_rtp_finish without a wake_rtp_prepare since the last step
                                        (WAKE_RTP_SPLIT builds) */
+    WAKE_RTP_E_FEATURE = -12      /**< an entry of a feature this build leaves out (WAKE_RTP_AHEAD,
+                                       WAKE_RTP_SPLIT or WAKE_RTP_VOLUNTARY_AHEAD 0): nothing changes */
 } wake_rtp_status_t;
 
 #ifdef __cplusplus

@@ -8,7 +8,7 @@
  *
  * Compiled in every build: the instance's entry (wake_voluntary_ahead_output) reads any instance; the RTP's
  * entries reach the embedded one through wake_rtpi_voluntary, which a build without
- * WAKE_RTP_VOLUNTARY_AHEAD answers with none (they return WAKE_RTP_E_NULL), and the step's hooks are the
+ * WAKE_RTP_VOLUNTARY_AHEAD answers with none (they return WAKE_RTP_E_FEATURE), and the step's hooks are the
  * no-ops of internal/wake_rtp_internal.h there (the step calls none of this file).  A firmware that does
  * not call the entries does not link them.
  */
@@ -142,8 +142,12 @@ WAKE_RTP_COLD wake_rtp_status_t wake_rtp_set_voluntary_ahead(wake_rtp_t *s, cons
         return st;
     }
     v = wake_rtpi_voluntary(s);
-    if ((weights_ahead == NULL) || (v == NULL)) {
-        return WAKE_RTP_E_NULL;                                     /* or the instance holds none */
+    st = wake_rtpi_feature(v);                                      /* the instance may hold none */
+    if (st != WAKE_RTP_OK) {
+        return st;
+    }
+    if (weights_ahead == NULL) {
+        return WAKE_RTP_E_NULL;
     }
     if (!weights_in_range(weights_ahead, s->level)) {
         return WAKE_RTP_E_WEIGHTS;
@@ -160,5 +164,9 @@ wake_rtp_status_t wake_rtp_voluntary_ahead_output(const wake_rtp_t *s, wake_q23_
     if (st != WAKE_RTP_OK) {
         return st;
     }
-    return output_of(wake_rtpi_voluntary_of(s), output);          /* none: WAKE_RTP_E_NULL */
+    st = wake_rtpi_feature(wake_rtpi_voluntary_of(s));
+    if (st != WAKE_RTP_OK) {
+        return st;
+    }
+    return output_of(wake_rtpi_voluntary_of(s), output);
 }

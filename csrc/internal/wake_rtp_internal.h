@@ -100,6 +100,13 @@ wake_rtp_status_t wake_rtpi_check_structure(const wake_rtp_t *s);
  * function but the per-sample ones). */
 wake_rtp_status_t wake_rtpi_check_instance(const wake_rtp_t *s);
 
+/** After the RTP instance's check: WAKE_RTP_E_FEATURE when the feature's embedded instance, @p embedded, is absent
+ * (NULL: a build without the feature), else WAKE_RTP_OK.  Every RTP entry of a feature answers through it. */
+static inline wake_rtp_status_t wake_rtpi_feature(const void *embedded)
+{
+    return (embedded == NULL) ? WAKE_RTP_E_FEATURE : WAKE_RTP_OK;
+}
+
 /** 0 when the tremor ahead's line index is out of range (the step indexes the line with it). */
 static inline int wake_rtpi_ahead_structure_ok(const wake_rtp_t *s)
 {
@@ -411,7 +418,7 @@ static inline void wake_rtpi_split_forget(wake_rtp_t *s)
 static inline wake_rtp_split_t *wake_rtpi_split(wake_rtp_t *s)
 {
     (void)s;
-    return NULL;                    /* none: wake_rtp_prepare answers WAKE_RTP_E_NULL, a finish _UNPREPARED */
+    return NULL;                    /* none: the split entries answer WAKE_RTP_E_FEATURE */
 }
 static inline const wake_rtp_split_t *wake_rtpi_split_of(const wake_rtp_t *s)
 {

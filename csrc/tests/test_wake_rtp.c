@@ -825,8 +825,8 @@ static void test_corrupted_variance(void)
 }
 
 /* A feature the build leaves off (WAKE_RTP_SPLIT, WAKE_RTP_VOLUNTARY_AHEAD 0): its module still compiles and
- * links; its entries answer (prepare WAKE_RTP_E_NULL, a finish _UNPREPARED, the voluntary ahead's E_NULL) once
- * the instance is checked, and change nothing; the block entry outputs y(n) as the voluntary ahead. */
+ * links; its entries answer WAKE_RTP_E_FEATURE once the instance is checked (WAKE_RTP_E_NULL for a NULL
+ * instance), and change nothing; the block entry outputs y(n) as the voluntary ahead. */
 static void test_entries_of_features_left_off(void)
 {
     static int16_t taps[MAXJ * MAXN];
@@ -846,16 +846,17 @@ static void test_entries_of_features_left_off(void)
     CHECK(wake_rtp_prepare(NULL) == WAKE_RTP_E_NULL, "prepare: NULL instance");
 #if !WAKE_RTP_SPLIT
     memcpy(&before, &s, sizeof(s));
-    CHECK(wake_rtp_prepare(&s) == WAKE_RTP_E_NULL, "no split step: prepare answers E_NULL");
-    CHECK(wake_rtp_finish(&s, 100, &y) == WAKE_RTP_E_UNPREPARED && y == 123, "no split step: finish unprepared");
-    CHECK(wake_rtp_finish_missing(&s, &y) == WAKE_RTP_E_UNPREPARED && y == 123, "no split step: finish_missing");
+    CHECK(wake_rtp_prepare(&s) == WAKE_RTP_E_FEATURE, "no split step: prepare answers E_FEATURE");
+    CHECK(wake_rtp_finish(&s, 100, &y) == WAKE_RTP_E_FEATURE && y == 123, "no split step: finish answers E_FEATURE");
+    CHECK(wake_rtp_finish_missing(&s, &y) == WAKE_RTP_E_FEATURE && y == 123, "no split step: finish_missing");
     CHECK(memcmp(&before, &s, sizeof(s)) == 0, "no split step: nothing changed");
 #endif
 #if !WAKE_RTP_VOLUNTARY_AHEAD
     memcpy(&before, &s, sizeof(s));
-    CHECK(wake_rtp_set_voluntary_ahead(&s, w) == WAKE_RTP_E_NULL, "no voluntary ahead: set answers E_NULL");
-    CHECK(wake_rtp_voluntary_ahead_output(&s, &out) == WAKE_RTP_E_NULL && out == 456,
-          "no voluntary ahead: output answers E_NULL");
+    CHECK(wake_rtp_set_voluntary_ahead(&s, w) == WAKE_RTP_E_FEATURE, "no voluntary ahead: set answers E_FEATURE");
+    CHECK(wake_rtp_set_voluntary_ahead(&s, NULL) == WAKE_RTP_E_FEATURE, "no voluntary ahead: the feature first");
+    CHECK(wake_rtp_voluntary_ahead_output(&s, &out) == WAKE_RTP_E_FEATURE && out == 456,
+          "no voluntary ahead: output answers E_FEATURE");
     CHECK(memcmp(&before, &s, sizeof(s)) == 0, "no voluntary ahead: nothing changed");
     CHECK(wake_rtp_run_outputs(&s, in, NULL, 40u, vol, NULL, NULL, NULL, vol_ahead) == WAKE_RTP_OK, "run_outputs");
     CHECK(vol_ahead[39] == s.last_output && vol_ahead[39] != 0, "no voluntary ahead: run_outputs gives y(n) in Q23");

@@ -19,11 +19,11 @@
 #include "check.h"
 #include "averaging_taps.h"
 
-#if WAKE_RTP_AHEAD
-
 #define J 4
 #define N (1 << J)
 #define TAPS WAKE_RTP_AHEAD_TAPS
+
+#if WAKE_RTP_AHEAD
 
 static const double Q15 = 32768.0;
 static const double Q27 = 134217728.0;
@@ -362,10 +362,35 @@ int main(void)
 
 #else /* WAKE_RTP_AHEAD 0: the build without the tremor ahead */
 
+/* The RTP's tremor-ahead entries still link; each answers WAKE_RTP_E_FEATURE once the instance is checked
+ * (WAKE_RTP_E_NULL for a NULL instance, _UNINIT for one never initialised) and changes nothing. */
 int main(void)
 {
+    static int16_t taps[J * N];
+    static int32_t w[J], c[TAPS];
+    static wake_q15_t line[TAPS];
+    wake_rtp_t s, before;
+    wake_q23_t predicted = 1, command = 3;
+    wake_ratio_t gate = 2;
+    unsigned j;
     CHECK(WAKE_RTP_AHEAD == 0, "built without the tremor ahead");
-    printf("WAKE_RTP_AHEAD 0: nothing to test (%d passed)\n", n_passed);
+    make_averaging_taps(taps, J, N);
+    for (j = 0; j < J; ++j) {
+        w[j] = (int32_t)(16777216 / J);
+    }
+    memset(&s, 0, sizeof(s));
+    CHECK(wake_rtp_set_ahead(&s, c, 0) == WAKE_RTP_E_UNINIT, "never initialised: E_UNINIT first");
+    CHECK(wake_rtp_init(&s, J, taps, w, 3000, 3, 3000) == WAKE_RTP_OK, "init");
+    memcpy(&before, &s, sizeof(s));
+    CHECK(wake_rtp_set_ahead(NULL, c, 0) == WAKE_RTP_E_NULL, "set_ahead: NULL instance");
+    CHECK(wake_rtp_set_ahead(&s, c, 0) == WAKE_RTP_E_FEATURE, "set_ahead answers E_FEATURE");
+    CHECK(wake_rtp_set_ahead_ramp(&s, 1 << 29) == WAKE_RTP_E_FEATURE, "set_ahead_ramp answers E_FEATURE");
+    CHECK(wake_rtp_ahead_output(&s, &predicted, &gate, &command) == WAKE_RTP_E_FEATURE &&
+          predicted == 1 && gate == 2 && command == 3, "ahead_output answers E_FEATURE, writes nothing");
+    CHECK(wake_rtp_load_ahead_state(&s, line, 0) == WAKE_RTP_E_FEATURE, "load_ahead_state answers E_FEATURE");
+    CHECK(wake_rtp_get_ahead_state(&s, line) == WAKE_RTP_E_FEATURE, "get_ahead_state answers E_FEATURE");
+    CHECK(memcmp(&before, &s, sizeof(s)) == 0, "nothing changed");
+    printf("WAKE_RTP_AHEAD 0: %d passed, %d failed\n", n_passed, n_failed);
     return n_failed ? 1 : 0;
 }
 

@@ -24,6 +24,9 @@ _STATUS_TEXT = {
     int(lib.WAKE_RTP_E_STATE): "bad state values",
     int(lib.WAKE_RTP_E_NO_KALMAN): "a Kalman setting in a core built without the Kalman update (WAKE_RTP_KALMAN 0)",
     int(lib.WAKE_RTP_E_AHEAD): "a tremor-ahead value out of range",
+    int(lib.WAKE_RTP_E_UNPREPARED): "a finish without a prepare since the last step",
+    int(lib.WAKE_RTP_E_FEATURE): "an entry of a feature this core is built without (WAKE_RTP_AHEAD, WAKE_RTP_SPLIT or "
+                                 "WAKE_RTP_VOLUNTARY_AHEAD 0)",
 }
 _OK = int(lib.WAKE_RTP_OK)
 
