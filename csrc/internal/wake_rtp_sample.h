@@ -594,8 +594,13 @@ static WAKE_RTP_ALWAYS_INLINE int sample_admitted(wake_rtp_t *s, wake_q15_t *sam
         return 0;
     }
     if ((prediction == NULL) || unprepared(s, prepared)) {
-        *st = (prediction == NULL) ? WAKE_RTP_E_NULL                          /* nothing changes */
-              : ((wake_rtpi_split_of(s) == NULL) ? WAKE_RTP_E_FEATURE : WAKE_RTP_E_UNPREPARED);
+        if (prediction == NULL) {                  /* nothing changes */
+            *st = WAKE_RTP_E_NULL;
+        } else if (wake_rtpi_split_of(s) == NULL) {
+            *st = WAKE_RTP_E_FEATURE;
+        } else {
+            *st = WAKE_RTP_E_UNPREPARED;
+        }
         return 0;
     }
     wake_rtpi_split_forget(s);                     /* the step changes what a prepare read */
