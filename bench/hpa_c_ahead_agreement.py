@@ -2,7 +2,7 @@
 
 Every window of the paper's ten synthetic signals (the first 20 s: four HPA windows) and, when present,
 of every PADS axis (whole windows), at horizons 1, 5, 10 and 20 samples: the C HPA runs the windows in
-order on one instance (wake.hpa.c_port.run_ahead_c); each window's estimate and truth are recomputed in
+order on one instance (wake.hpa.c_ahead.run_ahead_c); each window's estimate and truth are recomputed in
 float64 from the int16 window the C HPA read and the weights it installed, and fed to
 wake.ahead.fit_predictor / held_out_gain / gate_target.  Reported: the largest coefficient difference
 (relative to max(1, max |c|)), the largest goal difference, and the largest NRMSE of the command
@@ -23,7 +23,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from wake import WakeConfig  # noqa: E402
 from wake.eval.synthetic import paper_dataset  # noqa: E402
-from wake.hpa.c_port import ahead_agreement  # noqa: E402
+from wake.hpa.c_ahead import ahead_agreement  # noqa: E402
 from wake.wavelets import filter_bank_taps  # noqa: E402
 
 CONFIG = WakeConfig(backend="reference")

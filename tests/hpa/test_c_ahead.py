@@ -53,7 +53,7 @@ def python_twin(stream, out, horizon, full_scale):
 
 
 def check_agreement(stream, horizon, full_scale):
-    from wake.hpa.c_port import run_ahead_c
+    from wake.hpa.c_ahead import run_ahead_c
 
     out = run_ahead_c(stream, CONFIG, taps=TAPS, horizon=horizon, full_scale=full_scale)
     twin = python_twin(stream, out, horizon, full_scale)
@@ -118,7 +118,7 @@ def test_c_ahead_agrees_with_wake_ahead_on_pads():
 
 
 def test_run_ahead_c_refuses_bad_input():
-    from wake.hpa.c_port import run_ahead_c
+    from wake.hpa.c_ahead import run_ahead_c
 
     x = np.zeros(L)
     with pytest.raises(ValueError, match="horizon must lie in 1..32"):
@@ -134,7 +134,8 @@ def test_run_hpa_c_scoring_the_previous_predictor_equals_one_instance_across_win
     it, it fits and scores exactly as one instance run over consecutive windows (run_ahead_c) does."""
     from dataclasses import replace
 
-    from wake.hpa.c_port import run_ahead_c, run_hpa_c
+    from wake.hpa.c_ahead import run_ahead_c
+    from wake.hpa.c_port import run_hpa_c
 
     x = paper_dataset()[0].measurement[:4 * L]
     full_scale = 2.0 ** np.ceil(np.log2(np.max(np.abs(x)) * 1.01))
@@ -235,7 +236,8 @@ def test_a_silent_window_keeps_the_predictor_and_shuts_the_gate_in_both_hpas():
     """After a constant window both HPAs keep the previous predictor (goal 0), so the next window scores it:
     the gate reopens at the next HPA when the tremor comes back as it was."""
     from wake.hpa import run_hpa
-    from wake.hpa.c_port import run_ahead_c, run_hpa_c
+    from wake.hpa.c_ahead import run_ahead_c
+    from wake.hpa.c_port import run_hpa_c
 
     x = paper_dataset()[0].measurement[:3 * L].copy()
     x[L:2 * L] = 0.25

@@ -117,8 +117,8 @@ def voluntary_rhythm(fs, seconds=20.0):
 
 def check_ahead(stream, cfg, horizon):
     """run_ahead_c over consecutive windows against wake.ahead on each window's estimate, with the gate scored
-    against wake.hpa.run.gate_truth (wake.hpa.c_port.ahead_agreement); the goals."""
-    from wake.hpa.c_port import ahead_agreement
+    against wake.hpa.run.gate_truth (wake.hpa.c_ahead.ahead_agreement); the goals."""
+    from wake.hpa.c_ahead import ahead_agreement
 
     full = 2.0 ** np.ceil(np.log2(np.max(np.abs(stream)) * 1.01))
     rows = ahead_agreement(stream, cfg, taps=TAPS, horizon=horizon, full_scale=full)
