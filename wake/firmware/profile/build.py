@@ -210,20 +210,34 @@ def _defined_functions(obj):
             if line.split()[1:2] == ["T"]]
 
 
+def _compile_command(tools, compiler, flags):
+    """The command that compiles a core module for Cortex-M with ``compiler`` (gcc, or clang for arm-none-eabi with
+    newlib's headers) and the Makefile's warnings; the source and the output follow."""
+    if compiler == "gcc":
+        return [tools["gcc"], *WARN_FLAGS, *flags]
+    return [clang_command() or "clang", "--target=arm-none-eabi", *WARN_FLAGS, *flags, "-isystem", NEWLIB_INCLUDE]
+
+
+def _gc_link(run, tools, target, objects, entries, linked):
+    """``objects`` linked into the relocatable object ``linked`` as a firmware links them: ``--gc-sections`` from
+    the functions ``entries``, so what none of them reaches is dropped."""
+    roots = [f"-Wl,--undefined={name}" for name in entries]
+    run([tools["gcc"], *TARGETS[target][1], "-nostdlib", "-r", "-Wl,--gc-sections", *roots, *objects,
+         "-o", str(linked)])
+    return linked
+
+
 def _linked_rate(run, tools, target, flags, src, out, defs):
     """The front end (wake_rate.c) as a firmware links it: a section per function, linked with ``--gc-sections``
     from its entry points of the configuration (firmware_entries: wake_rate_step with WAKE_RTP_SPLIT 1 only)."""
     sectioned = out / "wake_rate.fs.o"
-    run([tools["gcc"], *WARN_FLAGS, *flags, "-ffunction-sections", "-c", str(src / "wake_rate.c"),
+    run([*_compile_command(tools, "gcc", flags), "-ffunction-sections", "-c", str(src / "wake_rate.c"),
          "-o", str(sectioned)])
     names = _defined_functions(sectioned)
     if names is None:
         return sectioned
-    linked = out / "wake_rate.o"
-    roots = [f"-Wl,--undefined={name}" for name in firmware_entries(names, defs, prefixes=("wake_rate_",))]
-    run([tools["gcc"], *TARGETS[target][1], "-nostdlib", "-r", "-Wl,--gc-sections", *roots, str(sectioned),
-         "-o", str(linked)])
-    return linked
+    return _gc_link(run, tools, target, [str(sectioned)], firmware_entries(names, defs, prefixes=("wake_rate_",)),
+                    out / "wake_rate.o")
 
 
 def _linked_core(run, tools, target, flags, src, out, core_o, defs, compiler):
@@ -237,15 +251,10 @@ def _linked_core(run, tools, target, flags, src, out, core_o, defs, compiler):
     sectioned = []
     for module in rtp_sources(src):
         obj = out / (module.stem + ".fs.o")
-        cc = ([tools["gcc"], *WARN_FLAGS, *flags] if compiler == "gcc" else
-              [clang_command() or "clang", "--target=arm-none-eabi", *WARN_FLAGS, *flags, "-isystem", NEWLIB_INCLUDE])
-        run([*cc, "-ffunction-sections", "-fdata-sections", "-c", str(module), "-o", str(obj)])
+        run([*_compile_command(tools, compiler, flags), "-ffunction-sections", "-fdata-sections", "-c", str(module),
+             "-o", str(obj)])
         sectioned.append(str(obj))
-    linked = out / "wake_rtp_linked.o"
-    roots = [f"-Wl,--undefined={name}" for name in firmware_entries(names, defs)]
-    run([tools["gcc"], *TARGETS[target][1], "-nostdlib", "-r", "-Wl,--gc-sections", *roots, *sectioned,
-         "-o", str(linked)])
-    return linked
+    return _gc_link(run, tools, target, sectioned, firmware_entries(names, defs), out / "wake_rtp_linked.o")
 
 
 def build_image(target="m4-O2", *, board="generic", build_dir=None, csrc=None, defs=(), debug=True,
@@ -282,12 +291,8 @@ def build_image(target="m4-O2", *, board="generic", build_dir=None, csrc=None, d
     module_objects = []
     for module in rtp_sources(src):
         obj = out / (module.stem + ".o")
-        if compiler == "gcc":
-            run([tools["gcc"], *WARN_FLAGS, *flags, "-fstack-usage", "-fcallgraph-info=su",
-                 "-c", str(module), "-o", str(obj)])
-        else:
-            run([clang_command() or "clang", "--target=arm-none-eabi", *WARN_FLAGS, *flags, "-isystem",
-                 NEWLIB_INCLUDE, "-c", str(module), "-o", str(obj)])
+        stack_info = ["-fstack-usage", "-fcallgraph-info=su"] if compiler == "gcc" else []
+        run([*_compile_command(tools, compiler, flags), *stack_info, "-c", str(module), "-o", str(obj)])
         module_objects.append(str(obj))
     run([tools["gcc"], *TARGETS[target][1], "-nostdlib", "-r", *module_objects, "-o", str(core_o)])
     objects = [str(core_o)]
